@@ -1,0 +1,8 @@
+/**
+ * @fixedstep/games — the talk's demo scenes and games, each a deterministic simulation.
+ * @packageDocumentation
+ */
+export { BallScene, BallButtons, defaultBallConfig } from './scenes/ball.js';
+export type { BallConfig } from './scenes/ball.js';
+export { LoopRig, makeLoop, defaultBallScript } from './scenes/loop-rig.js';
+export type { LoopRigOptions, LoopSpec, ScriptedInput } from './scenes/loop-rig.js';

@@ -1,0 +1,159 @@
+import {
+  ButtonSampler,
+  FinalFixedLoop,
+  FixedLoop,
+  FrameLockedLoop,
+  NaiveFixedLoop,
+  SimulatedDisplay,
+  Timestep,
+  VariableLoop,
+  type DisplayEvent,
+  type FixedLoopOptions,
+  type Loop,
+  type LoopKind,
+} from 'fixedstep';
+import { BallButtons, BallScene, type BallConfig } from './ball.js';
+
+/** A scripted button event, at a real time in ms from the start. */
+export interface ScriptedInput {
+  timeMs: number;
+  button: number;
+  down: boolean;
+}
+
+/** The loop chapter's script: two throws and a push to the right, all in the first 3 s. */
+export function defaultBallScript(): ScriptedInput[] {
+  return [
+    { timeMs: 400, button: BallButtons.throw, down: true },
+    { timeMs: 470, button: BallButtons.throw, down: false },
+    { timeMs: 1200, button: BallButtons.right, down: true },
+    { timeMs: 1700, button: BallButtons.right, down: false },
+    { timeMs: 2300, button: BallButtons.throw, down: true },
+    { timeMs: 2310, button: BallButtons.throw, down: false },
+  ];
+}
+
+export interface LoopSpec {
+  kind: LoopKind;
+  /** Step in ms for the fixed loops (default 1000/60 for 'fixed', 30 — the talk's — otherwise). */
+  stepMs?: number;
+  /** Options for the production loop. */
+  fixed?: Partial<Omit<FixedLoopOptions, 'step'>>;
+}
+
+/** Builds one of the five loops. The talk's loops use its TIME_STEP = 0.03 s by default. */
+export function makeLoop(spec: LoopSpec): Loop {
+  switch (spec.kind) {
+    case 'frame-locked':
+      return new FrameLockedLoop(60);
+    case 'variable':
+      return new VariableLoop();
+    case 'fixed-naive':
+      return new NaiveFixedLoop(spec.stepMs ?? 30);
+    case 'fixed-final':
+      return new FinalFixedLoop(spec.stepMs ?? 30);
+    case 'fixed':
+      return new FixedLoop({ ...spec.fixed, step: spec.stepMs === undefined ? 60 : stepFromMs(spec.stepMs) });
+  }
+}
+
+/** 1000/60-style steps become a tick rate, so they stay exact; others a whole number of ns. */
+function stepFromMs(ms: number): Timestep {
+  const hz = 1000 / ms;
+  return Math.abs(hz - Math.round(hz)) < 1e-9 ? Timestep.fromHz(Math.round(hz)) : Timestep.fromMs(ms);
+}
+
+export interface LoopRigOptions {
+  loop: LoopSpec;
+  display: { hz: number; jitter?: number; seed?: number; events?: DisplayEvent[] };
+  scene?: Partial<BallConfig>;
+  script?: ScriptedInput[];
+  /** A slow machine: what one update costs in ms of real time. Default 0. */
+  updateCostMs?: number;
+  /** The most updates one frame actually executes before the page is called stalled. Default 5000. */
+  stallGuard?: number;
+  /** Record the state after every update (for tests). Default false. */
+  trace?: boolean;
+}
+
+/**
+ * One loop, one ball scene and one simulated display, advanced a display frame at a time, with
+ * scripted inputs sampled per update through a {@link ButtonSampler}. The lab draws it; the tests
+ * assert on it; the bench times it.
+ */
+export class LoopRig {
+  readonly loop: Loop;
+  readonly scene: BallScene;
+  readonly display: SimulatedDisplay;
+  readonly sampler = new ButtonSampler();
+  /** States after each update, when tracing: update i at [i*6, i*6+6). */
+  readonly trace: number[] = [];
+  private readonly script: ScriptedInput[];
+  private scriptAt = 0;
+  private readonly costMs: number;
+  private readonly guard: number;
+  private readonly tracing: boolean;
+  private workMs = 0;
+  private startMs = 0;
+  /** Updates the loop asked for but the page could not run (it would have stalled). */
+  owed = 0;
+  /** Frames seen. */
+  frames = 0;
+  /** The most updates asked for by one frame. */
+  maxSteps = 0;
+
+  constructor(options: LoopRigOptions) {
+    this.loop = makeLoop(options.loop);
+    this.scene = new BallScene(options.scene);
+    this.display = new SimulatedDisplay(options.display);
+    this.script = options.script ?? defaultBallScript();
+    this.costMs = options.updateCostMs ?? 0;
+    this.guard = options.stallGuard ?? 5000;
+    this.tracing = options.trace ?? false;
+    this.startMs = this.display.now;
+  }
+
+  /** Real time since the start, in ms. */
+  get realMs(): number {
+    return this.display.now - this.startMs;
+  }
+
+  /** Whether the loop asked for more updates in one frame than a page could run. */
+  get stalled(): boolean {
+    return this.owed > 0;
+  }
+
+  /** Advance one display frame. Returns the number of updates run. */
+  frame(): number {
+    const f = this.display.next(this.workMs);
+    const t = f.time - this.startMs;
+    while (this.scriptAt < this.script.length && this.script[this.scriptAt]!.timeMs <= t) {
+      const e = this.script[this.scriptAt++]!;
+      this.sampler.push(e.timeMs, e.button, e.down);
+    }
+    const loop = this.loop;
+    if (f.wasHidden && loop instanceof FixedLoop) {
+      loop.setHidden(true);
+      loop.setHidden(false);
+    }
+    this.frames++;
+    let n = loop.frame(t);
+    if (n > this.maxSteps) this.maxSteps = n;
+    if (n > this.guard) {
+      this.owed += n - this.guard;
+      n = this.guard;
+    }
+    for (let j = 0; j < n; j++) {
+      this.scene.update(loop.dt, this.sampler.sample(loop, j));
+      if (this.tracing) for (const v of this.scene.state) this.trace.push(v);
+    }
+    this.workMs = n * this.costMs;
+    return n;
+  }
+
+  /** Advance frames until `ms` of real time have passed. */
+  runFor(ms: number): void {
+    const end = this.realMs + ms;
+    while (this.realMs < end) this.frame();
+  }
+}
