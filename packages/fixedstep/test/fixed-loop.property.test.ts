@@ -28,7 +28,11 @@ describe('FixedLoop properties', () => {
   it('with no overload, ticks run = floor(elapsed / step) exactly after every frame', () => {
     fc.assert(
       fc.property(step, fc.array(frameDelta, { maxLength: 60 }), (s, deltas) => {
-        const loop = new FixedLoop({ step: s, maxAccumulatorMs: 3_600_000, maxStepsPerFrame: 100_000 });
+        const loop = new FixedLoop({
+          step: s,
+          maxAccumulatorMs: 3_600_000,
+          maxStepsPerFrame: 100_000,
+        });
         let elapsed = 0n;
         const p = BigInt(s.unitsPerStep);
         for (const d of deltas) {
@@ -47,18 +51,28 @@ describe('FixedLoop properties', () => {
 
   it('with hysteresis h, ticks run = floor(elapsed / step + h) exactly', () => {
     fc.assert(
-      fc.property(step, fc.double({ min: 0, max: 0.5, noNaN: true }), fc.array(frameDelta, { maxLength: 60 }), (s, h, deltas) => {
-        const loop = new FixedLoop({ step: s, hysteresis: h, maxAccumulatorMs: 3_600_000, maxStepsPerFrame: 100_000 });
-        const hu = BigInt(Math.round(h * s.unitsPerStep));
-        let elapsed = 0n;
-        for (const d of deltas) {
-          loop.advance(d);
-          elapsed += unitsOf(d, s);
-          if (BigInt(loop.tick) !== (elapsed + hu) / BigInt(s.unitsPerStep)) return false;
-          if (!(loop.alpha >= 0 && loop.alpha < 1)) return false;
-        }
-        return true;
-      }),
+      fc.property(
+        step,
+        fc.double({ min: 0, max: 0.5, noNaN: true }),
+        fc.array(frameDelta, { maxLength: 60 }),
+        (s, h, deltas) => {
+          const loop = new FixedLoop({
+            step: s,
+            hysteresis: h,
+            maxAccumulatorMs: 3_600_000,
+            maxStepsPerFrame: 100_000,
+          });
+          const hu = BigInt(Math.round(h * s.unitsPerStep));
+          let elapsed = 0n;
+          for (const d of deltas) {
+            loop.advance(d);
+            elapsed += unitsOf(d, s);
+            if (BigInt(loop.tick) !== (elapsed + hu) / BigInt(s.unitsPerStep)) return false;
+            if (!(loop.alpha >= 0 && loop.alpha < 1)) return false;
+          }
+          return true;
+        },
+      ),
       { numRuns: 300 },
     );
   });
@@ -90,9 +104,11 @@ describe('FixedLoop properties', () => {
             elapsed += unitsOf(d, s);
             if (n > cap || n < 0) return false;
             if (!(loop.alpha >= 0 && loop.alpha < 1)) return false;
-            const accounted = BigInt(loop.tick) * p + BigInt(loop.accumulatorUnits) + BigInt(loop.droppedUnits());
+            const accounted =
+              BigInt(loop.tick) * p + BigInt(loop.accumulatorUnits) + BigInt(loop.droppedUnits());
             if (accounted !== elapsed) return false;
-            if (loop.accumulatorUnits > Math.round(loop.maxAccumulatorMs * 1e6) * s.unitsPerNs) return false;
+            if (loop.accumulatorUnits > Math.round(loop.maxAccumulatorMs * 1e6) * s.unitsPerNs)
+              return false;
           }
           const reported = drops.reduce((a, b) => a + b, 0);
           return Math.abs(reported - loop.droppedMs()) <= 1e-6 * Math.max(1, reported);
@@ -104,33 +120,48 @@ describe('FixedLoop properties', () => {
 
   it('a time scale changes the number of steps, exactly as scaled time predicts', () => {
     fc.assert(
-      fc.property(step, fc.constantFrom(0, 0.25, 0.5, 1, 1.5, 2, 3.7), fc.array(frameDelta, { maxLength: 40 }), (s, scale, deltas) => {
-        const loop = new FixedLoop({ step: s, timeScale: scale, maxAccumulatorMs: 3_600_000, maxStepsPerFrame: 100_000 });
-        let elapsed = 0n;
-        for (const d of deltas) {
-          loop.advance(d);
-          elapsed += unitsOf(d, s, scale);
-          if (BigInt(loop.tick) !== elapsed / BigInt(s.unitsPerStep)) return false;
-          if (loop.dt !== s.seconds) return false;
-        }
-        return true;
-      }),
+      fc.property(
+        step,
+        fc.constantFrom(0, 0.25, 0.5, 1, 1.5, 2, 3.7),
+        fc.array(frameDelta, { maxLength: 40 }),
+        (s, scale, deltas) => {
+          const loop = new FixedLoop({
+            step: s,
+            timeScale: scale,
+            maxAccumulatorMs: 3_600_000,
+            maxStepsPerFrame: 100_000,
+          });
+          let elapsed = 0n;
+          for (const d of deltas) {
+            loop.advance(d);
+            elapsed += unitsOf(d, s, scale);
+            if (BigInt(loop.tick) !== elapsed / BigInt(s.unitsPerStep)) return false;
+            if (loop.dt !== s.seconds) return false;
+          }
+          return true;
+        },
+      ),
       { numRuns: 300 },
     );
   });
 
   it('absurd deltas (1e300, MAX_VALUE) keep every counter finite and alpha in range', () => {
     fc.assert(
-      fc.property(fc.array(fc.oneof(frameDelta, fc.constantFrom(1e300, Number.MAX_VALUE, 1e20)), { maxLength: 30 }), (deltas) => {
-        const loop = new FixedLoop({ step: 60 });
-        for (const d of deltas) {
-          const n = loop.advance(d);
-          if (!(n >= 0 && n <= 8)) return false;
-          if (!(loop.alpha >= 0 && loop.alpha < 1)) return false;
-          if (!Number.isFinite(loop.tick) || !Number.isFinite(loop.accumulatorMs)) return false;
-        }
-        return true;
-      }),
+      fc.property(
+        fc.array(fc.oneof(frameDelta, fc.constantFrom(1e300, Number.MAX_VALUE, 1e20)), {
+          maxLength: 30,
+        }),
+        (deltas) => {
+          const loop = new FixedLoop({ step: 60 });
+          for (const d of deltas) {
+            const n = loop.advance(d);
+            if (!(n >= 0 && n <= 8)) return false;
+            if (!(loop.alpha >= 0 && loop.alpha < 1)) return false;
+            if (!Number.isFinite(loop.tick) || !Number.isFinite(loop.accumulatorMs)) return false;
+          }
+          return true;
+        },
+      ),
       { numRuns: 200 },
     );
   });

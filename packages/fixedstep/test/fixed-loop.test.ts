@@ -66,7 +66,12 @@ describe('FixedLoop', () => {
 
   it('clamps the accumulator and reports the dropped time', () => {
     const drops: [number, DropReason][] = [];
-    const loop = new FixedLoop({ step: 60, maxAccumulatorMs: 250, maxStepsPerFrame: 100, onDrop: (ms, r) => drops.push([ms, r]) });
+    const loop = new FixedLoop({
+      step: 60,
+      maxAccumulatorMs: 250,
+      maxStepsPerFrame: 100,
+      onDrop: (ms, r) => drops.push([ms, r]),
+    });
     const n = loop.advance(2000); // a 2 s hitch
     expect(n).toBe(15); // 250 ms of 16.67 ms steps
     expect(loop.droppedMs('clamp')).toBeCloseTo(1750, 6);
@@ -87,7 +92,12 @@ describe('FixedLoop', () => {
   });
 
   it("overload 'drop' drops whole steps beyond the cap and keeps the fraction", () => {
-    const loop = new FixedLoop({ step: Timestep.fromMs(10), maxAccumulatorMs: 1000, maxStepsPerFrame: 4, overload: 'drop' });
+    const loop = new FixedLoop({
+      step: Timestep.fromMs(10),
+      maxAccumulatorMs: 1000,
+      maxStepsPerFrame: 4,
+      overload: 'drop',
+    });
     expect(loop.advance(95)).toBe(4);
     expect(loop.droppedMs('overload')).toBeCloseTo(50, 9);
     expect(loop.accumulatorMs).toBeCloseTo(5, 9);
@@ -95,7 +105,12 @@ describe('FixedLoop', () => {
   });
 
   it("overload 'reset' drops everything beyond the cap, fraction included", () => {
-    const loop = new FixedLoop({ step: Timestep.fromMs(10), maxAccumulatorMs: 1000, maxStepsPerFrame: 4, overload: 'reset' });
+    const loop = new FixedLoop({
+      step: Timestep.fromMs(10),
+      maxAccumulatorMs: 1000,
+      maxStepsPerFrame: 4,
+      overload: 'reset',
+    });
     expect(loop.advance(95)).toBe(4);
     expect(loop.droppedMs('overload')).toBeCloseTo(55, 9);
     expect(loop.accumulatorMs).toBe(0);
@@ -170,7 +185,8 @@ describe('FixedLoop', () => {
       const loop = new FixedLoop({ step: 60, hysteresis: h });
       loop.advance(1000 / 60 - 0.5); // a phase where the accumulator sits just under a step
       const counts: number[] = [];
-      for (let i = 0; i < 600; i++) counts.push(loop.advance(1000 / 60 + (i % 2 === 0 ? 0.9 : -0.9)));
+      for (let i = 0; i < 600; i++)
+        counts.push(loop.advance(1000 / 60 + (i % 2 === 0 ? 0.9 : -0.9)));
       return counts.slice(10);
     };
     const plain = pattern(0);
@@ -183,7 +199,9 @@ describe('FixedLoop', () => {
     expect(() => new FixedLoop({ step: 60, maxAccumulatorMs: 5 })).toThrow(/maxAccumulatorMs/);
     expect(() => new FixedLoop({ step: 60, maxStepsPerFrame: 0 })).toThrow(/maxStepsPerFrame/);
     // @ts-expect-error: a policy that does not exist
-    expect(() => new FixedLoop({ step: 60, overload: 'ignore' })).toThrow(/overload must be one of/);
+    expect(() => new FixedLoop({ step: 60, overload: 'ignore' })).toThrow(
+      /overload must be one of/,
+    );
     expect(() => new FixedLoop({ step: 60, hysteresis: 0.7 })).toThrow(/hysteresis/);
   });
 });

@@ -30,7 +30,9 @@ export class Fnv1a64 {
 
   /** The hash as 16 lowercase hex digits. */
   hex(): string {
-    return (this.hi >>> 0).toString(16).padStart(8, '0') + (this.lo >>> 0).toString(16).padStart(8, '0');
+    return (
+      (this.hi >>> 0).toString(16).padStart(8, '0') + (this.lo >>> 0).toString(16).padStart(8, '0')
+    );
   }
 }
 

@@ -15,7 +15,8 @@ export class Random {
   }
 
   seed(seed: number): void {
-    if (!Number.isFinite(seed)) throw new RangeError(`Random: seed must be a finite number, got ${String(seed)}`);
+    if (!Number.isFinite(seed))
+      throw new RangeError(`Random: seed must be a finite number, got ${String(seed)}`);
     let x = seed >>> 0;
     const next = () => {
       x = (x + 0x9e3779b9) >>> 0;
@@ -76,12 +77,14 @@ export class Random {
 
   /** Restore a state from {@link getState}. */
   setState(state: ArrayLike<number>): void {
-    if (state.length !== 4) throw new RangeError(`Random.setState: expected 4 words, got ${state.length}`);
+    if (state.length !== 4)
+      throw new RangeError(`Random.setState: expected 4 words, got ${state.length}`);
     this.s0 = state[0]! >>> 0;
     this.s1 = state[1]! >>> 0;
     this.s2 = state[2]! >>> 0;
     this.s3 = state[3]! >>> 0;
-    if ((this.s0 | this.s1 | this.s2 | this.s3) === 0) throw new RangeError('Random.setState: the all-zero state is invalid');
+    if ((this.s0 | this.s1 | this.s2 | this.s3) === 0)
+      throw new RangeError('Random.setState: the all-zero state is invalid');
   }
 }
 

@@ -47,7 +47,9 @@ export class ButtonSampler {
    */
   push(timeMs: number, button: number, down: boolean): void {
     if (!Number.isInteger(button) || button < 0 || button > 15) {
-      throw new RangeError(`ButtonSampler: button must be an integer from 0 to 15, got ${String(button)}`);
+      throw new RangeError(
+        `ButtonSampler: button must be an integer from 0 to 15, got ${String(button)}`,
+      );
     }
     const t = Number.isFinite(timeMs) && timeMs > this.lastTime ? timeMs : this.lastTime;
     this.lastTime = t;

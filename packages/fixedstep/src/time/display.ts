@@ -48,7 +48,9 @@ export class SimulatedDisplay {
 
   constructor(options: SimulatedDisplayOptions) {
     if (!(Number.isFinite(options.hz) && options.hz >= 1 && options.hz <= 1000)) {
-      throw new RangeError(`SimulatedDisplay: hz must be from 1 to 1000, got ${String(options.hz)}`);
+      throw new RangeError(
+        `SimulatedDisplay: hz must be from 1 to 1000, got ${String(options.hz)}`,
+      );
     }
     const jitter = options.jitter ?? 0;
     if (!(jitter >= 0 && jitter <= 0.9)) {

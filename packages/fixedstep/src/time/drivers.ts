@@ -47,9 +47,13 @@ interface AnimationFrameHost {
 }
 
 /** Frames from `requestAnimationFrame` (the timestamp it passes is the reading). */
-export function animationFrameScheduler(host: AnimationFrameHost = globalThis as unknown as AnimationFrameHost): FrameScheduler {
+export function animationFrameScheduler(
+  host: AnimationFrameHost = globalThis as unknown as AnimationFrameHost,
+): FrameScheduler {
   if (typeof host.requestAnimationFrame !== 'function') {
-    throw new TypeError('animationFrameScheduler: requestAnimationFrame is not available here (use timerScheduler in Node)');
+    throw new TypeError(
+      'animationFrameScheduler: requestAnimationFrame is not available here (use timerScheduler in Node)',
+    );
   }
   return {
     request: (cb) => host.requestAnimationFrame(cb),
@@ -63,9 +67,14 @@ export function animationFrameScheduler(host: AnimationFrameHost = globalThis as
  * Frames from timers, for Node (a server running a simulation) or any place without a display.
  * Aims at `intervalMs` between frames, correcting for timer lateness against `clock`.
  */
-export function timerScheduler(intervalMs: number, clock: Clock = performanceClock()): FrameScheduler {
+export function timerScheduler(
+  intervalMs: number,
+  clock: Clock = performanceClock(),
+): FrameScheduler {
   if (!(Number.isFinite(intervalMs) && intervalMs > 0)) {
-    throw new RangeError(`timerScheduler: interval must be a positive number of ms, got ${String(intervalMs)}`);
+    throw new RangeError(
+      `timerScheduler: interval must be a positive number of ms, got ${String(intervalMs)}`,
+    );
   }
   let next = clock.now();
   const timers = new Map<number, ReturnType<typeof setTimeout>>();
@@ -145,7 +154,10 @@ interface VisibilityHost {
 }
 
 /** Keeps `loop.setHidden` in step with the page's visibility. Returns a function that stops it. */
-export function trackVisibility(doc: VisibilityHost, loop: { setHidden(hidden: boolean): void }): () => void {
+export function trackVisibility(
+  doc: VisibilityHost,
+  loop: { setHidden(hidden: boolean): void },
+): () => void {
   const listener = () => {
     loop.setHidden(doc.hidden);
   };

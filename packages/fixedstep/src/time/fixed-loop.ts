@@ -129,29 +129,45 @@ export class FixedLoop implements Loop {
     const maxNs = Math.round(this.maxAccumulatorMs * 1e6);
     // Within a nanosecond of one step (e.g. 1000 / 30 ms for a 30 Hz step) counts as one step.
     this.maxUnits = Math.max(maxNs * this.unitsPerNs, this.unitsPerStep);
-    if (!Number.isFinite(this.maxAccumulatorMs) || (maxNs + 1) * this.unitsPerNs < this.unitsPerStep || maxNs > 3.6e12) {
+    if (
+      !Number.isFinite(this.maxAccumulatorMs) ||
+      (maxNs + 1) * this.unitsPerNs < this.unitsPerStep ||
+      maxNs > 3.6e12
+    ) {
       throw new RangeError(
         `FixedLoop: maxAccumulatorMs must be from one step (${this.step.ms} ms) to 1 hour, got ${String(this.maxAccumulatorMs)}`,
       );
     }
 
     this.maxStepsPerFrame = options.maxStepsPerFrame ?? 8;
-    if (!Number.isInteger(this.maxStepsPerFrame) || this.maxStepsPerFrame < 1 || this.maxStepsPerFrame > 100_000) {
-      throw new RangeError(`FixedLoop: maxStepsPerFrame must be an integer from 1 to 100000, got ${String(this.maxStepsPerFrame)}`);
+    if (
+      !Number.isInteger(this.maxStepsPerFrame) ||
+      this.maxStepsPerFrame < 1 ||
+      this.maxStepsPerFrame > 100_000
+    ) {
+      throw new RangeError(
+        `FixedLoop: maxStepsPerFrame must be an integer from 1 to 100000, got ${String(this.maxStepsPerFrame)}`,
+      );
     }
 
     this.overload = options.overload ?? 'catch-up';
     if (!POLICIES.includes(this.overload)) {
-      throw new RangeError(`FixedLoop: overload must be one of ${POLICIES.join(', ')}, got ${String(this.overload)}`);
+      throw new RangeError(
+        `FixedLoop: overload must be one of ${POLICIES.join(', ')}, got ${String(this.overload)}`,
+      );
     }
     this.hiddenPolicy = options.hidden ?? 'pause';
     if (!HIDDEN.includes(this.hiddenPolicy)) {
-      throw new RangeError(`FixedLoop: hidden must be one of ${HIDDEN.join(', ')}, got ${String(this.hiddenPolicy)}`);
+      throw new RangeError(
+        `FixedLoop: hidden must be one of ${HIDDEN.join(', ')}, got ${String(this.hiddenPolicy)}`,
+      );
     }
 
     this.hysteresis = options.hysteresis ?? 0;
     if (!(this.hysteresis >= 0 && this.hysteresis <= 0.5)) {
-      throw new RangeError(`FixedLoop: hysteresis must be from 0 to 0.5 of a step, got ${String(this.hysteresis)}`);
+      throw new RangeError(
+        `FixedLoop: hysteresis must be from 0 to 0.5 of a step, got ${String(this.hysteresis)}`,
+      );
     }
     this.hystUnits = Math.round(this.hysteresis * this.unitsPerStep);
     this.onDrop = options.onDrop;
@@ -296,7 +312,9 @@ export class FixedLoop implements Loop {
    */
   setTimeScale(scale: number): void {
     if (!(Number.isFinite(scale) && scale >= 0 && scale <= 64)) {
-      throw new RangeError(`FixedLoop: time scale must be a finite number from 0 to 64, got ${String(scale)}`);
+      throw new RangeError(
+        `FixedLoop: time scale must be a finite number from 0 to 64, got ${String(scale)}`,
+      );
     }
     this.scale = scale;
   }

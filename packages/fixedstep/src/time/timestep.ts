@@ -33,7 +33,9 @@ export class Timestep {
    */
   static fromHz(hz: number): Timestep {
     if (!Number.isInteger(hz) || hz < 1 || hz > 100_000) {
-      throw new RangeError(`Timestep.fromHz: tick rate must be an integer from 1 to 100000 Hz, got ${String(hz)}`);
+      throw new RangeError(
+        `Timestep.fromHz: tick rate must be an integer from 1 to 100000 Hz, got ${String(hz)}`,
+      );
     }
     const g = gcd(1_000_000_000, hz);
     return new Timestep(1_000_000_000 / g, hz / g, 1 / hz);
@@ -45,8 +47,15 @@ export class Timestep {
    */
   static fromMs(ms: number): Timestep {
     const ns = Math.round(ms * 1e6);
-    if (!Number.isFinite(ms) || ns < 1000 || ns > 10_000_000_000 || Math.abs(ns - ms * 1e6) > 1e-6 * Math.max(1, ns)) {
-      throw new RangeError(`Timestep.fromMs: step must be from 0.001 to 10000 ms in whole nanoseconds, got ${String(ms)}`);
+    if (
+      !Number.isFinite(ms) ||
+      ns < 1000 ||
+      ns > 10_000_000_000 ||
+      Math.abs(ns - ms * 1e6) > 1e-6 * Math.max(1, ns)
+    ) {
+      throw new RangeError(
+        `Timestep.fromMs: step must be from 0.001 to 10000 ms in whole nanoseconds, got ${String(ms)}`,
+      );
     }
     return new Timestep(ns, 1, ns / 1e9);
   }

@@ -107,7 +107,8 @@ export class BallScene {
     if (y < r) {
       y = r + (r - y) * e;
       vy = -vy * e;
-      if (vy < 0.05) vy = 0; // at rest on the floor
+      if (vy < 0.05)
+        vy = 0; // at rest on the floor
       else bounces++;
     } else if (y > c.height - r) {
       y = c.height - r - (y - (c.height - r)) * e;
@@ -150,7 +151,9 @@ export class BallScene {
   /** Restore a state from {@link save}. */
   load(bytes: Uint8Array): void {
     if (bytes.length !== this.bytes.length) {
-      throw new RangeError(`BallScene.load: expected ${this.bytes.length} bytes, got ${bytes.length}`);
+      throw new RangeError(
+        `BallScene.load: expected ${this.bytes.length} bytes, got ${bytes.length}`,
+      );
     }
     this.bytes.set(bytes);
     this.previous.set(this.state);

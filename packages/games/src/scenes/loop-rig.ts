@@ -53,14 +53,19 @@ export function makeLoop(spec: LoopSpec): Loop {
     case 'fixed-final':
       return new FinalFixedLoop(spec.stepMs ?? 30);
     case 'fixed':
-      return new FixedLoop({ ...spec.fixed, step: spec.stepMs === undefined ? 60 : stepFromMs(spec.stepMs) });
+      return new FixedLoop({
+        ...spec.fixed,
+        step: spec.stepMs === undefined ? 60 : stepFromMs(spec.stepMs),
+      });
   }
 }
 
 /** 1000/60-style steps become a tick rate, so they stay exact; others a whole number of ns. */
 function stepFromMs(ms: number): Timestep {
   const hz = 1000 / ms;
-  return Math.abs(hz - Math.round(hz)) < 1e-9 ? Timestep.fromHz(Math.round(hz)) : Timestep.fromMs(ms);
+  return Math.abs(hz - Math.round(hz)) < 1e-9
+    ? Timestep.fromHz(Math.round(hz))
+    : Timestep.fromMs(ms);
 }
 
 export interface LoopRigOptions {

@@ -1,0 +1,218 @@
+/**
+ * Canonical state bytes: little-endian, every float written with -0 as +0 and every NaN as the
+ * one quiet NaN (0x7ff8000000000000), so two states that are equal as numbers are equal as bytes
+ * and hash the same in every engine. Used by every `Simulation.save()`.
+ */
+
+const CANONICAL_NAN_HI = 0x7ff80000;
+
+/** Appends canonical little-endian values to a growing buffer. Reuse one writer to avoid allocation. */
+export class ByteWriter {
+  private buf: Uint8Array;
+  private view: DataView;
+  private pos = 0;
+
+  constructor(initialCapacity = 256) {
+    this.buf = new Uint8Array(Math.max(16, initialCapacity));
+    this.view = new DataView(this.buf.buffer);
+  }
+
+  /** Bytes written so far. */
+  get length(): number {
+    return this.pos;
+  }
+
+  /** Forget what was written (keeps the buffer). */
+  reset(): this {
+    this.pos = 0;
+    return this;
+  }
+
+  private ensure(n: number): void {
+    if (this.pos + n <= this.buf.length) return;
+    let cap = this.buf.length * 2;
+    while (cap < this.pos + n) cap *= 2;
+    const next = new Uint8Array(cap);
+    next.set(this.buf.subarray(0, this.pos));
+    this.buf = next;
+    this.view = new DataView(next.buffer);
+  }
+
+  u8(v: number): this {
+    this.ensure(1);
+    this.buf[this.pos++] = v & 0xff;
+    return this;
+  }
+
+  u16(v: number): this {
+    this.ensure(2);
+    this.view.setUint16(this.pos, v, true);
+    this.pos += 2;
+    return this;
+  }
+
+  u32(v: number): this {
+    this.ensure(4);
+    this.view.setUint32(this.pos, v >>> 0, true);
+    this.pos += 4;
+    return this;
+  }
+
+  i32(v: number): this {
+    this.ensure(4);
+    this.view.setInt32(this.pos, v | 0, true);
+    this.pos += 4;
+    return this;
+  }
+
+  /** A float64, canonical: -0 → +0, any NaN → the quiet NaN. */
+  f64(v: number): this {
+    this.ensure(8);
+    if (v !== v) {
+      this.view.setUint32(this.pos, 0, true);
+      this.view.setUint32(this.pos + 4, CANONICAL_NAN_HI, true);
+    } else {
+      this.view.setFloat64(this.pos, v === 0 ? 0 : v, true);
+    }
+    this.pos += 8;
+    return this;
+  }
+
+  /** Every element of a Float64Array, canonical. */
+  f64s(values: Float64Array): this {
+    this.ensure(values.length * 8);
+    for (let i = 0; i < values.length; i++) this.f64(values[i]!);
+    return this;
+  }
+
+  /** Every element of an integer typed array, as little-endian of its own width. */
+  ints(values: Int32Array | Uint32Array | Uint16Array | Uint8Array | Int8Array | Int16Array): this {
+    const w = values.BYTES_PER_ELEMENT;
+    this.ensure(values.length * w);
+    for (let i = 0; i < values.length; i++) {
+      const v = values[i]!;
+      if (w === 1) this.buf[this.pos] = v & 0xff;
+      else if (w === 2) this.view.setUint16(this.pos, v & 0xffff, true);
+      else this.view.setUint32(this.pos, v >>> 0, true);
+      this.pos += w;
+    }
+    return this;
+  }
+
+  /** Raw bytes. */
+  bytes(b: Uint8Array): this {
+    this.ensure(b.length);
+    this.buf.set(b, this.pos);
+    this.pos += b.length;
+    return this;
+  }
+
+  /** A copy of the bytes written. */
+  finish(): Uint8Array {
+    return this.buf.slice(0, this.pos);
+  }
+
+  /** A view of the bytes written (valid until the next write). */
+  peek(): Uint8Array {
+    return this.buf.subarray(0, this.pos);
+  }
+}
+
+/** Reads what a {@link ByteWriter} wrote; every read is bounds-checked and throws a RangeError naming the offset. */
+export class ByteReader {
+  private readonly view: DataView;
+  private pos = 0;
+
+  constructor(private readonly buf: Uint8Array) {
+    this.view = new DataView(buf.buffer, buf.byteOffset, buf.byteLength);
+  }
+
+  get offset(): number {
+    return this.pos;
+  }
+
+  get remaining(): number {
+    return this.buf.length - this.pos;
+  }
+
+  private need(n: number, what: string): void {
+    if (this.pos + n > this.buf.length) {
+      throw new RangeError(
+        `ByteReader: truncated input: ${what} needs ${n} bytes at offset ${this.pos}, ${this.remaining} left`,
+      );
+    }
+  }
+
+  u8(): number {
+    this.need(1, 'u8');
+    return this.buf[this.pos++]!;
+  }
+
+  u16(): number {
+    this.need(2, 'u16');
+    const v = this.view.getUint16(this.pos, true);
+    this.pos += 2;
+    return v;
+  }
+
+  u32(): number {
+    this.need(4, 'u32');
+    const v = this.view.getUint32(this.pos, true);
+    this.pos += 4;
+    return v;
+  }
+
+  i32(): number {
+    this.need(4, 'i32');
+    const v = this.view.getInt32(this.pos, true);
+    this.pos += 4;
+    return v;
+  }
+
+  f64(): number {
+    this.need(8, 'f64');
+    const v = this.view.getFloat64(this.pos, true);
+    this.pos += 8;
+    return v;
+  }
+
+  /** Fill `out` with float64s. */
+  f64s(out: Float64Array): void {
+    this.need(out.length * 8, `${out.length} f64`);
+    for (let i = 0; i < out.length; i++) {
+      out[i] = this.view.getFloat64(this.pos, true);
+      this.pos += 8;
+    }
+  }
+
+  /** Fill an integer typed array, each element little-endian of its own width. */
+  ints(out: Int32Array | Uint32Array | Uint16Array | Uint8Array | Int8Array | Int16Array): void {
+    const w = out.BYTES_PER_ELEMENT;
+    this.need(out.length * w, `${out.length} ints of ${w} bytes`);
+    for (let i = 0; i < out.length; i++) {
+      out[i] =
+        w === 1
+          ? this.buf[this.pos]!
+          : w === 2
+            ? this.view.getUint16(this.pos, true)
+            : this.view.getUint32(this.pos, true);
+      this.pos += w;
+    }
+  }
+
+  bytes(n: number): Uint8Array {
+    this.need(n, `${n} bytes`);
+    const b = this.buf.subarray(this.pos, this.pos + n);
+    this.pos += n;
+    return b;
+  }
+
+  /** Throws unless every byte was read. */
+  end(): void {
+    if (this.pos !== this.buf.length) {
+      throw new RangeError(
+        `ByteReader: ${this.remaining} unexpected trailing bytes at offset ${this.pos}`,
+      );
+    }
+  }
+}

@@ -1,0 +1,2 @@
+export * from './dynamics/index.js';
+export * from './world/index.js';

@@ -1,0 +1,28 @@
+/**
+ * A deterministic simulation: the same start and the same inputs give the same bytes, tick for
+ * tick, at any frame rate and in every JavaScript engine.
+ *
+ * Rules an implementation follows to keep that promise:
+ * - time enters only as the tick number and the fixed step; never read a clock;
+ * - randomness comes only from a seeded {@link Random} whose state is part of the saved state;
+ * - math is `+ - * /`, `Math.sqrt`, `Math.floor/ceil/round/trunc/abs/min/max/sign` and the
+ *   deterministic helpers of `fixedstep` (`dsin`, `dcos`, `datan2`, …) — never `Math.sin`,
+ *   `cos`, `atan2`, `exp`, `pow`, `hypot` (engines differ in the last bit);
+ * - iterate only over arrays in a defined order (no iteration over hash sets of objects whose
+ *   order can depend on history);
+ * - `save()` writes canonical bytes ({@link ByteWriter}): equal states give equal bytes.
+ *
+ * @typeParam I — one player's input for one tick (e.g. a {@link ButtonInput}).
+ */
+export interface Simulation<I = number> {
+  /** Ticks stepped so far. Simulated time is `tick × step`. */
+  readonly tick: number;
+  /** Advance exactly one fixed step, with one input per player (index = player). */
+  step(inputs: readonly I[]): void;
+  /** The whole state as canonical bytes (a snapshot). */
+  save(): Uint8Array;
+  /** Restore exactly a state from {@link save}. Throws a RangeError on bytes it cannot read. */
+  load(bytes: Uint8Array): void;
+  /** A hash of the canonical state bytes (FNV-1a 64). */
+  hash(): bigint;
+}
