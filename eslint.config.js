@@ -6,15 +6,43 @@ import globals from 'globals';
 
 /** Calls that make a simulation non-deterministic: clocks, Math.random, engine-dependent math. */
 const nonDeterministic = [
-  ...['random', 'sin', 'cos', 'tan', 'asin', 'acos', 'atan', 'atan2', 'exp', 'expm1', 'log', 'log1p', 'log2', 'log10', 'pow', 'hypot', 'sinh', 'cosh', 'tanh', 'cbrt'].map(
-    (property) => ({
-      object: 'Math',
-      property,
-      message: 'Simulation code must be deterministic: use the helpers in fixedstep det/ (dsin, dcos, datan2, …).',
-    }),
-  ),
-  { object: 'Date', property: 'now', message: 'Simulation code never reads a clock: time is tick × step.' },
-  { object: 'performance', property: 'now', message: 'Simulation code never reads a clock: time is tick × step.' },
+  ...[
+    'random',
+    'sin',
+    'cos',
+    'tan',
+    'asin',
+    'acos',
+    'atan',
+    'atan2',
+    'exp',
+    'expm1',
+    'log',
+    'log1p',
+    'log2',
+    'log10',
+    'pow',
+    'hypot',
+    'sinh',
+    'cosh',
+    'tanh',
+    'cbrt',
+  ].map((property) => ({
+    object: 'Math',
+    property,
+    message:
+      'Simulation code must be deterministic: use the helpers in fixedstep det/ (dsin, dcos, datan2, …).',
+  })),
+  {
+    object: 'Date',
+    property: 'now',
+    message: 'Simulation code never reads a clock: time is tick × step.',
+  },
+  {
+    object: 'performance',
+    property: 'now',
+    message: 'Simulation code never reads a clock: time is tick × step.',
+  },
 ];
 
 export default tseslint.config(
@@ -31,16 +59,27 @@ export default tseslint.config(
     },
     rules: {
       '@typescript-eslint/require-array-sort-compare': 'error',
-      '@typescript-eslint/restrict-template-expressions': ['error', { allowNumber: true, allowBoolean: true, allowBigInt: true }],
+      '@typescript-eslint/restrict-template-expressions': [
+        'error',
+        { allowNumber: true, allowBoolean: true },
+      ],
       '@typescript-eslint/no-non-null-assertion': 'off',
       '@typescript-eslint/prefer-literal-enum-member': 'off',
-      '@typescript-eslint/no-unnecessary-condition': ['error', { allowConstantLoopConditions: true }],
+      '@typescript-eslint/no-unnecessary-condition': [
+        'error',
+        { allowConstantLoopConditions: true },
+      ],
       'no-console': 'off',
+      // Hot loops over typed arrays index on purpose.
+      '@typescript-eslint/prefer-for-of': 'off',
     },
   },
   {
     // Simulation paths: no clocks, no Math.random, no engine trig. time/ (the loop and its drivers) may read clocks.
-    files: ['packages/fixedstep/src/{det,sim,physics,replay}/**/*.ts', 'packages/games/src/**/*.ts'],
+    files: [
+      'packages/fixedstep/src/{det,sim,physics,replay}/**/*.ts',
+      'packages/games/src/**/*.ts',
+    ],
     rules: { 'no-restricted-properties': ['error', ...nonDeterministic] },
   },
   {
@@ -51,7 +90,10 @@ export default tseslint.config(
       'vitest/valid-expect': 'error',
       'vitest/no-focused-tests': 'error',
       'vitest/no-disabled-tests': 'error',
-      'vitest/expect-expect': ['error', { assertFunctionNames: ['expect', 'expect*', 'assert*', 'fc.assert'] }],
+      'vitest/expect-expect': [
+        'error',
+        { assertFunctionNames: ['expect', 'expect*', 'assert*', 'fc.assert'] },
+      ],
       '@typescript-eslint/no-unused-expressions': 'error',
     },
   },

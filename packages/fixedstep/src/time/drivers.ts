@@ -47,9 +47,7 @@ interface AnimationFrameHost {
 }
 
 /** Frames from `requestAnimationFrame` (the timestamp it passes is the reading). */
-export function animationFrameScheduler(
-  host: AnimationFrameHost = globalThis as unknown as AnimationFrameHost,
-): FrameScheduler {
+export function animationFrameScheduler(host: AnimationFrameHost = globalThis): FrameScheduler {
   if (typeof host.requestAnimationFrame !== 'function') {
     throw new TypeError(
       'animationFrameScheduler: requestAnimationFrame is not available here (use timerScheduler in Node)',

@@ -153,13 +153,13 @@ export class FixedLoop implements Loop {
     this.overload = options.overload ?? 'catch-up';
     if (!POLICIES.includes(this.overload)) {
       throw new RangeError(
-        `FixedLoop: overload must be one of ${POLICIES.join(', ')}, got ${String(this.overload)}`,
+        `FixedLoop: overload must be one of ${POLICIES.join(', ')}, got ${this.overload as string}`,
       );
     }
     this.hiddenPolicy = options.hidden ?? 'pause';
     if (!HIDDEN.includes(this.hiddenPolicy)) {
       throw new RangeError(
-        `FixedLoop: hidden must be one of ${HIDDEN.join(', ')}, got ${String(this.hiddenPolicy)}`,
+        `FixedLoop: hidden must be one of ${HIDDEN.join(', ')}, got ${this.hiddenPolicy as string}`,
       );
     }
 

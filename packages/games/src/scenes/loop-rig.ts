@@ -26,8 +26,8 @@ export function defaultBallScript(): ScriptedInput[] {
   return [
     { timeMs: 400, button: BallButtons.throw, down: true },
     { timeMs: 470, button: BallButtons.throw, down: false },
-    { timeMs: 1200, button: BallButtons.right, down: true },
-    { timeMs: 1700, button: BallButtons.right, down: false },
+    { timeMs: 1210, button: BallButtons.right, down: true },
+    { timeMs: 1710, button: BallButtons.right, down: false },
     { timeMs: 2300, button: BallButtons.throw, down: true },
     { timeMs: 2310, button: BallButtons.throw, down: false },
   ];

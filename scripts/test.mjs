@@ -1,0 +1,72 @@
+// `npm test`: every test. Installs what the tests need (dependencies; Debian's chromium when
+// absent and we are root), then: format, lint, typecheck, unit tests, build, browser tests, and a
+// smoke run of the benchmarks. Runs every stage even when one fails, then prints a summary.
+import { existsSync, mkdirSync, readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { ensureChromium, ensureDependencies, root, run } from './setup.mjs';
+
+ensureDependencies();
+const chromium = ensureChromium();
+const results = join(root, 'artifacts', 'test-results');
+mkdirSync(results, { recursive: true });
+
+const stages = [
+  ['format', 'npx', ['prettier', '--check', '.']],
+  ['lint', 'npx', ['eslint', '--max-warnings', '0', '.']],
+  ['typecheck', 'npx', ['tsc', '-p', 'tsconfig.json', '--noEmit']],
+  [
+    'unit tests',
+    'npx',
+    [
+      'vitest',
+      'run',
+      '--reporter=default',
+      '--reporter=json',
+      `--outputFile.json=${join(results, 'unit.json')}`,
+    ],
+  ],
+  ['build', 'npm', ['run', 'build']],
+  [
+    'browser tests',
+    'npx',
+    [
+      'vitest',
+      'run',
+      '--config',
+      'e2e/vitest.config.ts',
+      '--reporter=default',
+      '--reporter=json',
+      `--outputFile.json=${join(results, 'e2e.json')}`,
+    ],
+  ],
+  ['benchmarks (smoke)', 'npm', ['run', 'bench', '--', '--quick']],
+];
+
+const env = { ...process.env, CHROMIUM_PATH: chromium };
+const failed = [];
+for (const [name, cmd, args] of stages) {
+  if (name === 'browser tests' && failed.includes('build')) {
+    failed.push(name);
+    continue;
+  }
+  if (run(cmd, args, { env }) !== 0) failed.push(name);
+}
+
+let passed = 0;
+let failedTests = 0;
+let skipped = 0;
+for (const f of ['unit.json', 'e2e.json']) {
+  const p = join(results, f);
+  if (!existsSync(p)) continue;
+  const r = JSON.parse(readFileSync(p, 'utf8'));
+  passed += r.numPassedTests ?? 0;
+  failedTests += r.numFailedTests ?? 0;
+  skipped += (r.numPendingTests ?? 0) + (r.numTodoTests ?? 0);
+}
+console.log(
+  `\nstages: ${stages.length - failed.length} of ${stages.length} passed${failed.length ? ` (failed: ${failed.join(', ')})` : ''}`,
+);
+console.log(
+  `${passed} passed, ${failedTests + (failed.length && failedTests === 0 ? failed.length : 0)} failed, ${skipped} skipped`,
+);
+process.exit(failed.length === 0 ? 0 : 1);
