@@ -168,7 +168,7 @@ describe('FixedLoop', () => {
     const back = 1000 / 60 + 10_000;
     expect(loop.frame(back)).toBe(0); // the first frame back spans the 10 s hidden
     expect(loop.droppedMs('hidden')).toBeCloseTo(10_000, 6);
-    expect(loop.frame(back + 1000 / 60)).toBe(1);
+    expect(loop.frame(back + 20)).toBe(1); // then ordinary frames run ordinary steps
     expect(loop.tick).toBe(before + 1);
   });
 
