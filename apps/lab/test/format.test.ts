@@ -1,0 +1,32 @@
+import { describe, expect, it } from 'vitest';
+import { count, exact, hashHue, millis, ratio, seconds } from '../src/ui/format.js';
+import { routeOf } from '../src/chapters.js';
+
+describe('format', () => {
+  it('formats readouts', () => {
+    expect(seconds(4.98)).toBe('4.980 s');
+    expect(seconds(NaN)).toBe('—');
+    expect(ratio(2.403333)).toBe('2.403×');
+    expect(millis(undefined)).toBe('n/a');
+    expect(millis(0)).toBe('0 ms');
+    expect(millis(1e-9)).toBe('0 ms');
+    expect(millis(12.34)).toBe('12.3 ms');
+    expect(millis(1758.333)).toBe('1\u202f758 ms');
+    expect(millis(-5)).toBe('−5 ms');
+    expect(count(10008)).toBe('10\u202f008');
+    expect(exact(0.1 + 0.2)).toBe('0.30000000000000004');
+    expect(exact(NaN)).toBe('NaN');
+    expect(exact(undefined)).toBe('');
+    expect(hashHue('0acdb8691efc01d0')).toBe(0x0acdb8 % 360);
+  });
+});
+
+describe('routeOf', () => {
+  it('reads the chapter id from the hash', () => {
+    expect(routeOf('#/loop')).toBe('loop');
+    expect(routeOf('#/final-fixes')).toBe('final-fixes');
+    expect(routeOf('')).toBe('');
+    expect(routeOf('#/')).toBe('');
+    expect(routeOf('#main')).toBe('');
+  });
+});

@@ -1,0 +1,253 @@
+/**
+ * Chapter 1 in a real browser: the built lab, served by `fixedstep serve`'s server, driven by
+ * its own controls. The simulated display makes every number exact, so the assertions are on
+ * numbers, never on timing.
+ */
+import { existsSync, mkdirSync } from 'node:fs';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import { chromium, type Browser, type Page } from 'playwright-core';
+import { startServer, type RunningServer } from '@fixedstep/cli';
+
+const repo = fileURLToPath(new URL('..', import.meta.url));
+const dist = path.join(repo, 'apps/lab/dist');
+const shots = path.join(repo, 'artifacts/screenshots');
+
+const FIXED = ['fixed-naive', 'fixed-final', 'fixed'] as const;
+
+let server: RunningServer;
+let browser: Browser;
+
+/** Every readout on the page: test id → data-value. */
+async function readouts(page: Page): Promise<Record<string, string>> {
+  return page.evaluate(() => {
+    const out: Record<string, string> = {};
+    for (const el of document.querySelectorAll<HTMLElement>('[data-testid^="readout-"]')) {
+      out[el.dataset.testid!] = el.dataset.value ?? '';
+    }
+    return out;
+  });
+}
+
+function num(r: Record<string, string>, id: string): number {
+  const v = r[`readout-${id}`];
+  if (v === undefined || v === '') throw new Error(`no readout-${id}`);
+  return Number(v);
+}
+
+/** Console errors and warnings, page errors and failed requests of `page`, as they happen. */
+function watch(page: Page): string[] {
+  const problems: string[] = [];
+  page.on('console', (msg) => {
+    if (msg.type() === 'error' || msg.type() === 'warning') {
+      problems.push(`console.${msg.type()}: ${msg.text()}`);
+    }
+  });
+  page.on('pageerror', (error) => problems.push(`page error: ${error.message}`));
+  page.on('requestfailed', (req) => problems.push(`request failed: ${req.url()}`));
+  return problems;
+}
+
+/** Stop the virtual clock at exactly zero, on a chosen display rate. */
+async function freshRun(page: Page, hz: number): Promise<void> {
+  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
+    await page.getByTestId('control-pause').click();
+  }
+  await page.getByTestId(`control-hz-${hz}`).click();
+  await page.getByTestId('control-restart').click();
+  await expect.poll(() => page.getByTestId('readout-clock').getAttribute('data-value')).toBe('0');
+}
+
+async function skip(page: Page, times = 1): Promise<void> {
+  const before = Number(await page.getByTestId('readout-clock').getAttribute('data-value'));
+  for (let i = 0; i < times; i++) await page.getByTestId('control-skip').click();
+  await expect
+    .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
+    .toBe(before + 5000 * times);
+}
+
+beforeAll(async () => {
+  if (!existsSync(path.join(dist, 'index.html'))) {
+    throw new Error(
+      `The lab is not built: ${path.join(dist, 'index.html')} is missing. Run \`npm run build\` first.`,
+    );
+  }
+  mkdirSync(shots, { recursive: true });
+  server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
+  browser = await chromium.launch({
+    executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
+    args: [
+      '--headless',
+      '--no-sandbox',
+      '--disable-gpu',
+      '--disable-background-networking',
+      '--disable-component-update',
+      '--disable-sync',
+      '--no-first-run',
+    ],
+  });
+});
+
+afterAll(async () => {
+  await browser.close();
+  await server.close();
+});
+
+describe('chapter 1, the loop', () => {
+  it('shows the talk’s contrasts in its numbers at 60 and 144 Hz', async () => {
+    const page = await browser.newPage({ viewport: { width: 1440, height: 900 } });
+    const problems = watch(page);
+    await page.goto(`${server.url}#/loop`);
+    await expect.poll(() => page.title()).toBe('1. The loop — fixedstep lab');
+    await page.getByTestId('readout-fixed-hash').waitFor();
+    await expect
+      .poll(() => page.getByTestId('readout-fixed-hash').getAttribute('data-value'))
+      .toMatch(/^[0-9a-f]{16}$/);
+
+    await freshRun(page, 60);
+    await skip(page);
+    const at60 = await readouts(page);
+    await page.screenshot({ path: path.join(shots, 'loop-60hz.png'), fullPage: true });
+
+    await freshRun(page, 144);
+    await skip(page);
+    const at144 = await readouts(page);
+    await page.screenshot({ path: path.join(shots, 'loop-144hz.png'), fullPage: true });
+
+    const summary = (r: Record<string, string>) =>
+      ['frame-locked', 'variable', ...FIXED].map(
+        (id) =>
+          `${id}: ratio ${num(r, `${id}-ratio`).toFixed(4)} sim ${num(r, `${id}-sim`).toFixed(3)} s` +
+          ` hash@150 ${r[`readout-${id}-hash150`]}`,
+      );
+    console.log(['at 60 Hz:', ...summary(at60), 'at 144 Hz:', ...summary(at144)].join('\n'));
+
+    // Both runs are at exactly 5 s of virtual time.
+    expect(at60['readout-clock']).toBe('5000');
+    expect(at144['readout-clock']).toBe('5000');
+
+    // Frame-locked: time is the frame count. 1.0 at 60 Hz, 2.4 at 144 Hz.
+    const fl60 = num(at60, 'frame-locked-ratio');
+    const fl144 = num(at144, 'frame-locked-ratio');
+    expect(fl60).toBeCloseTo(1.0, 1);
+    expect(fl144).toBeCloseTo(2.4, 1);
+    expect(Math.abs(fl144 / fl60 - 2.4)).toBeLessThan(0.05);
+
+    // Variable Δt keeps time (ratio 1) but not the path: its state differs between rates.
+    expect(num(at60, 'variable-ratio')).toBeCloseTo(1, 6);
+    expect(num(at144, 'variable-ratio')).toBeCloseTo(1, 6);
+    expect(at60['readout-variable-hash150']).toMatch(/^[0-9a-f]{16}$/);
+    expect(at144['readout-variable-hash150']).not.toBe(at60['readout-variable-hash150']);
+    expect(at144['readout-frame-locked-hash150']).not.toBe(at60['readout-frame-locked-hash150']);
+
+    // The fixed loops keep time and path: same hash at tick 150 on both displays, all three alike.
+    const golden = at60['readout-fixed-hash150'];
+    expect(golden).toMatch(/^[0-9a-f]{16}$/);
+    for (const id of FIXED) {
+      expect(Math.abs(num(at60, `${id}-ratio`) - 1)).toBeLessThan(0.01);
+      expect(Math.abs(num(at144, `${id}-ratio`) - 1)).toBeLessThan(0.01);
+      expect(at60[`readout-${id}-hash150`]).toBe(golden);
+      expect(at144[`readout-${id}-hash150`]).toBe(golden);
+      // At 5 s both displays are at the same tick (166), so the current states agree too.
+      expect(num(at60, `${id}-sim`)).toBe(num(at144, `${id}-sim`));
+      expect(at144[`readout-${id}-hash`]).toBe(at60[`readout-${id}-hash`]);
+      expect(num(at144, `${id}-dropped`)).toBe(0);
+      expect(at144[`readout-${id}-stalled`]).toBe('false');
+    }
+    expect(num(at144, 'fixed-max-steps')).toBe(1);
+
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('shows what a hitch, a hidden tab and a slow machine do to each loop', async () => {
+    const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+    const problems = watch(page);
+    await page.goto(`${server.url}#/loop`);
+    await page.getByTestId('readout-fixed-hash').waitFor();
+
+    // A 2 s hitch at 5 s.
+    await freshRun(page, 60);
+    await skip(page); // t = 5 s
+    await page.getByTestId('control-hitch').click();
+    await skip(page); // t = 10 s
+    const hitch = await readouts(page);
+    // The slides' accumulator pays the whole 2 s at once; the clamp keeps 1 s (33 steps);
+    // FixedLoop runs at most 8 steps and counts the rest as dropped.
+    expect(num(hitch, 'fixed-naive-max-steps')).toBeGreaterThanOrEqual(66);
+    expect(num(hitch, 'fixed-naive-dropped')).toBe(0);
+    expect(num(hitch, 'fixed-final-max-steps')).toBe(33);
+    expect(num(hitch, 'fixed-final-dropped')).toBeGreaterThan(900);
+    expect(num(hitch, 'fixed-max-steps')).toBe(8);
+    expect(num(hitch, 'fixed-dropped')).toBeGreaterThan(1700);
+    expect(num(hitch, 'variable-ratio')).toBeCloseTo(1, 6);
+
+    // A hidden tab: FixedLoop pauses and counts the 10 s as dropped.
+    await page.getByTestId('control-restart').click();
+    await skip(page);
+    await page.getByTestId('control-hidden').click();
+    await skip(page, 3); // t = 20 s
+    const hidden = await readouts(page);
+    expect(num(hidden, 'fixed-dropped')).toBeGreaterThanOrEqual(10_000);
+    expect(num(hidden, 'fixed-max-steps')).toBe(1);
+    expect(num(hidden, 'fixed-naive-max-steps')).toBeGreaterThanOrEqual(333);
+
+    // A slow machine: the slides' loop spirals until the page stalls; FixedLoop stays capped.
+    await page.getByTestId('control-restart').click();
+    await page.getByTestId('control-slow').click();
+    await skip(page, 6); // t = 30 s
+    const slow = await readouts(page);
+    expect(slow['readout-fixed-naive-stalled']).toBe('true');
+    expect(slow['readout-fixed-stalled']).toBe('false');
+    expect(num(slow, 'fixed-max-steps')).toBe(8);
+    expect(num(slow, 'frame-locked-ratio')).toBeLessThan(0.5);
+    expect(await page.getByTestId('readout-fixed-naive-stalled').isVisible()).toBe(true);
+    await page.getByTestId('control-slow').click();
+
+    // Interpolation off and the real clock: no errors, and the real clock moves.
+    await page.getByTestId('control-interp').click();
+    await page.getByTestId('control-real-clock').click();
+    await page.getByTestId('control-pause').click();
+    await expect
+      .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
+      .toBeGreaterThan(100);
+    await page.getByTestId('control-real-clock').click();
+
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('fits a phone screen and works from the keyboard', async () => {
+    const context = await browser.newContext({
+      viewport: { width: 390, height: 844 },
+      deviceScaleFactor: 2,
+      isMobile: true,
+      hasTouch: true,
+    });
+    const page = await context.newPage();
+    const problems = watch(page);
+    await page.goto(`${server.url}#/loop`);
+    await page.getByTestId('readout-fixed-hash').waitFor();
+    await freshRun(page, 144);
+    await skip(page);
+    await page.screenshot({ path: path.join(shots, 'loop-phone.png'), fullPage: true });
+    const overflow = await page.evaluate(
+      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
+    );
+    expect(overflow).toBe(0);
+
+    // The skip button works from the keyboard.
+    await page.getByTestId('control-skip').focus();
+    await page.keyboard.press('Enter');
+    await expect
+      .poll(() => page.getByTestId('readout-clock').getAttribute('data-value'))
+      .toBe('10000');
+
+    // Unknown and planned chapters say so instead of failing.
+    await page.goto(`${server.url}#/network`);
+    await expect.poll(() => page.locator('main h1').textContent()).toBe('6. Network');
+    expect(problems).toEqual([]);
+    await context.close();
+  });
+});

@@ -1,0 +1,20 @@
+/**
+ * @fixedstep/cli — the `fixedstep` command and its server.
+ * @packageDocumentation
+ */
+export { startServer, mimeType, resolveRequestPath, displayHost } from './serve.js';
+export type { ServeOptions, RunningServer } from './serve.js';
+export {
+  run,
+  parseArgs,
+  parsePort,
+  defaultLabRoot,
+  MAIN_HELP,
+  SERVE_HELP,
+  DEFAULT_PORT,
+  DEFAULT_HOST,
+  EXIT_OK,
+  EXIT_FAILURE,
+  EXIT_USAGE,
+} from './cli.js';
+export type { Command, CliIo } from './cli.js';
