@@ -8,20 +8,16 @@
  * the replay lands on exactly the state a live run would have reached, and numbers repeat.
  */
 import {
-  BallScene,
   LoopRig,
   defaultBallScript,
-  makeLoop,
   BallButtons,
   type LoopSpec,
   type ScriptedInput,
 } from '@fixedstep/games';
 import {
-  ButtonSampler,
   FinalFixedLoop,
   FixedLoop,
   NaiveFixedLoop,
-  SimulatedDisplay,
   fnv1a64Hex,
   type DisplayEvent,
   type Loop,
@@ -140,84 +136,6 @@ export function labScript(throws: readonly number[]): ScriptedInput[] {
   return out.sort((a, b) => a.timeMs - b.timeMs);
 }
 
-/** What a panel's rig must offer the view: a {@link LoopRig}, or a {@link ClockRig}. */
-export interface RigView {
-  readonly loop: Loop;
-  readonly scene: BallScene;
-  readonly trace: number[];
-  readonly realMs: number;
-  readonly frames: number;
-  readonly maxSteps: number;
-  readonly owed: number;
-  readonly stalled: boolean;
-}
-
-/**
- * {@link LoopRig}'s twin for "real clock" mode: fed the page's own requestAnimationFrame times
- * instead of a simulated display.
- */
-export class ClockRig implements RigView {
-  readonly loop: Loop;
-  readonly scene = new BallScene();
-  readonly sampler = new ButtonSampler();
-  readonly trace: number[] = [];
-  private readonly script: ScriptedInput[];
-  private scriptAt = 0;
-  realMs = 0;
-  frames = 0;
-  maxSteps = 0;
-  owed = 0;
-
-  constructor(
-    spec: LoopSpec,
-    script: ScriptedInput[],
-    private readonly guard = 5000,
-  ) {
-    this.loop = makeLoop(spec);
-    this.script = script;
-  }
-
-  get stalled(): boolean {
-    return this.owed > 0;
-  }
-
-  /** One display frame at `tMs` from the start; `wasHidden` if the page was hidden since the last. */
-  frameAt(tMs: number, wasHidden: boolean): number {
-    this.realMs = tMs;
-    while (this.scriptAt < this.script.length && this.script[this.scriptAt]!.timeMs <= tMs) {
-      const e = this.script[this.scriptAt++]!;
-      this.sampler.push(e.timeMs, e.button, e.down);
-    }
-    if (wasHidden && this.loop instanceof FixedLoop) {
-      this.loop.setHidden(true);
-      this.loop.setHidden(false);
-    }
-    this.frames++;
-    let n = this.loop.frame(tMs);
-    if (n > this.maxSteps) this.maxSteps = n;
-    if (n > this.guard) {
-      this.owed += n - this.guard;
-      n = this.guard;
-    }
-    for (let j = 0; j < n; j++) {
-      this.scene.update(this.loop.dt, this.sampler.sample(this.loop, j));
-      for (const v of this.scene.state) this.trace.push(v);
-    }
-    return n;
-  }
-
-  /** Pushes a throw at `tMs` (must not be earlier than the last frame). */
-  addThrow(tMs: number): void {
-    const at = this.script.findIndex((e, i) => i >= this.scriptAt && e.timeMs > tMs);
-    const events: ScriptedInput[] = [
-      { timeMs: tMs, button: BallButtons.throw, down: true },
-      { timeMs: tMs + 50, button: BallButtons.throw, down: false },
-    ];
-    if (at < 0) this.script.push(...events);
-    else this.script.splice(at, 0, ...events);
-  }
-}
-
 /** A fixed-size ring of numeric records, oldest first. */
 export class Ring {
   readonly data: Float64Array;
@@ -299,7 +217,7 @@ export class PanelRun {
 
   constructor(
     readonly spec: PanelSpec,
-    readonly rig: RigView,
+    readonly rig: LoopRig,
   ) {}
 
   /** Record a display frame the rig has just run (`ran` updates executed). */
@@ -381,43 +299,27 @@ export function droppedMs(loop: Loop, realMs: number): number | undefined {
   return undefined;
 }
 
-/** A panel on the simulated display: its rig plus a twin display that says when the next frame is due. */
+/** A panel on the simulated display. */
 class SimulatedPanel {
   readonly run: PanelRun;
   private readonly rig: LoopRig;
-  private readonly twin: SimulatedDisplay;
-  private readonly costMs: number;
-  /** Time of the next display frame, ms. */
-  nextAt: number;
 
   constructor(spec: PanelSpec, settings: LoopLabSettings, script: ScriptedInput[]) {
-    const display = {
-      hz: settings.hz,
-      jitter: settings.jitter,
-      seed: 1,
-      events: settings.events,
-    };
-    this.costMs = settings.slow ? SLOW_UPDATE_COST_MS : 0;
+    const costMs = settings.slow ? SLOW_UPDATE_COST_MS : 0;
     this.rig = new LoopRig({
       loop: spec.loop,
-      display,
+      display: { hz: settings.hz, jitter: settings.jitter, seed: 1, events: settings.events },
       script,
-      updateCostMs: this.costMs,
-      stallGuard: this.costMs > 0 ? Math.floor(STALL_WORK_MS / this.costMs) : 5000,
+      updateCostMs: costMs,
+      stallGuard: costMs > 0 ? Math.floor(STALL_WORK_MS / costMs) : 5000,
       trace: true,
     });
-    this.twin = new SimulatedDisplay(display);
-    this.nextAt = this.twin.next(0).time;
     this.run = new PanelRun(spec, this.rig);
   }
 
   /** Run every display frame due at or before `tMs`. */
   advanceTo(tMs: number): void {
-    while (this.nextAt <= tMs) {
-      const n = this.rig.frame();
-      this.run.recordFrame(n);
-      this.nextAt = this.twin.next(n * this.costMs).time;
-    }
+    while (this.rig.nextFrameAt <= tMs) this.run.recordFrame(this.rig.frame());
   }
 }
 
@@ -506,7 +408,7 @@ function cloneSettings(s: LoopLabSettings): LoopLabSettings {
 /** The five panels on the page's own clock (requestAnimationFrame). */
 export class ClockLab {
   readonly runs: PanelRun[];
-  private readonly rigs: ClockRig[];
+  private readonly rigs: LoopRig[];
   private time = 0;
   private hiddenSinceLastFrame = false;
 
@@ -514,10 +416,12 @@ export class ClockLab {
     const script = labScript([]);
     this.rigs = PANELS.map(
       (spec) =>
-        new ClockRig(
-          spec.loop,
-          script.map((e) => ({ ...e })),
-        ),
+        new LoopRig({
+          loop: spec.loop,
+          display: { hz: 60 },
+          script: script.map((e) => ({ ...e })),
+          trace: true,
+        }),
     );
     this.runs = PANELS.map((spec, i) => new PanelRun(spec, this.rigs[i]!));
   }
@@ -543,6 +447,11 @@ export class ClockLab {
   }
 
   addThrow(): void {
-    for (const rig of this.rigs) rig.addThrow(this.time);
+    for (const rig of this.rigs) {
+      rig.addInputs([
+        { timeMs: this.time, button: BallButtons.throw, down: true },
+        { timeMs: this.time + 50, button: BallButtons.throw, down: false },
+      ]);
+    }
   }
 }

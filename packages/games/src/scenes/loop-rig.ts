@@ -8,6 +8,7 @@ import {
   Timestep,
   VariableLoop,
   type DisplayEvent,
+  type DisplayFrame,
   type FixedLoopOptions,
   type Loop,
   type LoopKind,
@@ -84,7 +85,8 @@ export interface LoopRigOptions {
 /**
  * One loop, one ball scene and one simulated display, advanced a display frame at a time, with
  * scripted inputs sampled per update through a {@link ButtonSampler}. The lab draws it; the tests
- * assert on it; the bench times it.
+ * assert on it; the bench times it. {@link frame} takes the simulated display's next frame;
+ * {@link frameAt} takes a frame time from elsewhere (the page's real clock).
  */
 export class LoopRig {
   readonly loop: Loop;
@@ -99,7 +101,10 @@ export class LoopRig {
   private readonly guard: number;
   private readonly tracing: boolean;
   private workMs = 0;
-  private startMs = 0;
+  private readonly startMs: number;
+  private pending: DisplayFrame;
+  /** Real time of the last frame, in ms from the start. */
+  realMs = 0;
   /** Updates the loop asked for but the page could not run (it would have stalled). */
   owed = 0;
   /** Frames seen. */
@@ -111,16 +116,12 @@ export class LoopRig {
     this.loop = makeLoop(options.loop);
     this.scene = new BallScene(options.scene);
     this.display = new SimulatedDisplay(options.display);
-    this.script = options.script ?? defaultBallScript();
+    this.script = [...(options.script ?? defaultBallScript())].sort((a, b) => a.timeMs - b.timeMs);
     this.costMs = options.updateCostMs ?? 0;
     this.guard = options.stallGuard ?? 5000;
     this.tracing = options.trace ?? false;
     this.startMs = this.display.now;
-  }
-
-  /** Real time since the start, in ms. */
-  get realMs(): number {
-    return this.display.now - this.startMs;
+    this.pending = this.display.next(0);
   }
 
   /** Whether the loop asked for more updates in one frame than a page could run. */
@@ -128,21 +129,35 @@ export class LoopRig {
     return this.owed > 0;
   }
 
-  /** Advance one display frame. Returns the number of updates run. */
+  /** When the simulated display's next frame comes, in ms from the start. */
+  get nextFrameAt(): number {
+    return this.pending.time - this.startMs;
+  }
+
+  /** Advance one frame of the simulated display. Returns the number of updates run. */
   frame(): number {
-    const f = this.display.next(this.workMs);
-    const t = f.time - this.startMs;
-    while (this.scriptAt < this.script.length && this.script[this.scriptAt]!.timeMs <= t) {
+    const n = this.frameAt(this.pending.time - this.startMs, this.pending.wasHidden);
+    this.pending = this.display.next(this.workMs);
+    return n;
+  }
+
+  /**
+   * Advance one display frame at `tMs` from the start (not earlier than the last one);
+   * `wasHidden` if the page was hidden since the last frame. Returns the number of updates run.
+   */
+  frameAt(tMs: number, wasHidden = false): number {
+    this.realMs = tMs;
+    while (this.scriptAt < this.script.length && this.script[this.scriptAt]!.timeMs <= tMs) {
       const e = this.script[this.scriptAt++]!;
       this.sampler.push(e.timeMs, e.button, e.down);
     }
     const loop = this.loop;
-    if (f.wasHidden && loop instanceof FixedLoop) {
+    if (wasHidden && loop instanceof FixedLoop) {
       loop.setHidden(true);
       loop.setHidden(false);
     }
     this.frames++;
-    let n = loop.frame(t);
+    let n = loop.frame(tMs);
     if (n > this.maxSteps) this.maxSteps = n;
     if (n > this.guard) {
       this.owed += n - this.guard;
@@ -156,7 +171,16 @@ export class LoopRig {
     return n;
   }
 
-  /** Advance frames until `ms` of real time have passed. */
+  /** Add scripted inputs (not earlier than the last frame); they merge in time order. */
+  addInputs(events: readonly ScriptedInput[]): void {
+    const rest = [...this.script.slice(this.scriptAt), ...events].sort(
+      (a, b) => a.timeMs - b.timeMs,
+    );
+    this.script.length = this.scriptAt;
+    this.script.push(...rest);
+  }
+
+  /** Advance frames of the simulated display until `ms` more of real time have passed. */
   runFor(ms: number): void {
     const end = this.realMs + ms;
     while (this.realMs < end) this.frame();
