@@ -38,3 +38,4 @@ export { runForHash, snapshotRoundTrip, hashTrace, hex64 } from './testing/index
 export type { RoundTripResult } from './testing/index.js';
 export * from './det/index.js';
 export * from './physics/index.js';
+export * from './replay/index.js';
