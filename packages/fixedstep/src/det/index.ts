@@ -1,3 +1,25 @@
 export { Random } from './random.js';
 export { Fnv1a64, fnv1a64, fnv1a64Hex } from './hash.js';
 export { ByteWriter, ByteReader } from './bytes.js';
+export {
+  dsin,
+  dcos,
+  dsincos,
+  dtan,
+  datan,
+  datan2,
+  dasin,
+  dacos,
+  dexp,
+  dlog,
+  dhypot,
+  wrapAngle,
+} from './math.js';
+export type { WritableNumbers } from './math.js';
+export {
+  withDeterminismGuard,
+  guardStep,
+  guardSimulation,
+  isGuardActive,
+  DeterminismError,
+} from './guard.js';
