@@ -43,6 +43,16 @@ const nonDeterministic = [
     property: 'now',
     message: 'Simulation code never reads a clock: time is tick × step.',
   },
+  {
+    object: 'crypto',
+    property: 'getRandomValues',
+    message: 'Simulation code must be deterministic: use a seeded Random.',
+  },
+  {
+    object: 'crypto',
+    property: 'randomUUID',
+    message: 'Simulation code must be deterministic: use a seeded Random.',
+  },
 ];
 
 export default tseslint.config(
@@ -80,7 +90,20 @@ export default tseslint.config(
       'packages/fixedstep/src/{det,sim,physics,replay}/**/*.ts',
       'packages/games/src/**/*.ts',
     ],
-    rules: { 'no-restricted-properties': ['error', ...nonDeterministic] },
+    rules: {
+      'no-restricted-properties': ['error', ...nonDeterministic],
+      'no-restricted-syntax': [
+        'error',
+        {
+          selector: "NewExpression[callee.name='Date']",
+          message: 'Simulation code never reads a clock: time is tick × step.',
+        },
+        {
+          selector: "CallExpression[callee.name='Date']",
+          message: 'Simulation code never reads a clock: time is tick × step.',
+        },
+      ],
+    },
   },
   {
     files: ['**/*.test.ts', 'e2e/**/*.ts'],
