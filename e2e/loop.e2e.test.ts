@@ -3,51 +3,14 @@
  * its own controls. The simulated display makes every number exact, so the assertions are on
  * numbers, never on timing.
  */
-import { existsSync, mkdirSync } from 'node:fs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { chromium, type Browser, type Page } from 'playwright-core';
-import { startServer, type RunningServer } from '@fixedstep/cli';
-
-const repo = fileURLToPath(new URL('..', import.meta.url));
-const dist = path.join(repo, 'apps/lab/dist');
-const shots = path.join(repo, 'artifacts/screenshots');
+import { describe, expect, it } from 'vitest';
+import type { Page } from 'playwright-core';
+import { num, readouts, shots, useLab, watch } from './harness.js';
 
 const FIXED = ['fixed-naive', 'fixed-final', 'fixed'] as const;
 
-let server: RunningServer;
-let browser: Browser;
-
-/** Every readout on the page: test id → data-value. */
-async function readouts(page: Page): Promise<Record<string, string>> {
-  return page.evaluate(() => {
-    const out: Record<string, string> = {};
-    for (const el of document.querySelectorAll<HTMLElement>('[data-testid^="readout-"]')) {
-      out[el.dataset.testid!] = el.dataset.value ?? '';
-    }
-    return out;
-  });
-}
-
-function num(r: Record<string, string>, id: string): number {
-  const v = r[`readout-${id}`];
-  if (v === undefined || v === '') throw new Error(`no readout-${id}`);
-  return Number(v);
-}
-
-/** Console errors and warnings, page errors and failed requests of `page`, as they happen. */
-function watch(page: Page): string[] {
-  const problems: string[] = [];
-  page.on('console', (msg) => {
-    if (msg.type() === 'error' || msg.type() === 'warning') {
-      problems.push(`console.${msg.type()}: ${msg.text()}`);
-    }
-  });
-  page.on('pageerror', (error) => problems.push(`page error: ${error.message}`));
-  page.on('requestfailed', (req) => problems.push(`request failed: ${req.url()}`));
-  return problems;
-}
+const lab = useLab();
 
 /** Stop the virtual clock at exactly zero, on a chosen display rate. */
 async function freshRun(page: Page, hz: number): Promise<void> {
@@ -67,38 +30,11 @@ async function skip(page: Page, times = 1): Promise<void> {
     .toBe(before + 5000 * times);
 }
 
-beforeAll(async () => {
-  if (!existsSync(path.join(dist, 'index.html'))) {
-    throw new Error(
-      `The lab is not built: ${path.join(dist, 'index.html')} is missing. Run \`npm run build\` first.`,
-    );
-  }
-  mkdirSync(shots, { recursive: true });
-  server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
-  browser = await chromium.launch({
-    executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
-    args: [
-      '--headless',
-      '--no-sandbox',
-      '--disable-gpu',
-      '--disable-background-networking',
-      '--disable-component-update',
-      '--disable-sync',
-      '--no-first-run',
-    ],
-  });
-});
-
-afterAll(async () => {
-  await browser.close();
-  await server.close();
-});
-
 describe('chapter 1, the loop', () => {
   it('shows the talk’s contrasts in its numbers at 60 and 144 Hz', async () => {
-    const page = await browser.newPage({ viewport: { width: 1440, height: 900 } });
+    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
     const problems = watch(page);
-    await page.goto(`${server.url}#/loop`);
+    await page.goto(`${lab.server.url}#/loop`);
     await expect.poll(() => page.title()).toBe('1. The loop — fixedstep lab');
     await page.getByTestId('readout-fixed-hash').waitFor();
     await expect
@@ -162,9 +98,9 @@ describe('chapter 1, the loop', () => {
   });
 
   it('shows what a hitch, a hidden tab and a slow machine do to each loop', async () => {
-    const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 800 } });
     const problems = watch(page);
-    await page.goto(`${server.url}#/loop`);
+    await page.goto(`${lab.server.url}#/loop`);
     await page.getByTestId('readout-fixed-hash').waitFor();
 
     // A 2 s hitch at 5 s.
@@ -219,7 +155,7 @@ describe('chapter 1, the loop', () => {
   });
 
   it('fits a phone screen and works from the keyboard', async () => {
-    const context = await browser.newContext({
+    const context = await lab.browser.newContext({
       viewport: { width: 390, height: 844 },
       deviceScaleFactor: 2,
       isMobile: true,
@@ -227,7 +163,7 @@ describe('chapter 1, the loop', () => {
     });
     const page = await context.newPage();
     const problems = watch(page);
-    await page.goto(`${server.url}#/loop`);
+    await page.goto(`${lab.server.url}#/loop`);
     await page.getByTestId('readout-fixed-hash').waitFor();
     await freshRun(page, 144);
     await skip(page);
@@ -245,7 +181,7 @@ describe('chapter 1, the loop', () => {
       .toBe('10000');
 
     // Unknown and planned chapters say so instead of failing.
-    await page.goto(`${server.url}#/network`);
+    await page.goto(`${lab.server.url}#/network`);
     await expect.poll(() => page.locator('main h1').textContent()).toBe('6. Network');
     expect(problems).toEqual([]);
     await context.close();

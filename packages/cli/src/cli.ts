@@ -1,7 +1,31 @@
-import { existsSync, readFileSync } from 'node:fs';
+import { existsSync, readFileSync, writeFileSync } from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
+import { INTEGRATOR_METHODS, type IntegratorMethod } from 'fixedstep';
+import {
+  UsageError,
+  convertValue,
+  formatOptions,
+  parseOptions,
+  type OptionSpec,
+  type OptionValue,
+} from './args.js';
+import {
+  formatIntegratorTable,
+  integratorCsv,
+  runIntegratorExperiment,
+  type IntegratorExperimentOptions,
+} from './experiments/integrators.js';
+import {
+  TUNNEL_HELP,
+  formatTunnelTable,
+  parseTunnel,
+  runTunnelExperiment,
+  tunnelCsv,
+  type TunnelExperimentOptions,
+} from './experiments/tunnel.js';
 import { startServer } from './serve.js';
+import { lineChartSvg } from './svg.js';
 
 /** Exit codes: 0 done, 1 it failed while running, 2 the command line was wrong. */
 export const EXIT_OK = 0;
@@ -33,7 +57,9 @@ Usage:
   fixedstep <command> [options]
 
 Commands:
-  serve        Serve the lab (the talk, live) on http://localhost:${DEFAULT_PORT}/
+  serve                     Serve the lab (the talk, live) on http://localhost:${DEFAULT_PORT}/
+  experiment integrators    Energy and phase error of six integrators on a spring
+  experiment tunnel         How often bodies tunnel through walls, with and without CCD
 
 Options:
   -h, --help     Show this help (or a command's: fixedstep serve --help)
@@ -42,19 +68,118 @@ Options:
 Exit codes: 0 ok, 1 runtime error, 2 usage error.
 `;
 
+const SERVE_OPTIONS: OptionSpec[] = [
+  {
+    name: 'port',
+    short: 'p',
+    kind: 'integer',
+    min: 0,
+    max: 65535,
+    valueName: 'n',
+    help: `Port to listen on, 0 for any free one (default: $PORT, else ${DEFAULT_PORT})`,
+  },
+  {
+    name: 'host',
+    kind: 'string',
+    valueName: 'address',
+    help: `Interface to listen on (default: ${DEFAULT_HOST}, this machine only;\nuse 0.0.0.0 to open the lab to your network)`,
+  },
+  {
+    name: 'root',
+    kind: 'string',
+    valueName: 'dir',
+    help: 'Directory to serve (default: the built lab, apps/lab/dist)',
+  },
+  { name: 'help', short: 'h', kind: 'flag', help: 'Show this help' },
+];
+
 export const SERVE_HELP = `fixedstep serve — serve the lab
 
 Usage:
   fixedstep serve [--port <n>] [--host <address>] [--root <dir>]
 
 Options:
-  -p, --port <n>       Port to listen on, 0 for any free one (default: $PORT, else ${DEFAULT_PORT})
-      --host <address> Interface to listen on (default: ${DEFAULT_HOST}, this machine only;
-                       use 0.0.0.0 to open the lab to your network)
-      --root <dir>     Directory to serve (default: the built lab, apps/lab/dist)
-  -h, --help           Show this help
+${formatOptions(SERVE_OPTIONS)}
 
 Build the lab first with: npm run build
+`;
+
+const INTEGRATORS_OPTIONS: OptionSpec[] = [
+  {
+    name: 'omega',
+    kind: 'number',
+    min: 0,
+    max: 1e6,
+    valueName: 'rad/s',
+    help: 'Angular frequency ω = √(k/m) (default: √20 ≈ 4.472, k = 20 N/m, m = 1 kg)',
+  },
+  {
+    name: 'dt',
+    kind: 'number',
+    min: 1e-6,
+    max: 10,
+    valueName: 's',
+    help: "Time step (default: 0.03, the talk's TIME_STEP)",
+  },
+  {
+    name: 'duration',
+    kind: 'number',
+    min: 1e-6,
+    max: 1e6,
+    valueName: 's',
+    help: 'Simulated time (default: 10)',
+  },
+  {
+    name: 'x0',
+    kind: 'number',
+    min: -1e6,
+    max: 1e6,
+    valueName: 'm',
+    help: 'Start position (default: 1)',
+  },
+  {
+    name: 'v0',
+    kind: 'number',
+    min: -1e6,
+    max: 1e6,
+    valueName: 'm/s',
+    help: 'Start velocity (default: 0)',
+  },
+  {
+    name: 'methods',
+    kind: 'string',
+    valueName: 'list',
+    help: `Comma-separated subset of: ${INTEGRATOR_METHODS.join(', ')}`,
+  },
+  {
+    name: 'csv',
+    kind: 'string',
+    valueName: 'file',
+    help: 'Write the sampled series (t, x, energy ratio per method) as CSV',
+  },
+  {
+    name: 'svg',
+    kind: 'string',
+    valueName: 'file',
+    help: 'Write a plot of the energy ratio over time as SVG',
+  },
+  { name: 'help', short: 'h', kind: 'flag', help: 'Show this help' },
+];
+
+export const INTEGRATORS_HELP = `fixedstep experiment integrators — six integrators on the harmonic oscillator
+
+Runs explicit Euler, semi-implicit Euler, backward Euler, position Verlet, velocity Verlet and
+RK4 on x'' = -ω²x and prints each one's energy ratio E(T)/E(0), its largest energy error and its
+phase error against the exact solution.
+
+Usage:
+  fixedstep experiment integrators [options]
+
+Options:
+${formatOptions(INTEGRATORS_OPTIONS)}
+
+Example:
+  fixedstep experiment integrators --dt 0.03 --duration 10 --svg energy.svg
 `;
 
 /** What the command line asks for. */
@@ -62,11 +187,14 @@ export type Command =
   | { kind: 'help'; text: string }
   | { kind: 'version' }
   | { kind: 'serve'; port: number; host: string; root: string | undefined }
+  | {
+      kind: 'experiment-integrators';
+      options: IntegratorExperimentOptions;
+      csv?: string;
+      svg?: string;
+    }
+  | { kind: 'experiment-tunnel'; options: TunnelExperimentOptions; csv?: string }
   | { kind: 'usage-error'; message: string; help: string };
-
-function usage(message: string, help = MAIN_HELP): Command {
-  return { kind: 'usage-error', message, help };
-}
 
 /** A port from the command line or the environment: an integer from 0 to 65535, or undefined. */
 export function parsePort(text: string): number | undefined {
@@ -75,9 +203,82 @@ export function parsePort(text: string): number | undefined {
   return n <= 65535 ? n : undefined;
 }
 
+function str(v: OptionValue | undefined): string | undefined {
+  return typeof v === 'string' ? v : undefined;
+}
+function num(v: OptionValue | undefined, fallback: number): number {
+  return typeof v === 'number' ? v : fallback;
+}
+
+function parseServe(
+  rest: readonly string[],
+  env: Readonly<Record<string, string | undefined>>,
+): Command {
+  const { values } = parseOptions('serve', rest, SERVE_OPTIONS);
+  if (values.help) return { kind: 'help', text: SERVE_HELP };
+  let port = DEFAULT_PORT;
+  const envPort = env.PORT;
+  if (envPort !== undefined && envPort !== '')
+    port = convertValue(SERVE_OPTIONS[0]!, 'PORT', envPort) as number;
+  return {
+    kind: 'serve',
+    port: num(values.port, port),
+    host: str(values.host) ?? DEFAULT_HOST,
+    root: str(values.root),
+  };
+}
+
+function parseIntegrators(rest: readonly string[]): Command {
+  const { values } = parseOptions('experiment integrators', rest, INTEGRATORS_OPTIONS);
+  if (values.help) return { kind: 'help', text: INTEGRATORS_HELP };
+  const list = str(values.methods);
+  const methods = list === undefined ? [...INTEGRATOR_METHODS] : list.split(',');
+  const unknown = methods.filter((m) => !(INTEGRATOR_METHODS as readonly string[]).includes(m));
+  if (unknown.length > 0 || methods.length === 0) {
+    throw new UsageError(
+      `--methods: unknown method "${unknown[0] ?? ''}"; choose from ${INTEGRATOR_METHODS.join(', ')}`,
+    );
+  }
+  const x0 = num(values.x0, 1);
+  const v0 = num(values.v0, 0);
+  if (x0 === 0 && v0 === 0)
+    throw new UsageError('--x0 and --v0 cannot both be 0: the oscillator would have no energy');
+  const dt = num(values.dt, 0.03);
+  const duration = num(values.duration, 10);
+  if (duration / dt > 1e7)
+    throw new UsageError(
+      `--duration / --dt is ${Math.round(duration / dt)} steps; at most 10 000 000`,
+    );
+  return {
+    kind: 'experiment-integrators',
+    options: {
+      omega: num(values.omega, Math.sqrt(20)),
+      dt,
+      duration,
+      x0,
+      v0,
+      methods: methods as IntegratorMethod[],
+    },
+    ...(str(values.csv) !== undefined ? { csv: str(values.csv) } : {}),
+    ...(str(values.svg) !== undefined ? { svg: str(values.svg) } : {}),
+  };
+}
+
+const COMMANDS: Record<
+  string,
+  {
+    help: string;
+    parse: (rest: readonly string[], env: Readonly<Record<string, string | undefined>>) => Command;
+  }
+> = {
+  serve: { help: SERVE_HELP, parse: parseServe },
+  'experiment integrators': { help: INTEGRATORS_HELP, parse: (rest) => parseIntegrators(rest) },
+  'experiment tunnel': { help: TUNNEL_HELP, parse: (rest) => parseTunnel(rest) },
+};
+
 /**
- * Parses the arguments (without `node` and the script). Pure: the environment is passed in, only
- * `PORT` is read from it; `--port` wins over `PORT`.
+ * Parses the arguments (without \`node\` and the script). Pure: the environment is passed in, only
+ * \`PORT\` is read from it; \`--port\` wins over \`PORT\`.
  */
 export function parseArgs(
   argv: readonly string[],
@@ -85,64 +286,39 @@ export function parseArgs(
 ): Command {
   const [first, ...rest] = argv;
   if (first === undefined || first === '-h' || first === '--help' || first === 'help') {
-    if (first === 'help' && rest[0] === 'serve') return { kind: 'help', text: SERVE_HELP };
-    return { kind: 'help', text: MAIN_HELP };
+    const topic = COMMANDS[rest.join(' ')];
+    return { kind: 'help', text: first === 'help' && topic ? topic.help : MAIN_HELP };
   }
   if (first === '-v' || first === '--version') return { kind: 'version' };
-  if (first.startsWith('-')) return usage(`unknown option: ${first}`);
-  if (first !== 'serve') return usage(`unknown command: ${first}`);
-
-  let port: number | undefined;
-  let host = DEFAULT_HOST;
-  let root: string | undefined;
-  const envPort = env.PORT;
-  if (envPort !== undefined && envPort !== '') {
-    port = parsePort(envPort);
-    if (port === undefined) {
-      return usage(`PORT must be an integer from 0 to 65535, got "${envPort}"`, SERVE_HELP);
-    }
+  if (first.startsWith('-'))
+    return { kind: 'usage-error', message: `unknown option: ${first}`, help: MAIN_HELP };
+  const name =
+    first === 'experiment' && rest[0] !== undefined && !rest[0].startsWith('-')
+      ? `experiment ${rest[0]}`
+      : first;
+  const command = COMMANDS[name];
+  if (!command) {
+    const message =
+      first === 'experiment'
+        ? `experiment needs a name: integrators or tunnel`
+        : `unknown command: ${first}`;
+    return { kind: 'usage-error', message, help: MAIN_HELP };
   }
-  for (let i = 0; i < rest.length; i++) {
-    const arg = rest[i]!;
-    if (arg === '-h' || arg === '--help') return { kind: 'help', text: SERVE_HELP };
-    const eq = arg.indexOf('=');
-    const name = arg.startsWith('--') && eq > 0 ? arg.slice(0, eq) : arg;
-    const inline = arg.startsWith('--') && eq > 0 ? arg.slice(eq + 1) : undefined;
-    const value = (): string | undefined => {
-      if (inline !== undefined) return inline;
-      const next = rest[i + 1];
-      if (next === undefined || next.startsWith('-')) return undefined;
-      i++;
-      return next;
-    };
-    if (name === '-p' || name === '--port') {
-      const v = value();
-      if (v === undefined) return usage(`${name} needs a value`, SERVE_HELP);
-      port = parsePort(v);
-      if (port === undefined) {
-        return usage(`${name} must be an integer from 0 to 65535, got "${v}"`, SERVE_HELP);
-      }
-    } else if (name === '--host') {
-      const v = value();
-      if (v === undefined || v === '') return usage('--host needs a value', SERVE_HELP);
-      host = v;
-    } else if (name === '--root') {
-      const v = value();
-      if (v === undefined || v === '') return usage('--root needs a value', SERVE_HELP);
-      root = v;
-    } else if (arg.startsWith('-')) {
-      return usage(`unknown option for serve: ${arg}`, SERVE_HELP);
-    } else {
-      return usage(`unexpected argument for serve: ${arg}`, SERVE_HELP);
-    }
+  try {
+    return command.parse(name === first ? rest : rest.slice(1), env);
+  } catch (error) {
+    if (error instanceof UsageError)
+      return { kind: 'usage-error', message: error.message, help: command.help };
+    throw error;
   }
-  return { kind: 'serve', port: port ?? DEFAULT_PORT, host, root };
 }
 
 /** Where the command writes, and what it waits on (injected so tests can run it). */
 export interface CliIo {
   out(text: string): void;
   err(text: string): void;
+  /** Progress of long work (e.g. `done` of `total` cells); the default draws a bar on stderr. */
+  progress?(done: number, total: number): void;
   /** Resolves when the process is asked to stop (Ctrl-C). Default: SIGINT or SIGTERM. */
   stopSignal?: Promise<void>;
 }
@@ -150,6 +326,14 @@ export interface CliIo {
 const processIo: CliIo = {
   out: (text) => process.stdout.write(text),
   err: (text) => process.stderr.write(text),
+  progress: (done, total) => {
+    if (!process.stderr.isTTY) return;
+    const width = 30;
+    const fill = Math.round((done / total) * width);
+    process.stderr.write(
+      `\r[${'#'.repeat(fill)}${'.'.repeat(width - fill)}] ${done}/${total}${done === total ? '\n' : ''}`,
+    );
+  },
 };
 
 function signals(): Promise<void> {
@@ -184,6 +368,34 @@ export async function run(
     case 'usage-error':
       io.err(`fixedstep: ${command.message}\n\n${command.help}`);
       return EXIT_USAGE;
+    case 'experiment-integrators': {
+      const exp = runIntegratorExperiment(command.options);
+      io.out(formatIntegratorTable(exp));
+      return writeOutputs(io, [
+        [command.csv, () => integratorCsv(exp)],
+        [
+          command.svg,
+          () =>
+            lineChartSvg(
+              exp.results.map((r) => ({ label: r.label, x: r.t, y: r.energy })),
+              {
+                title: `Energy E(t)/E(0), ω = ${command.options.omega.toFixed(3)} rad/s, dt = ${command.options.dt} s`,
+                xLabel: 'time (s)',
+                yLabel: 'energy ratio (log scale)',
+                logY: true,
+                yRange: [-3, 6],
+              },
+            ),
+        ],
+      ]);
+    }
+    case 'experiment-tunnel': {
+      const table = runTunnelExperiment(command.options, (done, total) => {
+        io.progress?.(done, total);
+      });
+      io.out(formatTunnelTable(table));
+      return writeOutputs(io, [[command.csv, () => tunnelCsv(table)]]);
+    }
     case 'serve': {
       const root = path.resolve(command.root ?? defaultLabRoot());
       if (!existsSync(path.join(root, 'index.html'))) {
@@ -210,6 +422,23 @@ export async function run(
       return EXIT_OK;
     }
   }
+}
+
+/** Writes each `[file, contents]` whose file was asked for; 1 with a message if one cannot be written. */
+function writeOutputs(io: CliIo, outputs: [string | undefined, () => string][]): number {
+  for (const [file, make] of outputs) {
+    if (file === undefined) continue;
+    try {
+      writeFileSync(file, make());
+      io.out(`wrote ${file}\n`);
+    } catch (error) {
+      io.err(
+        `fixedstep: cannot write ${file}: ${error instanceof Error ? error.message : String(error)}\n`,
+      );
+      return EXIT_FAILURE;
+    }
+  }
+  return EXIT_OK;
 }
 
 /** True when this module is the program (`node dist/cli.js`), not an import. */

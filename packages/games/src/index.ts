@@ -6,3 +6,5 @@ export { BallScene, BallButtons, defaultBallConfig } from './scenes/ball.js';
 export type { BallConfig } from './scenes/ball.js';
 export { LoopRig, makeLoop, defaultBallScript } from './scenes/loop-rig.js';
 export type { LoopRigOptions, LoopSpec, ScriptedInput } from './scenes/loop-rig.js';
+export { measureTunnelling } from './scenes/tunnel.js';
+export type { TunnelSetting, TunnelResult } from './scenes/tunnel.js';

@@ -1,0 +1,85 @@
+/**
+ * Shared set-up of the browser tests: the built lab served by `fixedstep serve`'s server on a free
+ * port, headless Chromium, and helpers to read a chapter's readouts and catch console problems.
+ * Every chapter's test file calls {@link useLab} once at its top level.
+ */
+import { existsSync, mkdirSync } from 'node:fs';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { afterAll, beforeAll } from 'vitest';
+import { chromium, type Browser, type Page } from 'playwright-core';
+import { startServer, type RunningServer } from '@fixedstep/cli';
+
+const repo = fileURLToPath(new URL('..', import.meta.url));
+export const dist = path.join(repo, 'apps/lab/dist');
+/** Where screenshots go (look at them). */
+export const shots = path.join(repo, 'artifacts/screenshots');
+
+/** The flags every headless Chromium here starts with (no network beyond localhost). */
+export const CHROMIUM_ARGS = [
+  '--headless',
+  '--no-sandbox',
+  '--disable-gpu',
+  '--disable-background-networking',
+  '--disable-component-update',
+  '--disable-sync',
+  '--no-first-run',
+];
+
+export interface Lab {
+  server: RunningServer;
+  browser: Browser;
+}
+
+/** Starts the server and the browser before the file's tests and stops them after. */
+export function useLab(): Lab {
+  const lab = {} as Lab;
+  beforeAll(async () => {
+    if (!existsSync(path.join(dist, 'index.html'))) {
+      throw new Error(
+        `The lab is not built: ${path.join(dist, 'index.html')} is missing. Run \`npm run build\` first.`,
+      );
+    }
+    mkdirSync(shots, { recursive: true });
+    lab.server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
+    lab.browser = await chromium.launch({
+      executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
+      args: CHROMIUM_ARGS,
+    });
+  });
+  afterAll(async () => {
+    await lab.browser.close();
+    await lab.server.close();
+  });
+  return lab;
+}
+
+/** Every readout on the page: test id → data-value. */
+export async function readouts(page: Page): Promise<Record<string, string>> {
+  return page.evaluate(() => {
+    const out: Record<string, string> = {};
+    for (const el of document.querySelectorAll<HTMLElement>('[data-testid^="readout-"]')) {
+      out[el.dataset.testid!] = el.dataset.value ?? '';
+    }
+    return out;
+  });
+}
+
+/** A readout's value as a number; throws naming the readout when it is missing. */
+export function num(r: Record<string, string>, id: string): number {
+  const v = r[`readout-${id}`];
+  if (v === undefined || v === '') throw new Error(`no readout-${id}`);
+  return Number(v);
+}
+
+/** Console errors and warnings, page errors and failed requests of `page`, as they happen. */
+export function watch(page: Page): string[] {
+  const problems: string[] = [];
+  page.on('console', (msg) => {
+    if (msg.type() === 'error' || msg.type() === 'warning')
+      problems.push(`console.${msg.type()}: ${msg.text()}`);
+  });
+  page.on('pageerror', (error) => problems.push(`page error: ${error.message}`));
+  page.on('requestfailed', (req) => problems.push(`request failed: ${req.url()}`));
+  return problems;
+}
