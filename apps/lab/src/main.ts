@@ -1,4 +1,4 @@
-import { CHAPTERS, PLANNED, routeOf, type Chapter } from './chapters.js';
+import { CHAPTERS, routeOf, type Chapter } from './chapters.js';
 import { h } from './ui/dom.js';
 import './styles.css';
 
@@ -79,20 +79,16 @@ async function show(): Promise<void> {
     else a.removeAttribute('aria-current');
   }
   if (!chapter) {
-    const planned = PLANNED.find((p) => p.id === id);
     document.title = 'fixedstep lab';
     main.append(
       h(
         'article',
         { class: 'chapter missing' },
-        h('h1', {}, planned ? `${planned.number}. ${planned.title}` : 'No such chapter'),
+        h('h1', {}, 'No such chapter'),
         h(
           'p',
           {},
-          planned
-            ? 'This chapter of the talk is not in the lab yet.'
-            : `There is no chapter “${id}”.`,
-          ' ',
+          `There is no chapter “${id}”. `,
           h('a', { href: `#/${CHAPTERS[0]!.id}` }, `Start with chapter 1, ${CHAPTERS[0]!.title}.`),
         ),
       ),

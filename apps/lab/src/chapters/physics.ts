@@ -1,0 +1,4 @@
+import { comingChapter } from '../ui/coming.js';
+
+// Being built (issue 4); replaced by the chapter's demo.
+export const mount = comingChapter({ number: 4, title: 'Physics', lede: '', coming: [] });
