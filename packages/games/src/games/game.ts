@@ -1,0 +1,58 @@
+import type { ButtonInput, Simulation } from 'fixedstep';
+
+/**
+ * What every game of the talk is: a deterministic {@link Simulation} over per-player
+ * {@link ButtonInput}s, plus what the lab, the replays, the server and the bots need to know.
+ *
+ * `step(inputs)` advances one fixed step of {@link GameInfo.stepSeconds}. `update(dt, inputs)`
+ * advances by any `dt`: the lab uses it with a variable-Δt loop to show what breaks. Only `step`
+ * is deterministic across frame rates; replays, networking and highscores use only `step`.
+ */
+export interface Game extends Simulation<ButtonInput> {
+  readonly info: GameInfo;
+  /** Advance by `dt` seconds (the variable-Δt demo). Not for replays or networking. */
+  update(dt: number, inputs: readonly ButtonInput[]): void;
+  /** The HUD numbers, as on the slides (e.g. { score, highscore } or { kills, lives }). */
+  hud(): Readonly<Record<string, number>>;
+  /** Whether the game has ended (all players out, time up …). */
+  readonly over: boolean;
+}
+
+export interface GameInfo {
+  /** Stable id, used in replay files and by the server: `runner`, `ctf`, `survival`. */
+  readonly id: string;
+  /** Bumped whenever a change alters the simulation (old replays then fail clearly). */
+  readonly version: number;
+  readonly title: string;
+  /** Seconds per fixed step. */
+  readonly stepSeconds: number;
+  /** Ticks per second (= 1 / stepSeconds when that is an integer). */
+  readonly tickRate: number;
+  /** Players the game supports. */
+  readonly minPlayers: number;
+  readonly maxPlayers: number;
+  /** Buttons (0–15) and the keys the lab maps to them, for help screens and input wiring. */
+  readonly buttons: readonly { button: number; name: string; keys: readonly string[] }[];
+}
+
+/** How a game is started: everything a replay header needs to build it again. */
+export interface GameConfig {
+  /** Seed of every random number the game draws. */
+  seed: number;
+  /** Number of (human or bot) players. */
+  players: number;
+}
+
+/** A bot: given the game (read-only use) and its player index, the input for the next tick. */
+export type Bot = (game: Game, player: number) => ButtonInput;
+
+/** One entry of the game registry. */
+export interface GameDefinition {
+  readonly info: GameInfo;
+  create(config: GameConfig): Game;
+  /** A bot that plays reasonably (deterministic: no clocks, no Math.random). */
+  readonly bot: Bot;
+  /** Canonical bytes of a config, for replay headers; and back. */
+  encodeConfig(config: GameConfig): Uint8Array;
+  decodeConfig(bytes: Uint8Array): GameConfig;
+}

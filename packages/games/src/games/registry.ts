@@ -1,0 +1,10 @@
+import type { GameDefinition } from './game.js';
+// Each game adds its import here and its definition to GAMES below.
+
+/** Every game, by id. Replays, the server and the CLI find a game here. */
+export const GAMES: readonly GameDefinition[] = [];
+
+/** The game with `id`, or undefined. */
+export function findGame(id: string): GameDefinition | undefined {
+  return GAMES.find((g) => g.info.id === id);
+}
