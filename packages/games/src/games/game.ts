@@ -8,7 +8,7 @@ import type { ButtonInput, Simulation } from 'fixedstep';
  * advances by any `dt`: the lab uses it with a variable-Δt loop to show what breaks. Only `step`
  * is deterministic across frame rates; replays, networking and highscores use only `step`.
  */
-export interface Game extends Simulation<ButtonInput> {
+export interface Game extends Simulation {
   readonly info: GameInfo;
   /** Advance by `dt` seconds (the variable-Δt demo). Not for replays or networking. */
   update(dt: number, inputs: readonly ButtonInput[]): void;
