@@ -24,6 +24,15 @@ import {
   tunnelCsv,
   type TunnelExperimentOptions,
 } from './experiments/tunnel.js';
+import {
+  REPLAY_INFO_HELP,
+  REPLAY_VERIFY_HELP,
+  parseReplayInfo,
+  parseReplayVerify,
+  replayInfo,
+  replayVerify,
+} from './replay.js';
+import { HighscoreStore, highscoreApi } from './highscores.js';
 import { startServer } from './serve.js';
 import { lineChartSvg } from './svg.js';
 
@@ -60,12 +69,14 @@ Commands:
   serve                     Serve the lab (the talk, live) on http://localhost:${DEFAULT_PORT}/
   experiment integrators    Energy and phase error of six integrators on a spring
   experiment tunnel         How often bodies tunnel through walls, with and without CCD
+  replay info <file>        What a replay file holds
+  replay verify <file>      Re-simulate a replay and check every stored hash
 
 Options:
   -h, --help     Show this help (or a command's: fixedstep serve --help)
   -v, --version  Print the version
 
-Exit codes: 0 ok, 1 runtime error, 2 usage error.
+Exit codes: 0 ok, 1 runtime error, 2 usage error (replay: 3 invalid file, 4 does not reproduce).
 `;
 
 const SERVE_OPTIONS: OptionSpec[] = [
@@ -83,6 +94,12 @@ const SERVE_OPTIONS: OptionSpec[] = [
     kind: 'string',
     valueName: 'address',
     help: `Interface to listen on (default: ${DEFAULT_HOST}, this machine only;\nuse 0.0.0.0 to open the lab to your network)`,
+  },
+  {
+    name: 'data',
+    kind: 'string',
+    valueName: 'dir',
+    help: 'Where the highscore table is kept (default: ./fixedstep-data)',
   },
   {
     name: 'root',
@@ -186,7 +203,7 @@ Example:
 export type Command =
   | { kind: 'help'; text: string }
   | { kind: 'version' }
-  | { kind: 'serve'; port: number; host: string; root: string | undefined }
+  | { kind: 'serve'; port: number; host: string; root: string | undefined; data?: string }
   | {
       kind: 'experiment-integrators';
       options: IntegratorExperimentOptions;
@@ -194,6 +211,8 @@ export type Command =
       svg?: string;
     }
   | { kind: 'experiment-tunnel'; options: TunnelExperimentOptions; csv?: string }
+  | { kind: 'replay-info'; file: string; json: boolean }
+  | { kind: 'replay-verify'; file: string; quiet: boolean }
   | { kind: 'usage-error'; message: string; help: string };
 
 /** A port from the command line or the environment: an integer from 0 to 65535, or undefined. */
@@ -225,6 +244,7 @@ function parseServe(
     port: num(values.port, port),
     host: str(values.host) ?? DEFAULT_HOST,
     root: str(values.root),
+    ...(str(values.data) !== undefined ? { data: str(values.data) } : {}),
   };
 }
 
@@ -274,6 +294,8 @@ const COMMANDS: Record<
   serve: { help: SERVE_HELP, parse: parseServe },
   'experiment integrators': { help: INTEGRATORS_HELP, parse: (rest) => parseIntegrators(rest) },
   'experiment tunnel': { help: TUNNEL_HELP, parse: (rest) => parseTunnel(rest) },
+  'replay info': { help: REPLAY_INFO_HELP, parse: (rest) => parseReplayInfo(rest) },
+  'replay verify': { help: REPLAY_VERIFY_HELP, parse: (rest) => parseReplayVerify(rest) },
 };
 
 /**
@@ -292,16 +314,17 @@ export function parseArgs(
   if (first === '-v' || first === '--version') return { kind: 'version' };
   if (first.startsWith('-'))
     return { kind: 'usage-error', message: `unknown option: ${first}`, help: MAIN_HELP };
+  const group = first === 'experiment' || first === 'replay';
   const name =
-    first === 'experiment' && rest[0] !== undefined && !rest[0].startsWith('-')
-      ? `experiment ${rest[0]}`
-      : first;
+    group && rest[0] !== undefined && !rest[0].startsWith('-') ? `${first} ${rest[0]}` : first;
   const command = COMMANDS[name];
   if (!command) {
     const message =
       first === 'experiment'
-        ? `experiment needs a name: integrators or tunnel`
-        : `unknown command: ${first}`;
+        ? 'experiment needs a name: integrators or tunnel'
+        : first === 'replay'
+          ? 'replay needs a subcommand: info or verify'
+          : `unknown command: ${first}`;
     return { kind: 'usage-error', message, help: MAIN_HELP };
   }
   try {
@@ -396,6 +419,10 @@ export async function run(
       io.out(formatTunnelTable(table));
       return writeOutputs(io, [[command.csv, () => tunnelCsv(table)]]);
     }
+    case 'replay-info':
+      return replayInfo(command, io);
+    case 'replay-verify':
+      return replayVerify(command, io);
     case 'serve': {
       const root = path.resolve(command.root ?? defaultLabRoot());
       if (!existsSync(path.join(root, 'index.html'))) {
@@ -408,12 +435,19 @@ export async function run(
       }
       let server;
       try {
-        server = await startServer({ port: command.port, host: command.host, root });
+        const table = path.resolve(command.data ?? 'fixedstep-data', 'highscores.json');
+        const { store, recovered } = await HighscoreStore.open(table);
+        if (recovered) io.err(`fixedstep: ${recovered}\n`);
+        const api = highscoreApi({ store });
+        server = await startServer({ port: command.port, host: command.host, root, api });
       } catch (error) {
         io.err(`fixedstep: ${error instanceof Error ? error.message : String(error)}\n`);
         return EXIT_FAILURE;
       }
       io.out(`fixedstep lab: ${server.url}\n`);
+      io.out(
+        `highscores kept in ${path.resolve(command.data ?? 'fixedstep-data', 'highscores.json')}\n`,
+      );
       if (command.host === '0.0.0.0' || command.host === '::') {
         io.out(`(listening on every interface, port ${server.port})\n`);
       }

@@ -12,6 +12,8 @@ export interface ServeOptions {
   host?: string;
   /** Directory to serve (the built lab, `apps/lab/dist`). */
   root: string;
+  /** Answers API requests first (e.g. the highscore API); resolves true when it answered. */
+  api?: (req: http.IncomingMessage, res: http.ServerResponse) => Promise<boolean>;
 }
 
 /** A running server, from {@link startServer}. */
@@ -119,11 +121,14 @@ export async function startServer(options: ServeOptions): Promise<RunningServer>
   }
 
   const server = http.createServer((req, res) => {
-    handle(root, req, res).catch((error: unknown) => {
-      if (!res.headersSent) send(res, 500, 'Internal Server Error');
-      else res.destroy();
-      console.error('fixedstep serve: error while answering', req.url, error);
-    });
+    const api = options.api;
+    (api ? api(req, res) : Promise.resolve(false))
+      .then((answered) => (answered ? undefined : handle(root, req, res)))
+      .catch((error: unknown) => {
+        if (!res.headersSent) send(res, 500, 'Internal Server Error');
+        else res.destroy();
+        console.error('fixedstep serve: error while answering', req.url, error);
+      });
   });
 
   await new Promise<void>((resolve, reject) => {

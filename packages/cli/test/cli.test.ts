@@ -129,8 +129,12 @@ describe('run', () => {
         stop = resolve;
       });
       const { io, cli } = capture(stopped);
-      const done = run(['serve', '--root', dir], { PORT: '0' }, cli);
-      await expect.poll(() => io.stdout).toMatch(/^fixedstep lab: http:\/\/localhost:\d+\/\n$/);
+      const done = run(['serve', '--root', dir, '--data', dir], { PORT: '0' }, cli);
+      await expect
+        .poll(() => io.stdout)
+        .toMatch(
+          /^fixedstep lab: http:\/\/localhost:\d+\/\nhighscores kept in .*highscores\.json\n$/,
+        );
       const url = /http:\/\/localhost:\d+\//.exec(io.stdout)![0].replace('localhost', '127.0.0.1');
       expect(await (await fetch(url)).text()).toBe('hello');
       stop();
@@ -146,9 +150,9 @@ describe('run', () => {
     try {
       await writeFile(path.join(dir, 'index.html'), 'hello');
       const { io, cli } = capture();
-      expect(await run(['serve', '--root', dir, '--port', String(busy.port)], {}, cli)).toBe(
-        EXIT_FAILURE,
-      );
+      expect(
+        await run(['serve', '--root', dir, '--data', dir, '--port', String(busy.port)], {}, cli),
+      ).toBe(EXIT_FAILURE);
       expect(io.stderr).toBe(
         `fixedstep: port ${busy.port} on 127.0.0.1 is already in use (choose another with --port)\n`,
       );

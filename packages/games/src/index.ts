@@ -11,3 +11,4 @@ export type { TunnelSetting, TunnelResult } from './scenes/tunnel.js';
 export type { Game, GameInfo, GameConfig, GameDefinition, Bot } from './games/game.js';
 export { encodeGameConfig, decodeGameConfig } from './games/config.js';
 export { GAMES, findGame } from './games/registry.js';
+export { replayOptionsFor, gameFromReplayHeader } from './games/replay.js';

@@ -31,6 +31,8 @@ export interface GameInfo {
   /** Players the game supports. */
   readonly minPlayers: number;
   readonly maxPlayers: number;
+  /** The `hud()` entry that is the game's score for highscore tables. Default `'score'`. */
+  readonly scoreKey?: string;
   /** Buttons (0–15) and the keys the lab maps to them, for help screens and input wiring. */
   readonly buttons: readonly { button: number; name: string; keys: readonly string[] }[];
 }

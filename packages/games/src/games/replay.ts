@@ -1,0 +1,56 @@
+import type { ReplayHeader, ReplayRecorderOptions } from 'fixedstep';
+import type { Game, GameConfig, GameDefinition } from './game.js';
+import { findGame } from './registry.js';
+
+/** The recorder options of a game started with `config`: game id and version, step, seed, config bytes. */
+export function replayOptionsFor(
+  def: GameDefinition,
+  config: GameConfig,
+  players: readonly string[],
+  extra: Pick<ReplayRecorderOptions, 'checkpointEvery' | 'keyframeEvery' | 'tickHashes'> = {},
+): ReplayRecorderOptions {
+  if (players.length !== config.players) {
+    throw new RangeError(
+      `replayOptionsFor: ${players.length} player names for ${config.players} players`,
+    );
+  }
+  return {
+    gameId: def.info.id,
+    gameVersion: String(def.info.version),
+    tickRate: def.info.tickRate,
+    seeds: [config.seed],
+    config: def.encodeConfig(config),
+    players,
+    ...extra,
+  };
+}
+
+/**
+ * Builds the game a replay header describes — the factory for `verifyReplay` and `ReplayPlayer`.
+ * Throws a RangeError naming what does not match: an unknown game, another version of it, another
+ * step, a config it cannot read, or a player count that disagrees with the config.
+ */
+export function gameFromReplayHeader(header: ReplayHeader): Game {
+  const def = findGame(header.gameId);
+  if (!def) throw new RangeError(`unknown game "${header.gameId}"`);
+  if (header.gameVersion !== String(def.info.version)) {
+    throw new RangeError(
+      `${def.info.id} replay of version ${header.gameVersion}, this build plays version ${def.info.version}`,
+    );
+  }
+  if (header.stepNumerator * def.info.tickRate !== header.stepDenominator) {
+    throw new RangeError(
+      `${def.info.id} replay with a step of ${header.stepNumerator}/${header.stepDenominator} s; the game steps at ${def.info.tickRate} Hz`,
+    );
+  }
+  const config = def.decodeConfig(header.config);
+  if (config.players !== header.players.length) {
+    throw new RangeError(
+      `${def.info.id} replay names ${header.players.length} players, its config says ${config.players}`,
+    );
+  }
+  if (header.seeds.length !== 1 || header.seeds[0] !== config.seed) {
+    throw new RangeError(`${def.info.id} replay seeds do not match its config`);
+  }
+  return def.create(config);
+}
