@@ -1,0 +1,254 @@
+/**
+ * Replays of every registered game (`GAMES` of `@fixedstep/games`, so a new game is measured as
+ * soon as it is registered): how fast a replay verifies, and how big it is.
+ *
+ * - **Verification speed**, in ticks per second: `verifyReplay` on a bot game (re-simulation with
+ *   the recorded inputs, a hash at every checkpoint, the keyframes compared), side by side with
+ *   the bare `step()` loop over the same inputs without any replay machinery. The ratio is the
+ *   cost of verification on top of simulation: the input cursor, the checkpoint hashes, the
+ *   keyframe snapshots, and (for the `bytes` row) parsing and checksumming the file.
+ * - **Size**, in bytes per minute of play: the inputs alone and the whole file (inputs,
+ *   a checkpoint every second, a keyframe every minute, header, checksum).
+ * - **Allocation** per tick of a game stepped by its bots: neither should allocate.
+ */
+import { ReplayRecorder, readReplay, verifyReplay, type Replay } from 'fixedstep';
+import {
+  GAMES,
+  gameFromReplayHeader,
+  replayOptionsFor,
+  type GameConfig,
+  type GameDefinition,
+} from '@fixedstep/games';
+import { formatBytes } from '../lib/format.js';
+import { ALLOCATION_NOISE_BYTES } from '../lib/report.js';
+import { defineSuite, type Candidate } from '../lib/suite.js';
+
+/** The seed of every recorded game. */
+export const SEED = 0x5eed;
+/** A checkpoint hash every second at 60 Hz (the recorder's default). */
+export const CHECKPOINT_EVERY = 60;
+/** A keyframe every minute at 60 Hz, so a player can seek. */
+export const KEYFRAME_EVERY = 3600;
+
+/** The players a game is measured with: two where it allows, else what it needs. */
+export function botConfig(def: GameDefinition, seed = SEED): GameConfig {
+  const { minPlayers, maxPlayers } = def.info;
+  return { seed, players: Math.min(maxPlayers, Math.max(minPlayers, 2)) };
+}
+
+/** A bot game taken down by a {@link ReplayRecorder}. */
+export interface BotRecording {
+  readonly def: GameDefinition;
+  readonly config: GameConfig;
+  readonly ticks: number;
+  /** The replay file. */
+  readonly bytes: Uint8Array;
+  /** The file, parsed. */
+  readonly replay: Replay;
+  /** `inputs[t × players + p]`: the input of player p at tick t. */
+  readonly inputs: Uint32Array;
+}
+
+/** Every player is the game's bot, for `ticks` ticks, recorded with a checkpoint every second. */
+export function recordBotGame(def: GameDefinition, ticks: number, seed = SEED): BotRecording {
+  const config = botConfig(def, seed);
+  const players = config.players;
+  const names = Array.from({ length: players }, (_, p) => `bot ${p + 1}`);
+  const rec = new ReplayRecorder(
+    replayOptionsFor(def, config, names, {
+      checkpointEvery: CHECKPOINT_EVERY,
+      keyframeEvery: KEYFRAME_EVERY,
+    }),
+  );
+  const game = def.create(config);
+  rec.start(game);
+  const inputs = new Uint32Array(ticks * players);
+  const frame = new Array<number>(players).fill(0);
+  for (let t = 0; t < ticks; t++) {
+    for (let p = 0; p < players; p++) frame[p] = inputs[t * players + p] = def.bot(game, p);
+    game.step(frame);
+    rec.record(frame, game);
+  }
+  const bytes = rec.finish();
+  return { def, config, ticks, bytes, replay: readReplay(bytes), inputs };
+}
+
+/** How big a recording is, per minute of play. */
+export interface ReplaySize {
+  readonly minutes: number;
+  readonly fileBytes: number;
+  readonly inputBytes: number;
+  readonly filePerMinute: number;
+  readonly inputsPerMinute: number;
+  /** Input runs (stretches of unchanged input) per minute, all players. */
+  readonly runsPerMinute: number;
+}
+
+export function replaySize(rec: BotRecording): ReplaySize {
+  const minutes = rec.ticks / rec.def.info.tickRate / 60;
+  const inputBytes = rec.replay.sections.find((s) => s.name === 'INPUTS')?.length ?? 0;
+  let runs = 0;
+  for (let p = 0; p < rec.config.players; p++) runs += rec.replay.runCount(p);
+  return {
+    minutes,
+    fileBytes: rec.bytes.length,
+    inputBytes,
+    filePerMinute: rec.bytes.length / minutes,
+    inputsPerMinute: inputBytes / minutes,
+    runsPerMinute: runs / minutes,
+  };
+}
+
+/** One op: build the game and step it through the recorded inputs — no replay machinery. */
+export function bareStep(rec: BotRecording): Candidate {
+  const { def, config, ticks, inputs } = rec;
+  const players = config.players;
+  const frame = new Array<number>(players).fill(0);
+  return {
+    name: 'bare step() loop',
+    run(ops) {
+      let sum = 0;
+      for (let k = 0; k < ops; k++) {
+        const game = def.create(config);
+        for (let t = 0, i = 0; t < ticks; t++) {
+          for (let p = 0; p < players; p++) frame[p] = inputs[i++]!;
+          game.step(frame);
+        }
+        sum += game.tick;
+      }
+      return sum;
+    },
+  };
+}
+
+/** One op: `verifyReplay` of the parsed replay (or, with `fromBytes`, of the file's bytes). */
+export function verification(rec: BotRecording, fromBytes: boolean): Candidate {
+  const input = fromBytes ? rec.bytes : rec.replay;
+  return {
+    name: fromBytes ? 'verifyReplay(file bytes)' : 'verifyReplay(parsed)',
+    run(ops) {
+      let sum = 0;
+      for (let k = 0; k < ops; k++) {
+        const result = verifyReplay(input, gameFromReplayHeader);
+        if (!result.ok) throw new Error(`${rec.def.info.id}: the replay no longer verifies`);
+        sum += result.simulated;
+      }
+      return sum;
+    },
+  };
+}
+
+/**
+ * One op: one tick of one long-lived game driven by its bots. (Recorded inputs cycled past their
+ * end would drive a course they were not made for: crashes and restarts all the time.)
+ */
+function botAndStep(def: GameDefinition): Candidate {
+  const config = botConfig(def);
+  const players = config.players;
+  const frame = new Array<number>(players).fill(0);
+  const game = def.create(config);
+  return {
+    name: def.info.id,
+    run(ops) {
+      for (let k = 0; k < ops; k++) {
+        for (let p = 0; p < players; p++) frame[p] = def.bot(game, p);
+        game.step(frame);
+      }
+      return game.tick;
+    },
+  };
+}
+
+function perSecond(ticks: number, nsPerReplay: number): string {
+  const perS = (ticks / nsPerReplay) * 1e9;
+  return perS >= 1e6 ? `${(perS / 1e6).toFixed(2)} M` : `${(perS / 1e3).toFixed(0)} k`;
+}
+
+export default defineSuite({
+  name: 'replay',
+  description:
+    'replay verification (ticks/s) per registered game vs its bare step() loop; replay bytes/minute',
+  run(ctx) {
+    // Sizes from a long game; speed from a shorter one, so a slow game keeps the run short.
+    const sizeMinutes = ctx.quick ? 1 : 10;
+    const timedSeconds = ctx.quick ? 10 : 60;
+    if (GAMES.length === 0) {
+      ctx.note('no games registered');
+      return;
+    }
+    ctx.note(
+      `games: ${GAMES.map((g) => g.info.id).join(', ')} — bots on seed ${SEED}, a checkpoint every ` +
+        `${CHECKPOINT_EVERY} ticks, a keyframe every ${KEYFRAME_EVERY}; sizes from a ` +
+        `${sizeMinutes}-minute game, speed from a ${timedSeconds}-second one`,
+    );
+
+    const sizeRows: string[][] = [];
+    const speedRows: string[][] = [];
+    const timed: BotRecording[] = [];
+    const failed: string[] = [];
+    for (const def of GAMES) {
+      const id = def.info.id;
+      try {
+        const long = recordBotGame(def, sizeMinutes * 60 * def.info.tickRate);
+        const size = replaySize(long);
+        sizeRows.push([
+          id,
+          String(long.config.players),
+          size.runsPerMinute.toFixed(0),
+          size.inputsPerMinute.toFixed(0),
+          size.filePerMinute.toFixed(0),
+          String(size.fileBytes),
+        ]);
+
+        const rec = recordBotGame(def, timedSeconds * def.info.tickRate);
+        const unit = `replay (${rec.ticks} ticks)`;
+        const section = ctx.compare(
+          `${id}: verifying a ${timedSeconds}-second replay`,
+          [bareStep(rec), verification(rec, false), verification(rec, true)],
+          { unit },
+        );
+        const [bare, parsed, bytes] = section.candidates;
+        speedRows.push([
+          id,
+          perSecond(rec.ticks, bare!.ns.median),
+          perSecond(rec.ticks, parsed!.ns.median),
+          perSecond(rec.ticks, bytes!.ns.median),
+          `${parsed!.ratio!.median.toFixed(2)}×`,
+        ]);
+        timed.push(rec);
+      } catch (e) {
+        failed.push(id);
+        ctx.note(`${id} FAILED: ${e instanceof Error ? (e.stack ?? e.message) : String(e)}`);
+      }
+    }
+
+    ctx.table(
+      'Verification speed, ticks per second (median)',
+      ['game', 'bare step()', 'verifyReplay', 'verify + parse', 'verify / bare'],
+      speedRows,
+    );
+    ctx.table(
+      `Replay size per minute of play (bots, ${sizeMinutes}-minute game)`,
+      ['game', 'players', 'input runs/min', 'inputs B/min', 'file B/min', 'file B'],
+      sizeRows,
+    );
+
+    if (timed.length > 0) {
+      const perTick = timed.map((rec) => botAndStep(rec.def));
+      // Let the JIT optimise first: unoptimised code boxes every float it computes.
+      for (const c of perTick) c.run(200_000);
+      const alloc = ctx.allocation('Heap allocated per tick by the bots + step()', perTick, {
+        unit: 'tick',
+      });
+      const allocating = alloc.candidates.filter(
+        (c) => c.bytes.median * alloc.opsPerChunk >= ALLOCATION_NOISE_BYTES,
+      );
+      if (allocating.length > 0) {
+        ctx.note(
+          `allocates per tick: ${allocating.map((c) => `${c.name} ${formatBytes(c.bytes.median)} B`).join(', ')}`,
+        );
+      }
+    }
+    if (failed.length > 0) throw new Error(`replay suite failed for: ${failed.join(', ')}`);
+  },
+});

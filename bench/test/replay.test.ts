@@ -1,0 +1,94 @@
+import { describe, expect, it } from 'vitest';
+import { verifyReplay } from 'fixedstep';
+import { GAMES, gameFromReplayHeader, runnerGame } from '@fixedstep/games';
+import { createContext, type SuiteContext } from '../lib/suite.js';
+import type { MeasurePlan } from '../lib/measure.js';
+import type { ComparisonSection, Section, TableSection } from '../lib/report.js';
+import suite, {
+  bareStep,
+  botConfig,
+  recordBotGame,
+  replaySize,
+  verification,
+} from '../suites/replay.js';
+
+describe.each(GAMES.map((def) => ({ id: def.info.id, def })))('replay suite: $id', ({ def }) => {
+  const rec = recordBotGame(def, 10 * def.info.tickRate);
+
+  it('records a bot game that verifies, with the registered config', () => {
+    expect(rec.replay.header.gameId).toBe(def.info.id);
+    expect(rec.replay.tickCount).toBe(rec.ticks);
+    expect(def.decodeConfig(rec.replay.header.config)).toEqual(botConfig(def));
+    expect(verifyReplay(rec.bytes, gameFromReplayHeader).ok).toBe(true);
+  });
+
+  it('the candidates do the same work: every tick of the replay', () => {
+    expect(bareStep(rec).run(2)).toBe(2 * rec.ticks);
+    expect(verification(rec, false).run(2)).toBe(2 * rec.ticks);
+    expect(verification(rec, true).run(1)).toBe(rec.ticks);
+  });
+
+  it('the bare loop reaches the recorded final state', () => {
+    const game = def.create(rec.config);
+    const players = rec.config.players;
+    const frame = new Array<number>(players).fill(0);
+    for (let t = 0; t < rec.ticks; t++) {
+      for (let p = 0; p < players; p++) frame[p] = rec.inputs[t * players + p]!;
+      game.step(frame);
+    }
+    expect(game.hash()).toBe(rec.replay.finalHash);
+  });
+});
+
+describe('replay suite: sizes', () => {
+  it('measures bytes per minute from the file and its INPUTS section', () => {
+    const rec = recordBotGame(runnerGame, 2 * 3600);
+    const size = replaySize(rec);
+    expect(size.minutes).toBe(2);
+    expect(size.fileBytes).toBe(rec.bytes.length);
+    expect(size.filePerMinute).toBe(rec.bytes.length / 2);
+    const inputs = rec.replay.sections.find((s) => s.name === 'INPUTS')!;
+    expect(size.inputsPerMinute).toBe(inputs.length / 2);
+    expect(size.runsPerMinute).toBe(rec.replay.runCount(0) / 2);
+    // The runner's bot: a couple of hundred bytes of inputs a minute, under a kilobyte in all.
+    expect(size.inputsPerMinute).toBeLessThan(400);
+    expect(size.filePerMinute).toBeLessThan(1200);
+  });
+
+  it('a verification that fails throws instead of being timed', () => {
+    const rec = recordBotGame(runnerGame, 600);
+    const damaged = { ...rec, bytes: rec.bytes.slice() };
+    damaged.bytes[100] = damaged.bytes[100]! ^ 0xff;
+    expect(() => verification(damaged, true).run(1)).toThrow();
+  });
+});
+
+describe('replay suite: a tiny run', () => {
+  it('reports speed, size and allocation for every registered game', async () => {
+    const plan: MeasurePlan = {
+      warmupMs: 2,
+      sampleMs: 1,
+      rounds: 2,
+      allocChunks: 2,
+      allocOpsPerChunk: 1000,
+    };
+    const sections: Section[] = [];
+    const ctx: SuiteContext = createContext(true, plan, sections, () => undefined);
+    await suite.run(ctx);
+    const comparisons = sections.filter((s): s is ComparisonSection => s.kind === 'comparison');
+    expect(comparisons).toHaveLength(GAMES.length);
+    for (const c of comparisons) {
+      expect(c.candidates.map((x) => x.name)).toEqual([
+        'bare step() loop',
+        'verifyReplay(parsed)',
+        'verifyReplay(file bytes)',
+      ]);
+    }
+    const tables = sections.filter((s): s is TableSection => s.kind === 'table');
+    expect(tables.map((t) => t.rows.map((r) => r[0]))).toEqual([
+      GAMES.map((g) => g.info.id),
+      GAMES.map((g) => g.info.id),
+    ]);
+    expect(sections.some((s) => s.kind === 'allocation')).toBe(true);
+  });
+});
