@@ -12,3 +12,4 @@ export type { Game, GameInfo, GameConfig, GameDefinition, Bot } from './games/ga
 export { encodeGameConfig, decodeGameConfig } from './games/config.js';
 export { GAMES, findGame } from './games/registry.js';
 export { replayOptionsFor, gameFromReplayHeader } from './games/replay.js';
+export * from './games/runner/index.js';

@@ -1,8 +1,9 @@
 import type { GameDefinition } from './game.js';
+import { runnerGame } from './runner/index.js';
 // Each game adds its import here and its definition to GAMES below.
 
 /** Every game, by id. Replays, the server and the CLI find a game here. */
-export const GAMES: readonly GameDefinition[] = [];
+export const GAMES: readonly GameDefinition[] = [runnerGame];
 
 /** The game with `id`, or undefined. */
 export function findGame(id: string): GameDefinition | undefined {
