@@ -126,7 +126,7 @@ describe('the highscore API', () => {
   const post = (bytes: Uint8Array, score: string) =>
     fetch(`${base}api/highscores?score=${score}`, {
       method: 'POST',
-      body: bytes,
+      body: Buffer.from(bytes),
       headers: { 'content-type': 'application/octet-stream' },
     });
 
