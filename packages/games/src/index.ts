@@ -13,3 +13,6 @@ export { encodeGameConfig, decodeGameConfig } from './games/config.js';
 export { GAMES, findGame } from './games/registry.js';
 export { replayOptionsFor, gameFromReplayHeader } from './games/replay.js';
 export * from './games/runner/index.js';
+export * from './games/arena/index.js';
+export * from './games/ctf/index.js';
+export * from './games/survival/index.js';

@@ -1,0 +1,23 @@
+/**
+ * What the two shooters share: walls and their collision queries, movement in eight directions,
+ * a bullet pool with discrete and continuous detection, the bots' navigation grid, and a helper
+ * that plays a game on a simulated display.
+ * @module
+ */
+export { Walls, border, mirrored } from './walls.js';
+export type { Rect } from './walls.js';
+export {
+  ShooterButtons,
+  SHOOTER_BUTTON_INFO,
+  DIR_X,
+  DIR_Y,
+  DIR_BUTTONS,
+  inputDir,
+  dirToward,
+  nearestLine,
+} from './motion.js';
+export { Bullets } from './bullets.js';
+export type { BulletTargets } from './bullets.js';
+export { NavGrid } from './nav.js';
+export { playOnDisplay } from './drive.js';
+export type { PlayOnDisplayOptions, PlayOnDisplayResult } from './drive.js';

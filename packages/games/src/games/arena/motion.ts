@@ -1,0 +1,103 @@
+import type { ButtonInput } from 'fixedstep';
+import type { GameInfo } from '../game.js';
+
+/** The buttons of both shooters (bit numbers of a {@link ButtonInput}). */
+export const ShooterButtons = {
+  up: 0,
+  down: 1,
+  left: 2,
+  right: 3,
+  /** Hold to fire in the facing direction, as fast as the weapon allows. */
+  fire: 4,
+  /** Hold to keep facing the same way while moving (strafe). */
+  strafe: 5,
+} as const;
+
+/** Buttons and keys (`KeyboardEvent.code`) for {@link GameInfo.buttons}. */
+export const SHOOTER_BUTTON_INFO: GameInfo['buttons'] = Object.freeze([
+  { button: ShooterButtons.up, name: 'Up', keys: ['KeyW', 'ArrowUp'] },
+  { button: ShooterButtons.down, name: 'Down', keys: ['KeyS', 'ArrowDown'] },
+  { button: ShooterButtons.left, name: 'Left', keys: ['KeyA', 'ArrowLeft'] },
+  { button: ShooterButtons.right, name: 'Right', keys: ['KeyD', 'ArrowRight'] },
+  { button: ShooterButtons.fire, name: 'Fire', keys: ['Space', 'KeyJ'] },
+  { button: ShooterButtons.strafe, name: 'Strafe (keep facing)', keys: ['ShiftLeft', 'KeyK'] },
+]);
+
+const S = Math.SQRT1_2;
+
+/**
+ * The eight directions, clockwise on screen (y points down) from east: 0 E, 1 SE, 2 S, 3 SW,
+ * 4 W, 5 NW, 6 N, 7 NE. Unit vectors; diagonals are exactly `Math.SQRT1_2` on each axis, so
+ * movement and aim need no trigonometry at all.
+ */
+export const DIR_X: Readonly<Float64Array> = Float64Array.of(1, S, 0, -S, -1, -S, 0, S);
+export const DIR_Y: Readonly<Float64Array> = Float64Array.of(0, S, 1, S, 0, -S, -1, -S);
+
+const U = 1 << ShooterButtons.up;
+const D = 1 << ShooterButtons.down;
+const L = 1 << ShooterButtons.left;
+const R = 1 << ShooterButtons.right;
+
+/** The held buttons that move in direction `d` (0–7). */
+export const DIR_BUTTONS: Readonly<Uint8Array> = Uint8Array.of(
+  R,
+  R | D,
+  D,
+  D | L,
+  L,
+  L | U,
+  U,
+  U | R,
+);
+
+/** Direction index by (right − left + 1) + 3 · (down − up + 1); -1 for no movement. */
+const DIR_OF = Int8Array.of(5, 6, 7, 4, -1, 0, 3, 2, 1);
+
+/** The direction (0–7) the held arrows of `input` ask for, or -1 for none (or opposite keys). */
+export function inputDir(input: ButtonInput): number {
+  const mx = ((input >>> ShooterButtons.right) & 1) - ((input >>> ShooterButtons.left) & 1);
+  const my = ((input >>> ShooterButtons.down) & 1) - ((input >>> ShooterButtons.up) & 1);
+  return DIR_OF[mx + 1 + 3 * (my + 1)]!;
+}
+
+/** The direction (0–7) closest to the vector (dx, dy); 0 for the zero vector. Exact, no trig. */
+export function dirToward(dx: number, dy: number): number {
+  let best = 0;
+  let bestDot = -Infinity;
+  for (let d = 0; d < 8; d++) {
+    const dot = dx * DIR_X[d]! + dy * DIR_Y[d]!;
+    if (dot > bestDot) {
+      bestDot = dot;
+      best = d;
+    }
+  }
+  return best;
+}
+
+/**
+ * The direction `d` (0–7) whose line from the origin passes closest to (dx, dy), ahead of the
+ * origin, with that distance written to `out[0]` (signed: positive when the point lies to the
+ * clockwise side of the line). -1 if the point is the origin.
+ */
+export function nearestLine(dx: number, dy: number, out: Float64Array): number {
+  let best = -1;
+  let bestAbs = Infinity;
+  for (let d = 0; d < 8; d++) {
+    const ux = DIR_X[d]!;
+    const uy = DIR_Y[d]!;
+    if (dx * ux + dy * uy <= 0) continue;
+    const perp = dy * ux - dx * uy;
+    const a = perp < 0 ? -perp : perp;
+    if (a < bestAbs) {
+      bestAbs = a;
+      best = d;
+      out[0] = perp;
+    }
+  }
+  return best;
+}
+
+/** Whether `x` is a finite number (for validating loaded state). */
+export function isFiniteNumber(x: number): boolean {
+  return x - x === 0;
+}

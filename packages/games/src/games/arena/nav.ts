@@ -1,0 +1,225 @@
+import type { Walls } from './walls.js';
+
+/** Integer edge costs: orthogonal 5, diagonal 7 (≈ 5√2), so path lengths are exact integers. */
+const ORTHO = 5;
+const DIAG = 7;
+const UNREACHABLE = 0x7fffffff;
+
+/** Scratch for {@link NavGrid.waypoint}'s goal search; never part of any state. */
+const goal = new Int32Array(1);
+
+/**
+ * Navigation for the bots: a grid of waypoints at cell centres (those a body of radius
+ * `clearance` can stand on), linked to their eight neighbours when a body can move straight
+ * between them, with all-pairs shortest path lengths (Dijkstra from every node, integer costs).
+ *
+ * Built once per arena layout from its walls (static data, not game state; a few ms). Queries are
+ * pure functions of their arguments, so a bot that uses them stays deterministic and read-only.
+ */
+export class NavGrid {
+  readonly cols: number;
+  readonly rows: number;
+  /** Cell size, arena units. */
+  readonly spacing: number;
+  /** The radius of the body the grid is built for. */
+  readonly clearance: number;
+  /** Number of waypoints. */
+  readonly count: number;
+  /** Node index of each cell (`row * cols + col`), or -1 where no body fits. */
+  readonly cellNode: Int32Array;
+  readonly nodeX: Float64Array;
+  readonly nodeY: Float64Array;
+  /** Shortest path cost from node i to node j at `i * count + j` (5 per cell straight, 7 diagonal). */
+  readonly dist: Int32Array;
+
+  constructor(
+    readonly walls: Walls,
+    width: number,
+    height: number,
+    spacing: number,
+    clearance: number,
+  ) {
+    this.spacing = spacing;
+    this.clearance = clearance;
+    this.cols = Math.floor(width / spacing);
+    this.rows = Math.floor(height / spacing);
+    const cells = this.cols * this.rows;
+    this.cellNode = new Int32Array(cells).fill(-1);
+    const xs: number[] = [];
+    const ys: number[] = [];
+    for (let row = 0; row < this.rows; row++) {
+      for (let col = 0; col < this.cols; col++) {
+        const x = (col + 0.5) * spacing;
+        const y = (row + 0.5) * spacing;
+        if (walls.overlaps(x, y, clearance + 1)) continue;
+        this.cellNode[row * this.cols + col] = xs.length;
+        xs.push(x);
+        ys.push(y);
+      }
+    }
+    const n = xs.length;
+    this.count = n;
+    this.nodeX = Float64Array.from(xs);
+    this.nodeY = Float64Array.from(ys);
+    // Adjacency: up to 8 neighbours per node.
+    const adj = new Int32Array(n * 8).fill(-1);
+    const cost = new Int32Array(n * 8);
+    for (let row = 0; row < this.rows; row++) {
+      for (let col = 0; col < this.cols; col++) {
+        const a = this.cellNode[row * this.cols + col]!;
+        if (a < 0) continue;
+        let k = 0;
+        for (let dr = -1; dr <= 1; dr++) {
+          for (let dc = -1; dc <= 1; dc++) {
+            if (dr === 0 && dc === 0) continue;
+            const r2 = row + dr;
+            const c2 = col + dc;
+            if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
+            const b = this.cellNode[r2 * this.cols + c2]!;
+            if (b < 0) continue;
+            if (!walls.clear(xs[a]!, ys[a]!, xs[b]!, ys[b]!, clearance)) continue;
+            adj[a * 8 + k] = b;
+            cost[a * 8 + k] = dr !== 0 && dc !== 0 ? DIAG : ORTHO;
+            k++;
+          }
+        }
+      }
+    }
+    this.dist = new Int32Array(n * n).fill(UNREACHABLE);
+    // Dijkstra from every node with a binary heap of (cost, node), ties broken by node index.
+    const heapCost = new Int32Array(n * 8 + 1);
+    const heapNode = new Int32Array(n * 8 + 1);
+    for (let s = 0; s < n; s++) {
+      const row = s * n;
+      let size = 0;
+      const push = (c: number, v: number): void => {
+        let i = size++;
+        while (i > 0) {
+          const p = (i - 1) >> 1;
+          if (heapCost[p]! < c || (heapCost[p] === c && heapNode[p]! <= v)) break;
+          heapCost[i] = heapCost[p]!;
+          heapNode[i] = heapNode[p]!;
+          i = p;
+        }
+        heapCost[i] = c;
+        heapNode[i] = v;
+      };
+      const pop = (): void => {
+        const c = heapCost[--size]!;
+        const v = heapNode[size]!;
+        let i = 0;
+        for (;;) {
+          let m = 2 * i + 1;
+          if (m >= size) break;
+          if (
+            m + 1 < size &&
+            (heapCost[m + 1]! < heapCost[m]! ||
+              (heapCost[m + 1] === heapCost[m] && heapNode[m + 1]! < heapNode[m]!))
+          ) {
+            m++;
+          }
+          if (c < heapCost[m]! || (c === heapCost[m] && v <= heapNode[m]!)) break;
+          heapCost[i] = heapCost[m]!;
+          heapNode[i] = heapNode[m]!;
+          i = m;
+        }
+        heapCost[i] = c;
+        heapNode[i] = v;
+      };
+      this.dist[row + s] = 0;
+      push(0, s);
+      while (size > 0) {
+        const c = heapCost[0]!;
+        const v = heapNode[0]!;
+        pop();
+        if (c > this.dist[row + v]!) continue;
+        for (let k = 0; k < 8; k++) {
+          const w = adj[v * 8 + k]!;
+          if (w < 0) break;
+          const nc = c + cost[v * 8 + k]!;
+          if (nc < this.dist[row + w]!) {
+            this.dist[row + w] = nc;
+            push(nc, w);
+          }
+        }
+      }
+    }
+  }
+
+  /**
+   * Where to head for next to reach (tx, ty) from (x, y): the target itself when a body can go
+   * straight there; otherwise, among the waypoints of the 3 × 3 cells around (x, y) (5 × 5 if none will do) that it can
+   * go straight to, the one that minimises the distance to it plus the path length from it to
+   * the waypoint nearest the target (distances to waypoints are discounted a little, so it
+   * heads for the farthest useful one rather than dithering at the nearest). Writes the point to
+   * `out[0], out[1]`. Falls back to the target when no waypoint is usable.
+   */
+  waypoint(x: number, y: number, tx: number, ty: number, out: Float64Array): void {
+    out[0] = tx;
+    out[1] = ty;
+    const walls = this.walls;
+    const r = this.clearance;
+    if (walls.clear(x, y, tx, ty, r)) return;
+    if (!this.nearestNode(tx, ty, goal)) return;
+    const g = goal[0]!;
+    const col = Math.floor(x / this.spacing);
+    const row = Math.floor(y / this.spacing);
+    const scale = (ORTHO * 0.9) / this.spacing;
+    let best = Infinity;
+    // The 3 × 3 cells around, or the 5 × 5 if none of those will do.
+    for (let rad = 1; rad <= 2 && best === Infinity; rad++) {
+      for (let dr = -rad; dr <= rad; dr++) {
+        for (let dc = -rad; dc <= rad; dc++) {
+          const r2 = row + dr;
+          const c2 = col + dc;
+          if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
+          const nd = this.cellNode[r2 * this.cols + c2]!;
+          if (nd < 0) continue;
+          const rest = this.dist[nd * this.count + g]!;
+          if (rest === UNREACHABLE) continue;
+          const nx = this.nodeX[nd]!;
+          const ny = this.nodeY[nd]!;
+          const ex = nx - x;
+          const ey = ny - y;
+          const c = Math.sqrt(ex * ex + ey * ey) * scale + rest;
+          if (c >= best) continue;
+          if (!walls.clear(x, y, nx, ny, r)) continue;
+          best = c;
+          out[0] = nx;
+          out[1] = ny;
+        }
+      }
+    }
+  }
+
+  /**
+   * The waypoint among the 3 × 3 (else 5 × 5) cells around (x, y) nearest to it that a body can reach in a
+   * straight line from there, in `out[0]`; false if there is none.
+   */
+  nearestNode(x: number, y: number, out: Int32Array): boolean {
+    const col = Math.floor(x / this.spacing);
+    const row = Math.floor(y / this.spacing);
+    let best = Infinity;
+    let found = -1;
+    for (let rad = 1; rad <= 2 && found < 0; rad++) {
+      for (let dr = -rad; dr <= rad; dr++) {
+        for (let dc = -rad; dc <= rad; dc++) {
+          const r2 = row + dr;
+          const c2 = col + dc;
+          if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
+          const nd = this.cellNode[r2 * this.cols + c2]!;
+          if (nd < 0) continue;
+          const ex = this.nodeX[nd]! - x;
+          const ey = this.nodeY[nd]! - y;
+          const d2 = ex * ex + ey * ey;
+          if (d2 >= best) continue;
+          if (!this.walls.clear(x, y, this.nodeX[nd]!, this.nodeY[nd]!, this.clearance)) continue;
+          best = d2;
+          found = nd;
+        }
+      }
+    }
+    out[0] = found;
+    return found >= 0;
+  }
+}

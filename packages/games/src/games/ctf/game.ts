@@ -1,0 +1,629 @@
+import {
+  ByteReader,
+  ByteWriter,
+  Random,
+  dsincos as dsincos_,
+  fnv1a64,
+  isDown as isDown_,
+  type ButtonInput,
+} from 'fixedstep';
+import type { Game, GameConfig, GameInfo } from '../game.js';
+import { Bullets, type BulletTargets } from '../arena/bullets.js';
+import {
+  DIR_X as DIR_X_,
+  DIR_Y as DIR_Y_,
+  SHOOTER_BUTTON_INFO,
+  ShooterButtons as ShooterButtons_,
+  inputDir as inputDir_,
+  isFiniteNumber,
+} from '../arena/motion.js';
+import {
+  CTF as CTF_,
+  CTF_VERSION,
+  CTF_WALLS,
+  FLAG_STAND_X as FLAG_STAND_X_,
+  FLAG_STAND_Y as FLAG_STAND_Y_,
+  SPAWN_X,
+  SPAWN_Y,
+} from './layout.js';
+import { ctfBotInput as ctfBotInput_ } from './bot.js';
+
+// Local copies of imported bindings: some loaders (vitest, tsx) read an import through a
+// getter on every use, which costs in hot loops.
+const dsincos = dsincos_;
+const isDown = isDown_;
+const DIR_X = DIR_X_;
+const DIR_Y = DIR_Y_;
+const inputDir = inputDir_;
+const ShooterButtons = ShooterButtons_;
+const CTF = CTF_;
+const FLAG_STAND_X = FLAG_STAND_X_;
+const FLAG_STAND_Y = FLAG_STAND_Y_;
+const ctfBotInput = ctfBotInput_;
+/** The fixed step: 60 Hz. */
+const STEP = 1 / 60;
+const SLOTS = CTF.slots;
+const R = CTF.playerRadius;
+const MAGIC = 0x31465443; // "CTF1"
+
+/** Where a flag is. */
+export const FlagState = {
+  /** On its stand. */
+  home: 0,
+  /** Carried by an enemy player ({@link CtfState.flagCarrier}). */
+  carried: 1,
+  /** Lying where its carrier fell; returns home after {@link CTF.flagReturnTime}. */
+  dropped: 2,
+} as const;
+
+/** No carrier. */
+export const NO_CARRIER = 255;
+
+/** Capture the flag's identity, for the registry, replays and the lab. */
+export const CTF_INFO: GameInfo = Object.freeze({
+  id: 'ctf',
+  version: CTF_VERSION,
+  title: 'Capture the flag',
+  stepSeconds: STEP,
+  tickRate: 60,
+  minPlayers: 1,
+  maxPlayers: 4,
+  buttons: SHOOTER_BUTTON_INFO,
+});
+
+/** Options of a {@link CtfGame} beyond the {@link GameConfig}. */
+export interface CtfOptions extends GameConfig {
+  /**
+   * Fill the teams up to 4 + 4 with AI bots. Default true. With false only the `players` slots
+   * play (for experiments such as the tunnelling test).
+   */
+  fill?: boolean;
+}
+
+/**
+ * The whole state of a match, structure of arrays, fixed size. Players by slot (0–7; team =
+ * slot & 1, 0 red, 1 blue), flags by team, bullets in a pool. Everything here is saved, loaded
+ * and hashed — except `prevX`/`prevY` (render interpolation only).
+ */
+export class CtfState {
+  tick = 0;
+  /** Simulated seconds: `tick × step` under {@link CtfGame.step}, a sum of Δt under `update`. */
+  clock = 0;
+  over = 0;
+  readonly rng = new Random(0);
+  /** Captures by team. */
+  readonly score = new Uint32Array(2);
+  /** Shots fired by everyone. */
+  shots = 0;
+  /** Times a player's path went through a wall (a diagnostic; only possible under `update`). */
+  playersThroughWalls = 0;
+
+  /** 1 for a slot in play (a human or a bot). */
+  readonly active = new Uint8Array(SLOTS);
+  readonly alive = new Uint8Array(SLOTS);
+  /** Hits left before dying (while alive). */
+  readonly health = new Uint8Array(SLOTS);
+  /** Facing direction 0–7 (see `DIR_X`). */
+  readonly facing = new Uint8Array(SLOTS);
+  readonly x = new Float64Array(SLOTS);
+  readonly y = new Float64Array(SLOTS);
+  /** Velocity of the last move, units per second. */
+  readonly vx = new Float64Array(SLOTS);
+  readonly vy = new Float64Array(SLOTS);
+  /** Seconds until the next shot is allowed. */
+  readonly cooldown = new Float64Array(SLOTS);
+  /** Seconds until respawn (while dead). */
+  readonly respawn = new Float64Array(SLOTS);
+  /** Seconds of spawn protection left. */
+  readonly protect = new Float64Array(SLOTS);
+  readonly kills = new Uint32Array(SLOTS);
+  readonly deaths = new Uint32Array(SLOTS);
+  /** Flags captured. */
+  readonly captures = new Uint32Array(SLOTS);
+  /** Position before the last step (render interpolation; not saved). */
+  readonly prevX = new Float64Array(SLOTS);
+  readonly prevY = new Float64Array(SLOTS);
+
+  /** Flags by team: {@link FlagState}, carrier slot (or {@link NO_CARRIER}), position, return timer. */
+  readonly flagState = new Uint8Array(2);
+  readonly flagCarrier = new Uint8Array(2);
+  readonly flagX = new Float64Array(2);
+  readonly flagY = new Float64Array(2);
+  readonly flagTimer = new Float64Array(2);
+
+  readonly bullets = new Bullets(CTF.bulletCapacity, CTF.bulletRadius);
+
+  /** Canonical bytes. */
+  write(w: ByteWriter, players: number): void {
+    w.u32(MAGIC).u8(players).u32(this.tick).f64(this.clock).u8(this.over);
+    w.ints(this.rng.getState());
+    w.ints(this.score).u32(this.shots).u32(this.playersThroughWalls);
+    w.ints(this.active).ints(this.alive).ints(this.health).ints(this.facing);
+    w.f64s(this.x).f64s(this.y).f64s(this.vx).f64s(this.vy);
+    w.f64s(this.cooldown).f64s(this.respawn).f64s(this.protect);
+    w.ints(this.kills).ints(this.deaths).ints(this.captures);
+    w.ints(this.flagState).ints(this.flagCarrier);
+    w.f64s(this.flagX).f64s(this.flagY).f64s(this.flagTimer);
+    this.bullets.write(w);
+  }
+
+  /** Read and validate {@link write}'s bytes; throws a RangeError naming the first problem. */
+  read(bytes: Uint8Array, players: number): void {
+    const r = new ByteReader(bytes);
+    if (r.u32() !== MAGIC) throw new RangeError('not a capture-the-flag state');
+    const p = r.u8();
+    if (p !== players) {
+      throw new RangeError(`the state is of a game for ${p} players, this one has ${players}`);
+    }
+    this.tick = r.u32();
+    this.clock = r.f64();
+    this.over = r.u8();
+    const rng = new Uint32Array(4);
+    r.ints(rng);
+    this.rng.setState(rng);
+    r.ints(this.score);
+    this.shots = r.u32();
+    this.playersThroughWalls = r.u32();
+    r.ints(this.active);
+    r.ints(this.alive);
+    r.ints(this.health);
+    r.ints(this.facing);
+    r.f64s(this.x);
+    r.f64s(this.y);
+    r.f64s(this.vx);
+    r.f64s(this.vy);
+    r.f64s(this.cooldown);
+    r.f64s(this.respawn);
+    r.f64s(this.protect);
+    r.ints(this.kills);
+    r.ints(this.deaths);
+    r.ints(this.captures);
+    r.ints(this.flagState);
+    r.ints(this.flagCarrier);
+    r.f64s(this.flagX);
+    r.f64s(this.flagY);
+    r.f64s(this.flagTimer);
+    this.bullets.read(r, SLOTS - 1, 1);
+    r.end();
+    if (!(this.clock >= 0 && isFiniteNumber(this.clock))) throw new RangeError('bad clock');
+    if (this.over > 1) throw new RangeError(`bad over flag ${this.over}`);
+    for (let s = 0; s < SLOTS; s++) {
+      if (this.active[s]! > 1 || this.alive[s]! > this.active[s]!) {
+        throw new RangeError(`player ${s}: bad active/alive flags`);
+      }
+      if (this.health[s]! > CTF.health || (this.alive[s] === 1) !== this.health[s]! > 0) {
+        throw new RangeError(`player ${s}: health ${this.health[s]}`);
+      }
+      if (this.facing[s]! > 7) throw new RangeError(`player ${s}: facing ${this.facing[s]}`);
+      for (const a of [
+        this.x,
+        this.y,
+        this.vx,
+        this.vy,
+        this.cooldown,
+        this.respawn,
+        this.protect,
+      ]) {
+        if (!isFiniteNumber(a[s]!)) throw new RangeError(`player ${s}: a number is not finite`);
+      }
+    }
+    for (let t = 0; t < 2; t++) {
+      const st = this.flagState[t]!;
+      const c = this.flagCarrier[t]!;
+      if (st > 2) throw new RangeError(`flag ${t}: state ${st}`);
+      if (st === FlagState.carried) {
+        if (c >= SLOTS || this.alive[c] !== 1 || (c & 1) === t) {
+          throw new RangeError(`flag ${t}: carried by ${c}, who cannot carry it`);
+        }
+      } else if (c !== NO_CARRIER) {
+        throw new RangeError(`flag ${t}: not carried but has carrier ${c}`);
+      }
+      if (
+        !isFiniteNumber(this.flagX[t]!) ||
+        !isFiniteNumber(this.flagY[t]!) ||
+        !isFiniteNumber(this.flagTimer[t]!)
+      ) {
+        throw new RangeError(`flag ${t}: a number is not finite`);
+      }
+    }
+    this.prevX.set(this.x);
+    this.prevY.set(this.y);
+  }
+
+  /** Make this state a copy of `o` (used by `load` once the bytes have been validated). */
+  copyFrom(o: CtfState): void {
+    this.tick = o.tick;
+    this.clock = o.clock;
+    this.over = o.over;
+    this.rng.setState(o.rng.getState());
+    this.score.set(o.score);
+    this.shots = o.shots;
+    this.playersThroughWalls = o.playersThroughWalls;
+    for (const k of [
+      'active',
+      'alive',
+      'health',
+      'facing',
+      'x',
+      'y',
+      'vx',
+      'vy',
+      'cooldown',
+      'respawn',
+      'protect',
+      'kills',
+      'deaths',
+      'captures',
+      'prevX',
+      'prevY',
+      'flagState',
+      'flagCarrier',
+      'flagX',
+      'flagY',
+      'flagTimer',
+    ] as const) {
+      this[k].set(o[k]);
+    }
+    this.bullets.copyFrom(o.bullets);
+  }
+}
+
+/** Scratch for push-out results and a sine and cosine; never part of any state. */
+const moved = new Float64Array(2);
+const sc = new Float64Array(2);
+
+/**
+ * Capture the flag, as in the talk's demo ("Kills: 1, Flags captured: 0"): a top-down arena with
+ * walls, some of them thin (4 units), two teams of four (red left, blue right; 1–4 human or
+ * bot players on slots 0–3, AI bots on the rest), fast bullets (15 units per step), flags,
+ * respawns. One hit kills; a carrier who dies drops the flag where it fell.
+ *
+ * - {@link step} is the real game: a fixed 1/60 s step, bullets swept against walls and players
+ *   (continuous detection), walls that satisfy the talk's rule for every other body
+ *   (`minWallSize = maxSpeed × step`: players move 2.67 units per step, the thinnest wall is 4).
+ *   Nothing ever passes through a wall. Deterministic: same seed and inputs, same bytes.
+ * - {@link update} is the naive game the talk warns about: the same rules, moving everything by
+ *   `v·dt` for whatever Δt the frame had, with discrete detection only. At 30 Hz a bullet jumps
+ *   30 units a frame and goes through a 4-unit wall more often than not.
+ *
+ * Hot state is in typed arrays ({@link CtfState}); a step allocates nothing. The AI of the bot
+ * slots is {@link ctfBotInput} — the same function the registry's bot uses for human slots —
+ * evaluated for every bot before anything moves.
+ */
+export class CtfGame implements Game, BulletTargets {
+  readonly info = CTF_INFO;
+  /** Human (or externally driven) players: slots 0 … players − 1. */
+  readonly players: number;
+  /** Whether the other slots are filled with AI bots. */
+  readonly fill: boolean;
+  readonly seed: number;
+  /** The state. Read it freely (renderers, bots); change it only through the game. */
+  readonly state = new CtfState();
+  /** The walls (static). */
+  readonly walls = CTF_WALLS;
+
+  // BulletTargets: the players.
+  readonly targetCount = SLOTS;
+  readonly targetX = this.state.x;
+  readonly targetY = this.state.y;
+  readonly targetRadius = R;
+
+  private readonly inputs = new Uint32Array(SLOTS);
+  private readonly writer = new ByteWriter(8192);
+  private scratch: CtfState | null = null;
+
+  constructor(options: CtfOptions) {
+    const { seed, players } = options;
+    if (!Number.isInteger(seed) || seed < 0 || seed > 0xffffffff) {
+      throw new RangeError(`CtfGame: seed must be a u32, got ${String(seed)}`);
+    }
+    if (!Number.isInteger(players) || players < 1 || players > 4) {
+      throw new RangeError(`CtfGame: players must be from 1 to 4, got ${String(players)}`);
+    }
+    this.seed = seed;
+    this.players = players;
+    this.fill = options.fill ?? true;
+    const s = this.state;
+    s.rng.seed(seed);
+    for (let p = 0; p < SLOTS; p++) {
+      if (p >= players && !this.fill) continue;
+      s.active[p] = 1;
+      this.spawn(p, p >> 1);
+    }
+    for (let t = 0; t < 2; t++) this.flagHome(t);
+    s.prevX.set(s.x);
+    s.prevY.set(s.y);
+  }
+
+  /** Steps (or updates) so far. */
+  get tick(): number {
+    return this.state.tick;
+  }
+
+  /** Whether the match has ended (a team reached the capture limit or time ran out); later steps only count ticks. */
+  get over(): boolean {
+    return this.state.over === 1;
+  }
+
+  /** One fixed step of 1/60 s with continuous detection for bullets. `inputs[p]` drives slot p (missing: nothing held). */
+  step(inputs: readonly ButtonInput[]): void {
+    this.advance(STEP, inputs, true);
+    const s = this.state;
+    s.tick++;
+    s.clock = s.tick * STEP;
+  }
+
+  /**
+   * The naive variable-Δt game (for the lab's demo): advance by `dt` seconds with discrete
+   * detection only. Not deterministic across frame rates — the point of the demo. Do not mix with
+   * {@link step} in one game.
+   */
+  update(dt: number, inputs: readonly ButtonInput[]): void {
+    if (!(dt >= 0 && isFiniteNumber(dt))) {
+      throw new RangeError(`CtfGame.update: dt must be a finite number ≥ 0, got ${String(dt)}`);
+    }
+    this.advance(dt, inputs, false);
+    const s = this.state;
+    s.tick++;
+    s.clock += dt;
+  }
+
+  /** Player 0's numbers, as on the slide ("Kills: 1, Flags captured: 0"), and the match's. */
+  hud(): Readonly<Record<string, number>> {
+    const s = this.state;
+    return {
+      kills: s.kills[0]!,
+      flags: s.captures[0]!,
+      deaths: s.deaths[0]!,
+      red: s.score[0]!,
+      blue: s.score[1]!,
+      timeLeft: Math.max(0, Math.ceil(CTF.timeLimit - s.clock)),
+      throughWalls: s.bullets.throughWalls + s.playersThroughWalls,
+    };
+  }
+
+  save(): Uint8Array {
+    this.state.write(this.writer.reset(), this.players);
+    return this.writer.finish();
+  }
+
+  /** Restore a {@link save}d state of a game with the same number of players; RangeError on bad bytes (the game is then unchanged). */
+  load(bytes: Uint8Array): void {
+    this.scratch ??= new CtfState();
+    this.scratch.read(bytes, this.players);
+    this.state.copyFrom(this.scratch);
+  }
+
+  hash(): bigint {
+    this.state.write(this.writer.reset(), this.players);
+    return fnv1a64(this.writer.peek());
+  }
+
+  /** Team of a slot: 0 red, 1 blue. */
+  teamOf(slot: number): number {
+    return slot & 1;
+  }
+
+  /** The team whose flag `slot` carries, or -1. */
+  carrying(slot: number): number {
+    const s = this.state;
+    const t = 1 - (slot & 1);
+    return s.flagState[t] === FlagState.carried && s.flagCarrier[t] === slot ? t : -1;
+  }
+
+  /**
+   * Put a living player somewhere, facing `facing` (0–7): for experiments and the lab's
+   * set-ups. Changes the state like a step would (deterministically).
+   */
+  place(slot: number, x: number, y: number, facing: number): void {
+    const s = this.state;
+    if (!(slot >= 0 && slot < SLOTS && s.alive[slot] === 1)) {
+      throw new RangeError(`CtfGame.place: slot ${slot} is not a living player`);
+    }
+    s.x[slot] = x;
+    s.y[slot] = y;
+    s.prevX[slot] = x;
+    s.prevY[slot] = y;
+    s.facing[slot] = facing & 7;
+  }
+
+  // --- BulletTargets ---
+
+  canHit(b: number, t: number): boolean {
+    return this.state.alive[t] === 1 && (t & 1) !== this.state.bullets.team[b];
+  }
+
+  hit(b: number, t: number): void {
+    const s = this.state;
+    if (s.protect[t]! > 0) return; // spawn protection absorbs it
+    const h = s.health[t]! - 1;
+    s.health[t] = h;
+    if (h === 0) this.kill(t, s.bullets.owner[b]!);
+  }
+
+  // --- the rules ---
+
+  private advance(dt: number, given: readonly ButtonInput[], continuous: boolean): void {
+    const s = this.state;
+    if (s.over === 1) return;
+    const inputs = this.inputs;
+    // Every input first (the bots read the state as it is before anything moves).
+    for (let p = 0; p < SLOTS; p++) {
+      if (s.active[p] === 0) inputs[p] = 0;
+      else if (p < this.players) inputs[p] = (given[p] ?? 0) >>> 0;
+      else inputs[p] = ctfBotInput(this, p);
+    }
+    // Timers and respawns.
+    for (let p = 0; p < SLOTS; p++) {
+      if (s.active[p] === 0) continue;
+      if (s.alive[p] === 0) {
+        s.respawn[p] = s.respawn[p]! - dt;
+        if (s.respawn[p]! <= 0) this.spawn(p, s.rng.int(4));
+        continue;
+      }
+      s.cooldown[p] = Math.max(0, s.cooldown[p]! - dt);
+      s.protect[p] = Math.max(0, s.protect[p]! - dt);
+    }
+    // Movement: v·dt, then the discrete push-out (safe at the fixed step: see the class doc).
+    for (let p = 0; p < SLOTS; p++) {
+      const x = s.x[p]!;
+      const y = s.y[p]!;
+      s.prevX[p] = x;
+      s.prevY[p] = y;
+      if (s.alive[p] === 0) continue;
+      const input = inputs[p]!;
+      const d = inputDir(input);
+      if (d < 0) {
+        s.vx[p] = 0;
+        s.vy[p] = 0;
+        continue;
+      }
+      if (!isDown(input, ShooterButtons.strafe)) s.facing[p] = d;
+      const vx = DIR_X[d]! * CTF.playerSpeed;
+      const vy = DIR_Y[d]! * CTF.playerSpeed;
+      s.vx[p] = vx;
+      s.vy[p] = vy;
+      this.walls.pushOut(x + vx * dt, y + vy * dt, R, moved);
+      // Keep everyone on the field whatever happened (the naive game can push one out of it).
+      const nx = Math.min(CTF.width - R, Math.max(R, moved[0]!));
+      const ny = Math.min(CTF.height - R, Math.max(R, moved[1]!));
+      if (this.walls.crosses(x, y, nx, ny)) s.playersThroughWalls++;
+      s.x[p] = nx;
+      s.y[p] = ny;
+    }
+    // Fire.
+    const bullets = s.bullets;
+    for (let p = 0; p < SLOTS; p++) {
+      if (s.alive[p] === 0 || s.cooldown[p]! > 0) continue;
+      if (!isDown(inputs[p]!, ShooterButtons.fire)) continue;
+      const f = s.facing[p]!;
+      // A little spread (seeded): the facing direction turned by up to ±CTF.spread radians.
+      dsincos(s.rng.range(-CTF.spread, CTF.spread), sc);
+      const ux = DIR_X[f]!;
+      const uy = DIR_Y[f]!;
+      const c = sc[1]!;
+      const sn = sc[0]!;
+      // From the shooter's centre: its first move is swept from there, so a player hugging a thin
+      // wall cannot shoot through it.
+      const b = bullets.spawn(
+        p,
+        p & 1,
+        s.x[p]!,
+        s.y[p]!,
+        (ux * c - uy * sn) * CTF.bulletSpeed,
+        (ux * sn + uy * c) * CTF.bulletSpeed,
+        CTF.bulletLife,
+      );
+      if (b < 0) continue;
+      s.cooldown[p] = CTF.fireCooldown;
+      s.protect[p] = 0;
+      s.shots++;
+    }
+    bullets.advance(dt, this.walls, this, continuous);
+    this.flags(dt);
+    if (s.clock + dt >= CTF.timeLimit) s.over = 1;
+  }
+
+  private flags(dt: number): void {
+    const s = this.state;
+    const pr2 = CTF.pickupRadius * CTF.pickupRadius;
+    for (let t = 0; t < 2; t++) {
+      if (s.flagState[t] === FlagState.carried) {
+        const c = s.flagCarrier[t]!;
+        s.flagX[t] = s.x[c]!;
+        s.flagY[t] = s.y[c]!;
+        continue;
+      }
+      if (s.flagState[t] === FlagState.dropped) {
+        s.flagTimer[t] = s.flagTimer[t]! - dt;
+        if (s.flagTimer[t]! <= 0) {
+          this.flagHome(t);
+          continue;
+        }
+      }
+      for (let p = 0; p < SLOTS; p++) {
+        if (s.alive[p] === 0) continue;
+        const ex = s.x[p]! - s.flagX[t]!;
+        const ey = s.y[p]! - s.flagY[t]!;
+        if (ex * ex + ey * ey > pr2) continue;
+        if ((p & 1) === t) {
+          // Own flag: touching it where it fell sends it home.
+          if (s.flagState[t] === FlagState.dropped) {
+            this.flagHome(t);
+            break;
+          }
+          continue;
+        }
+        s.flagState[t] = FlagState.carried;
+        s.flagCarrier[t] = p;
+        s.flagTimer[t] = 0;
+        s.flagX[t] = s.x[p]!;
+        s.flagY[t] = s.y[p]!;
+        s.protect[p] = 0;
+        break;
+      }
+    }
+    // Captures: a carrier at its own stand while its own flag is home.
+    const cr2 = CTF.captureRadius * CTF.captureRadius;
+    for (let t = 0; t < 2; t++) {
+      if (s.flagState[t] !== FlagState.carried) continue;
+      const c = s.flagCarrier[t]!;
+      const own = c & 1;
+      if (s.flagState[own] !== FlagState.home) continue;
+      const ex = s.x[c]! - FLAG_STAND_X[own]!;
+      const ey = s.y[c]! - FLAG_STAND_Y[own]!;
+      if (ex * ex + ey * ey > cr2) continue;
+      s.score[own] = s.score[own]! + 1;
+      s.captures[c] = s.captures[c]! + 1;
+      this.flagHome(t);
+      if (s.score[own] >= CTF.captureLimit) s.over = 1;
+    }
+  }
+
+  private flagHome(t: number): void {
+    const s = this.state;
+    s.flagState[t] = FlagState.home;
+    s.flagCarrier[t] = NO_CARRIER;
+    s.flagX[t] = FLAG_STAND_X[t]!;
+    s.flagY[t] = FLAG_STAND_Y[t]!;
+    s.flagTimer[t] = 0;
+  }
+
+  private kill(victim: number, killer: number): void {
+    const s = this.state;
+    s.alive[victim] = 0;
+    s.health[victim] = 0;
+    s.vx[victim] = 0;
+    s.vy[victim] = 0;
+    s.cooldown[victim] = 0;
+    s.protect[victim] = 0;
+    s.respawn[victim] = CTF.respawnTime;
+    s.deaths[victim] = s.deaths[victim]! + 1;
+    s.kills[killer] = s.kills[killer]! + 1;
+    const t = 1 - (victim & 1);
+    if (s.flagState[t] === FlagState.carried && s.flagCarrier[t] === victim) {
+      s.flagState[t] = FlagState.dropped;
+      s.flagCarrier[t] = NO_CARRIER;
+      s.flagX[t] = s.x[victim]!;
+      s.flagY[t] = s.y[victim]!;
+      s.flagTimer[t] = CTF.flagReturnTime;
+    }
+  }
+
+  private spawn(p: number, point: number): void {
+    const s = this.state;
+    const t = p & 1;
+    s.alive[p] = 1;
+    s.health[p] = CTF.health;
+    s.x[p] = SPAWN_X[t]![point]!;
+    s.y[p] = SPAWN_Y[t]![point]!;
+    s.prevX[p] = s.x[p]!;
+    s.prevY[p] = s.y[p]!;
+    s.vx[p] = 0;
+    s.vy[p] = 0;
+    s.facing[p] = t === 0 ? 0 : 4;
+    s.cooldown[p] = 0;
+    s.respawn[p] = 0;
+    s.protect[p] = CTF.protectTime;
+  }
+}
