@@ -182,7 +182,9 @@ describe('chapter 1, the loop', () => {
 
     // Unknown and planned chapters say so instead of failing.
     await page.goto(`${lab.server.url}#/network`);
-    await expect.poll(() => page.locator('main h1').textContent()).toBe('6. Network');
+    await expect.poll(() => page.locator('main h1').textContent()).toBe('Network');
+    expect(await page.locator('main .eyebrow').textContent()).toBe('Chapter 6');
+    expect(await page.getByTestId('chapter-coming').isVisible()).toBe(true);
     expect(problems).toEqual([]);
     await context.close();
   });

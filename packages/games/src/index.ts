@@ -16,3 +16,49 @@ export * from './games/runner/index.js';
 export * from './games/arena/index.js';
 export * from './games/ctf/index.js';
 export * from './games/survival/index.js';
+export { SceneRig } from './scenes/movement-rig.js';
+export type { SteppedScene, SceneRigOptions } from './scenes/movement-rig.js';
+export {
+  JumperScene,
+  JumperButtons,
+  JumpMeter,
+  defaultJumperConfig,
+  MOVEMENT_PERIOD_MS,
+  movementRound,
+  movementScript,
+  runMovement,
+  jitterSeed,
+  loopKindOf,
+} from './scenes/movement.js';
+export type {
+  JumperConfig,
+  Jump,
+  MovementLoop,
+  MovementRunOptions,
+  MovementRun,
+} from './scenes/movement.js';
+export {
+  debugSceneConfig,
+  demoRecording,
+  recordingLength,
+  InputRecorder,
+  TickHashes,
+  runRecording,
+} from './scenes/debugging.js';
+export type { RecordingRunOptions, RecordingRun } from './scenes/debugging.js';
+export {
+  FINAL_STEP_MS,
+  STALL_WORK_MS,
+  spiralLoopSpec,
+  backwardsLoopSpec,
+  repeatedBallScript,
+  jumpingClock,
+  spiralRig,
+  backwardsRig,
+} from './scenes/final-fixes.js';
+export type {
+  SpiralLoop,
+  BackwardsLoop,
+  SpiralOptions,
+  BackwardsOptions,
+} from './scenes/final-fixes.js';

@@ -18,7 +18,9 @@ import {
   type PanelRun,
   type PanelSpec,
 } from './loop-lab.js';
+import { button, toggle } from '../ui/controls.js';
 import { code, h, setAttr, setText } from '../ui/dom.js';
+import { LabDriver } from '../ui/driver.js';
 import * as fmt from '../ui/format.js';
 import { StepsChart } from '../ui/steps-chart.js';
 
@@ -105,20 +107,12 @@ export function mount(root: HTMLElement): () => void {
 class LoopChapter {
   private readonly lab = new LoopLab();
   private clock: ClockLab | undefined;
-  private paused = false;
   private interpolate = true;
-  private lastRaf: number | undefined;
-  private raf = 0;
+  private readonly driver: LabDriver;
   private readonly panels: PanelView[] = [];
   private readonly trailScratch: number[] = [];
   private readonly observer: ResizeObserver;
   private readonly cleanups: (() => void)[] = [];
-
-  // Real-clock mode bookkeeping, on the requestAnimationFrame time line.
-  private clockStart: number | undefined;
-  private clockPausedTotal = 0;
-  private clockPausedAt: number | undefined;
-  private measuredPeriod = 0;
 
   // Controls.
   private readonly rateInputs = new Map<DisplayRate, HTMLInputElement>();
@@ -139,6 +133,20 @@ class LoopChapter {
   private readonly panelGrid: HTMLElement;
 
   constructor(private readonly root: HTMLElement) {
+    this.driver = new LabDriver(
+      {
+        advance: (ms) => {
+          this.lab.advanceBy(ms);
+        },
+        realFrame: (t) => {
+          this.clock?.frameAt(t);
+        },
+        render: () => {
+          this.render();
+        },
+      },
+      { maxFrameMs: MAX_REAL_FRAME_MS },
+    );
     // ------------------------------------------------------------ controls
     const rates = h(
       'div',
@@ -335,11 +343,15 @@ class LoopChapter {
 
     this.resize();
     this.refreshControls();
-    this.raf = requestAnimationFrame(this.frame);
+    this.driver.start();
+  }
+
+  private get paused(): boolean {
+    return this.driver.isPaused;
   }
 
   destroy(): void {
-    cancelAnimationFrame(this.raf);
+    this.driver.destroy();
     this.observer.disconnect();
     for (const c of this.cleanups) c();
     for (const p of this.panels) p.chart?.destroy();
@@ -571,27 +583,13 @@ class LoopChapter {
 
   private setPaused(paused: boolean): void {
     if (paused === this.paused) return;
-    this.paused = paused;
-    const now = performance.now();
-    if (this.clock) {
-      if (paused) this.clockPausedAt = now;
-      else if (this.clockPausedAt !== undefined) {
-        this.clockPausedTotal += now - this.clockPausedAt;
-        this.clockPausedAt = undefined;
-      }
-    }
+    this.driver.setPaused(paused);
     this.refreshControls();
   }
 
   private setRealClock(on: boolean): void {
-    if (on) {
-      this.clock = new ClockLab();
-      this.clockStart = undefined;
-      this.clockPausedTotal = 0;
-      this.clockPausedAt = this.paused ? performance.now() : undefined;
-    } else {
-      this.clock = undefined;
-    }
+    this.clock = on ? new ClockLab() : undefined;
+    this.driver.setReal(on);
     this.clockBtn.setAttribute('aria-pressed', String(on));
     this.refreshControls();
   }
@@ -652,24 +650,7 @@ class LoopChapter {
     }
   }
 
-  // ---------------------------------------------------------------- the frame
-
-  private readonly frame = (now: number): void => {
-    this.raf = requestAnimationFrame(this.frame);
-    const last = this.lastRaf;
-    this.lastRaf = now;
-    if (last !== undefined) {
-      const dt = now - last;
-      this.measuredPeriod = this.measuredPeriod === 0 ? dt : this.measuredPeriod * 0.95 + dt * 0.05;
-    }
-    if (this.clock) {
-      this.clockStart ??= now;
-      if (!this.paused) this.clock.frameAt(now - this.clockStart - this.clockPausedTotal);
-    } else if (!this.paused && last !== undefined) {
-      this.lab.advanceBy(Math.min(Math.max(0, now - last), MAX_REAL_FRAME_MS));
-    }
-    this.render();
-  };
+  // ---------------------------------------------------------------- drawing
 
   private render(): void {
     if (this.clock) this.draw(this.clock.runs, this.clock.timeMs);
@@ -679,7 +660,7 @@ class LoopChapter {
   private draw(runs: PanelRun[], t: number): void {
     setText(this.clockOut, fmt.seconds(t / 1000));
     setAttr(this.clockOut, 'data-value', fmt.exact(t));
-    const hz = this.measuredPeriod > 0 ? Math.round(1000 / this.measuredPeriod) : 0;
+    const hz = this.driver.measuredHz;
     setText(
       this.modeOut,
       this.clock
@@ -797,31 +778,6 @@ class LoopChapter {
       r.stalled ? `Stalled: ${fmt.count(r.owed)} updates owed, never run` : 'Stalled',
     );
   }
-}
-
-function button(label: string, testId: string, onClick: () => void): HTMLButtonElement {
-  const b = h('button', { type: 'button', class: 'btn', 'data-testid': testId }, label);
-  b.addEventListener('click', onClick);
-  return b;
-}
-
-function toggle(
-  label: string,
-  testId: string,
-  initial: boolean,
-  onChange: (on: boolean) => void,
-): HTMLButtonElement {
-  const b = h(
-    'button',
-    { type: 'button', class: 'btn toggle', 'data-testid': testId, 'aria-pressed': String(initial) },
-    label,
-  );
-  b.addEventListener('click', () => {
-    const on = b.getAttribute('aria-pressed') !== 'true';
-    b.setAttribute('aria-pressed', String(on));
-    onChange(on);
-  });
-  return b;
 }
 
 function legend(): HTMLElement {

@@ -1,0 +1,106 @@
+/**
+ * A canvas that keeps its backing store at its CSS size × device pixel ratio, and a view that
+ * maps world metres (y up) into it.
+ */
+import { h } from './dom.js';
+
+export class SceneCanvas {
+  readonly canvas: HTMLCanvasElement;
+  readonly ctx: CanvasRenderingContext2D;
+  /** Backing-store size in device pixels. */
+  w = 0;
+  h = 0;
+  dpr = 1;
+  private readonly observer: ResizeObserver;
+
+  constructor(attrs: { class?: string; label: string; testId: string }) {
+    this.canvas = h('canvas', {
+      class: attrs.class ?? 'scene',
+      role: 'img',
+      'aria-label': attrs.label,
+      'data-testid': attrs.testId,
+    });
+    const ctx = this.canvas.getContext('2d');
+    if (!ctx) throw new Error('The lab needs a 2D canvas');
+    this.ctx = ctx;
+    this.observer = new ResizeObserver(() => {
+      this.fit();
+    });
+    this.observer.observe(this.canvas);
+  }
+
+  /** Match the backing store to the CSS size; true if the canvas can be drawn on. */
+  fit(): boolean {
+    const rect = this.canvas.getBoundingClientRect();
+    const dpr = Math.min(window.devicePixelRatio || 1, 3);
+    const w = Math.max(1, Math.round(rect.width * dpr));
+    const hh = Math.max(1, Math.round(rect.height * dpr));
+    if (w !== this.w || hh !== this.h) {
+      this.canvas.width = w;
+      this.canvas.height = hh;
+      this.w = w;
+      this.h = hh;
+      this.dpr = dpr;
+    }
+    return w > 1 && hh > 1;
+  }
+
+  destroy(): void {
+    this.observer.disconnect();
+  }
+}
+
+/** A world rectangle (metres, y up) fitted into a canvas, centred, keeping proportions. */
+export class View {
+  readonly scale: number;
+  private readonly ox: number;
+  private readonly oy: number;
+
+  constructor(
+    readonly w: number,
+    readonly h: number,
+    readonly x0: number,
+    readonly y0: number,
+    readonly x1: number,
+    readonly y1: number,
+  ) {
+    this.scale = Math.min(w / (x1 - x0), h / (y1 - y0));
+    this.ox = (w - (x1 - x0) * this.scale) / 2;
+    this.oy = (h - (y1 - y0) * this.scale) / 2;
+  }
+
+  px(x: number): number {
+    return this.ox + (x - this.x0) * this.scale;
+  }
+
+  py(y: number): number {
+    return this.oy + (this.y1 - y) * this.scale;
+  }
+
+  /** Faint lines every `step` metres inside the view. */
+  grid(ctx: CanvasRenderingContext2D, step = 1, stroke = 'rgba(141, 160, 189, 0.10)'): void {
+    ctx.strokeStyle = stroke;
+    ctx.lineWidth = 1;
+    ctx.beginPath();
+    for (let x = Math.ceil(this.x0 / step) * step; x <= this.x1; x += step) {
+      const X = Math.round(this.px(x)) + 0.5;
+      ctx.moveTo(X, this.py(this.y1));
+      ctx.lineTo(X, this.py(this.y0));
+    }
+    for (let y = Math.ceil(this.y0 / step) * step; y <= this.y1; y += step) {
+      const Y = Math.round(this.py(y)) + 0.5;
+      ctx.moveTo(this.px(this.x0), Y);
+      ctx.lineTo(this.px(this.x1), Y);
+    }
+    ctx.stroke();
+  }
+}
+
+/** Clear a canvas to the lab's scene background. */
+export function clearScene(sc: SceneCanvas, fill = '#0a1122'): void {
+  const { ctx } = sc;
+  ctx.setTransform(1, 0, 0, 1, 0, 0);
+  ctx.globalAlpha = 1;
+  ctx.fillStyle = fill;
+  ctx.fillRect(0, 0, sc.w, sc.h);
+}

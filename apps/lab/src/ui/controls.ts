@@ -1,0 +1,212 @@
+/**
+ * Controls every chapter uses: buttons, toggles, a segmented choice, a labelled group, the time
+ * controls (Pause / Skip / Restart) with the virtual clock's readout. Styled by styles.css.
+ */
+import { h, setAttr, setText } from './dom.js';
+import * as fmt from './format.js';
+
+/** A button with a test id. */
+export function button(label: string, testId: string, onClick: () => void): HTMLButtonElement {
+  const b = h('button', { type: 'button', class: 'btn', 'data-testid': testId }, label);
+  b.addEventListener('click', onClick);
+  return b;
+}
+
+/** A toggle button (`aria-pressed`), calling `onChange` with its new state. */
+export function toggle(
+  label: string,
+  testId: string,
+  initial: boolean,
+  onChange: (on: boolean) => void,
+): HTMLButtonElement {
+  const b = h(
+    'button',
+    { type: 'button', class: 'btn toggle', 'data-testid': testId, 'aria-pressed': String(initial) },
+    label,
+  );
+  b.addEventListener('click', () => {
+    const on = b.getAttribute('aria-pressed') !== 'true';
+    b.setAttribute('aria-pressed', String(on));
+    onChange(on);
+  });
+  return b;
+}
+
+/** Sets a toggle's state without calling its handler. */
+export function setPressed(b: HTMLButtonElement, on: boolean): void {
+  setAttr(b, 'aria-pressed', String(on));
+}
+
+/** A labelled row of controls inside a `.controls` box. */
+export function group(label: string, ...children: (Node | null)[]): HTMLElement {
+  return h(
+    'div',
+    { class: 'control-group' },
+    h('span', { class: 'control-label' }, label),
+    ...children,
+  );
+}
+
+export interface Segmented<T extends string | number> {
+  readonly el: HTMLElement;
+  readonly inputs: Map<T, HTMLInputElement>;
+  /** Select `value` without calling the handler. */
+  select(value: T): void;
+  setDisabled(disabled: boolean): void;
+}
+
+/**
+ * A radio group drawn as a segmented control. `name` must be unique on the page; each option
+ * gets the test id `${testPrefix}-${value}`.
+ */
+export function segmented<T extends string | number>(options: {
+  name: string;
+  label: string;
+  testPrefix: string;
+  values: readonly T[];
+  selected: T;
+  text: (value: T) => string;
+  onChange: (value: T) => void;
+}): Segmented<T> {
+  const inputs = new Map<T, HTMLInputElement>();
+  const el = h(
+    'div',
+    { class: 'segmented', role: 'radiogroup', 'aria-label': options.label },
+    options.values.map((value) => {
+      const id = `${options.name}-${value}`;
+      const input = h('input', {
+        type: 'radio',
+        name: options.name,
+        value: String(value),
+        id,
+        checked: value === options.selected,
+      });
+      input.addEventListener('change', () => {
+        if (input.checked) options.onChange(value);
+      });
+      inputs.set(value, input);
+      return h(
+        'label',
+        { for: id, 'data-testid': `${options.testPrefix}-${value}` },
+        input,
+        h('span', {}, options.text(value)),
+      );
+    }),
+  );
+  return {
+    el,
+    inputs,
+    select(value) {
+      const input = inputs.get(value);
+      if (input) input.checked = true;
+    },
+    setDisabled(disabled) {
+      for (const input of inputs.values()) input.disabled = disabled;
+    },
+  };
+}
+
+export interface Slider {
+  readonly input: HTMLInputElement;
+  readonly output: HTMLOutputElement;
+  readonly el: HTMLElement;
+  set(value: number): void;
+}
+
+/**
+ * A labelled range input with its value shown beside it. `onChange` fires when the slider is let
+ * go (a replay per pixel dragged would be wasteful); the label follows while dragging.
+ */
+export function slider(options: {
+  id: string;
+  label: string;
+  testId: string;
+  min: number;
+  max: number;
+  step: number;
+  value: number;
+  text: (value: number) => string;
+  onChange: (value: number) => void;
+}): Slider {
+  const input = h('input', {
+    type: 'range',
+    min: options.min,
+    max: options.max,
+    step: options.step,
+    value: options.value,
+    id: options.id,
+    'data-testid': options.testId,
+    'aria-describedby': `${options.id}-out`,
+  });
+  const output = h(
+    'output',
+    { id: `${options.id}-out`, for: options.id },
+    options.text(options.value),
+  );
+  input.addEventListener('input', () => {
+    setText(output, options.text(Number(input.value)));
+  });
+  input.addEventListener('change', () => {
+    options.onChange(Number(input.value));
+  });
+  const el = h(
+    'div',
+    { class: 'control-group' },
+    h('label', { class: 'control-label', for: options.id }, options.label),
+    input,
+    output,
+  );
+  return {
+    input,
+    output,
+    el,
+    set(value) {
+      input.value = String(value);
+      setText(output, options.text(value));
+    },
+  };
+}
+
+/** Pause / Skip / Restart and the clock readout (`readout-clock`, virtual ms in `data-value`). */
+export class TimeControls {
+  readonly pauseBtn: HTMLButtonElement;
+  readonly skipBtn: HTMLButtonElement;
+  readonly restartBtn: HTMLButtonElement;
+  readonly clockOut: HTMLElement;
+  readonly modeOut: HTMLElement;
+  /** The buttons, for a control group. */
+  readonly buttons: HTMLButtonElement[];
+  /** `t = …` and the mode line, for the status row. */
+  readonly status: HTMLElement[];
+
+  constructor(handlers: {
+    onPause: () => void;
+    onSkip: () => void;
+    onRestart: () => void;
+    skipMs: number;
+  }) {
+    this.pauseBtn = button('Pause', 'control-pause', handlers.onPause);
+    this.pauseBtn.setAttribute('aria-pressed', 'false');
+    this.skipBtn = button(`Skip +${handlers.skipMs / 1000} s`, 'control-skip', handlers.onSkip);
+    this.skipBtn.title = `Advance the simulated display by ${handlers.skipMs / 1000} s at once`;
+    this.restartBtn = button('Restart', 'control-restart', handlers.onRestart);
+    this.clockOut = h('span', { class: 'clock', 'data-testid': 'readout-clock' }, '0.000 s');
+    this.modeOut = h('span', { class: 'mode' });
+    this.buttons = [this.pauseBtn, this.skipBtn, this.restartBtn];
+    this.status = [h('span', { class: 'status-item' }, 't = ', this.clockOut), this.modeOut];
+  }
+
+  /** Show the pause state and whether Skip applies (only on the simulated display). */
+  refresh(paused: boolean, simulated: boolean): void {
+    setText(this.pauseBtn, paused ? 'Play' : 'Pause');
+    setAttr(this.pauseBtn, 'aria-pressed', String(paused));
+    this.skipBtn.disabled = !simulated;
+  }
+
+  /** Show the clock (virtual ms) and a mode line. */
+  show(timeMs: number, mode: string): void {
+    setText(this.clockOut, fmt.seconds(timeMs / 1000));
+    setAttr(this.clockOut, 'data-value', fmt.exact(timeMs));
+    setText(this.modeOut, mode);
+  }
+}

@@ -1,0 +1,139 @@
+/**
+ * Chapter 7 in a real browser: one recording replayed on four simulated displays; under a fixed
+ * step every display shows the same state hash at the same tick. Also records a session of its own
+ * from the keyboard and replays it.
+ */
+import path from 'node:path';
+import { describe, expect, it } from 'vitest';
+import type { Page } from 'playwright-core';
+import { num, readouts, shots, useLab, watch } from './harness.js';
+
+const RATES = [30, 60, 144, 240];
+const lab = useLab();
+
+async function freshRun(page: Page): Promise<void> {
+  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
+    await page.getByTestId('control-pause').click();
+  }
+  await page.getByTestId('control-restart').click();
+  await expect.poll(() => page.getByTestId('readout-clock').getAttribute('data-value')).toBe('0');
+}
+
+async function skip(page: Page, times = 1): Promise<void> {
+  const before = Number(await page.getByTestId('readout-clock').getAttribute('data-value'));
+  for (let i = 0; i < times; i++) await page.getByTestId('control-skip').click();
+  await expect
+    .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
+    .toBe(before + 5000 * times);
+}
+
+function hashes(r: Record<string, string>, loop: string): string[] {
+  return RATES.map((hz) => r[`readout-${loop}-${hz}-hash`] ?? '');
+}
+
+describe('chapter 7, debugging', () => {
+  it('shows one hash per tick under a fixed step and four under a variable Δt', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    const problems = watch(page);
+    await page.goto(`${lab.server.url}#/debugging`);
+    await expect.poll(() => page.title()).toBe('7. Debugging — fixedstep lab');
+    await page.getByTestId('readout-fixed-hashes-equal').waitFor();
+    expect(await page.getByTestId('guarantee').textContent()).toContain('every display rate');
+
+    await freshRun(page);
+    await skip(page);
+    const r = await readouts(page);
+    await page.screenshot({ path: path.join(shots, 'debugging.png'), fullPage: true });
+    console.log(
+      `fixed @ tick ${r['readout-fixed-common-tick']}: ${hashes(r, 'fixed').join(' ')}\n` +
+        `variable now: ${hashes(r, 'variable').join(' ')}`,
+    );
+    expect(r['readout-fixed-hashes-equal']).toBe('true');
+    expect(r['readout-variable-hashes-equal']).toBe('false');
+    const fixed = hashes(r, 'fixed');
+    expect(fixed[0]).toMatch(/^[0-9a-f]{16}$/);
+    for (const h of fixed) expect(h).toBe(fixed[0]);
+    expect(new Set(hashes(r, 'variable')).size).toBe(4);
+    expect(num(r, 'fixed-common-tick')).toBeGreaterThanOrEqual(165);
+    expect(num(r, 'fixed-divergence')).toBe(0);
+    expect(num(r, 'variable-divergence')).toBeGreaterThan(0);
+    expect(num(r, 'recording-inputs')).toBe(22);
+
+    // Still equal, tick for tick, at the end of the demo.
+    await skip(page);
+    const end = await readouts(page);
+    expect(end['readout-fixed-hashes-equal']).toBe('true');
+    expect(RATES.map((hz) => num(end, `fixed-${hz}-score`))).toEqual([11, 11, 11, 11]);
+
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('records inputs from the keyboard and replays them on every display', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 860 } });
+    const problems = watch(page);
+    await page.goto(`${lab.server.url}#/debugging`);
+    await page.getByTestId('readout-fixed-hashes-equal').waitFor();
+
+    // R starts a recording (and plays); the pad buttons come alive.
+    await page.keyboard.press('KeyR');
+    await expect
+      .poll(() => page.getByTestId('control-record').getAttribute('aria-pressed'))
+      .toBe('true');
+    expect(await page.getByTestId('control-jump').isEnabled()).toBe(true);
+    await page.keyboard.down('ArrowRight');
+    await page.waitForTimeout(400);
+    await page.keyboard.press('Space');
+    await page.waitForTimeout(500);
+    await page.keyboard.up('ArrowRight');
+    await page.keyboard.down('ArrowLeft');
+    await page.waitForTimeout(300);
+    await page.keyboard.up('ArrowLeft');
+    await page.waitForTimeout(200);
+    await page.getByTestId('control-record').click(); // stop and replay
+    await expect
+      .poll(() => page.getByTestId('control-record').getAttribute('aria-pressed'))
+      .toBe('false');
+    const rec = await readouts(page);
+    expect(num(rec, 'recording-inputs')).toBe(6);
+    expect(num(rec, 'recording-length')).toBeGreaterThan(1000);
+
+    // The replay, on the simulated displays, from zero.
+    await freshRun(page);
+    await skip(page);
+    const r = await readouts(page);
+    expect(r['readout-fixed-hashes-equal']).toBe('true');
+    expect(r['readout-variable-hashes-equal']).toBe('false');
+    await page.screenshot({ path: path.join(shots, 'debugging-recorded.png'), fullPage: false });
+
+    // The demo comes back on its button.
+    await page.getByTestId('control-demo').click();
+    await expect.poll(async () => num(await readouts(page), 'recording-inputs')).toBe(22);
+
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('fits a phone screen', async () => {
+    const context = await lab.browser.newContext({
+      viewport: { width: 390, height: 844 },
+      deviceScaleFactor: 2,
+      isMobile: true,
+      hasTouch: true,
+    });
+    const page = await context.newPage();
+    const problems = watch(page);
+    await page.goto(`${lab.server.url}#/debugging`);
+    await page.getByTestId('readout-fixed-hashes-equal').waitFor();
+    await freshRun(page);
+    await skip(page);
+    await page.screenshot({ path: path.join(shots, 'debugging-phone.png'), fullPage: true });
+    const overflow = await page.evaluate(
+      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
+    );
+    expect(overflow).toBe(0);
+    expect((await readouts(page))['readout-fixed-hashes-equal']).toBe('true');
+    expect(problems).toEqual([]);
+    await context.close();
+  });
+});

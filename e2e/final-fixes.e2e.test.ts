@@ -1,0 +1,129 @@
+/**
+ * Chapter 8 in a real browser: a hitch on a slow machine without the clamp (the spiral of death,
+ * on a simulated display), with it and with FixedLoop; and a clock that jumps backwards.
+ */
+import path from 'node:path';
+import { describe, expect, it } from 'vitest';
+import type { Page } from 'playwright-core';
+import { num, readouts, shots, useLab, watch } from './harness.js';
+
+const lab = useLab();
+
+async function freshRun(page: Page): Promise<void> {
+  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
+    await page.getByTestId('control-pause').click();
+  }
+  await page.getByTestId('control-restart').click();
+  await expect.poll(() => page.getByTestId('readout-clock').getAttribute('data-value')).toBe('0');
+}
+
+async function skip(page: Page, times = 1): Promise<void> {
+  const before = Number(await page.getByTestId('readout-clock').getAttribute('data-value'));
+  for (let i = 0; i < times; i++) await page.getByTestId('control-skip').click();
+  await expect
+    .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
+    .toBe(before + 5000 * times);
+}
+
+describe('chapter 8, final fixes', () => {
+  it('spirals without the clamp, stays bounded with it, and shrugs off a clock set back', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    const problems = watch(page);
+    await page.goto(`${lab.server.url}#/final-fixes`);
+    await expect.poll(() => page.title()).toBe('8. Final fixes — fixedstep lab');
+    await page.getByTestId('readout-noclamp-max-steps').waitFor();
+
+    await freshRun(page);
+    await skip(page, 3); // t = 15 s
+    const r = await readouts(page);
+    await page.screenshot({ path: path.join(shots, 'final-fixes.png'), fullPage: true });
+    console.log(
+      ['noclamp', 'clamp', 'fixed']
+        .map(
+          (id) =>
+            `${id}: max steps ${r[`readout-${id}-max-steps`]}, longest frame ${num(r, `${id}-longest-frame`).toFixed(0)} ms, stalled ${r[`readout-${id}-stalled`]}, owed ${r[`readout-${id}-owed`]}`,
+        )
+        .join('\n'),
+    );
+
+    // The slides' loop: each frame owes more than the last, until a frame would hang the page.
+    expect(num(r, 'noclamp-max-steps')).toBeGreaterThan(num(r, 'clamp-max-steps'));
+    expect(num(r, 'noclamp-max-steps')).toBeGreaterThanOrEqual(125);
+    expect(r['readout-noclamp-stalled']).toBe('true');
+    expect(num(r, 'noclamp-owed')).toBeGreaterThan(0);
+    expect(await page.getByTestId('readout-noclamp-stalled').isVisible()).toBe(true);
+    // The clamp bounds the debt at 1 s: 33 steps; FixedLoop caps a frame at 8.
+    expect(num(r, 'clamp-max-steps')).toBe(33);
+    expect(r['readout-clamp-stalled']).toBe('false');
+    expect(num(r, 'fixed-max-steps')).toBe(8);
+    expect(r['readout-fixed-stalled']).toBe('false');
+    expect(num(r, 'fixed-fps')).toBeGreaterThan(num(r, 'clamp-fps'));
+
+    // The clock set back by 1.5 s at 3 s.
+    expect(r['readout-backwards-variable-reversed']).toBe('true');
+    expect(num(r, 'backwards-variable-lag')).toBeCloseTo(1500, 3);
+    expect(r['readout-backwards-naive-reversed']).toBe('false');
+    expect(num(r, 'backwards-naive-frozen')).toBeGreaterThan(1400);
+    for (const id of ['final', 'fixed']) {
+      expect(r[`readout-backwards-${id}-reversed`]).toBe('false');
+      expect(num(r, `backwards-${id}-frozen`)).toBeLessThan(100);
+      expect(num(r, `backwards-${id}-lag`)).toBeLessThan(100);
+    }
+    expect(num(r, 'backwards-fixed-backward-frames')).toBe(1);
+    expect(num(r, 'backwards-clock')).toBe(13_500);
+
+    // A fast machine: the hitch is paid off and nobody stalls (replayed to the same moment).
+    await page.getByTestId('control-machine-10').click();
+    await expect.poll(async () => (await readouts(page))['readout-noclamp-stalled']).toBe('false');
+    const fast = await readouts(page);
+    expect(num(fast, 'noclamp-max-steps')).toBe(33);
+    expect(fast['readout-clock']).toBe('15000');
+
+    // A 10 s breakpoint: without the clamp the page owes all of it at once.
+    await page.getByTestId('control-breakpoint').click();
+    await skip(page, 3);
+    const bp = await readouts(page);
+    expect(num(bp, 'noclamp-max-steps')).toBeGreaterThanOrEqual(333);
+    expect(num(bp, 'clamp-max-steps')).toBe(33);
+    expect(num(bp, 'fixed-max-steps')).toBe(8);
+
+    // Setting the clock back again: FixedLoop counts a second backward reading.
+    await page.getByTestId('control-jump-back').click();
+    await skip(page);
+    expect(num(await readouts(page), 'backwards-fixed-backward-frames')).toBe(2);
+
+    // The real clock runs both benches on the page's frames.
+    await page.getByTestId('control-real-clock').click();
+    await page.getByTestId('control-pause').click();
+    await expect
+      .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
+      .toBeGreaterThan(500);
+    await page.getByTestId('control-real-clock').click();
+
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('fits a phone screen', async () => {
+    const context = await lab.browser.newContext({
+      viewport: { width: 390, height: 844 },
+      deviceScaleFactor: 2,
+      isMobile: true,
+      hasTouch: true,
+    });
+    const page = await context.newPage();
+    const problems = watch(page);
+    await page.goto(`${lab.server.url}#/final-fixes`);
+    await page.getByTestId('readout-noclamp-max-steps').waitFor();
+    await freshRun(page);
+    await skip(page, 3);
+    await page.screenshot({ path: path.join(shots, 'final-fixes-phone.png'), fullPage: true });
+    const overflow = await page.evaluate(
+      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
+    );
+    expect(overflow).toBe(0);
+    expect((await readouts(page))['readout-noclamp-stalled']).toBe('true');
+    expect(problems).toEqual([]);
+    await context.close();
+  });
+});
