@@ -1,5 +1,5 @@
-// `npm test`: every test. Installs what the tests need (dependencies; Debian's chromium when
-// absent and we are root), then: format, lint, typecheck, unit tests, build, browser tests, and a
+// `npm test`: every test. Installs what the tests need (dependencies; Debian's chromium, and
+// firefox-esr, webkit2gtk-driver and xvfb for the determinism suite, when absent and we are root), then: format, lint, typecheck, unit tests, build, browser tests, and a
 // smoke run of the benchmarks. Runs every stage even when one fails, then prints a summary.
 import { existsSync, mkdirSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
@@ -7,6 +7,8 @@ import { ensureChromium, ensureDependencies, root, run } from './setup.mjs';
 
 ensureDependencies();
 const chromium = ensureChromium();
+// Firefox ESR and WebKitGTK for the cross-engine determinism suite (skipped, with the reason, when absent).
+(await import('./engines.mjs')).ensureEngines();
 const results = join(root, 'artifacts', 'test-results');
 mkdirSync(results, { recursive: true });
 

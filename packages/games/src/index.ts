@@ -62,3 +62,4 @@ export type {
   SpiralOptions,
   BackwardsOptions,
 } from './scenes/final-fixes.js';
+export * from './determinism/index.js';
