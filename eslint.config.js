@@ -27,6 +27,9 @@ const nonDeterministic = [
     'cosh',
     'tanh',
     'cbrt',
+    'asinh',
+    'acosh',
+    'atanh',
   ].map((property) => ({
     object: 'Math',
     property,
@@ -94,6 +97,15 @@ export default tseslint.config(
       'no-restricted-properties': ['error', ...nonDeterministic],
       'no-restricted-syntax': [
         'error',
+        {
+          selector: "BinaryExpression[operator='**']",
+          message:
+            'x ** y is Math.pow: engines differ in the last bit. Multiply, or use dexp and dlog.',
+        },
+        {
+          selector: "AssignmentExpression[operator='**=']",
+          message: 'x **= y is Math.pow: engines differ in the last bit.',
+        },
         {
           selector: "NewExpression[callee.name='Date']",
           message: 'Simulation code never reads a clock: time is tick × step.',

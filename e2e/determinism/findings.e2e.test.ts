@@ -1,9 +1,9 @@
 /**
  * What the determinism work found outside its own files, as regression tests (Node only, fast).
  *
- * A test named "KNOWN BUG" uses `it.fails`: it passes while the bug is there and starts failing
- * when the bug is fixed — then turn it into a plain `it` so it guards the fix. Each says where the
- * bug is and how it shows; docs/determinism.md lists them too.
+ * Each finding was first written as an `it.fails` test (passing while the bug was there); once
+ * fixed it became a plain `it` named "fixed: …" that guards the fix. The comment above each says
+ * where the bug was and how it showed; docs/determinism.md lists them too.
  */
 import path from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
@@ -75,14 +75,11 @@ describe('findings of the determinism suite', () => {
   // early). Measured: h = 0.25 changes the ball's trace at every rate (first at tick 215–595 of
   // 3600); h = 0.1 at 144 and 240 Hz. Ending each step's input window at (j + 1 − h)·step — the
   // earliest the step can run — makes all rates agree again (checked with h = 0.1, 0.25, 0.5).
-  it.fails(
-    'KNOWN BUG: FixedLoop with hysteresis 0.25: the ball’s trace is the same at 30, 144 and 240 Hz',
-    () => {
-      const steady = ballTrace(undefined, 0.25, 1200);
-      for (const hz of [30, 144, 240])
-        expect(ballTrace(hz, 0.25, 1200), `${String(hz)} Hz`).toEqual(steady);
-    },
-  );
+  it('fixed: FixedLoop with hysteresis 0.25: the ball’s trace is the same at 30, 144 and 240 Hz', () => {
+    const steady = ballTrace(undefined, 0.25, 1200);
+    for (const hz of [30, 144, 240])
+      expect(ballTrace(hz, 0.25, 1200), `${String(hz)} Hz`).toEqual(steady);
+  });
 
   it('PhysicsWorld: a snapshot loaded into a world built the same way steps the same', () => {
     const scene = bulletsScene(3);
@@ -101,21 +98,18 @@ describe('findings of the determinism suite', () => {
   // bodies at tick 37 (body[25].x); loading a tick-50 snapshot into `new PhysicsWorld()` (capacity
   // 256) instead of a world built like the original (capacity 60) differs on the very next step.
   // Suggested fix: size the grid from the state (e.g. from the body count `n`), not from `cap`.
-  it.fails('KNOWN BUG: PhysicsWorld steps the same whatever its buffer capacity', () => {
+  it('fixed: PhysicsWorld steps the same whatever its buffer capacity', () => {
     const scene = bulletsScene(3);
     expect(firstWorldDifference(bulletsWorld(scene, 60), bulletsWorld(scene, 1024), 400)).toBe('');
   });
 
-  it.fails(
-    'KNOWN BUG: PhysicsWorld: a snapshot loaded into a bare new PhysicsWorld() steps the same',
-    () => {
-      const a = buildWorld(bulletsScene(3));
-      for (let t = 0; t < 50; t++) a.step();
-      const b = new PhysicsWorld();
-      b.load(a.save());
-      expect(firstWorldDifference(a, b, 200)).toBe('');
-    },
-  );
+  it('fixed: PhysicsWorld: a snapshot loaded into a bare new PhysicsWorld() steps the same', () => {
+    const a = buildWorld(bulletsScene(3));
+    for (let t = 0; t < 50; t++) a.step();
+    const b = new PhysicsWorld();
+    b.load(a.save());
+    expect(firstWorldDifference(a, b, 200)).toBe('');
+  });
 
   // eslint.config.js, the simulation-path rule list `nonDeterministic`: it bans Math.sin … cbrt
   // and Math.pow, but not Math.asinh, Math.acosh, Math.atanh, nor the `**` operator (and `**=`),
@@ -152,15 +146,12 @@ describe('findings of the determinism suite', () => {
     ]);
   });
 
-  it.fails(
-    'KNOWN GAP: lint: simulation code may not call Math.asinh/acosh/atanh or use **',
-    async () => {
-      const rules = await simRules();
-      const code =
-        'let w = 3; w **= 0.5;\nexport const v = [Math.asinh(1), Math.acosh(2), Math.atanh(0.5), 2 ** 0.5, w];';
-      expect(lint(rules, code)).toHaveLength(5);
-    },
-  );
+  it('fixed: lint: simulation code may not call Math.asinh/acosh/atanh or use **', async () => {
+    const rules = await simRules();
+    const code =
+      'let w = 3; w **= 0.5;\nexport const v = [Math.asinh(1), Math.acosh(2), Math.atanh(0.5), 2 ** 0.5, w];';
+    expect(lint(rules, code)).toHaveLength(5);
+  });
 
   // packages/games/src/scenes/ball.ts, BallScene.update: the "at rest on the floor" test
   // `if (vy < 0.05) vy = 0` runs after the bounce, where a ball lying on the floor has gained
@@ -168,12 +159,9 @@ describe('findings of the determinism suite', () => {
   // So a ball never rests: it counts a bounce every other tick (300 in 10 s at 60 Hz) and the
   // rolling friction (`y <= r && vy === 0`) never applies. Deterministic, but not the physics
   // intended.
-  it.fails(
-    'KNOWN BUG: BallScene: a ball lying on the floor stays at rest (no bounces in 10 s at 60 Hz)',
-    () => {
-      const ball = new BallScene();
-      for (let t = 0; t < 600; t++) ball.update(1 / 60, 0);
-      expect(ball.bounces).toBe(0);
-    },
-  );
+  it('fixed: BallScene: a ball lying on the floor stays at rest (no bounces in 10 s at 60 Hz)', () => {
+    const ball = new BallScene();
+    for (let t = 0; t < 600; t++) ball.update(1 / 60, 0);
+    expect(ball.bounces).toBe(0);
+  });
 });

@@ -49,8 +49,8 @@ describe('LoopLab', () => {
     for (const id of FIXED) {
       expect(a[id]!.updates).toBe(166);
       expect(b[id]!.updates).toBe(166);
-      expect(a[id]!.checkpointHash).toBe('0acdb8691efc01d0');
-      expect(b[id]!.checkpointHash).toBe('0acdb8691efc01d0');
+      expect(a[id]!.checkpointHash).toBe('28013f3404c7a02c');
+      expect(b[id]!.checkpointHash).toBe('28013f3404c7a02c');
       expect(b[id]!.hash).toBe(a[id]!.hash);
       expect(a[id]!.droppedMs).toBe(0);
     }
@@ -171,8 +171,8 @@ describe('ClockLab', () => {
     for (let i = 0; i <= 300; i++) lab.frameAt((i * 1000) / 60);
     const r = readouts(lab);
     expect(r['frame-locked']!.ratio).toBeCloseTo(301 / 300, 9);
-    expect(r.fixed!.checkpointHash).toBe('0acdb8691efc01d0');
-    expect(r['fixed-naive']!.checkpointHash).toBe('0acdb8691efc01d0');
+    expect(r.fixed!.checkpointHash).toBe('28013f3404c7a02c');
+    expect(r['fixed-naive']!.checkpointHash).toBe('28013f3404c7a02c');
   });
 
   it('pauses FixedLoop over a real hidden period', () => {

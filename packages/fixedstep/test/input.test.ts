@@ -16,8 +16,13 @@ interface Tap {
 }
 
 /** Drives a 60 Hz FixedLoop with frames at `frameTimes`, feeding taps, and returns each tick's input. */
-function run(frameTimes: number[], taps: Tap[], button = 3): number[] {
-  const loop = new FixedLoop({ step: 60, maxStepsPerFrame: 1000, maxAccumulatorMs: 3_600_000 });
+function run(frameTimes: number[], taps: Tap[], button = 3, hysteresis = 0): number[] {
+  const loop = new FixedLoop({
+    step: 60,
+    maxStepsPerFrame: 1000,
+    maxAccumulatorMs: 3_600_000,
+    hysteresis,
+  });
   const sampler = new ButtonSampler();
   const events = taps
     .flatMap((t) => [
@@ -102,6 +107,33 @@ describe('ButtonSampler', () => {
         },
       ),
       { numRuns: 400 },
+    );
+  });
+
+  it('with hysteresis, gives every press to tick floor(t / step + h) on every display', () => {
+    // Regression: early steps once took presses in their last h of a step on some displays only.
+    fc.assert(
+      fc.property(
+        fc.constantFrom(0.1, 0.25, 0.5),
+        fc.constantFrom(30, 59.94, 60, 144, 240),
+        fc.integer({ min: 1, max: 1e6 }),
+        fc.array(fc.double({ min: 1, max: 3000, noNaN: true }), { minLength: 1, maxLength: 12 }),
+        (h, hz, seed, times) => {
+          const taps = [...new Set(times.map((t) => Math.round(t * 1000) / 1000))]
+            .sort((a, b) => a - b)
+            .map((at) => ({ at, hold: 0.001 }));
+          const inputs = run(frames(hz, 0.3, seed, 3200), taps, 3, h);
+          const pressedTicks = inputs.flatMap((x, i) => (wasPressed(x, 3) ? [i] : []));
+          const hu = Math.round(h * 50_000_000); // units of 1/3 ns: a 60 Hz step is 5e7 units
+          const expected = [
+            ...new Set(
+              taps.map((tp) => Math.floor((Math.round(tp.at * 1e6) * 3 + hu) / 50_000_000)),
+            ),
+          ];
+          return JSON.stringify(pressedTicks) === JSON.stringify(expected);
+        },
+      ),
+      { numRuns: 300 },
     );
   });
 

@@ -197,17 +197,17 @@ export class Cursor {
   varint(what: string): number {
     const at = this.pos;
     let result = 0;
-    let shift = 0;
+    let scale = 1; // 128^i, exact in a double
     for (let i = 0; i < 5; i++) {
       if (this.pos >= this.end) this.fail(`${what}: varint runs past the end`, at);
       const b = this.buf[this.pos++]!;
       if (i === 4 && b > 0x0f) this.fail(`${what}: varint above 2^32 - 1`, at);
-      result += (b & 0x7f) * 2 ** shift;
+      result += (b & 0x7f) * scale;
       if ((b & 0x80) === 0) {
         if (b === 0 && i > 0) this.fail(`${what}: non-canonical varint (redundant zero byte)`, at);
         return result;
       }
-      shift += 7;
+      scale *= 128;
     }
     return this.fail(`${what}: varint longer than 5 bytes`, at);
   }

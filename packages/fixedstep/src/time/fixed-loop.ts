@@ -47,6 +47,8 @@ export interface FixedLoopOptions {
    * step, and frames alternate between 0 and 2 steps. With hysteresis `h`, a step may run up to
    * `h` steps early, so a frame that is a little short still gets its one step. The tick law
    * becomes `ticks = floor(elapsed / step + h)`; alpha is shifted by `h` so rendering stays smooth.
+   * Input sampling shifts with it: an event at time t goes to tick `floor(t / step + h)`, the same
+   * on every display (see {@link FixedLoop.isBeforeUpdateEnd}).
    */
   hysteresis?: number;
   /**
@@ -431,7 +433,10 @@ export class FixedLoop implements Loop {
     const t = Math.round(timeMs * 1e6);
     if (this.frameWasPaused) return t <= this.nowNs;
     // Step j of this frame ends (accAtFrame − (j+1)·step) units before now, in scaled time.
-    const lead = this.accAtFrame - (j + 1) * this.unitsPerStep;
+    // With hysteresis a step may run up to h early, before its end has come; so every step's
+    // input window closes h before its end, on every display alike — otherwise a press in that
+    // last h would land in this step on one display and in the next on another.
+    const lead = this.accAtFrame + this.hystUnits - (j + 1) * this.unitsPerStep;
     const ago = (this.nowNs - t) * this.unitsPerNs;
     return (this.scale === 1 ? ago : ago * this.scale) > lead;
   }

@@ -683,7 +683,10 @@ export class PhysicsWorld implements Simulation<unknown> {
     let inv = 1 / h;
     let cols = Math.floor(spanX * inv) + 1;
     let rows = Math.floor(spanY * inv) + 1;
-    while (cols * rows > this.maxCells) {
+    // The cell budget depends on the slot count (state), never on the arrays' capacity
+    // (history): a world loaded from a snapshot must build the same grid as the one that saved it.
+    const budget = 4 * n + 64;
+    while (cols * rows > budget) {
       h *= 2;
       inv = 1 / h;
       cols = Math.floor(spanX * inv) + 1;
