@@ -229,7 +229,9 @@ export function checkSubmission(
 }
 
 function cleanName(name: string): string {
-  const printable = Array.from(name).filter((ch) => ch >= ' ' && ch !== '\u007f').join('');
+  const printable = Array.from(name)
+    .filter((ch) => ch >= ' ' && ch !== '\u007f')
+    .join('');
   const clean = printable.trim().slice(0, 32);
   return clean === '' ? 'anonymous' : clean;
 }
