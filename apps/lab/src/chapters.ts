@@ -73,6 +73,13 @@ export const CHAPTERS: readonly Chapter[] = [
       'A hitch without the clamp (the spiral of death), with it, and a clock that jumps back.',
     load: () => import('./chapters/final-fixes.js'),
   },
+  {
+    id: 'games',
+    number: 9,
+    title: 'Games',
+    summary: 'The talk’s three games: play them, break them under a variable Δt, replay them.',
+    load: () => import('./chapters/games.js'),
+  },
 ];
 
 /** The chapter id of a location hash: `#/loop` → `loop`; empty for `#` or `#/`. */

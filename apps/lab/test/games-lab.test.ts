@@ -1,0 +1,271 @@
+import { describe, expect, it } from 'vitest';
+import { readReplay, verifyReplay } from 'fixedstep';
+import { RunnerButtons, gameFromReplayHeader } from '@fixedstep/games';
+import {
+  DISPLAY_RATES,
+  GameSession,
+  bytesPerMinute,
+  cleanName,
+  fetchHighscores,
+  gameDef,
+  isRanked,
+  keyLabel,
+  keyMap,
+  replayFileName,
+  routeOptions,
+  runnerApex,
+  submitScore,
+  type DisplayRate,
+  type LoopMode,
+} from '../src/chapters/games-lab.js';
+
+const REFERENCE_APEX = runnerApex(1 / 60);
+
+/** A runner played by "hand": Space taps at fixed session times, on one display. */
+function handRunner(mode: LoopMode, hz: DisplayRate, jitter = 0): GameSession {
+  const s = new GameSession({
+    def: gameDef('runner'),
+    seed: 42,
+    mode,
+    player: 'ann',
+    display: { hz, jitter },
+  });
+  for (const t of [1000, 2500, 3300]) {
+    s.advanceTo(t - 3.7);
+    s.press(t, RunnerButtons.jump, true);
+    s.advanceTo(t + 80);
+    s.press(t + 95, RunnerButtons.jump, false);
+  }
+  s.advanceTo(4500);
+  return s;
+}
+
+function botSession(id: string, mode: LoopMode, hz: DisplayRate, jitter: number, ms: number) {
+  const s = new GameSession({
+    def: gameDef(id),
+    seed: 7,
+    mode,
+    player: 'bot',
+    display: { hz, jitter },
+    bot: true,
+  });
+  s.advanceTo(ms);
+  return s;
+}
+
+describe('keys', () => {
+  it('maps each game’s keys from its info.buttons', () => {
+    const runner = keyMap(gameDef('runner').info);
+    expect(runner).toMatchObject({ Space: 0, ArrowUp: 0, KeyW: 0, ArrowDown: 1, KeyS: 1 });
+    const ctf = keyMap(gameDef('ctf').info);
+    expect(ctf).toMatchObject({ KeyW: 0, ArrowDown: 1, KeyA: 2, ArrowRight: 3, Space: 4 });
+    expect(keyLabel('KeyW')).toBe('W');
+    expect(keyLabel('ArrowLeft')).toBe('←');
+    expect(keyLabel('ShiftLeft')).toBe('Shift');
+  });
+});
+
+describe('GameSession, the runner by hand', () => {
+  it('keyboard taps jump; under the fixed step every display records the same game', () => {
+    const runs = DISPLAY_RATES.map((hz) => handRunner('fixed', hz, 0.2));
+    const checkpoints = runs.map((s) => {
+      expect(s.jumps).toBe(3);
+      expect(s.keyEvents).toBe(6);
+      expect(s.lastJump?.apex).toBe(REFERENCE_APEX);
+      const r = readReplay(s.replay()!);
+      return [60, 120, 180, 240].map((t) => r.checkpointAt(t));
+    });
+    for (const c of checkpoints) expect(c).toEqual(checkpoints[0]);
+    expect(REFERENCE_APEX).toBeGreaterThan(1.9);
+    expect(REFERENCE_APEX).toBeLessThan(2.05);
+  });
+
+  it('under a variable Δt the jump follows the frame rate', () => {
+    const a30 = handRunner('variable', 30).lastJump!.apex;
+    const a144 = handRunner('variable', 144).lastJump!.apex;
+    console.log(
+      `runner apex: fixed ${REFERENCE_APEX.toFixed(4)} m, variable 30 Hz ${a30.toFixed(4)} m, 144 Hz ${a144.toFixed(4)} m`,
+    );
+    expect(a30).not.toBe(a144);
+    expect(Math.abs(a30 - REFERENCE_APEX)).toBeGreaterThan(0.01);
+    expect(handRunner('variable', 30).recorder).toBeUndefined();
+  });
+
+  it('a display switched mid-game changes nothing under the fixed step', () => {
+    const straight = handRunner('fixed', 60);
+    const s = new GameSession({
+      def: gameDef('runner'),
+      seed: 42,
+      mode: 'fixed',
+      player: 'ann',
+      display: { hz: 30, jitter: 0.3 },
+    });
+    for (const t of [1000, 2500, 3300]) {
+      s.advanceTo(t - 3.7);
+      s.press(t, RunnerButtons.jump, true);
+      if (t === 2500) s.setDisplay({ hz: 240, jitter: 0 });
+      s.advanceTo(t + 80);
+      s.press(t + 95, RunnerButtons.jump, false);
+    }
+    s.setDisplay('real');
+    const base = 123_456;
+    s.realFrame(base); // pins the real time line to the session's
+    const from = s.timeMs;
+    for (let t = base; t < base + 4600 - from; t += 16.7) s.realFrame(t);
+    const a = readReplay(straight.replay()!);
+    const b = readReplay(s.replay()!);
+    expect(b.checkpointAt(240)).toBe(a.checkpointAt(240));
+  });
+
+  it('a key held when the window loses focus is let go', () => {
+    const s = new GameSession({
+      def: gameDef('runner'),
+      seed: 1,
+      mode: 'fixed',
+      player: 'ann',
+      display: { hz: 60, jitter: 0 },
+    });
+    s.advanceTo(500);
+    s.press(500, RunnerButtons.duck, true);
+    s.advanceTo(600);
+    expect(s.sampler.heldMask).toBe(1 << RunnerButtons.duck);
+    s.releaseAll(610);
+    s.advanceTo(700);
+    expect(s.sampler.heldMask).toBe(0);
+  });
+});
+
+describe('GameSession, the shooters with their bots', () => {
+  it('capture the flag: bullets through walls under a variable Δt at 30 Hz, none under the step', () => {
+    const naive = botSession('ctf', 'variable', 30, 0.3, 20_000);
+    const fixed = botSession('ctf', 'fixed', 30, 0.3, 20_000);
+    console.log(
+      `ctf 20 s at 30 Hz ±30 %: variable ${naive.throughWalls} through walls (${naive.breaches.length} markers), fixed ${fixed.throughWalls}`,
+    );
+    expect(naive.throughWalls).toBeGreaterThan(10);
+    expect(naive.breaches.length).toBeGreaterThan(0);
+    expect(fixed.throughWalls).toBe(0);
+    expect(fixed.breaches).toEqual([]);
+    expect(fixed.game.tick).toBeGreaterThanOrEqual(1190);
+  });
+
+  it('survival: enemies through walls under a variable Δt at 30 Hz, none under the step', () => {
+    const naive = botSession('survival', 'variable', 30, 0.3, 60_000);
+    const fixed = botSession('survival', 'fixed', 30, 0.3, 60_000);
+    console.log(
+      `survival 60 s at 30 Hz ±30 %: variable ${naive.throughWalls} through walls, fixed ${fixed.throughWalls}`,
+    );
+    expect(naive.throughWalls).toBeGreaterThan(0);
+    expect(fixed.throughWalls).toBe(0);
+    expect(fixed.breaches).toEqual([]);
+    expect(fixed.game.hud().kills).toBeGreaterThan(20);
+  });
+
+  it('records a replay that verifies, with keyframes every 5 s and the score the HUD shows', () => {
+    const s = botSession('runner', 'fixed', 144, 0.1, 30_000);
+    const bytes = s.replay()!;
+    const r = readReplay(bytes);
+    expect(r.tickCount).toBe(s.game.tick);
+    expect(r.checkpointEvery).toBe(60);
+    expect(r.keyframeEvery).toBe(300);
+    expect(r.keyframes.length).toBe(Math.floor(s.game.tick / 300));
+    expect(r.header.players).toEqual(['bot']);
+    const v = verifyReplay(bytes, gameFromReplayHeader);
+    expect(v.ok).toBe(true);
+    expect(s.score).toBe(s.game.hud().score);
+    const bpm = bytesPerMinute(bytes.length, r.tickCount, 60);
+    console.log(`runner bot, 30 s: ${bytes.length} bytes, ${Math.round(bpm)} bytes per minute`);
+    expect(bpm).toBeGreaterThan(0);
+  });
+
+  it('ends the session when the game is over, and the recording stops there', () => {
+    const s = new GameSession({
+      def: gameDef('survival'),
+      seed: 3,
+      mode: 'fixed',
+      player: 'idle',
+      display: { hz: 60, jitter: 0 },
+    });
+    // Nobody plays: the waves take all fifteen lives.
+    for (let t = 0; t < 600_000 && !s.ended; t += 5000) s.advanceTo(t);
+    expect(s.ended).toBe(true);
+    expect(s.game.over).toBe(true);
+    const ticks = s.game.tick;
+    s.advanceBy(5000);
+    expect(s.game.tick).toBe(ticks);
+    expect(readReplay(s.replay()!).tickCount).toBe(ticks);
+  });
+});
+
+describe('small helpers', () => {
+  it('names, seeds in the route, file names, sizes', () => {
+    expect(cleanName('  ann\u0007  ')).toBe('ann');
+    expect(cleanName('')).toBe('player');
+    expect(cleanName('x'.repeat(40))).toHaveLength(32);
+    expect(routeOptions('#/games?game=ctf&seed=7&bot=1&loop=variable')).toEqual({
+      game: 'ctf',
+      seed: 7,
+      bot: true,
+      mode: 'variable',
+    });
+    expect(routeOptions('#/games?game=chess&seed=-1')).toEqual({});
+    expect(replayFileName('ctf', 9, new Date('2024-05-01T10:20:30.456Z'))).toBe(
+      'ctf-seed-9-2024-05-01T10-20-30.fsr',
+    );
+    expect(bytesPerMinute(600, 3600, 60)).toBe(600);
+    expect(isRanked(gameDef('runner'))).toBe(true);
+  });
+});
+
+describe('the highscore client', () => {
+  const json = (status: number, body: unknown) =>
+    new Response(JSON.stringify(body), {
+      status,
+      headers: { 'Content-Type': 'application/json; charset=utf-8' },
+    });
+
+  it('submits the replay with its score and reads the answer', async () => {
+    const seen: { url: string; method?: string; size: number }[] = [];
+    const entry = { game: 'runner', name: 'ann', score: 120, ticks: 600 };
+    const ok = await submitScore(new Uint8Array([1, 2, 3]), 120, (url, init) => {
+      seen.push({ url, method: init?.method, size: (init?.body as Uint8Array).length });
+      return Promise.resolve(json(201, { rank: 2, entry }));
+    });
+    expect(seen).toEqual([{ url: 'api/highscores?score=120', method: 'POST', size: 3 }]);
+    expect(ok).toMatchObject({ kind: 'accepted', rank: 2, entry: { score: 120 } });
+
+    const refused = await submitScore(new Uint8Array(1), 999, () =>
+      Promise.resolve(
+        json(422, { error: 'claimed 999, the replay scores 120', code: 'SCORE_MISMATCH' }),
+      ),
+    );
+    expect(refused).toEqual({
+      kind: 'refused',
+      status: 422,
+      code: 'SCORE_MISMATCH',
+      error: 'claimed 999, the replay scores 120',
+    });
+  });
+
+  it('says so when there is no server: a static host, or no network', async () => {
+    const html = await fetchHighscores('runner', 10, () =>
+      Promise.resolve(
+        new Response('<!doctype html>', { status: 200, headers: { 'Content-Type': 'text/html' } }),
+      ),
+    );
+    expect(html.kind).toBe('unavailable');
+    const missing = await submitScore(new Uint8Array(1), 1, () =>
+      Promise.resolve(new Response('not found', { status: 404 })),
+    );
+    expect(missing.kind).toBe('unavailable');
+    const down = await fetchHighscores('runner', 10, () =>
+      Promise.reject(new TypeError('offline')),
+    );
+    expect(down).toMatchObject({ kind: 'unavailable' });
+    const table = await fetchHighscores('runner', 5, (url) => {
+      expect(url).toBe('api/highscores?game=runner&limit=5');
+      return Promise.resolve(json(200, { game: 'runner', entries: [{ name: 'ann', score: 3 }] }));
+    });
+    expect(table).toMatchObject({ kind: 'ok', entries: [{ name: 'ann', score: 3 }] });
+  });
+});

@@ -1,0 +1,329 @@
+/**
+ * Chapter 9 in a real browser: the three games run with their bots, the keyboard plays the
+ * runner, the variable-Δt switch lets bullets through walls that the fixed step keeps shut, and a
+ * played game's replay is submitted to the highscore server (accepted with a rank; refused with a
+ * faked score) and watched: the replay shows the live game's hash at the same tick.
+ */
+import { mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import type { Page } from 'playwright-core';
+import { startServer, type RunningServer } from '@fixedstep/cli';
+import { HighscoreStore, highscoreApi } from '../packages/cli/src/highscores.js';
+import { dist, num, readouts, shots, useLab, watch } from './harness.js';
+
+const lab = useLab();
+let api: RunningServer;
+let dataDir: string;
+
+beforeAll(async () => {
+  dataDir = mkdtempSync(path.join(tmpdir(), 'fixedstep-games-e2e-'));
+  const { store } = await HighscoreStore.open(path.join(dataDir, 'highscores.json'));
+  api = await startServer({ root: dist, port: 0, api: highscoreApi({ store }) });
+});
+
+afterAll(async () => {
+  await api.close();
+  rmSync(dataDir, { recursive: true, force: true });
+});
+
+async function openGame(page: Page, query: string): Promise<void> {
+  await page.goto(`${api.url}#/games?${query}`);
+  await expect.poll(() => page.title()).toBe('9. Games — fixedstep lab');
+  await page.getByTestId('canvas-game').waitFor();
+  await page.getByTestId('readout-tick').waitFor();
+}
+
+async function value(page: Page, testId: string): Promise<string> {
+  return (await page.getByTestId(testId).getAttribute('data-value')) ?? '';
+}
+
+async function skip(page: Page, times: number): Promise<void> {
+  const before = Number(await value(page, 'readout-clock'));
+  for (let i = 0; i < times; i++) await page.getByTestId('control-skip').click();
+  await expect
+    .poll(async () => Number(await value(page, 'readout-clock')))
+    .toBeGreaterThanOrEqual(before + 5000 * times);
+}
+
+/** Set a range input the way a drag does: its value, then `input` and `change`. */
+async function setRange(page: Page, testId: string, v: number): Promise<void> {
+  await page.getByTestId(testId).evaluate((el, x) => {
+    const input = el as HTMLInputElement;
+    input.value = String(x);
+    input.dispatchEvent(new Event('input', { bubbles: true }));
+    input.dispatchEvent(new Event('change', { bubbles: true }));
+  }, v);
+}
+
+/** Scroll the controls to the top of the window, the game below them (for screenshots). */
+async function showGame(page: Page): Promise<void> {
+  await page.locator('.play').evaluate((el) => {
+    el.scrollIntoView({ block: 'start' });
+  });
+}
+
+async function pause(page: Page): Promise<void> {
+  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
+    await page.getByTestId('control-pause').click();
+  }
+}
+
+describe('chapter 9, games', () => {
+  const HUD: Record<string, string[]> = {
+    runner: ['score', 'highscore', 'jumps'],
+    ctf: ['kills', 'flags', 'deaths', 'through-walls'],
+    survival: ['kills', 'lives', 'wave', 'enemies', 'through-walls'],
+  };
+
+  const GOALS: Record<string, (r: Record<string, string>) => Record<string, boolean>> = {
+    runner: (r) => ({
+      'score > 1000': num(r, 'score') > 1000,
+      jumped: num(r, 'jumps') > 0,
+      'apex 1.9333 m': Math.abs(num(r, 'jump-apex') - 1.9333) < 0.001,
+    }),
+    ctf: (r) => ({
+      'kills or deaths': num(r, 'kills') + num(r, 'deaths') > 0,
+      'nothing through walls': num(r, 'through-walls') === 0,
+    }),
+    survival: (r) => ({
+      'kills > 5': num(r, 'kills') > 5,
+      'all 15 lives': num(r, 'lives') === 15,
+      'wave ≥ 2': num(r, 'wave') >= 2,
+      'nothing through walls': num(r, 'through-walls') === 0,
+    }),
+  };
+
+  for (const id of ['runner', 'ctf', 'survival']) {
+    it(`${id}: runs with the bot, the HUD numbers move, no console problems`, async () => {
+      const page = await lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
+      const problems = watch(page);
+      await openGame(page, `game=${id}&seed=7`);
+      expect(await page.getByTestId('start-overlay').isVisible()).toBe(true);
+      const start = await readouts(page);
+      expect(num(start, 'tick')).toBe(0);
+      expect(Object.keys(start)).toEqual(
+        expect.arrayContaining(HUD[id]!.map((k) => `readout-${k}`)),
+      );
+
+      await page.getByTestId('control-bot').click();
+      await skip(page, 3);
+      await pause(page);
+      const r = await readouts(page);
+      console.log(`${id}, bot, 15+ s at 60 Hz: ${JSON.stringify(r)}`);
+      expect(num(r, 'tick')).toBeGreaterThanOrEqual(900);
+      expect(r['readout-hash']).toMatch(/^[0-9a-f]{16}$/);
+      expect(r['readout-hash']).not.toBe(start['readout-hash']);
+      // What 15 s of the bot must have done, per game (every entry must hold).
+      const goals = GOALS[id]!(r);
+      expect(Object.entries(goals).filter(([, ok]) => !ok)).toEqual([]);
+      expect(num(r, 'replay-bytes')).toBeGreaterThan(0);
+      // For the picture: a moment when most of capture the flag's players are alive.
+      if (id === 'ctf') await skip(page, 1);
+      if (id === 'survival') {
+        // For the picture: nobody shoots for a moment, so the next wave closes in.
+        await page.getByTestId('control-bot').click();
+        await page.getByTestId('control-pause').click();
+        await page.waitForFunction(
+          () =>
+            Number(
+              document.querySelector('[data-testid="readout-enemies"]')?.getAttribute('data-value'),
+            ) >= 6,
+          undefined,
+          { timeout: 15_000 },
+        );
+        await pause(page);
+      }
+      await showGame(page);
+      await page.screenshot({ path: path.join(shots, `games-${id}.png`) });
+      expect(problems).toEqual([]);
+      await page.close();
+    });
+  }
+
+  it('the variable-Δt switch lets bullets through walls at 30 Hz; the fixed step lets none', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
+    const problems = watch(page);
+    await openGame(page, 'game=ctf&seed=7&loop=variable');
+    await page.getByTestId('control-hz-30').click();
+    await setRange(page, 'control-jitter', 30);
+    await page.getByTestId('control-bot').click();
+    await skip(page, 2);
+    await pause(page);
+    const naive = await readouts(page);
+    await showGame(page);
+    await page.screenshot({ path: path.join(shots, 'games-ctf-variable.png') });
+    console.log(`ctf at 30 Hz ±30 %, variable Δt: ${num(naive, 'through-walls')} through walls`);
+    expect(num(naive, 'through-walls')).toBeGreaterThan(0);
+    expect(num(naive, 'max-dt')).toBeGreaterThan(34);
+
+    // Same seed, same display, the fixed step.
+    await page.getByTestId('control-loop-fixed').click();
+    await expect.poll(async () => num(await readouts(page), 'tick')).toBeLessThan(60);
+    await skip(page, 2);
+    await pause(page);
+    const fixed = await readouts(page);
+    console.log(`ctf at 30 Hz ±30 %, fixed step: ${num(fixed, 'through-walls')} through walls`);
+    expect(num(fixed, 'tick')).toBeGreaterThanOrEqual(600);
+    expect(num(fixed, 'through-walls')).toBe(0);
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('under a variable Δt at 30 Hz the runner’s jumps are lower than the fixed step’s', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const problems = watch(page);
+    await openGame(page, 'game=runner&seed=1&loop=variable');
+    await page.getByTestId('control-hz-30').click();
+    await page.getByTestId('control-bot').click();
+    await skip(page, 2);
+    await pause(page);
+    const r = await readouts(page);
+    console.log(`runner, variable Δt at 30 Hz: last jump apex ${r['readout-jump-apex']} m`);
+    expect(num(r, 'jumps')).toBeGreaterThan(0);
+    expect(num(r, 'jump-apex')).toBeLessThan(1.9333 - 0.05);
+    expect(await page.getByTestId('readout-jump-apex').getAttribute('class')).toContain('warn');
+    expect(await page.getByTestId('readout-replay-bytes').textContent()).toBe('not recorded');
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('plays the runner from the keyboard, with a visible focus ring', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const problems = watch(page);
+    await openGame(page, 'game=runner&seed=3');
+    const canvas = page.getByTestId('canvas-game');
+    await showGame(page);
+    await page.screenshot({ path: path.join(shots, 'games-start.png') });
+    await canvas.focus();
+    await page.keyboard.press('Space'); // starts the game, and jumps
+    await page.waitForTimeout(900);
+    await page.keyboard.press('ArrowUp');
+    await page.waitForTimeout(900);
+    await pause(page);
+    await canvas.focus();
+    const r = await readouts(page);
+    expect(num(r, 'jumps')).toBe(2);
+    expect(num(r, 'tick')).toBeGreaterThan(60);
+    expect(Math.abs(num(r, 'jump-apex') - 1.9333)).toBeLessThan(0.001);
+    const outline = await canvas.evaluate((el) => getComputedStyle(el).outlineStyle);
+    expect(outline).toBe('solid');
+    await showGame(page);
+    await page.screenshot({ path: path.join(shots, 'games-keyboard.png') });
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('submits the score (accepted with a rank), refuses a faked one, and replays the same states', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
+    const problems = watch(page);
+    await openGame(page, 'game=runner&seed=11');
+    await page.getByTestId('control-name').fill('e2e');
+    await page.getByTestId('control-name').dispatchEvent('change');
+    await page.getByTestId('control-restart').click(); // the name goes into the next game
+    await page.getByTestId('control-bot').click();
+    await skip(page, 2);
+    await pause(page);
+    const live = await readouts(page);
+    const tick = num(live, 'tick');
+    const hash = live['readout-hash']!;
+    const score = num(live, 'score');
+    console.log(`live runner: tick ${tick}, hash ${hash}, score ${score}`);
+
+    await page.getByTestId('control-end').click();
+    await page.getByTestId('after-game').waitFor();
+    expect(await page.getByTestId('control-claimed-score').inputValue()).toBe(String(score));
+
+    // A faked score first: the server re-simulates and refuses it.
+    await page.getByTestId('control-claimed-score').fill(String(score + 5000));
+    await page.getByTestId('control-submit-score').click();
+    const result = page.getByTestId('submit-result');
+    await expect.poll(() => result.getAttribute('data-value')).toBe('refused');
+    expect(await result.getAttribute('data-code')).toBe('SCORE_MISMATCH');
+    expect(await result.textContent()).toContain(
+      `claimed ${score + 5000}, the replay scores ${score}`,
+    );
+
+    // The honest one.
+    await page.getByTestId('control-claimed-score').fill(String(score));
+    await page.getByTestId('control-submit-score').click();
+    await expect.poll(() => result.getAttribute('data-value')).toBe('accepted');
+    expect(await result.getAttribute('data-rank')).toBe('1');
+    await expect
+      .poll(() => page.locator('.hs-table tbody tr').first().textContent())
+      .toContain('e2e');
+    await page.screenshot({ path: path.join(shots, 'games-after.png'), fullPage: true });
+
+    // The replay, at the live game's tick, has the live game's hash.
+    await page.getByTestId('control-watch-replay').click();
+    await expect.poll(() => page.title()).toBe('5. Replays — fixedstep lab');
+    await expect.poll(() => value(page, 'replay-verified')).toBe('ok');
+    expect(num(await readouts(page), 'replay-ticks')).toBe(tick);
+    await setRange(page, 'replay-timeline', tick - 100);
+    await expect.poll(async () => num(await readouts(page), 'replay-tick')).toBe(tick - 100);
+    await setRange(page, 'replay-timeline', tick);
+    await expect.poll(async () => num(await readouts(page), 'replay-tick')).toBe(tick);
+    expect(await value(page, 'readout-replay-hash')).toBe(hash);
+    expect(num(await readouts(page), 'replay-hud-score')).toBe(score);
+    // The browser logs the refused submission's 422 itself; nothing else may appear.
+    expect(problems).toEqual([
+      'console.error: Failed to load resource: the server responded with a status of 422 (Unprocessable Entity)',
+    ]);
+    await page.close();
+  });
+
+  it('runs on the real clock too (the page’s own animation frames)', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const problems = watch(page);
+    await openGame(page, 'game=ctf&seed=2');
+    await page.getByTestId('control-real-clock').click();
+    await page.getByTestId('control-bot').click();
+    expect(await page.getByTestId('control-skip').isDisabled()).toBe(true);
+    await page.waitForTimeout(1500);
+    await pause(page);
+    const r = await readouts(page);
+    expect(num(r, 'tick')).toBeGreaterThan(30);
+    expect(num(r, 'through-walls')).toBe(0);
+    expect(await page.locator('.play .status .mode').textContent()).toContain('real clock');
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('says so gracefully when the page has no highscore server', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const problems: string[] = [];
+    page.on('pageerror', (e) => problems.push(e.message));
+    await page.goto(`${lab.server.url}#/games?game=runner&seed=1`);
+    await expect
+      .poll(() => page.getByTestId('highscores-note').textContent())
+      .toContain('no highscore server');
+    expect(await page.getByTestId('highscores').getAttribute('data-state')).toBe('unavailable');
+    expect(await page.getByTestId('control-submit-score').isDisabled()).toBe(true);
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('fits a phone screen', async () => {
+    const context = await lab.browser.newContext({
+      viewport: { width: 390, height: 844 },
+      deviceScaleFactor: 2,
+      isMobile: true,
+      hasTouch: true,
+    });
+    const page = await context.newPage();
+    const problems = watch(page);
+    await page.goto(`${api.url}#/games?game=survival&seed=7`);
+    await page.getByTestId('readout-tick').waitFor();
+    await page.getByTestId('control-bot').click();
+    await skip(page, 1);
+    await pause(page);
+    await page.screenshot({ path: path.join(shots, 'games-phone.png'), fullPage: true });
+    const overflow = await page.evaluate(
+      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
+    );
+    expect(overflow).toBe(0);
+    expect(problems).toEqual([]);
+    await context.close();
+  });
+});

@@ -1,0 +1,209 @@
+/**
+ * Chapter 5 in a real browser: a recorded bot game plays back identically at 30 Hz and at 144 Hz
+ * (the same state hash at the same tick, equal to the one in the file); the file downloads, reads
+ * back with `readReplay` and loads again; garbage is refused with a message naming the problem.
+ */
+import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import type { Page } from 'playwright-core';
+import { readReplay } from 'fixedstep';
+import { startServer, type RunningServer } from '@fixedstep/cli';
+import { HighscoreStore, highscoreApi } from '../packages/cli/src/highscores.js';
+import { dist, num, readouts, shots, useLab, watch } from './harness.js';
+
+const lab = useLab();
+/** The lab with the highscore API (the replay view shows the game's table). */
+let api: RunningServer;
+let dataDir: string;
+
+beforeAll(async () => {
+  dataDir = mkdtempSync(path.join(tmpdir(), 'fixedstep-replays-e2e-'));
+  const { store } = await HighscoreStore.open(path.join(dataDir, 'highscores.json'));
+  api = await startServer({ root: dist, port: 0, api: highscoreApi({ store }) });
+});
+
+afterAll(async () => {
+  await api.close();
+  rmSync(dataDir, { recursive: true, force: true });
+});
+
+async function value(page: Page, testId: string): Promise<string> {
+  return (await page.getByTestId(testId).getAttribute('data-value')) ?? '';
+}
+
+async function openBotGame(page: Page, game: string): Promise<void> {
+  await page.goto(`${api.url}#/replays`);
+  await expect.poll(() => page.title()).toBe('5. Replays — fixedstep lab');
+  await page.getByTestId(`control-bot-game-${game}`).click();
+  await page.getByTestId('control-record-bot').click();
+  await page.getByTestId('replay-view').waitFor();
+  await expect.poll(() => value(page, 'replay-verified')).toBe('ok');
+}
+
+async function playAt(page: Page, hz: number, skips: number): Promise<void> {
+  await page.getByTestId(`control-hz-${hz}`).click();
+  await page.getByTestId('control-to-start').click();
+  await expect.poll(async () => num(await readouts(page), 'replay-tick')).toBe(0);
+  await page.getByTestId('control-play').click();
+  for (let i = 0; i < skips; i++) await page.getByTestId('control-skip').click();
+  await page.getByTestId('control-play').click(); // pause
+  await expect
+    .poll(() => page.getByTestId('control-play').getAttribute('aria-pressed'))
+    .toBe('false');
+}
+
+describe('chapter 5, replays', () => {
+  it('plays a replay identically at 30 Hz and at 144 Hz', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
+    const problems = watch(page);
+    await openBotGame(page, 'ctf');
+    const facts = await readouts(page);
+    console.log(
+      `bot replay of ctf: ${num(facts, 'replay-ticks')} ticks, ${num(facts, 'replay-size')} bytes, ${num(facts, 'replay-bpm')} bytes/min`,
+    );
+    expect(num(facts, 'replay-ticks')).toBe(3600);
+    expect(num(facts, 'replay-size')).toBeGreaterThan(1000);
+    expect(num(facts, 'replay-bpm')).toBe(num(facts, 'replay-size'));
+    expect(num(facts, 'replay-keyframes')).toBe(12);
+    expect(await page.getByTestId('replay-verified').textContent()).toContain(
+      'reproduced every stored hash',
+    );
+
+    await playAt(page, 30, 2);
+    const at30 = await readouts(page);
+    expect(num(at30, 'replay-tick')).toBeGreaterThan(540);
+    await playAt(page, 144, 2);
+    const r = await readouts(page);
+    const tick = num(r, 'replay-common-tick');
+    console.log(
+      `tick ${tick}: 30 Hz ${r['readout-replay-hash-30']}, 144 Hz ${r['readout-replay-hash-144']}, file ${r['readout-replay-hash-file']}`,
+    );
+    expect(tick).toBeGreaterThanOrEqual(540);
+    expect(tick % 60).toBe(0);
+    expect(r['readout-replay-hash-30']).toMatch(/^[0-9a-f]{16}$/);
+    expect(r['readout-replay-hash-144']).toBe(r['readout-replay-hash-30']);
+    expect(r['readout-replay-hash-file']).toBe(r['readout-replay-hash-30']);
+    expect(r['readout-replay-displays-equal']).toBe('true');
+
+    // Seeking lands on the very state playing reached.
+    await page.getByTestId('replay-timeline').evaluate((el, t) => {
+      const input = el as HTMLInputElement;
+      input.value = String(t);
+      input.dispatchEvent(new Event('input', { bubbles: true }));
+      input.dispatchEvent(new Event('change', { bubbles: true }));
+    }, tick);
+    await expect.poll(async () => num(await readouts(page), 'replay-tick')).toBe(tick);
+    expect(await value(page, 'readout-replay-hash')).toBe(r['readout-replay-hash-30']);
+    // A tick back and forth again.
+    await page.getByTestId('control-step-back').click();
+    await expect.poll(async () => num(await readouts(page), 'replay-tick')).toBe(tick - 1);
+    await page.getByTestId('control-step-forward').click();
+    await expect.poll(async () => num(await readouts(page), 'replay-tick')).toBe(tick);
+    expect(await value(page, 'readout-replay-hash')).toBe(r['readout-replay-hash-30']);
+
+    await page.locator('.replay-view').evaluate((el) => {
+      el.scrollIntoView({ block: 'start' });
+    });
+    await page.screenshot({ path: path.join(shots, 'replays.png') });
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('downloads a file that reads back, and loads it again', async () => {
+    const context = await lab.browser.newContext({
+      viewport: { width: 1280, height: 900 },
+      acceptDownloads: true,
+    });
+    const page = await context.newPage();
+    const problems = watch(page);
+    await openBotGame(page, 'survival');
+    const ticks = num(await readouts(page), 'replay-ticks');
+    const [download] = await Promise.all([
+      page.waitForEvent('download'),
+      page.getByTestId('control-download-replay').click(),
+    ]);
+    expect(download.suggestedFilename()).toMatch(/^survival-seed-\d+-[\dT-]+\.fsr$/);
+    const file = await download.path();
+    const bytes = new Uint8Array(readFileSync(file));
+    const replay = readReplay(bytes, { gameId: 'survival' });
+    expect(replay.tickCount).toBe(ticks);
+    expect(replay.byteLength).toBe(num(await readouts(page), 'replay-size'));
+
+    // Back in through the file input.
+    await page.getByTestId('control-load-file').setInputFiles({
+      name: 'mine.fsr',
+      mimeType: 'application/octet-stream',
+      buffer: Buffer.from(bytes),
+    });
+    await expect
+      .poll(() => page.locator('.replay-view .section-intro').first().textContent())
+      .toContain('the file mine.fsr');
+    await expect.poll(() => value(page, 'replay-verified')).toBe('ok');
+    expect(num(await readouts(page), 'replay-ticks')).toBe(ticks);
+    expect(await page.getByTestId('replay-error').isHidden()).toBe(true);
+    expect(problems).toEqual([]);
+    await context.close();
+  });
+
+  it('refuses garbage with a message that names the problem', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const problems = watch(page);
+    await page.goto(`${api.url}#/replays`);
+    await page.getByTestId('control-load-file').waitFor();
+    await page.getByTestId('control-load-file').setInputFiles({
+      name: 'holiday.jpg',
+      mimeType: 'image/jpeg',
+      buffer: Buffer.from('\xff\xd8\xff\xe0 not a replay at all, just some bytes', 'latin1'),
+    });
+    const error = page.getByTestId('replay-error');
+    await error.waitFor();
+    expect(await error.getAttribute('data-code')).toBe('BAD_MAGIC');
+    const text = (await error.textContent()) ?? '';
+    expect(text).toContain('not a fixedstep replay file');
+    expect(text).toContain('BAD_MAGIC');
+
+    // A real replay with one byte changed: the checksum catches it.
+    await page.getByTestId('control-record-bot').click();
+    await expect.poll(() => value(page, 'replay-verified')).toBe('ok');
+    expect(await error.isHidden()).toBe(true);
+    const [download] = await Promise.all([
+      page.waitForEvent('download'),
+      page.getByTestId('control-download-replay').click(),
+    ]);
+    const damaged = Buffer.from(readFileSync(await download.path()));
+    damaged[50] = damaged[50]! ^ 0x01;
+    await page.getByTestId('control-load-file').setInputFiles({
+      name: 'damaged.fsr',
+      mimeType: 'application/octet-stream',
+      buffer: damaged,
+    });
+    await expect.poll(() => error.getAttribute('data-code')).toBe('BAD_CHECKSUM');
+    expect(await error.textContent()).toContain('damaged');
+    await page.screenshot({ path: path.join(shots, 'replays-error.png') });
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('fits a phone screen', async () => {
+    const context = await lab.browser.newContext({
+      viewport: { width: 390, height: 844 },
+      deviceScaleFactor: 2,
+      isMobile: true,
+      hasTouch: true,
+    });
+    const page = await context.newPage();
+    const problems = watch(page);
+    await openBotGame(page, 'runner');
+    await page.getByTestId('control-play').click();
+    await page.waitForTimeout(500);
+    await page.screenshot({ path: path.join(shots, 'replays-phone.png'), fullPage: true });
+    const overflow = await page.evaluate(
+      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
+    );
+    expect(overflow).toBe(0);
+    expect(problems).toEqual([]);
+    await context.close();
+  });
+});
