@@ -18,3 +18,11 @@ export {
   EXIT_USAGE,
 } from './cli.js';
 export type { Command, CliIo } from './cli.js';
+export {
+  HighscoreStore,
+  highscoreApi,
+  checkSubmission,
+  SubmissionError,
+  TABLE_SIZE,
+} from './highscores.js';
+export type { HighscoreEntry, HighscoreApiOptions, ApiHandler } from './highscores.js';

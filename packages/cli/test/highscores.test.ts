@@ -9,7 +9,7 @@ import {
   highscoreApi,
   type HighscoreEntry,
 } from '../src/highscores.js';
-import { recordRunner } from './replay-fixtures.js';
+import { recordBot, recordRunner } from './replay-fixtures.js';
 
 let dir: string;
 beforeEach(async () => {
@@ -29,6 +29,17 @@ describe('checkSubmission', () => {
     const entry = checkSubmission(honest.bytes, score, new Date(0));
     expect(entry).toMatchObject({ game: 'runner', name: 'ada', score, ticks: 1800, seed: 7 });
     expect(score).toBeGreaterThan(0);
+  });
+
+  it.each(['ctf', 'survival'])('ranks %s by kills', (id) => {
+    const match = recordBot(id, 3600);
+    const kills = match.game.hud().kills!;
+    expect(checkSubmission(match.bytes, kills, new Date(0))).toMatchObject({
+      game: id,
+      score: kills,
+      name: 'bot0',
+    });
+    expect(() => checkSubmission(match.bytes, kills + 1, new Date(0))).toThrow(/claimed/);
   });
 
   it.each([

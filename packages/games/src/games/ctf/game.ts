@@ -64,6 +64,8 @@ export const CTF_INFO: GameInfo = Object.freeze({
   id: 'ctf',
   version: CTF_VERSION,
   title: 'Capture the flag',
+  /** Highscore tables rank by player 0's kills. */
+  scoreKey: 'kills',
   stepSeconds: STEP,
   tickRate: 60,
   minPlayers: 1,

@@ -56,6 +56,8 @@ export const SURVIVAL_INFO: GameInfo = Object.freeze({
   id: 'survival',
   version: SURVIVAL_VERSION,
   title: 'Survival',
+  /** Highscore tables rank by player 0's kills. */
+  scoreKey: 'kills',
   stepSeconds: STEP,
   tickRate: 60,
   minPlayers: 1,
