@@ -34,6 +34,7 @@ import {
 } from './replay.js';
 import { HighscoreStore, highscoreApi } from './highscores.js';
 import { startServer } from './serve.js';
+import { attachRelay } from './net/server.js';
 import { lineChartSvg } from './svg.js';
 
 /** Exit codes: 0 done, 1 it failed while running, 2 the command line was wrong. */
@@ -111,6 +112,9 @@ const SERVE_OPTIONS: OptionSpec[] = [
 ];
 
 export const SERVE_HELP = `fixedstep serve — serve the lab
+
+Serves the built lab, the highscore API and, on the same port at /ws, the multiplayer relay
+(WebSocket; rooms for every game, server-ordered lockstep inputs, desync detection).
 
 Usage:
   fixedstep serve [--port <n>] [--host <address>] [--root <dir>]
@@ -434,12 +438,14 @@ export async function run(
         return EXIT_FAILURE;
       }
       let server;
+      let relay;
       try {
         const table = path.resolve(command.data ?? 'fixedstep-data', 'highscores.json');
         const { store, recovered } = await HighscoreStore.open(table);
         if (recovered) io.err(`fixedstep: ${recovered}\n`);
         const api = highscoreApi({ store });
         server = await startServer({ port: command.port, host: command.host, root, api });
+        relay = attachRelay(server.server);
       } catch (error) {
         io.err(`fixedstep: ${error instanceof Error ? error.message : String(error)}\n`);
         return EXIT_FAILURE;
@@ -452,6 +458,7 @@ export async function run(
         io.out(`(listening on every interface, port ${server.port})\n`);
       }
       await (io.stopSignal ?? signals());
+      await relay.close();
       await server.close();
       return EXIT_OK;
     }

@@ -39,3 +39,4 @@ export type { RoundTripResult } from './testing/index.js';
 export * from './det/index.js';
 export * from './physics/index.js';
 export * from './replay/index.js';
+export * from './net/index.js';

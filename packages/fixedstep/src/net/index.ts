@@ -1,0 +1,82 @@
+/**
+ * Networking: a compact binary protocol, transports (in-memory, a simulated lossy link, WebSocket),
+ * client sessions (lockstep, rollback, spectator, sync test), NTP-style clock sync, and the relay
+ * server core with desync forensics. See docs/network.md.
+ * @module
+ */
+export {
+  PROTOCOL_VERSION,
+  MessageType,
+  DEFAULT_PROTOCOL_LIMITS,
+  NAME_PATTERN,
+  TOKEN_BYTES,
+  ProtocolError,
+  encodeMessage,
+  decodeMessage,
+  peekMessageType,
+} from './protocol.js';
+export type {
+  MessageKind,
+  ProtocolLimits,
+  ProtocolErrorCode,
+  NetErrorCode,
+  LeaveReason,
+  NetMessage,
+  HelloMessage,
+  WelcomeMessage,
+  StartMessage,
+  InputMessage,
+  ConfirmedMessage,
+  AckMessage,
+  HashMessage,
+  DesyncMessage,
+  PingMessage,
+  PongMessage,
+  LeaveMessage,
+  ErrorMessage,
+  SnapshotRequestMessage,
+  SnapshotMessage,
+  HashesRequestMessage,
+  HashesMessage,
+} from './protocol.js';
+export { EventScheduler } from './scheduler.js';
+export type { ScheduledEvent } from './scheduler.js';
+export { BaseTransport, memoryPair, SimulatedLink } from './transport.js';
+export type { Transport, LinkConditions, LinkStats, SimulatedLinkOptions } from './transport.js';
+export { webSocketTransport, connectWebSocket, nodeWebSocketTransport } from './websocket.js';
+export type { WebSocketTransportOptions, NodeWebSocketLike } from './websocket.js';
+export { ClockSync } from './clock-sync.js';
+export { NetSession, LockstepSession, SpectatorSession, heldOnly } from './session.js';
+export type {
+  NetPhase,
+  NetEvent,
+  NetSessionOptions,
+  NetSessionStats,
+  LockstepSessionOptions,
+} from './session.js';
+export { RollbackSession } from './rollback.js';
+export type { RollbackSessionOptions, Correction } from './rollback.js';
+export { SyncTestSession, SyncTestError } from './sync-test.js';
+export type { SyncTestOptions, SyncTestMismatch } from './sync-test.js';
+export { diffSnapshots } from './forensics.js';
+export type { SnapshotDiff } from './forensics.js';
+export { Relay } from './relay.js';
+export type {
+  RelayGame,
+  RelayCatalog,
+  RelayOptions,
+  RelayRateLimits,
+  RelayEvent,
+  RelayStats,
+  RoomInfo,
+  DesyncRecord,
+} from './relay.js';
+export { SimulatedMatch, relayGameOf } from './match.js';
+export type {
+  MatchGame,
+  MatchGameConfig,
+  MatchClientSpec,
+  SimulatedMatchOptions,
+  MatchClientResult,
+  MatchResult,
+} from './match.js';

@@ -1,0 +1,340 @@
+import { hex64 } from '../testing/index.js';
+import { Random } from '../det/random.js';
+import type { Simulation } from '../sim/simulation.js';
+import type { WelcomeMessage } from './protocol.js';
+import {
+  Relay,
+  type RelayCatalog,
+  type RelayGame,
+  type RelayOptions,
+  type RelayStats,
+  type RoomInfo,
+} from './relay.js';
+import { RollbackSession } from './rollback.js';
+import { EventScheduler } from './scheduler.js';
+import {
+  LockstepSession,
+  SpectatorSession,
+  type NetSession,
+  type NetSessionOptions,
+  type NetSessionStats,
+} from './session.js';
+import { SimulatedLink, type LinkConditions, type LinkStats, type Transport } from './transport.js';
+
+/** A game configuration as the registry's games take it. */
+export interface MatchGameConfig {
+  seed: number;
+  players: number;
+}
+
+/**
+ * What a {@link SimulatedMatch} needs of a game — a `GameDefinition` of `@fixedstep/games` fits:
+ * its identity, how to build it from a config, the config's canonical bytes, and a bot.
+ */
+export interface MatchGame {
+  readonly info: {
+    readonly id: string;
+    readonly version: number;
+    readonly tickRate: number;
+    readonly minPlayers: number;
+    readonly maxPlayers: number;
+  };
+  create(config: MatchGameConfig): Simulation;
+  encodeConfig(config: MatchGameConfig): Uint8Array;
+  decodeConfig(bytes: Uint8Array): MatchGameConfig;
+  /** A deterministic bot: the input of `player` for the next tick, reading the game's state. */
+  readonly bot?: (game: never, player: number) => number;
+}
+
+/** The relay's view of a {@link MatchGame}. */
+export function relayGameOf(game: MatchGame): RelayGame {
+  return {
+    id: game.info.id,
+    version: game.info.version,
+    tickRate: game.info.tickRate,
+    minPlayers: game.info.minPlayers,
+    maxPlayers: game.info.maxPlayers,
+    config: (players, seed) => game.encodeConfig({ seed, players }),
+  };
+}
+
+/** One client of a {@link SimulatedMatch}. */
+export interface MatchClientSpec {
+  /** Session kind. */
+  kind: 'lockstep' | 'rollback' | 'spectator';
+  /** Room to join. Default: the match's room. */
+  room?: string;
+  /** Player slots if this client creates its room. Default: the match's. */
+  players?: number;
+  /** Its link to the server (both directions). Default: the match's link. */
+  link?: Partial<LinkConditions>;
+  /** When it connects, in ms of simulated time (a late joiner). Default 0. */
+  joinAtMs?: number;
+  /** When it leaves (closes its transport), in ms. Default: never. */
+  leaveAtMs?: number;
+  /** Periods with its tab hidden: display frames come once a second (throttled timers). */
+  hidden?: readonly { atMs: number; durationMs: number }[];
+  /** Display refresh rate. Default 60. */
+  displayHz?: number;
+  /** Its local input (players). Default: the game's bot, decided every `botEvery` ticks and held. */
+  input?: (tick: number, sim: Simulation, slot: number) => number;
+  /** Builds its simulation (default: the game from the welcome's config). */
+  createSimulation?: (welcome: WelcomeMessage) => Simulation;
+  /** Extra session options (input delay, prediction window, forensics window …). */
+  session?: Partial<
+    Omit<NetSessionOptions, 'transport' | 'clock' | 'room' | 'game' | 'gameVersion'>
+  > &
+    Record<string, unknown>;
+}
+
+/** Options of a {@link SimulatedMatch}. */
+export interface SimulatedMatchOptions {
+  /** The game (its bot plays by default). */
+  game: MatchGame;
+  /** The game's seed. */
+  seed: number;
+  /** Player slots of the room. Default: the number of non-spectator clients. */
+  players?: number;
+  clients: readonly MatchClientSpec[];
+  /** Every session stops at this tick; the match is over when all have a confirmed state there. */
+  ticks: number;
+  /** The default link of every client. */
+  link?: Partial<LinkConditions>;
+  /** Seed of the links' delays and losses. Default 1. */
+  linkSeed?: number;
+  /** Relay options (deadline, hash interval, limits …). */
+  relay?: Partial<Omit<RelayOptions, 'clock' | 'catalog'>>;
+  /** The relay's catalog. Default: this game only. */
+  catalog?: RelayCatalog;
+  /** Wall clock for {@link MatchResult.wallMs}. Default `performance.now()`. */
+  wallClock?: () => number;
+  /** Human-like bots: re-decide every this many ticks, hold in between. Default 6 (100 ms). */
+  botEvery?: number;
+  room?: string;
+}
+
+/** One client's outcome. */
+export interface MatchClientResult {
+  kind: MatchClientSpec['kind'];
+  room: string;
+  slot: number;
+  tick: number;
+  /** Hash (16 hex digits) of the confirmed state at the match's last tick, or '' if not reached. */
+  finalHash: string;
+  stats: NetSessionStats;
+  /** Client → server, server → client. */
+  link: [LinkStats, LinkStats] | undefined;
+  closed: boolean;
+}
+
+export interface MatchResult {
+  /** Whether every remaining client reached the last tick. */
+  finished: boolean;
+  /** Whether, in every room, every client that reached it has the same final hash. */
+  hashesAgree: boolean;
+  simulatedMs: number;
+  wallMs: number;
+  clients: MatchClientResult[];
+  relay: RelayStats;
+  room: RoomInfo | undefined;
+}
+
+interface Client {
+  spec: MatchClientSpec;
+  session: NetSession | undefined;
+  link: SimulatedLink | undefined;
+  closed: boolean;
+}
+
+/**
+ * A whole match on simulated time: the real relay core and real client sessions, connected by
+ * {@link SimulatedLink}s on one {@link EventScheduler}, with bots at the controls. A 10-minute
+ * match runs in seconds and the same options always give the same result. Used by the tests and
+ * the relay benchmark; the lab can drive one frame by frame.
+ */
+export class SimulatedMatch {
+  readonly scheduler = new EventScheduler(0);
+  readonly relay: Relay;
+  readonly def: MatchGame;
+  readonly roomName: string;
+  private readonly clients: Client[] = [];
+  private readonly options: SimulatedMatchOptions;
+  private linkCount = 0;
+
+  constructor(options: SimulatedMatchOptions) {
+    this.options = options;
+    const def = options.game;
+    this.def = def;
+    this.roomName = options.room ?? 'match';
+    const clock = this.scheduler.clock;
+    const random = new Random(options.seed ^ 0x9e3779b9);
+    const game = relayGameOf(def);
+    this.relay = new Relay({
+      clock,
+      randomU32: () => random.nextU32(),
+      ...options.relay,
+      catalog:
+        options.catalog ??
+        ((id, version) =>
+          id !== game.id
+            ? { code: 'UNKNOWN_GAME', message: `no game "${id}" here` }
+            : version !== game.version
+              ? { code: 'GAME_MISMATCH', message: `${id} is version ${game.version} here` }
+              : game),
+    });
+    const tickMs = 1000 / def.info.tickRate;
+    this.scheduler.every(
+      tickMs / 2,
+      () => {
+        this.relay.update(clock.now());
+      },
+      tickMs / 2,
+    );
+    for (const spec of options.clients) this.addClient(spec);
+  }
+
+  /** A link to the relay; returns the client's end (for raw or hostile traffic). */
+  connect(link: Partial<LinkConditions> = {}): { transport: Transport; link: SimulatedLink } {
+    const l = new SimulatedLink({
+      scheduler: this.scheduler,
+      seed: (this.options.linkSeed ?? 1) * 7919 + this.linkCount++,
+      ...this.options.link,
+      ...link,
+    });
+    this.relay.accept(l.b);
+    return { transport: l.a, link: l };
+  }
+
+  /** Add a client (at `spec.joinAtMs`, or now). */
+  addClient(spec: MatchClientSpec): void {
+    const client: Client = { spec, session: undefined, link: undefined, closed: false };
+    this.clients.push(client);
+    const index = this.clients.length - 1;
+    const join = () => {
+      this.startClient(client, index);
+    };
+    const at = spec.joinAtMs ?? 0;
+    if (at <= this.scheduler.now) join();
+    else this.scheduler.at(at, join);
+  }
+
+  /** The sessions (undefined until a client joins). */
+  get sessions(): (NetSession | undefined)[] {
+    return this.clients.map((c) => c.session);
+  }
+
+  /** Run until every client is done (or closed), or `limitMs` of simulated time passes. */
+  run(limitMs = Infinity): MatchResult {
+    const wall = this.options.wallClock ?? (() => performance.now());
+    const t0 = wall();
+    const started = this.scheduler.now;
+    this.scheduler.runUntilDone(() => this.done(), limitMs);
+    return this.result(wall() - t0, this.scheduler.now - started);
+  }
+
+  private done(): boolean {
+    return this.clients.every(
+      (c) =>
+        c.closed ||
+        (c.session !== undefined && (c.session.finished || c.session.phase === 'closed')),
+    );
+  }
+
+  private startClient(client: Client, index: number): void {
+    const spec = client.spec;
+    const def = this.def;
+    const { transport, link } = this.connect(spec.link);
+    client.link = link;
+    const botEvery = this.options.botEvery ?? 6;
+    let held = 0;
+    const bot = def.bot as ((game: Simulation, player: number) => number) | undefined;
+    const input =
+      spec.input ??
+      ((tick: number, sim: Simulation, slot: number) => {
+        if (bot && tick % botEvery === 0) held = bot(sim, slot);
+        return held;
+      });
+    const base: NetSessionOptions = {
+      transport,
+      clock: this.scheduler.clock,
+      room: spec.room ?? this.roomName,
+      game: def.info.id,
+      gameVersion: def.info.version,
+      players:
+        spec.players ??
+        this.options.players ??
+        this.options.clients.filter((c) => c.kind !== 'spectator').length,
+      seed: this.options.seed,
+      name: `client${index}`,
+      stopAt: this.options.ticks,
+      createSimulation: spec.createSimulation ?? ((w) => def.create(def.decodeConfig(w.config))),
+      localInput: (tick, sim) => input(tick, sim, client.session?.welcome?.slot ?? 0),
+      ...spec.session,
+    };
+    client.session =
+      spec.kind === 'rollback'
+        ? new RollbackSession(base)
+        : spec.kind === 'lockstep'
+          ? new LockstepSession(base)
+          : new SpectatorSession(base);
+    const session = client.session;
+    const hz = spec.displayHz ?? 60;
+    const period = 1000 / hz;
+    const hidden = spec.hidden ?? [];
+    const isHidden = (t: number) => hidden.some((h) => t >= h.atMs && t < h.atMs + h.durationMs);
+    // Frames at the display rate, phase-shifted per client; once a second while hidden.
+    const first = this.scheduler.now + ((index * 3.7) % period);
+    const frames = this.scheduler.every(
+      () => (isHidden(this.scheduler.now) ? 1000 : period),
+      () => {
+        if (session.phase === 'closed') {
+          frames.cancel();
+          return;
+        }
+        session.frame(this.scheduler.now);
+      },
+      first,
+    );
+    if (spec.leaveAtMs !== undefined) {
+      this.scheduler.at(spec.leaveAtMs, () => {
+        client.closed = true;
+        frames.cancel();
+        transport.close('left');
+      });
+    }
+  }
+
+  /** The outcome so far. */
+  result(wallMs = 0, simulatedMs = this.scheduler.now): MatchResult {
+    const stopAt = this.options.ticks;
+    const clients = this.clients.map((c): MatchClientResult => {
+      const s = c.session;
+      const h = s?.hashAt(stopAt);
+      return {
+        kind: c.spec.kind,
+        room: c.spec.room ?? this.roomName,
+        slot: s?.welcome?.slot ?? -1,
+        tick: s?.tick ?? 0,
+        finalHash: h === undefined ? '' : hex64(h),
+        stats: s ? { ...s.stats } : ({} as NetSessionStats),
+        link: c.link ? [{ ...c.link.stats[0] }, { ...c.link.stats[1] }] : undefined,
+        closed: c.closed || s?.phase === 'closed',
+      };
+    });
+    const live = clients.filter((c) => !c.closed);
+    const rooms = new Set(live.map((c) => c.room));
+    const agree = [...rooms].every((room) => {
+      const hashes = new Set(live.filter((c) => c.room === room).map((c) => c.finalHash));
+      return hashes.size === 1 && !hashes.has('');
+    });
+    return {
+      finished: live.every((c) => c.finalHash !== ''),
+      hashesAgree: agree && live.length > 0,
+      simulatedMs,
+      wallMs,
+      clients,
+      relay: { ...this.relay.stats, dropped: { ...this.relay.stats.dropped } },
+      room: this.relay.room(this.roomName),
+    };
+  }
+}

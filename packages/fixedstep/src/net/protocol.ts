@@ -1,0 +1,980 @@
+/**
+ * The network protocol: compact binary messages (docs/network.md has the table).
+ *
+ * Every message is `[version u8][type u8][fields…]`. Integers are unsigned LEB128 varints of at
+ * most 32 bits (canonical: no redundant zero bytes), hashes are 8 bytes little-endian, clock
+ * readings are float64 milliseconds, strings and byte fields carry a varint length. Inputs are
+ * XOR-delta coded against the previous tick of the same player and bit-interleaved (a ButtonInput's
+ * "down" and "pressed" bits side by side), so a held button costs one byte a tick.
+ *
+ * {@link decodeMessage} checks every size against {@link ProtocolLimits} before it allocates, and
+ * throws only {@link ProtocolError} — whatever the bytes.
+ */
+import { deinterleave, interleave } from '../replay/codec.js';
+
+/** The protocol version this code writes and reads (byte 0 of every message). */
+export const PROTOCOL_VERSION = 1;
+
+/** Message type bytes (byte 1 of every message). */
+export const MessageType = {
+  hello: 0x01,
+  welcome: 0x02,
+  start: 0x03,
+  input: 0x04,
+  confirmed: 0x05,
+  ack: 0x06,
+  hash: 0x07,
+  desync: 0x08,
+  ping: 0x09,
+  pong: 0x0a,
+  leave: 0x0b,
+  error: 0x0c,
+  'snapshot-request': 0x0d,
+  snapshot: 0x0e,
+  'hashes-request': 0x0f,
+  hashes: 0x10,
+} as const;
+
+export type MessageKind = keyof typeof MessageType;
+
+/** Size bounds the decoder enforces before allocating anything. */
+export interface ProtocolLimits {
+  /** Largest message, in bytes. Default 1 MiB + 1 KiB (a snapshot plus its header). */
+  maxMessageBytes: number;
+  /** Largest snapshot (a late joiner's state, desync forensics), in bytes. Default 1 MiB. */
+  maxSnapshotBytes: number;
+  /** Most ticks of inputs in one `input` message. Default 64. */
+  maxInputTicks: number;
+  /** Most ticks in one `confirmed` message. Default 64. */
+  maxConfirmedTicks: number;
+  /** Most players of a room. Default 16. */
+  maxPlayers: number;
+  /** Most hashes in one `hashes` message or request. Default 512. */
+  maxHashes: number;
+  /** Most groups (sides) in a `desync` message. Default 16. */
+  maxGroups: number;
+  /** Most peers listed in a `desync` message, all groups together. Default 256. */
+  maxPeers: number;
+  /** Largest game configuration, in bytes. Default 256. */
+  maxConfigBytes: number;
+}
+
+export const DEFAULT_PROTOCOL_LIMITS: Readonly<ProtocolLimits> = Object.freeze({
+  maxMessageBytes: (1 << 20) + 1024,
+  maxSnapshotBytes: 1 << 20,
+  maxInputTicks: 64,
+  maxConfirmedTicks: 64,
+  maxPlayers: 16,
+  maxHashes: 512,
+  maxGroups: 16,
+  maxPeers: 256,
+  maxConfigBytes: 256,
+});
+
+/** Room names and game ids: 1–32 of `A–Z a–z 0–9 _ - .`. */
+export const NAME_PATTERN = /^[A-Za-z0-9_.-]{1,32}$/;
+/** Longest player name, in UTF-8 bytes. */
+export const MAX_PLAYER_NAME_BYTES = 32;
+/** Longest error text, in UTF-8 bytes. */
+export const MAX_ERROR_TEXT_BYTES = 200;
+/** Reconnect tokens are exactly this long (or absent). */
+export const TOKEN_BYTES = 16;
+
+/** Why the server refused something (the `error` message's code). */
+export type NetErrorCode =
+  | 'BAD_MESSAGE'
+  | 'TOO_LARGE'
+  | 'RATE_LIMIT'
+  | 'NOT_IN_ROOM'
+  | 'WRONG_ROOM'
+  | 'SPOOFED_PLAYER'
+  | 'TICK_WINDOW'
+  | 'ROOM_FULL'
+  | 'UNKNOWN_GAME'
+  | 'GAME_MISMATCH'
+  | 'BAD_HELLO'
+  | 'BAD_TOKEN'
+  | 'NO_SNAPSHOT'
+  | 'TIMEOUT'
+  | 'SERVER_FULL'
+  | 'UNEXPECTED'
+  | 'INTERNAL'
+  | 'SHUTDOWN';
+
+const ERROR_CODES: readonly NetErrorCode[] = [
+  'BAD_MESSAGE',
+  'TOO_LARGE',
+  'RATE_LIMIT',
+  'NOT_IN_ROOM',
+  'WRONG_ROOM',
+  'SPOOFED_PLAYER',
+  'TICK_WINDOW',
+  'ROOM_FULL',
+  'UNKNOWN_GAME',
+  'GAME_MISMATCH',
+  'BAD_HELLO',
+  'BAD_TOKEN',
+  'NO_SNAPSHOT',
+  'TIMEOUT',
+  'SERVER_FULL',
+  'UNEXPECTED',
+  'INTERNAL',
+  'SHUTDOWN',
+];
+
+/** Why a peer left (the `leave` message's reason). */
+export type LeaveReason = 'left' | 'closed' | 'dropped' | 'timeout' | 'replaced';
+const LEAVE_REASONS: readonly LeaveReason[] = ['left', 'closed', 'dropped', 'timeout', 'replaced'];
+
+// ------------------------------------------------------------------------------------ messages
+
+/** Client → server, first message: join (or create) a room. */
+export interface HelloMessage {
+  type: 'hello';
+  /** Room name (see {@link NAME_PATTERN}); the first hello creates it. */
+  room: string;
+  role: 'player' | 'spectator';
+  /** Game id and version: a room plays one game, and every member must run the same version. */
+  game: string;
+  gameVersion: number;
+  /** Player slots of the room when this hello creates it (0: the game's minimum). */
+  players: number;
+  /** The game's seed when this hello creates it (absent: the server picks one). */
+  seed?: number;
+  /** A reconnect token from an earlier `welcome`: take back that player slot. */
+  token?: Uint8Array;
+  /** Display name, at most 32 UTF-8 bytes. */
+  name: string;
+}
+
+/** Server → client: you are in. */
+export interface WelcomeMessage {
+  type: 'welcome';
+  /** The room's number: every later message about the room carries it. */
+  room: number;
+  /** Your peer id in the room: players have their slot, spectators 64 and up. */
+  peer: number;
+  /** Your player slot, or -1 for a spectator. */
+  slot: number;
+  /** Player slots (inputs per tick). */
+  players: number;
+  /** Ticks per second. */
+  tickRate: number;
+  /** Report a state hash every this many ticks. */
+  hashEvery: number;
+  /** How long after a tick's time the server waits for a missing input before filling it. */
+  deadlineMs: number;
+  /** The first tick the server takes inputs from you for. */
+  inputFrom: number;
+  /** The tick of the initial state: the snapshot's, or 0. */
+  startTick: number;
+  /** The game's canonical configuration bytes. */
+  config: Uint8Array;
+  /** Your reconnect token (players only; empty for spectators). */
+  token: Uint8Array;
+  /** Server time (ms) when tick 0 began, once the match has started. */
+  startAt?: number;
+  /** A late joiner's initial state (`save()` bytes at {@link startTick}). */
+  snapshot?: Uint8Array;
+}
+
+/** Server → client: the match starts; tick 0 begins at server time `startAt` (ms). */
+export interface StartMessage {
+  type: 'start';
+  room: number;
+  startAt: number;
+}
+
+/** Client → server: my inputs for ticks `tick … tick + inputs.length - 1` (a redundant window). */
+export interface InputMessage {
+  type: 'input';
+  room: number;
+  player: number;
+  /** The next confirmed tick I need (I have every confirmed tick before it). */
+  ack: number;
+  tick: number;
+  inputs: Uint32Array;
+}
+
+/** Server → client: the final inputs of every player, for ticks `tick …`, tick-major. */
+export interface ConfirmedMessage {
+  type: 'confirmed';
+  room: number;
+  /** The next tick the server needs an input from you for (0 for spectators). */
+  inputAck: number;
+  tick: number;
+  players: number;
+  /** `ticks × players` inputs: `inputs[k * players + p]` is player p's input for tick `tick + k`. */
+  inputs: Uint32Array;
+}
+
+/** Client → server: I have every confirmed tick before `ack` (spectators; idle players). */
+export interface AckMessage {
+  type: 'ack';
+  room: number;
+  ack: number;
+}
+
+/** Client → server: the hash of my state at `tick` (the state after `tick` steps). */
+export interface HashMessage {
+  type: 'hash';
+  room: number;
+  tick: number;
+  hash: bigint;
+}
+
+/** Server → client: states diverged; the first differing state is at `tick`. */
+export interface DesyncMessage {
+  type: 'desync';
+  room: number;
+  /** First tick whose state differs (the step from `tick - 1` diverged). */
+  tick: number;
+  /** Whether `tick` was pinned exactly (per-tick hashes), or is the coarse report tick. */
+  exact: boolean;
+  /** The periodic report tick at which the divergence was seen. */
+  reportTick: number;
+  /** Index into `groups` of the majority, or -1 when there is none (two sides, or a tie). */
+  majority: number;
+  /** Each side: the hash its members had at `tick` (or at `reportTick`), and who they are. */
+  groups: { hash: bigint; peers: number[] }[];
+}
+
+/** Client → server: clock sync probe; `time` is the client's clock (ms). */
+export interface PingMessage {
+  type: 'ping';
+  id: number;
+  time: number;
+}
+
+/** Server → client: the probe's `id` and `time`, with the server's clock (ms) when it answered. */
+export interface PongMessage {
+  type: 'pong';
+  id: number;
+  time: number;
+  serverTime: number;
+}
+
+/** Either way: a peer leaves the room (the client about itself; the server about anyone). */
+export interface LeaveMessage {
+  type: 'leave';
+  room: number;
+  peer: number;
+  reason: LeaveReason;
+}
+
+/** Server → client: something was refused; `fatal` means the connection is being closed. */
+export interface ErrorMessage {
+  type: 'error';
+  code: NetErrorCode;
+  message: string;
+  fatal: boolean;
+}
+
+/** Server → client: send me your state at `tick` (-1: your latest confirmed state). */
+export interface SnapshotRequestMessage {
+  type: 'snapshot-request';
+  room: number;
+  id: number;
+  tick: number;
+}
+
+/** Client → server: the answer to a snapshot request (empty bytes: not available). */
+export interface SnapshotMessage {
+  type: 'snapshot';
+  room: number;
+  id: number;
+  tick: number;
+  bytes: Uint8Array;
+}
+
+/** Server → client: send me your per-tick state hashes for `from … from + count - 1`. */
+export interface HashesRequestMessage {
+  type: 'hashes-request';
+  room: number;
+  id: number;
+  from: number;
+  count: number;
+}
+
+/** Client → server: per-tick state hashes from `from` (as many as I still have). */
+export interface HashesMessage {
+  type: 'hashes';
+  room: number;
+  id: number;
+  from: number;
+  hashes: BigUint64Array;
+}
+
+export type NetMessage =
+  | HelloMessage
+  | WelcomeMessage
+  | StartMessage
+  | InputMessage
+  | ConfirmedMessage
+  | AckMessage
+  | HashMessage
+  | DesyncMessage
+  | PingMessage
+  | PongMessage
+  | LeaveMessage
+  | ErrorMessage
+  | SnapshotRequestMessage
+  | SnapshotMessage
+  | HashesRequestMessage
+  | HashesMessage;
+
+// ------------------------------------------------------------------------------------ errors
+
+/**
+ * What is wrong with received bytes:
+ * - `'TOO_LARGE'` — the message, or a count or length inside it, is above a {@link ProtocolLimits} bound;
+ * - `'TRUNCATED'` — the bytes end inside a field;
+ * - `'BAD_VERSION'` — another protocol version;
+ * - `'BAD_TYPE'` — an unknown message type;
+ * - `'BAD_VALUE'` — a field breaks a rule (non-canonical varint, bad UTF-8, a name with other
+ *   characters, a count that does not add up, a non-finite time …);
+ * - `'TRAILING_BYTES'` — bytes left over after the last field.
+ */
+export type ProtocolErrorCode =
+  'TOO_LARGE' | 'TRUNCATED' | 'BAD_VERSION' | 'BAD_TYPE' | 'BAD_VALUE' | 'TRAILING_BYTES';
+
+/** The only error {@link decodeMessage} throws. */
+export class ProtocolError extends Error {
+  readonly code: ProtocolErrorCode;
+  /** Byte offset where the problem was found (-1 when not about one place). */
+  readonly offset: number;
+  constructor(code: ProtocolErrorCode, message: string, offset = -1) {
+    super(offset >= 0 ? `${code}: ${message} (at byte ${offset})` : `${code}: ${message}`);
+    this.name = 'ProtocolError';
+    this.code = code;
+    this.offset = offset;
+  }
+}
+
+// ------------------------------------------------------------------------------------ writer
+
+const encoder = new TextEncoder();
+const decoder = new TextDecoder('utf-8', { fatal: true, ignoreBOM: true });
+
+class Writer {
+  buf: Uint8Array;
+  view: DataView;
+  pos = 0;
+  constructor(capacity: number) {
+    this.buf = new Uint8Array(Math.max(32, capacity));
+    this.view = new DataView(this.buf.buffer);
+  }
+  private ensure(n: number): void {
+    if (this.pos + n <= this.buf.length) return;
+    let cap = this.buf.length * 2;
+    while (cap < this.pos + n) cap *= 2;
+    const next = new Uint8Array(cap);
+    next.set(this.buf.subarray(0, this.pos));
+    this.buf = next;
+    this.view = new DataView(next.buffer);
+  }
+  u8(v: number): void {
+    this.ensure(1);
+    this.buf[this.pos++] = v & 0xff;
+  }
+  varint(v: number): void {
+    if (!(Number.isInteger(v) && v >= 0 && v <= 0xffffffff)) {
+      throw new RangeError(`net: cannot encode ${String(v)} as a u32 varint`);
+    }
+    this.ensure(5);
+    let x = v >>> 0;
+    while (x >= 0x80) {
+      this.buf[this.pos++] = (x & 0x7f) | 0x80;
+      x >>>= 7;
+    }
+    this.buf[this.pos++] = x;
+  }
+  u32(v: number): void {
+    this.ensure(4);
+    this.view.setUint32(this.pos, v >>> 0, true);
+    this.pos += 4;
+  }
+  u64(v: bigint): void {
+    this.ensure(8);
+    this.view.setBigUint64(this.pos, BigInt.asUintN(64, v), true);
+    this.pos += 8;
+  }
+  f64(v: number): void {
+    if (!Number.isFinite(v)) throw new RangeError(`net: cannot encode a non-finite time ${v}`);
+    this.ensure(8);
+    this.view.setFloat64(this.pos, v, true);
+    this.pos += 8;
+  }
+  raw(b: Uint8Array): void {
+    this.ensure(b.length);
+    this.buf.set(b, this.pos);
+    this.pos += b.length;
+  }
+  bytes(b: Uint8Array): void {
+    this.varint(b.length);
+    this.raw(b);
+  }
+  str(s: string): void {
+    this.bytes(encoder.encode(s));
+  }
+  finish(): Uint8Array {
+    return this.buf.slice(0, this.pos);
+  }
+}
+
+// ------------------------------------------------------------------------------------ reader
+
+class Reader {
+  pos = 2;
+  private readonly view: DataView;
+  constructor(
+    readonly buf: Uint8Array,
+    readonly limits: ProtocolLimits,
+  ) {
+    this.view = new DataView(buf.buffer, buf.byteOffset, buf.byteLength);
+  }
+  fail(code: ProtocolErrorCode, message: string, at = this.pos): never {
+    throw new ProtocolError(code, message, at);
+  }
+  need(n: number, what: string): void {
+    if (n > this.buf.length - this.pos) {
+      this.fail('TRUNCATED', `${what} needs ${n} bytes, ${this.buf.length - this.pos} left`);
+    }
+  }
+  u8(what: string): number {
+    this.need(1, what);
+    return this.buf[this.pos++]!;
+  }
+  varint(what: string): number {
+    const at = this.pos;
+    let result = 0;
+    let shift = 0;
+    for (let i = 0; i < 5; i++) {
+      if (this.pos >= this.buf.length) this.fail('TRUNCATED', `${what}: varint runs past the end`);
+      const b = this.buf[this.pos++]!;
+      if (i === 4 && b > 0x0f) this.fail('BAD_VALUE', `${what}: varint above 2^32 - 1`, at);
+      result += (b & 0x7f) * 2 ** shift;
+      if ((b & 0x80) === 0) {
+        if (b === 0 && i > 0) this.fail('BAD_VALUE', `${what}: non-canonical varint`, at);
+        return result;
+      }
+      shift += 7;
+    }
+    return this.fail('BAD_VALUE', `${what}: varint longer than 5 bytes`, at);
+  }
+  /** A varint bounded by `max` (inclusive). */
+  count(what: string, max: number, min = 0): number {
+    const at = this.pos;
+    const n = this.varint(what);
+    if (n > max) this.fail('TOO_LARGE', `${what} is ${n}, at most ${max}`, at);
+    if (n < min) this.fail('BAD_VALUE', `${what} is ${n}, at least ${min}`, at);
+    return n;
+  }
+  u32(what: string): number {
+    this.need(4, what);
+    const v = this.view.getUint32(this.pos, true);
+    this.pos += 4;
+    return v;
+  }
+  u64(what: string): bigint {
+    this.need(8, what);
+    const v = this.view.getBigUint64(this.pos, true);
+    this.pos += 8;
+    return v;
+  }
+  f64(what: string): number {
+    this.need(8, what);
+    const v = this.view.getFloat64(this.pos, true);
+    if (!Number.isFinite(v)) this.fail('BAD_VALUE', `${what} is not a finite number`);
+    this.pos += 8;
+    return v;
+  }
+  /** Length-prefixed bytes, at most `max`; a copy (the caller may keep it). */
+  bytes(what: string, max: number): Uint8Array {
+    const n = this.count(`${what} length`, max);
+    this.need(n, what);
+    const b = this.buf.slice(this.pos, this.pos + n);
+    this.pos += n;
+    return b;
+  }
+  str(what: string, maxBytes: number): string {
+    const at = this.pos;
+    const n = this.count(`${what} length`, maxBytes);
+    this.need(n, what);
+    let s: string;
+    try {
+      s = decoder.decode(this.buf.subarray(this.pos, this.pos + n));
+    } catch {
+      return this.fail('BAD_VALUE', `${what} is not valid UTF-8`, at);
+    }
+    this.pos += n;
+    // eslint-disable-next-line no-control-regex
+    if (/[\u0000-\u001f\u007f]/.test(s))
+      this.fail('BAD_VALUE', `${what} has control characters`, at);
+    return s;
+  }
+  name(what: string): string {
+    const at = this.pos;
+    const s = this.str(what, 32);
+    if (!NAME_PATTERN.test(s)) {
+      this.fail('BAD_VALUE', `${what} must be 1-32 of A-Z a-z 0-9 _ - .`, at);
+    }
+    return s;
+  }
+  /** `n` XOR-delta, interleaved input words per lane, `lanes` words per row. */
+  inputs(what: string, rows: number, lanes: number): Uint32Array {
+    // Each word takes at least one byte: check before allocating.
+    this.need(rows * lanes, what);
+    const out = new Uint32Array(rows * lanes);
+    for (let k = 0; k < rows; k++) {
+      for (let p = 0; p < lanes; p++) {
+        const d = deinterleave(this.varint(what));
+        const i = k * lanes + p;
+        out[i] = k === 0 ? d : (out[i - lanes]! ^ d) >>> 0;
+      }
+    }
+    return out;
+  }
+  end(): void {
+    if (this.pos !== this.buf.length) {
+      this.fail('TRAILING_BYTES', `${this.buf.length - this.pos} bytes after the last field`);
+    }
+  }
+}
+
+function writeInputs(w: Writer, inputs: Uint32Array, lanes: number): void {
+  for (let i = 0; i < inputs.length; i++) {
+    const v = inputs[i]! >>> 0;
+    w.varint(interleave(i < lanes ? v : (v ^ inputs[i - lanes]!) >>> 0));
+  }
+}
+
+// ------------------------------------------------------------------------------------ encode
+
+/**
+ * The bytes of a message. Throws a RangeError for a message that breaks the protocol's rules
+ * (a value out of range, a name with other characters, a count above the default limits): that is
+ * a bug in the sender, not bad data.
+ */
+export function encodeMessage(m: NetMessage): Uint8Array {
+  const limits = DEFAULT_PROTOCOL_LIMITS;
+  const w = new Writer(
+    m.type === 'snapshot'
+      ? m.bytes.length + 32
+      : m.type === 'welcome'
+        ? 64 + (m.snapshot?.length ?? 0)
+        : 64,
+  );
+  w.u8(PROTOCOL_VERSION);
+  w.u8(MessageType[m.type]);
+  const check = (ok: boolean, what: string) => {
+    if (!ok) throw new RangeError(`net: cannot encode ${m.type}: ${what}`);
+  };
+  switch (m.type) {
+    case 'hello': {
+      check(NAME_PATTERN.test(m.room), `room name "${m.room}"`);
+      check(NAME_PATTERN.test(m.game), `game id "${m.game}"`);
+      check(encoder.encode(m.name).length <= MAX_PLAYER_NAME_BYTES, 'name too long');
+      check(m.token === undefined || m.token.length === TOKEN_BYTES, 'token length');
+      w.str(m.room);
+      w.u8(m.role === 'player' ? 0 : 1);
+      w.str(m.game);
+      w.varint(m.gameVersion);
+      w.varint(m.players);
+      w.u8((m.seed !== undefined ? 1 : 0) | (m.token !== undefined ? 2 : 0));
+      if (m.seed !== undefined) w.u32(m.seed);
+      if (m.token !== undefined) w.raw(m.token);
+      w.str(m.name);
+      break;
+    }
+    case 'welcome': {
+      check(m.config.length <= limits.maxConfigBytes, 'config too large');
+      check(m.token.length === 0 || m.token.length === TOKEN_BYTES, 'token length');
+      check(m.players >= 1 && m.players <= limits.maxPlayers, 'players');
+      check(m.slot >= -1 && m.slot < m.players, 'slot');
+      w.varint(m.room);
+      w.varint(m.peer);
+      w.varint(m.slot + 1);
+      w.varint(m.players);
+      w.varint(m.tickRate);
+      w.varint(m.hashEvery);
+      w.varint(m.deadlineMs);
+      w.varint(m.inputFrom);
+      w.varint(m.startTick);
+      w.bytes(m.config);
+      w.bytes(m.token);
+      w.u8((m.startAt !== undefined ? 1 : 0) | (m.snapshot !== undefined ? 2 : 0));
+      if (m.startAt !== undefined) w.f64(m.startAt);
+      if (m.snapshot !== undefined) {
+        check(m.snapshot.length <= limits.maxSnapshotBytes, 'snapshot too large');
+        w.bytes(m.snapshot);
+      }
+      break;
+    }
+    case 'start':
+      w.varint(m.room);
+      w.f64(m.startAt);
+      break;
+    case 'input':
+      check(m.inputs.length >= 1 && m.inputs.length <= limits.maxInputTicks, 'input count');
+      w.varint(m.room);
+      w.varint(m.player);
+      w.varint(m.ack);
+      w.varint(m.tick);
+      w.varint(m.inputs.length);
+      writeInputs(w, m.inputs, 1);
+      break;
+    case 'confirmed': {
+      check(m.players >= 1 && m.players <= limits.maxPlayers, 'players');
+      const ticks = m.inputs.length / m.players;
+      check(Number.isInteger(ticks) && ticks <= limits.maxConfirmedTicks, 'tick count');
+      w.varint(m.room);
+      w.varint(m.inputAck);
+      w.varint(m.tick);
+      w.varint(m.players);
+      w.varint(ticks);
+      writeInputs(w, m.inputs, m.players);
+      break;
+    }
+    case 'ack':
+      w.varint(m.room);
+      w.varint(m.ack);
+      break;
+    case 'hash':
+      w.varint(m.room);
+      w.varint(m.tick);
+      w.u64(m.hash);
+      break;
+    case 'desync': {
+      check(m.groups.length >= 1 && m.groups.length <= limits.maxGroups, 'group count');
+      check(m.majority >= -1 && m.majority < m.groups.length, 'majority');
+      w.varint(m.room);
+      w.varint(m.tick);
+      w.u8(m.exact ? 1 : 0);
+      w.varint(m.reportTick);
+      w.varint(m.majority + 1);
+      w.varint(m.groups.length);
+      let peers = 0;
+      for (const g of m.groups) {
+        peers += g.peers.length;
+        w.u64(g.hash);
+        w.varint(g.peers.length);
+        for (const p of g.peers) w.varint(p);
+      }
+      check(peers <= limits.maxPeers, 'peer count');
+      break;
+    }
+    case 'ping':
+      w.varint(m.id);
+      w.f64(m.time);
+      break;
+    case 'pong':
+      w.varint(m.id);
+      w.f64(m.time);
+      w.f64(m.serverTime);
+      break;
+    case 'leave':
+      w.varint(m.room);
+      w.varint(m.peer);
+      w.u8(LEAVE_REASONS.indexOf(m.reason));
+      break;
+    case 'error': {
+      const code = ERROR_CODES.indexOf(m.code);
+      check(code >= 0, `error code ${m.code}`);
+      w.u8(code);
+      w.u8(m.fatal ? 1 : 0);
+      w.str(truncateUtf8(m.message, MAX_ERROR_TEXT_BYTES));
+      break;
+    }
+    case 'snapshot-request':
+      w.varint(m.room);
+      w.varint(m.id);
+      w.varint(m.tick + 1);
+      break;
+    case 'snapshot':
+      check(m.bytes.length <= limits.maxSnapshotBytes, 'snapshot too large');
+      w.varint(m.room);
+      w.varint(m.id);
+      w.varint(m.tick);
+      w.bytes(m.bytes);
+      break;
+    case 'hashes-request':
+      check(m.count >= 1 && m.count <= limits.maxHashes, 'hash count');
+      w.varint(m.room);
+      w.varint(m.id);
+      w.varint(m.from);
+      w.varint(m.count);
+      break;
+    case 'hashes':
+      check(m.hashes.length <= limits.maxHashes, 'hash count');
+      w.varint(m.room);
+      w.varint(m.id);
+      w.varint(m.from);
+      w.varint(m.hashes.length);
+      for (const h of m.hashes) w.u64(h);
+      break;
+  }
+  return w.finish();
+}
+
+/** `s` cut to at most `max` UTF-8 bytes, on a character boundary. */
+function truncateUtf8(s: string, max: number): string {
+  // eslint-disable-next-line no-control-regex
+  let t = s.replace(/[\u0000-\u001f\u007f]/g, ' ');
+  while (encoder.encode(t).length > max) t = t.slice(0, -1);
+  return t;
+}
+
+// ------------------------------------------------------------------------------------ decode
+
+const TYPES: readonly (MessageKind | undefined)[] = (() => {
+  const out: (MessageKind | undefined)[] = [];
+  for (const [k, v] of Object.entries(MessageType)) out[v] = k as MessageKind;
+  return out;
+})();
+
+/** The message type of `bytes` without decoding the rest (undefined when unknown or too short). */
+export function peekMessageType(bytes: Uint8Array): MessageKind | undefined {
+  if (bytes.length < 2 || bytes[0] !== PROTOCOL_VERSION) return undefined;
+  return TYPES[bytes[1]!];
+}
+
+/**
+ * Decodes one message. Throws a {@link ProtocolError} — and nothing else — for any bytes that are
+ * not exactly one valid message within `limits`; sizes and counts are checked before anything is
+ * allocated. Byte fields of the result are copies.
+ */
+export function decodeMessage(
+  bytes: Uint8Array,
+  limits: Readonly<ProtocolLimits> = DEFAULT_PROTOCOL_LIMITS,
+): NetMessage {
+  try {
+    return decodeUnchecked(bytes, limits);
+  } catch (error) {
+    if (error instanceof ProtocolError) throw error;
+    // A bug here must still surface as the one documented error type.
+    throw new ProtocolError('BAD_VALUE', `undecodable message: ${String(error)}`);
+  }
+}
+
+function decodeUnchecked(bytes: Uint8Array, limits: Readonly<ProtocolLimits>): NetMessage {
+  if (!(bytes instanceof Uint8Array)) throw new ProtocolError('BAD_VALUE', 'not a byte array');
+  if (bytes.length > limits.maxMessageBytes) {
+    throw new ProtocolError(
+      'TOO_LARGE',
+      `message of ${bytes.length} bytes, at most ${limits.maxMessageBytes}`,
+    );
+  }
+  if (bytes.length < 2) throw new ProtocolError('TRUNCATED', 'shorter than a header', 0);
+  if (bytes[0] !== PROTOCOL_VERSION) {
+    throw new ProtocolError(
+      'BAD_VERSION',
+      `protocol version ${bytes[0]}, this side speaks ${PROTOCOL_VERSION}`,
+      0,
+    );
+  }
+  const kind = TYPES[bytes[1]!];
+  if (kind === undefined) {
+    throw new ProtocolError('BAD_TYPE', `unknown message type 0x${bytes[1]!.toString(16)}`, 1);
+  }
+  const r = new Reader(bytes, limits);
+  const m = decodeBody(kind, r, limits);
+  r.end();
+  return m;
+}
+
+function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimits>): NetMessage {
+  switch (kind) {
+    case 'hello': {
+      const room = r.name('room');
+      const roleAt = r.pos;
+      const role = r.u8('role');
+      if (role > 1) r.fail('BAD_VALUE', `role ${role}`, roleAt);
+      const game = r.name('game');
+      const gameVersion = r.varint('game version');
+      const players = r.count('players', limits.maxPlayers);
+      const flagsAt = r.pos;
+      const flags = r.u8('flags');
+      if (flags > 3) r.fail('BAD_VALUE', `hello flags 0x${flags.toString(16)}`, flagsAt);
+      const seed = flags & 1 ? r.u32('seed') : undefined;
+      let token: Uint8Array | undefined;
+      if (flags & 2) {
+        r.need(TOKEN_BYTES, 'token');
+        token = r.buf.slice(r.pos, r.pos + TOKEN_BYTES);
+        r.pos += TOKEN_BYTES;
+      }
+      const name = r.str('name', MAX_PLAYER_NAME_BYTES);
+      const m: HelloMessage = {
+        type: 'hello',
+        room,
+        role: role === 0 ? 'player' : 'spectator',
+        game,
+        gameVersion,
+        players,
+        name,
+      };
+      if (seed !== undefined) m.seed = seed;
+      if (token !== undefined) m.token = token;
+      return m;
+    }
+    case 'welcome': {
+      const room = r.varint('room');
+      const peer = r.varint('peer');
+      const slotAt = r.pos;
+      const slot = r.varint('slot') - 1;
+      const players = r.count('players', limits.maxPlayers, 1);
+      if (slot >= players) r.fail('BAD_VALUE', `slot ${slot} of ${players} players`, slotAt);
+      const tickRate = r.count('tick rate', 10_000, 1);
+      const hashEvery = r.count('hash interval', 1 << 20, 1);
+      const deadlineMs = r.varint('deadline');
+      const inputFrom = r.varint('input from');
+      const startTick = r.varint('start tick');
+      const config = r.bytes('config', limits.maxConfigBytes);
+      const tokenAt = r.pos;
+      const token = r.bytes('token', TOKEN_BYTES);
+      if (token.length !== 0 && token.length !== TOKEN_BYTES) {
+        r.fail('BAD_VALUE', `token of ${token.length} bytes`, tokenAt);
+      }
+      const flagsAt = r.pos;
+      const flags = r.u8('flags');
+      if (flags > 3) r.fail('BAD_VALUE', `welcome flags 0x${flags.toString(16)}`, flagsAt);
+      const m: WelcomeMessage = {
+        type: 'welcome',
+        room,
+        peer,
+        slot,
+        players,
+        tickRate,
+        hashEvery,
+        deadlineMs,
+        inputFrom,
+        startTick,
+        config,
+        token,
+      };
+      if (flags & 1) m.startAt = r.f64('start time');
+      if (flags & 2) m.snapshot = r.bytes('snapshot', limits.maxSnapshotBytes);
+      return m;
+    }
+    case 'start':
+      return { type: 'start', room: r.varint('room'), startAt: r.f64('start time') };
+    case 'input': {
+      const room = r.varint('room');
+      const player = r.count('player', limits.maxPlayers - 1);
+      const ack = r.varint('ack');
+      const tick = r.varint('tick');
+      const n = r.count('input count', limits.maxInputTicks, 1);
+      if (tick + n - 1 > 0xffffffff) r.fail('BAD_VALUE', 'tick range past 2^32');
+      return { type: 'input', room, player, ack, tick, inputs: r.inputs('inputs', n, 1) };
+    }
+    case 'confirmed': {
+      const room = r.varint('room');
+      const inputAck = r.varint('input ack');
+      const tick = r.varint('tick');
+      const players = r.count('players', limits.maxPlayers, 1);
+      const n = r.count('tick count', limits.maxConfirmedTicks);
+      if (tick + n > 0xffffffff) r.fail('BAD_VALUE', 'tick range past 2^32');
+      return {
+        type: 'confirmed',
+        room,
+        inputAck,
+        tick,
+        players,
+        inputs: r.inputs('inputs', n, players),
+      };
+    }
+    case 'ack':
+      return { type: 'ack', room: r.varint('room'), ack: r.varint('ack') };
+    case 'hash':
+      return { type: 'hash', room: r.varint('room'), tick: r.varint('tick'), hash: r.u64('hash') };
+    case 'desync': {
+      const room = r.varint('room');
+      const tick = r.varint('tick');
+      const exactAt = r.pos;
+      const exact = r.u8('exact');
+      if (exact > 1) r.fail('BAD_VALUE', `exact flag ${exact}`, exactAt);
+      const reportTick = r.varint('report tick');
+      const majAt = r.pos;
+      const majority = r.varint('majority') - 1;
+      const n = r.count('group count', limits.maxGroups, 1);
+      if (majority >= n) r.fail('BAD_VALUE', `majority ${majority} of ${n} groups`, majAt);
+      r.need(n * 9, 'groups');
+      const groups: { hash: bigint; peers: number[] }[] = [];
+      let total = 0;
+      for (let g = 0; g < n; g++) {
+        const hash = r.u64('group hash');
+        const k = r.count('group size', limits.maxPeers - total);
+        total += k;
+        r.need(k, 'peers');
+        const peers: number[] = [];
+        for (let i = 0; i < k; i++) peers.push(r.varint('peer'));
+        groups.push({ hash, peers });
+      }
+      return { type: 'desync', room, tick, exact: exact === 1, reportTick, majority, groups };
+    }
+    case 'ping':
+      return { type: 'ping', id: r.varint('id'), time: r.f64('time') };
+    case 'pong':
+      return {
+        type: 'pong',
+        id: r.varint('id'),
+        time: r.f64('time'),
+        serverTime: r.f64('server time'),
+      };
+    case 'leave': {
+      const room = r.varint('room');
+      const peer = r.varint('peer');
+      const at = r.pos;
+      const reason = LEAVE_REASONS[r.u8('reason')];
+      if (reason === undefined) r.fail('BAD_VALUE', 'unknown leave reason', at);
+      return { type: 'leave', room, peer, reason };
+    }
+    case 'error': {
+      const at = r.pos;
+      const code = ERROR_CODES[r.u8('code')];
+      if (code === undefined) r.fail('BAD_VALUE', 'unknown error code', at);
+      const fatalAt = r.pos;
+      const fatal = r.u8('fatal');
+      if (fatal > 1) r.fail('BAD_VALUE', `fatal flag ${fatal}`, fatalAt);
+      return {
+        type: 'error',
+        code,
+        fatal: fatal === 1,
+        message: r.str('message', MAX_ERROR_TEXT_BYTES),
+      };
+    }
+    case 'snapshot-request':
+      return {
+        type: 'snapshot-request',
+        room: r.varint('room'),
+        id: r.varint('id'),
+        tick: r.varint('tick') - 1,
+      };
+    case 'snapshot':
+      return {
+        type: 'snapshot',
+        room: r.varint('room'),
+        id: r.varint('id'),
+        tick: r.varint('tick'),
+        bytes: r.bytes('snapshot', limits.maxSnapshotBytes),
+      };
+    case 'hashes-request':
+      return {
+        type: 'hashes-request',
+        room: r.varint('room'),
+        id: r.varint('id'),
+        from: r.varint('from'),
+        count: r.count('count', limits.maxHashes, 1),
+      };
+    case 'hashes': {
+      const room = r.varint('room');
+      const id = r.varint('id');
+      const from = r.varint('from');
+      const n = r.count('hash count', limits.maxHashes);
+      r.need(n * 8, 'hashes');
+      const hashes = new BigUint64Array(n);
+      for (let i = 0; i < n; i++) hashes[i] = r.u64('hash');
+      return { type: 'hashes', room, id, from, hashes };
+    }
+  }
+}

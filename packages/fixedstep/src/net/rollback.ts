@@ -1,0 +1,217 @@
+import { InputRing } from './history.js';
+import { heldOnly, NetSession, type NetSessionOptions } from './session.js';
+import { diffSnapshots } from './forensics.js';
+
+/** What a rollback changed at the current tick: for the renderer's smoothing. */
+export interface Correction {
+  /** The tick whose state was corrected (the current tick when the rollback ran). */
+  tick: number;
+  /** Ticks resimulated: from the first mispredicted tick to the current one. */
+  depth: number;
+  /** Bytes of the current state that the correction changed (0: the prediction was right in effect). */
+  bytesChanged: number;
+  /** The predicted state at `tick` and the corrected one (`save()` bytes; do not modify). */
+  before: Uint8Array;
+  after: Uint8Array;
+}
+
+/** Options of a {@link RollbackSession}. */
+export interface RollbackSessionOptions extends NetSessionOptions {
+  /** Local input delay in ticks (fewer, shallower rollbacks for a little lag). Default 1. */
+  inputDelay?: number;
+  /**
+   * The most ticks the simulation may run ahead of the confirmed inputs (the prediction window).
+   * Beyond it the session stalls. Default 30 (0.5 s at 60 Hz).
+   */
+  maxPrediction?: number;
+  /**
+   * How far ahead of the server clock to simulate, in ticks, so local inputs reach the server
+   * before their tick closes. `'auto'` (default): half a high RTT plus a tick, minus the input
+   * delay; it moves by one tick at a time, every 250 ms.
+   */
+  lead?: number | 'auto';
+  /** Predicted input of a remote player from their last confirmed one. Default {@link heldOnly}. */
+  predict?: (last: number) => number;
+  /** Called after every rollback with what it changed at the current tick. */
+  onCorrection?: (correction: Correction) => void;
+}
+
+/**
+ * Rollback over a server relay: remote inputs are predicted (their last confirmed input, held
+ * buttons only) so the simulation runs ahead of the confirmed ticks by up to `maxPrediction`
+ * ticks with no input lag beyond `inputDelay`. Every state is saved in a ring; when confirmed
+ * inputs differ from a prediction, the session loads the state of the first wrong tick and
+ * resimulates up to the present, once per frame however many messages arrived.
+ *
+ * It reports rollbacks, their depth and the size of each correction; visual smoothing of a
+ * correction is the renderer's job ({@link RollbackSessionOptions.onCorrection}).
+ */
+export class RollbackSession extends NetSession {
+  /** The last rollback's correction. */
+  lastCorrection: Correction | undefined;
+
+  private readonly inputDelay: number;
+  private readonly maxPrediction: number;
+  private readonly autoLead: boolean;
+  private readonly predict: (last: number) => number;
+  private leadTicks = -1;
+  private lastLeadMove = -Infinity;
+  private used = new InputRing(1, 1);
+  private pendingRollback = Infinity;
+  private row: number[] = [];
+
+  constructor(options: RollbackSessionOptions) {
+    super(options, 'player');
+    this.inputDelay = options.inputDelay ?? 1;
+    this.maxPrediction = options.maxPrediction ?? 30;
+    if (!(Number.isInteger(this.inputDelay) && this.inputDelay >= 0 && this.inputDelay <= 60)) {
+      throw new RangeError(`inputDelay must be an integer from 0 to 60, got ${this.inputDelay}`);
+    }
+    if (!(
+      Number.isInteger(this.maxPrediction) &&
+      this.maxPrediction >= 1 &&
+      this.maxPrediction <= 600
+    )) {
+      throw new RangeError(
+        `maxPrediction must be an integer from 1 to 600, got ${this.maxPrediction}`,
+      );
+    }
+    this.autoLead = options.lead === undefined || options.lead === 'auto';
+    if (typeof options.lead === 'number') this.leadTicks = options.lead;
+    this.predict = options.predict ?? heldOnly;
+  }
+
+  confirmedStateTick(): number {
+    if (!this.sim) return 0;
+    return Math.min(this.confirmedEnd, this.sim.tick, this.pendingRollback);
+  }
+
+  /** Ticks the simulation is ahead of the confirmed inputs. */
+  get predictedTicks(): number {
+    return Math.max(0, this.tick - this.confirmedEnd);
+  }
+
+  protected override ringCapacity(): number {
+    return this.maxPrediction + Math.max(1, this.forensicsWindow) + 2;
+  }
+
+  protected override keepInputsFrom(): number {
+    const t = this.sim?.tick ?? 0;
+    return Math.min(t, this.confirmedEnd, this.pendingRollback);
+  }
+
+  protected override onConfirmed(from: number, to: number): void {
+    const sim = this.sim!;
+    if (this.used.capacity !== this.ring.capacity)
+      this.used = new InputRing(this.ring.capacity, this.players);
+    const end = Math.min(to, sim.tick);
+    for (let t = from; t < end; t++) {
+      if (!this.used.has(t)) {
+        this.pendingRollback = Math.min(this.pendingRollback, t);
+        return;
+      }
+      for (let p = 0; p < this.players; p++) {
+        if (this.used.get(t, p) !== this.confirmed.get(t, p)) {
+          this.pendingRollback = Math.min(this.pendingRollback, t);
+          return;
+        }
+      }
+    }
+  }
+
+  protected displayTime(now: number): number {
+    return this.serverTick(now) + Math.max(0, this.leadTicks);
+  }
+
+  protected advance(serverTick: number, now: number): number {
+    const sim = this.sim!;
+    if (this.used.capacity !== this.ring.capacity)
+      this.used = new InputRing(this.ring.capacity, this.players);
+    if (this.row.length !== this.players) this.row = new Array<number>(this.players).fill(0);
+    if (!Number.isFinite(serverTick)) return 0;
+    this.adaptLead(now);
+    const target = Math.min(Math.floor(serverTick) + this.leadTicks, this.stopAt);
+    this.issueUntil(target + this.inputDelay);
+    this.rollback();
+    let n = 0;
+    const limit = this.confirmedEnd + this.maxPrediction;
+    while (sim.tick < target && sim.tick < limit && n < this.maxTicksPerFrame) {
+      this.stepOne();
+      n++;
+    }
+    this.markStall(sim.tick < target && sim.tick >= limit);
+    return n;
+  }
+
+  private stepOne(): void {
+    const sim = this.sim!;
+    const t = sim.tick;
+    this.inputsFor(t, this.row);
+    sim.step(this.row);
+    this.used.set(t, this.row);
+    this.ring.put(sim.tick, sim.save());
+  }
+
+  /** The inputs of `tick`: confirmed, else this player's own, else predicted. */
+  private inputsFor(tick: number, row: number[]): void {
+    if (tick < this.confirmedEnd) {
+      for (let p = 0; p < this.players; p++) row[p] = this.confirmed.get(tick, p);
+      return;
+    }
+    for (let p = 0; p < this.players; p++) {
+      const mine = p === this.slot ? this.issuedInput(tick) : undefined;
+      row[p] = mine ?? this.predict(this.lastConfirmed[p]!) >>> 0;
+    }
+  }
+
+  private rollback(): void {
+    const sim = this.sim!;
+    const from = this.pendingRollback;
+    this.pendingRollback = Infinity;
+    const end = sim.tick;
+    if (from >= end) return;
+    const start = this.ring.get(from);
+    const before = this.ring.get(end);
+    if (!start || !before) {
+      throw new Error(`RollbackSession: no snapshot of tick ${from} to roll back to`);
+    }
+    sim.load(start);
+    for (let t = from; t < end; t++) this.stepOne();
+    const depth = end - from;
+    const after = this.ring.get(end)!;
+    this.stats.rollbacks++;
+    this.stats.resimulatedTicks += depth;
+    if (depth > this.stats.maxRollbackDepth) this.stats.maxRollbackDepth = depth;
+    const correction: Correction = {
+      tick: end,
+      depth,
+      bytesChanged: diffSnapshots(before, after, 0).differingBytes,
+      before,
+      after,
+    };
+    this.lastCorrection = correction;
+    (this.options as RollbackSessionOptions).onCorrection?.(correction);
+  }
+
+  private adaptLead(now: number): void {
+    if (this.autoLead && this.clockSync.ready) {
+      const want = Math.max(
+        0,
+        Math.min(
+          this.maxPrediction - 1,
+          Math.ceil((this.clockSync.rttHigh / 2 + this.tickMs) / this.tickMs) - this.inputDelay,
+        ),
+      );
+      if (this.leadTicks < 0) {
+        this.leadTicks = want;
+        this.lastLeadMove = now;
+      } else if (want !== this.leadTicks && now - this.lastLeadMove >= 250) {
+        this.leadTicks += want > this.leadTicks ? 1 : -1;
+        this.lastLeadMove = now;
+      }
+    }
+    if (this.leadTicks < 0) this.leadTicks = 0;
+    this.stats.lead = this.leadTicks;
+    this.stats.inputDelay = this.inputDelay;
+  }
+}

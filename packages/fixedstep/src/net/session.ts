@@ -1,0 +1,797 @@
+import { fnv1a64 } from '../det/hash.js';
+import type { Simulation } from '../sim/simulation.js';
+import type { Clock } from '../time/drivers.js';
+import { ClockSync } from './clock-sync.js';
+import { InputRing, SnapshotRing } from './history.js';
+import {
+  DEFAULT_PROTOCOL_LIMITS,
+  ProtocolError,
+  decodeMessage,
+  encodeMessage,
+  type ConfirmedMessage,
+  type DesyncMessage,
+  type ErrorMessage,
+  type LeaveReason,
+  type NetMessage,
+  type WelcomeMessage,
+} from './protocol.js';
+import type { Transport } from './transport.js';
+
+/**
+ * What a tick's missing input becomes, on the server (after its deadline) and in a rollback
+ * client's prediction: the player's last input with its "pressed" edges cleared — held buttons
+ * stay held, no press is repeated (a {@link ButtonInput}'s bits 16–31 are edges).
+ */
+export function heldOnly(last: number): number {
+  return (last & 0xffff) >>> 0;
+}
+
+/** Where a session is. */
+export type NetPhase = 'connecting' | 'waiting' | 'running' | 'closed';
+
+/** What a session tells its owner about. */
+export type NetEvent =
+  | { type: 'welcome'; welcome: WelcomeMessage }
+  | { type: 'start'; startAt: number }
+  | { type: 'desync'; desync: DesyncMessage }
+  | { type: 'error'; error: ErrorMessage }
+  | { type: 'leave'; peer: number; reason: LeaveReason }
+  | { type: 'closed'; reason: string };
+
+/** Options every network session takes. */
+export interface NetSessionOptions {
+  /** The pipe to the server. */
+  transport: Transport;
+  /**
+   * The clock frames and pings are measured on (`performanceClock()` in a browser, the
+   * scheduler's clock in a simulated network). Only differences matter.
+   */
+  clock: Clock;
+  /** Room to join (created by the first hello). */
+  room: string;
+  /** Game id and version; every member of a room must run the same. */
+  game: string;
+  gameVersion: number;
+  /** Player slots, when this session creates the room (default: the game's minimum). */
+  players?: number;
+  /** The game's seed, when this session creates the room (default: the server picks). */
+  seed?: number;
+  /** Display name (at most 32 UTF-8 bytes). */
+  name?: string;
+  /** Reconnect token from an earlier welcome: take back that slot. */
+  token?: Uint8Array;
+  /** Builds the simulation from the welcome (its `config` bytes, `players`). */
+  createSimulation(welcome: WelcomeMessage): Simulation;
+  /**
+   * The local player's input for `tick` — called exactly once per tick, in tick order, some
+   * ticks before the tick is simulated (the input delay). `sim` is the current state (read it,
+   * never step it). Default: 0.
+   */
+  localInput?: (tick: number, sim: Simulation) => number;
+  /**
+   * The most ticks one {@link NetSession.frame} steps forward: the catch-up budget after a
+   * background tab, a late join or a hitch. Default 32. Resimulation after a rollback is not
+   * counted (it is bounded by the prediction window).
+   */
+  maxTicksPerFrame?: number;
+  /** Clock sync probe interval, in ms. Default 250 (the first four go 50 ms apart). */
+  pingIntervalMs?: number;
+  /**
+   * Keep the `save()` of each of the last this many confirmed ticks, so the server can pin a
+   * desync to its exact tick and diff both sides' states. Default 180. 0 saves only at hash
+   * report ticks (the server can then only name the report tick).
+   */
+  forensicsWindow?: number;
+  /** Never simulate past this tick (tests, benchmarks, a match of fixed length). */
+  stopAt?: number;
+  /** Events: welcome, start, desync, error, leave, closed. */
+  onEvent?: (event: NetEvent) => void;
+}
+
+/** Counters of a session; all cumulative except the current delays. */
+export interface NetSessionStats {
+  /** Calls of {@link NetSession.frame}. */
+  frames: number;
+  /** Ticks stepped forward (not counting resimulation). */
+  ticks: number;
+  /** Most forward ticks in one frame. */
+  maxTicksInFrame: number;
+  /** Frames that wanted to step but could not (missing inputs, or the prediction window full). */
+  stallFrames: number;
+  /** Stalls: runs of consecutive stalled frames. */
+  stalls: number;
+  /** Rollbacks (rollback sessions). */
+  rollbacks: number;
+  /** Ticks resimulated by rollbacks. */
+  resimulatedTicks: number;
+  /** Deepest rollback, in ticks. */
+  maxRollbackDepth: number;
+  /** Confirmed inputs of this player that differ from what it sent (filled after the deadline). */
+  replacedInputs: number;
+  /** Input delay in ticks now (lockstep: adaptive to RTT; rollback: fixed). */
+  inputDelay: number;
+  /** Rollback: ticks ahead of the server clock now. */
+  lead: number;
+  /** Lockstep / spectator: ticks behind the server clock now (adaptive jitter buffer). */
+  playoutDelay: number;
+  /** Round trip to the server, min and high of the window, in ms. */
+  rtt: number;
+  rttHigh: number;
+  messagesSent: number;
+  messagesReceived: number;
+  bytesSent: number;
+  bytesReceived: number;
+  hashesReported: number;
+  /** Messages from the server that could not be decoded. */
+  badMessages: number;
+}
+
+/** Messages the session has buffered and may resend: never more than this many ticks. */
+const MAX_INPUT_WINDOW = DEFAULT_PROTOCOL_LIMITS.maxInputTicks;
+const CONFIRMED_CAPACITY = 4096;
+const ISSUED_CAPACITY = 512;
+
+/**
+ * The machinery every client session shares: the hello/welcome handshake, clock sync, the
+ * confirmed-input store and acks, sending local inputs with a redundant window, periodic state
+ * hashes, and answering the server's forensics requests (snapshots, per-tick hashes).
+ *
+ * Call {@link frame} once per display frame; it steps as many ticks as are due (at most
+ * `maxTicksPerFrame`) and sends what needs sending. Render {@link simulation} with {@link alpha}.
+ */
+export abstract class NetSession {
+  readonly stats: NetSessionStats = {
+    frames: 0,
+    ticks: 0,
+    maxTicksInFrame: 0,
+    stallFrames: 0,
+    stalls: 0,
+    rollbacks: 0,
+    resimulatedTicks: 0,
+    maxRollbackDepth: 0,
+    replacedInputs: 0,
+    inputDelay: 0,
+    lead: 0,
+    playoutDelay: 0,
+    rtt: 0,
+    rttHigh: 0,
+    messagesSent: 0,
+    messagesReceived: 0,
+    bytesSent: 0,
+    bytesReceived: 0,
+    hashesReported: 0,
+    badMessages: 0,
+  };
+  /** Desyncs the server reported. */
+  readonly desyncs: DesyncMessage[] = [];
+  /** Errors the server sent. */
+  readonly errors: ErrorMessage[] = [];
+
+  protected readonly transport: Transport;
+  protected readonly clock: Clock;
+  protected readonly options: NetSessionOptions;
+  protected readonly clockSync = new ClockSync();
+  protected readonly maxTicksPerFrame: number;
+  protected readonly forensicsWindow: number;
+  protected readonly stopAt: number;
+
+  protected sim: Simulation | undefined;
+  protected welcomeMsg: WelcomeMessage | undefined;
+  protected tickMs = 1000 / 60;
+  protected players = 0;
+  protected slot = -1;
+  protected startAt: number | undefined;
+  protected startTick = 0;
+
+  /** Confirmed inputs by tick; every tick before `confirmedEnd` is present. */
+  protected confirmed = new InputRing(1, 1);
+  protected confirmedEnd = 0;
+  /** The confirmed inputs of tick `confirmedEnd - 1` (zeros before the first). */
+  protected lastConfirmed = new Uint32Array(0);
+
+  /** This player's inputs, issued for ticks `issueFrom … issueNext - 1`. */
+  protected issued = new InputRing(ISSUED_CAPACITY, 1);
+  protected issueFrom = 0;
+  protected issueNext = 0;
+  /** The next tick the server needs an input from us for. */
+  protected serverInputAck = 0;
+
+  /** Snapshots of confirmed (lockstep) or recent (rollback) ticks. */
+  protected ring = new SnapshotRing(1);
+
+  private phaseValue: NetPhase = 'connecting';
+  private pingId = 0;
+  private pingsSent = 0;
+  private nextPingAt = -Infinity;
+  private newInputs = false;
+  private lastInputSendAt = -Infinity;
+  private lastAckSent = -1;
+  private lastAckSendAt = -Infinity;
+  private nextReport = 0;
+  private stalled = false;
+  private readonly hello: NetMessage;
+  private hidden = false;
+  private helloSentAt = -Infinity;
+
+  constructor(options: NetSessionOptions, role: 'player' | 'spectator') {
+    this.options = options;
+    this.transport = options.transport;
+    this.clock = options.clock;
+    this.maxTicksPerFrame = options.maxTicksPerFrame ?? 32;
+    if (!(Number.isInteger(this.maxTicksPerFrame) && this.maxTicksPerFrame >= 1)) {
+      throw new RangeError(
+        `maxTicksPerFrame must be a positive integer, got ${this.maxTicksPerFrame}`,
+      );
+    }
+    this.forensicsWindow = options.forensicsWindow ?? 180;
+    this.stopAt = options.stopAt ?? Infinity;
+    this.transport.onMessage((bytes) => {
+      this.receive(bytes);
+    });
+    this.transport.onClose((reason) => {
+      this.closed(reason);
+    });
+    const hello: NetMessage = {
+      type: 'hello',
+      room: options.room,
+      role,
+      game: options.game,
+      gameVersion: options.gameVersion,
+      players: options.players ?? 0,
+      name: options.name ?? '',
+    };
+    if (options.seed !== undefined) hello.seed = options.seed;
+    if (options.token !== undefined) hello.token = options.token;
+    this.hello = hello;
+    this.send(hello);
+    this.helloSentAt = this.clock.now();
+    this.ping(this.clock.now());
+  }
+
+  // ---------------------------------------------------------------------------- reading
+
+  get phase(): NetPhase {
+    return this.phaseValue;
+  }
+
+  /** The simulation, once welcomed. */
+  get simulation(): Simulation | undefined {
+    return this.sim;
+  }
+
+  /** The simulation's tick (0 before the welcome). */
+  get tick(): number {
+    return this.sim?.tick ?? 0;
+  }
+
+  /** The welcome: slot, peer id, room number, tick rate, reconnect token … */
+  get welcome(): WelcomeMessage | undefined {
+    return this.welcomeMsg;
+  }
+
+  /** The estimated server tick now (fractional; negative before the match starts). */
+  serverTick(now = this.clock.now()): number {
+    if (this.startAt === undefined) return -Infinity;
+    return (this.clockSync.serverTime(now) - this.startAt) / this.tickMs;
+  }
+
+  /** Every tick before this one is confirmed (the inputs of every player are final). */
+  get confirmedTick(): number {
+    return this.confirmedEnd;
+  }
+
+  /**
+   * The newest tick whose state is final here (all inputs confirmed and simulated with them).
+   * Hash reports, snapshots for late joiners and forensics use only such states.
+   */
+  abstract confirmedStateTick(): number;
+
+  /**
+   * The hash (FNV-1a 64 of the `save()` bytes) of the confirmed state at `tick`, while it is
+   * kept (the forensics window), else undefined. Equal on every client of a room, or the room
+   * has desynced.
+   */
+  hashAt(tick: number): bigint | undefined {
+    if (tick > this.confirmedStateTick()) return undefined;
+    const b = this.ring.get(tick);
+    return b ? fnv1a64(b) : undefined;
+  }
+
+  /** Interpolation factor for the renderer, in [0, 1): how far display time is past `tick`. */
+  get alpha(): number {
+    const t = this.displayTime(this.clock.now()) - this.tick;
+    return t <= 0 ? 0 : t >= 1 ? 0.999 : t;
+  }
+
+  /** Whether the session reached `stopAt` with a confirmed state. */
+  get finished(): boolean {
+    return (
+      this.sim !== undefined &&
+      this.sim.tick >= this.stopAt &&
+      this.confirmedStateTick() >= this.stopAt
+    );
+  }
+
+  // ---------------------------------------------------------------------------- driving
+
+  /**
+   * One display frame at `now` (default: the clock): clock sync, issue local inputs, step due
+   * ticks (at most `maxTicksPerFrame` forward), send inputs, acks and hashes.
+   * @returns ticks stepped forward.
+   */
+  frame(now = this.clock.now()): number {
+    if (this.phaseValue === 'closed') return 0;
+    this.stats.frames++;
+    if (now >= this.nextPingAt && !this.hidden) this.ping(now);
+    // The handshake survives a lossy link: hello is repeated until welcomed, and a waiting
+    // member acks now and then so the server can repeat a lost start.
+    if (this.phaseValue === 'connecting' && now - this.helloSentAt >= 250) {
+      this.send(this.hello);
+      this.helloSentAt = now;
+    }
+    if (this.phaseValue === 'waiting') this.flushAck(now);
+    if (this.phaseValue !== 'running' || this.sim === undefined) return 0;
+    const serverTick = this.serverTick(now);
+    const n = this.advance(serverTick, now);
+    if (n > this.stats.maxTicksInFrame) this.stats.maxTicksInFrame = n;
+    this.stats.ticks += n;
+    this.flushInputs(now);
+    this.reportHashes();
+    this.flushAck(now);
+    this.stats.rtt = this.clockSync.rtt;
+    this.stats.rttHigh = this.clockSync.rttHigh;
+    return n;
+  }
+
+  /**
+   * Tell the session the page is hidden (or visible again) — `trackVisibility(document, session)`
+   * does it. While hidden no clock probes are sent: their answers would be handled late and only
+   * inflate the measured round trip. Frames may stop altogether; on return the session catches up
+   * at `maxTicksPerFrame` ticks a frame.
+   */
+  setHidden(hidden: boolean): void {
+    this.hidden = hidden;
+  }
+
+  /** Leave the room politely and close the transport. */
+  leave(): void {
+    if (this.phaseValue === 'closed') return;
+    if (this.welcomeMsg) {
+      this.send({
+        type: 'leave',
+        room: this.welcomeMsg.room,
+        peer: this.welcomeMsg.peer,
+        reason: 'left',
+      });
+    }
+    this.transport.close('left');
+  }
+
+  /** Step due ticks; return how many were stepped forward. */
+  protected abstract advance(serverTick: number, now: number): number;
+
+  /** Display time in ticks (for alpha). */
+  protected abstract displayTime(now: number): number;
+
+  /** Newly confirmed ticks `[from, to)` (subclasses compare them with predictions). */
+  protected onConfirmed?(from: number, to: number, now: number): void;
+
+  /** Count a frame as stalled or not. */
+  protected markStall(stalled: boolean): void {
+    if (stalled) {
+      this.stats.stallFrames++;
+      if (!this.stalled) this.stats.stalls++;
+    }
+    this.stalled = stalled;
+  }
+
+  /**
+   * Issue local inputs for every tick before `target` (players only). Ticks the server has
+   * already closed without us (a hidden tab, a hitch) are skipped: it filled them.
+   */
+  protected issueUntil(target: number): void {
+    if (this.slot < 0 || this.sim === undefined) return;
+    if (this.serverInputAck > this.issueNext) this.issueNext = this.serverInputAck;
+    const end = Math.min(target, this.stopAt);
+    const input = this.options.localInput;
+    while (this.issueNext < end) {
+      const t = this.issueNext;
+      const v = input ? input(t, this.sim) >>> 0 : 0;
+      this.issued.setLane(t, 0, v);
+      this.issueNext++;
+      this.newInputs = true;
+    }
+  }
+
+  /** The input this player issued for `tick`, if it is still kept. */
+  protected issuedInput(tick: number): number | undefined {
+    return tick >= this.issueFrom && tick < this.issueNext && this.issued.has(tick)
+      ? this.issued.get(tick, 0)
+      : undefined;
+  }
+
+  /** Save the state at the current tick into the ring (when kept) and return it. */
+  protected remember(): Uint8Array | undefined {
+    const sim = this.sim!;
+    const t = sim.tick;
+    if (this.forensicsWindow > 0 || t % this.welcomeMsg!.hashEvery === 0 || t === this.stopAt) {
+      const b = sim.save();
+      this.ring.put(t, b);
+      return b;
+    }
+    return undefined;
+  }
+
+  protected send(m: NetMessage): void {
+    if (!this.transport.isOpen) return;
+    const bytes = encodeMessage(m);
+    this.stats.messagesSent++;
+    this.stats.bytesSent += bytes.length;
+    this.transport.send(bytes);
+  }
+
+  // ---------------------------------------------------------------------------- receiving
+
+  private receive(bytes: Uint8Array): void {
+    this.stats.messagesReceived++;
+    this.stats.bytesReceived += bytes.length;
+    let m: NetMessage;
+    try {
+      m = decodeMessage(bytes);
+    } catch (error) {
+      if (!(error instanceof ProtocolError)) throw error;
+      this.stats.badMessages++;
+      return;
+    }
+    const now = this.clock.now();
+    switch (m.type) {
+      case 'welcome':
+        this.onWelcome(m);
+        break;
+      case 'start':
+        if (m.room === this.welcomeMsg?.room && this.startAt === undefined) {
+          this.startAt = m.startAt;
+          this.phaseValue = 'running';
+          this.emit({ type: 'start', startAt: m.startAt });
+        }
+        break;
+      case 'pong':
+        // The pong echoes our send time; a forged one from the future is ignored by ClockSync.
+        if (m.time <= now && now - m.time < 60_000)
+          this.clockSync.addSample(m.time, m.serverTime, now);
+        break;
+      case 'confirmed':
+        this.onConfirmedMessage(m, now);
+        break;
+      case 'desync':
+        if (m.room === this.welcomeMsg?.room) {
+          if (this.desyncs.length < 16) this.desyncs.push(m);
+          this.emit({ type: 'desync', desync: m });
+        }
+        break;
+      case 'error':
+        if (this.errors.length < 64) this.errors.push(m);
+        this.emit({ type: 'error', error: m });
+        break;
+      case 'leave':
+        this.emit({ type: 'leave', peer: m.peer, reason: m.reason });
+        break;
+      case 'snapshot-request':
+        this.onSnapshotRequest(m.room, m.id, m.tick);
+        break;
+      case 'hashes-request':
+        this.onHashesRequest(m.room, m.id, m.from, m.count);
+        break;
+      default:
+        // Client-bound traffic only; anything else from the server is ignored.
+        this.stats.badMessages++;
+    }
+  }
+
+  private onWelcome(w: WelcomeMessage): void {
+    if (this.welcomeMsg) return;
+    this.welcomeMsg = w;
+    this.players = w.players;
+    this.slot = w.slot;
+    this.tickMs = 1000 / w.tickRate;
+    let sim: Simulation;
+    try {
+      sim = this.options.createSimulation(w);
+      // The relay cannot check a snapshot (it does not run the game): a member may have sent a
+      // broken one. Refuse it here; a wrong but loadable one shows up as a desync.
+      if (w.snapshot) sim.load(w.snapshot);
+    } catch (error) {
+      this.transport.close(`cannot build the game from the welcome: ${String(error)}`);
+      return;
+    }
+    if (sim.tick !== w.startTick) {
+      this.transport.close(`snapshot is at tick ${sim.tick}, the welcome says ${w.startTick}`);
+      return;
+    }
+    this.sim = sim;
+    this.startTick = w.startTick;
+    this.confirmed = new InputRing(CONFIRMED_CAPACITY, w.players);
+    this.confirmedEnd = w.startTick;
+    this.lastConfirmed = new Uint32Array(w.players);
+    this.issueFrom = Math.max(w.inputFrom, w.startTick);
+    this.issueNext = this.issueFrom;
+    this.serverInputAck = this.issueFrom;
+    this.ring = new SnapshotRing(this.ringCapacity());
+    this.ring.put(sim.tick, w.snapshot ?? sim.save());
+    this.nextReport = (Math.floor(w.startTick / w.hashEvery) + 1) * w.hashEvery;
+    this.phaseValue = 'waiting';
+    this.emit({ type: 'welcome', welcome: w });
+    if (w.startAt !== undefined) {
+      this.startAt = w.startAt;
+      this.phaseValue = 'running';
+      this.emit({ type: 'start', startAt: w.startAt });
+    }
+  }
+
+  /** Snapshot ring size. */
+  protected ringCapacity(): number {
+    return Math.max(2, this.forensicsWindow + 1);
+  }
+
+  private onConfirmedMessage(m: ConfirmedMessage, now: number): void {
+    const w = this.welcomeMsg;
+    if (m.room !== w?.room || m.players !== this.players || this.sim === undefined) return;
+    // Until the start time is known nothing is acked: the server sees that and repeats the start.
+    if (this.phaseValue !== 'running') return;
+    if (m.inputAck > this.serverInputAck) this.serverInputAck = m.inputAck;
+    const n = m.inputs.length / m.players;
+    const keepFrom = this.keepInputsFrom();
+    const before = this.confirmedEnd;
+    for (let k = 0; k < n; k++) {
+      const t = m.tick + k;
+      if (t < this.confirmedEnd || this.confirmed.has(t)) continue;
+      // Never overwrite a tick still needed.
+      if (t >= keepFrom + this.confirmed.capacity) break;
+      this.confirmed.set(t, m.inputs, k * m.players);
+    }
+    while (this.confirmed.has(this.confirmedEnd)) this.confirmedEnd++;
+    if (this.confirmedEnd > before) {
+      this.confirmed.copy(this.confirmedEnd - 1, this.lastConfirmed);
+      if (this.slot >= 0) {
+        for (let t = before; t < this.confirmedEnd; t++) {
+          const mine = this.issuedInput(t);
+          if (mine !== undefined && mine !== this.confirmed.get(t, this.slot))
+            this.stats.replacedInputs++;
+        }
+      }
+      this.onConfirmed?.(before, this.confirmedEnd, now);
+    }
+  }
+
+  /** The oldest tick whose confirmed inputs may still be read. */
+  protected keepInputsFrom(): number {
+    return this.sim?.tick ?? 0;
+  }
+
+  private onSnapshotRequest(room: number, id: number, tick: number): void {
+    const w = this.welcomeMsg;
+    if (room !== w?.room || !this.sim) return;
+    const latest = this.confirmedStateTick();
+    const t = tick < 0 ? latest : tick;
+    let bytes = t <= latest ? this.ring.get(t) : undefined;
+    if (bytes === undefined && t === this.sim.tick && t <= latest) bytes = this.sim.save();
+    this.send({ type: 'snapshot', room, id, tick: t, bytes: bytes ?? new Uint8Array(0) });
+  }
+
+  private onHashesRequest(room: number, id: number, from: number, count: number): void {
+    if (room !== this.welcomeMsg?.room) return;
+    const last = Math.min(from + count - 1, this.confirmedStateTick());
+    let start = from;
+    while (start <= last && !this.ring.has(start)) start++;
+    const out: bigint[] = [];
+    for (let t = start; t <= last; t++) {
+      const b = this.ring.get(t);
+      if (!b) break;
+      out.push(fnv1a64(b));
+    }
+    this.send({ type: 'hashes', room, id, from: start, hashes: BigUint64Array.from(out) });
+  }
+
+  // ---------------------------------------------------------------------------- sending
+
+  private ping(now: number): void {
+    this.send({ type: 'ping', id: this.pingId++, time: now });
+    this.pingsSent++;
+    this.nextPingAt = now + (this.pingsSent < 4 ? 50 : (this.options.pingIntervalMs ?? 250));
+  }
+
+  private flushInputs(now: number): void {
+    if (this.slot < 0 || this.welcomeMsg === undefined) return;
+    const from = Math.max(this.serverInputAck, this.issueNext - MAX_INPUT_WINDOW, this.issueFrom);
+    if (from >= this.issueNext) return;
+    // New inputs go at once; unacknowledged ones are resent every 50 ms (they may have been lost).
+    if (!this.newInputs && now - this.lastInputSendAt < 50) return;
+    const inputs = new Uint32Array(this.issueNext - from);
+    for (let t = from; t < this.issueNext; t++) inputs[t - from] = this.issued.get(t, 0);
+    this.send({
+      type: 'input',
+      room: this.welcomeMsg.room,
+      player: this.slot,
+      ack: this.confirmedEnd,
+      tick: from,
+      inputs,
+    });
+    this.newInputs = false;
+    this.lastInputSendAt = now;
+    this.lastAckSent = this.confirmedEnd;
+    this.lastAckSendAt = now;
+  }
+
+  private flushAck(now: number): void {
+    const w = this.welcomeMsg;
+    if (!w) return;
+    if (this.confirmedEnd === this.lastAckSent && now - this.lastAckSendAt < 200) return;
+    this.send({ type: 'ack', room: w.room, ack: this.confirmedEnd });
+    this.lastAckSent = this.confirmedEnd;
+    this.lastAckSendAt = now;
+  }
+
+  private reportHashes(): void {
+    const w = this.welcomeMsg!;
+    const upTo = this.confirmedStateTick();
+    while (this.nextReport <= upTo) {
+      const t = this.nextReport;
+      this.nextReport += w.hashEvery;
+      const b = this.ring.get(t);
+      if (!b) continue;
+      this.send({ type: 'hash', room: w.room, tick: t, hash: fnv1a64(b) });
+      this.stats.hashesReported++;
+    }
+  }
+
+  private closed(reason: string): void {
+    if (this.phaseValue === 'closed') return;
+    this.phaseValue = 'closed';
+    this.emit({ type: 'closed', reason });
+  }
+
+  private emit(e: NetEvent): void {
+    this.options.onEvent?.(e);
+  }
+}
+
+// ------------------------------------------------------------------------------------ lockstep
+
+/** Options of a {@link LockstepSession}. */
+export interface LockstepSessionOptions extends NetSessionOptions {
+  /**
+   * Input delay in ticks: the local input sampled now is for the tick this many ticks ahead of
+   * the server clock. `'auto'` (the default) sizes it from the measured round trip — a high
+   * percentile of recent RTTs plus a tick and a half — so confirmed inputs are back before their
+   * tick is due; it grows at once and shrinks by one tick a second.
+   */
+  inputDelay?: number | 'auto';
+  /** Most the adaptive input delay may grow to, in ticks. Default 60. */
+  maxInputDelay?: number;
+}
+
+/** Keeps the last `n` values and their maximum. */
+class WindowMax {
+  private readonly values: Float64Array;
+  private i = 0;
+  private n = 0;
+  constructor(size: number) {
+    this.values = new Float64Array(size);
+  }
+  add(v: number): void {
+    this.values[this.i] = v;
+    this.i = (this.i + 1) % this.values.length;
+    if (this.n < this.values.length) this.n++;
+  }
+  get max(): number {
+    let m = -Infinity;
+    for (let k = 0; k < this.n; k++) if (this.values[k]! > m) m = this.values[k]!;
+    return m;
+  }
+}
+
+/**
+ * Lockstep over a server relay: a tick is stepped only once the confirmed inputs of every player
+ * for it are here, so the state is never predicted and never rolled back. The local input is
+ * sent `inputDelay` ticks ahead (adaptive to the RTT) so it is back, confirmed, in time; the
+ * display runs `playoutDelay` ticks behind the server clock, a jitter buffer sized from how late
+ * confirmed ticks have actually arrived. A spectator is a lockstep session without inputs
+ * ({@link SpectatorSession}).
+ */
+export class LockstepSession extends NetSession {
+  private delay: number;
+  private readonly autoDelay: boolean;
+  private readonly maxDelay: number;
+  private lastDelayDrop = 0;
+  private playout = 0;
+  private lastPlayoutDrop = 0;
+  private readonly lateness = new WindowMax(600);
+  private row: number[] = [];
+
+  constructor(options: LockstepSessionOptions, role: 'player' | 'spectator' = 'player') {
+    super(options, role);
+    this.autoDelay = options.inputDelay === undefined || options.inputDelay === 'auto';
+    this.delay = typeof options.inputDelay === 'number' ? options.inputDelay : 4;
+    this.maxDelay = options.maxInputDelay ?? 60;
+    if (!(Number.isInteger(this.delay) && this.delay >= 0 && this.delay <= 600)) {
+      throw new RangeError(
+        `inputDelay must be 'auto' or an integer from 0 to 600, got ${this.delay}`,
+      );
+    }
+  }
+
+  confirmedStateTick(): number {
+    return this.sim?.tick ?? 0;
+  }
+
+  protected override onConfirmed(from: number, _to: number, now: number): void {
+    // How late the first newly confirmed tick arrived against the server clock (the one the
+    // display may have been waiting for): the jitter buffer's input.
+    const s = this.serverTick(now);
+    if (Number.isFinite(s)) this.lateness.add(s - from);
+  }
+
+  protected displayTime(now: number): number {
+    return this.serverTick(now) - this.playout;
+  }
+
+  protected advance(serverTick: number, now: number): number {
+    const sim = this.sim!;
+    if (!Number.isFinite(serverTick)) return 0;
+    this.adapt(now);
+    const clockTick = Math.floor(serverTick);
+    this.issueUntil(clockTick + 1 + this.delay);
+    const target = Math.min(clockTick - this.playout, this.stopAt);
+    let n = 0;
+    if (this.row.length !== this.players) this.row = new Array<number>(this.players).fill(0);
+    const row = this.row;
+    while (sim.tick < target && sim.tick < this.confirmedEnd && n < this.maxTicksPerFrame) {
+      const t = sim.tick;
+      for (let p = 0; p < this.players; p++) row[p] = this.confirmed.get(t, p);
+      sim.step(row);
+      this.remember();
+      n++;
+    }
+    this.markStall(sim.tick < target && sim.tick >= this.confirmedEnd);
+    return n;
+  }
+
+  private adapt(now: number): void {
+    const tickMs = this.tickMs;
+    if (this.autoDelay && this.slot >= 0 && this.clockSync.ready) {
+      const want = Math.min(
+        this.maxDelay,
+        Math.ceil((this.clockSync.rttHigh + 1.5 * tickMs) / tickMs),
+      );
+      if (want > this.delay) {
+        this.delay = want;
+        this.lastDelayDrop = now;
+      } else if (want < this.delay && now - this.lastDelayDrop >= 1000) {
+        this.delay--;
+        this.lastDelayDrop = now;
+      }
+    }
+    // Confirmed tick t is needed once the display passes t + 1.
+    const late = this.lateness.max;
+    const wantPlayout = Number.isFinite(late) ? Math.max(0, Math.min(120, Math.ceil(late - 1))) : 0;
+    if (wantPlayout > this.playout) {
+      this.playout = wantPlayout;
+      this.lastPlayoutDrop = now;
+    } else if (wantPlayout < this.playout && now - this.lastPlayoutDrop >= 2000) {
+      this.playout--;
+      this.lastPlayoutDrop = now;
+    }
+    this.stats.inputDelay = this.slot >= 0 ? this.delay : 0;
+    this.stats.playoutDelay = this.playout;
+  }
+}
+
+/**
+ * Watches a room: steps confirmed inputs only, sends none. Joins late at any time (from a
+ * member's snapshot) and catches up at `maxTicksPerFrame` ticks a frame.
+ */
+export class SpectatorSession extends LockstepSession {
+  constructor(options: Omit<LockstepSessionOptions, 'localInput' | 'inputDelay'>) {
+    super(options, 'spectator');
+  }
+}

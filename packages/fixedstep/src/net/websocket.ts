@@ -1,0 +1,205 @@
+import { BaseTransport, type Transport } from './transport.js';
+
+/** Options of the WebSocket adapters. */
+export interface WebSocketTransportOptions {
+  /**
+   * Close the connection when this many bytes are waiting to be sent (a peer that does not read).
+   * Default 4 MiB.
+   */
+  maxBufferedBytes?: number;
+}
+
+const CONNECTING = 0;
+const OPEN = 1;
+
+/** Close reasons must fit a WebSocket close frame (123 bytes). */
+function closeReason(reason: string): string {
+  const bytes = new TextEncoder().encode(reason);
+  return bytes.length <= 120 ? reason : reason.slice(0, 40);
+}
+
+class BrowserWebSocketTransport extends BaseTransport {
+  private pending: Uint8Array[] = [];
+  constructor(
+    private readonly ws: WebSocket,
+    private readonly maxBuffered: number,
+  ) {
+    super();
+    ws.binaryType = 'arraybuffer';
+    ws.addEventListener('open', () => {
+      const queued = this.pending;
+      this.pending = [];
+      for (const b of queued) this.send(b);
+    });
+    ws.addEventListener('message', (event: MessageEvent<unknown>) => {
+      const data = event.data;
+      if (data instanceof ArrayBuffer) this.deliver(new Uint8Array(data));
+      else this.close('text message on a binary protocol');
+    });
+    ws.addEventListener('close', (event: CloseEvent) => {
+      this.closedRemotely(event.reason || `closed (${event.code})`);
+    });
+    ws.addEventListener('error', () => {
+      this.closedRemotely('connection error');
+    });
+  }
+  send(bytes: Uint8Array): void {
+    if (!this.isOpen) return;
+    if (this.ws.readyState === CONNECTING) {
+      this.pending.push(bytes.slice());
+      return;
+    }
+    if (this.ws.readyState !== OPEN) return;
+    if (this.ws.bufferedAmount > this.maxBuffered) {
+      this.close('send buffer overflow');
+      return;
+    }
+    this.ws.send(bytes);
+  }
+  protected doClose(reason: string): void {
+    try {
+      this.ws.close(1000, closeReason(reason));
+    } catch {
+      // already closing
+    }
+  }
+}
+
+/**
+ * A {@link Transport} over a browser `WebSocket` (binary frames; a text frame closes it). Sends
+ * made while it is still connecting are queued and go out on open.
+ */
+export function webSocketTransport(
+  ws: WebSocket,
+  options: WebSocketTransportOptions = {},
+): Transport {
+  return new BrowserWebSocketTransport(ws, options.maxBufferedBytes ?? 4 << 20);
+}
+
+/**
+ * Opens a browser WebSocket to `url` and resolves with its transport once it is open (rejects on
+ * error or after `timeoutMs`, default 10 s). `WebSocketClass` defaults to the global one.
+ */
+export function connectWebSocket(
+  url: string,
+  options: WebSocketTransportOptions & {
+    timeoutMs?: number;
+    WebSocketClass?: new (url: string) => WebSocket;
+  } = {},
+): Promise<Transport> {
+  const Ctor = options.WebSocketClass ?? globalThis.WebSocket;
+  if (typeof Ctor !== 'function') {
+    return Promise.reject(
+      new TypeError('connectWebSocket: no WebSocket here (in Node 20 use nodeWebSocketTransport)'),
+    );
+  }
+  return new Promise((resolve, reject) => {
+    const ws = new Ctor(url);
+    const transport = webSocketTransport(ws, options);
+    const timer = setTimeout(() => {
+      transport.close('connect timeout');
+      reject(new Error(`connectWebSocket: ${url} did not open in time`));
+    }, options.timeoutMs ?? 10_000);
+    ws.addEventListener('open', () => {
+      clearTimeout(timer);
+      resolve(transport);
+    });
+    ws.addEventListener('error', () => {
+      clearTimeout(timer);
+      reject(new Error(`connectWebSocket: cannot connect to ${url}`));
+    });
+  });
+}
+
+/**
+ * The part of a Node `ws` WebSocket (the `ws` package, v8) the adapter uses — typed structurally
+ * so the library needs no dependency.
+ */
+export interface NodeWebSocketLike {
+  readonly readyState: number;
+  readonly bufferedAmount: number;
+  send(data: Uint8Array, options: { binary: boolean }): void;
+  close(code?: number, reason?: string): void;
+  on(event: 'message', listener: (data: unknown, isBinary: boolean) => void): unknown;
+  on(event: 'close', listener: (code: number, reason: Uint8Array) => void): unknown;
+  on(event: 'error', listener: (error: Error) => void): unknown;
+  on(event: 'open', listener: () => void): unknown;
+}
+
+function toBytes(data: unknown): Uint8Array | undefined {
+  if (data instanceof Uint8Array) return data;
+  if (data instanceof ArrayBuffer) return new Uint8Array(data);
+  if (Array.isArray(data)) {
+    let n = 0;
+    for (const part of data) {
+      if (!(part instanceof Uint8Array)) return undefined;
+      n += part.length;
+    }
+    const out = new Uint8Array(n);
+    let at = 0;
+    for (const part of data as Uint8Array[]) {
+      out.set(part, at);
+      at += part.length;
+    }
+    return out;
+  }
+  return undefined;
+}
+
+class NodeWebSocketTransport extends BaseTransport {
+  private pending: Uint8Array[] = [];
+  constructor(
+    private readonly ws: NodeWebSocketLike,
+    private readonly maxBuffered: number,
+  ) {
+    super();
+    ws.on('open', () => {
+      const queued = this.pending;
+      this.pending = [];
+      for (const b of queued) this.send(b);
+    });
+    ws.on('message', (data, isBinary) => {
+      const bytes = isBinary ? toBytes(data) : undefined;
+      if (bytes) this.deliver(bytes);
+      else this.close('text message on a binary protocol');
+    });
+    ws.on('close', (code, reason) => {
+      const text = new TextDecoder().decode(reason);
+      this.closedRemotely(text || `closed (${code})`);
+    });
+    ws.on('error', (error) => {
+      this.closedRemotely(`connection error: ${error.message}`);
+    });
+  }
+  send(bytes: Uint8Array): void {
+    if (!this.isOpen) return;
+    if (this.ws.readyState === CONNECTING) {
+      this.pending.push(bytes.slice());
+      return;
+    }
+    if (this.ws.readyState !== OPEN) return;
+    if (this.ws.bufferedAmount > this.maxBuffered) {
+      this.close('send buffer overflow');
+      return;
+    }
+    this.ws.send(bytes, { binary: true });
+  }
+  protected doClose(reason: string): void {
+    try {
+      this.ws.close(1000, closeReason(reason));
+    } catch {
+      // already closing
+    }
+  }
+}
+
+/**
+ * A {@link Transport} over a Node `ws` WebSocket (server side, or a Node client: Node 20 has no
+ * global WebSocket). Binary frames only; a text frame closes the connection.
+ */
+export function nodeWebSocketTransport(
+  ws: NodeWebSocketLike,
+  options: WebSocketTransportOptions = {},
+): Transport {
+  return new NodeWebSocketTransport(ws, options.maxBufferedBytes ?? 4 << 20);
+}
