@@ -1,0 +1,111 @@
+/**
+ * Chapter 6 in a real browser: lockstep and rollback over a simulated link agree on the state
+ * hash; then two pages play one room through the server's relay and agree on the final hash.
+ */
+import path from 'node:path';
+import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import { chromium, type Browser, type Page } from 'playwright-core';
+import { startServer, type RunningServer } from '@fixedstep/cli';
+import { attachRelay, type RelayEndpoint } from '../packages/cli/src/net/server.js';
+import { CHROMIUM_ARGS, dist, num, readouts, shots, useLab, watch } from './harness.js';
+
+const lab = useLab();
+
+async function skip(page: Page, times: number): Promise<void> {
+  const before = Number(await page.getByTestId('readout-clock').getAttribute('data-value'));
+  for (let i = 0; i < times; i++) await page.getByTestId('control-skip').click();
+  await expect
+    .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
+    .toBe(before + 5000 * times);
+}
+
+describe('chapter 6, network', () => {
+  it('lockstep and rollback agree on the hashes over a lossy, late link', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    const problems = watch(page);
+    await page.goto(`${lab.server.url}#/network`);
+    await expect.poll(() => page.title()).toBe('6. Network — fixedstep lab');
+    await page.getByTestId('readout-lockstep-hashes-equal').waitFor();
+    await page.getByTestId('control-pause').click();
+    await page.getByTestId('control-restart').click();
+    await expect.poll(() => page.getByTestId('readout-clock').getAttribute('data-value')).toBe('0');
+    // 120 ms ± 30 ms, 5 % loss.
+    await page.getByTestId('control-latency').fill('120');
+    await page.getByTestId('control-jitter').fill('30');
+    await page.getByTestId('control-loss').fill('5');
+    await skip(page, 2);
+    const r = await readouts(page);
+    console.log(
+      `lockstep: delay ${r['readout-lockstep-input-delay']}, stalls ${r['readout-lockstep-stalls']}, ` +
+        `@${r['readout-lockstep-checkpoint']} ${r['readout-lockstep-hash-1']} ${r['readout-lockstep-hash-2']}\n` +
+        `rollback: ${r['readout-rollback-rollbacks']} rollbacks, depth ${r['readout-rollback-max-depth']}, ` +
+        `@${r['readout-rollback-checkpoint']} ${r['readout-rollback-hash-1']} ${r['readout-rollback-hash-2']}`,
+    );
+    for (const mode of ['lockstep', 'rollback']) {
+      expect(r[`readout-${mode}-hashes-equal`]).toBe('true');
+      expect(r[`readout-${mode}-hash-1`]).toMatch(/^[0-9a-f]{16}$/);
+      expect(r[`readout-${mode}-hash-1`]).toBe(r[`readout-${mode}-hash-2`]);
+      expect(num(r, `${mode}-checkpoint`)).toBeGreaterThanOrEqual(480);
+      expect(num(r, `${mode}-lost`)).toBeGreaterThan(0);
+    }
+    expect(num(r, 'lockstep-input-delay')).toBeGreaterThanOrEqual(10);
+    expect(num(r, 'rollback-rollbacks')).toBeGreaterThan(0);
+    expect(num(r, 'rollback-max-depth')).toBeGreaterThan(0);
+    await page.screenshot({ path: path.join(shots, 'network.png'), fullPage: true });
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+});
+
+describe('chapter 6, play online', () => {
+  let server: RunningServer;
+  let relay: RelayEndpoint;
+  let browser: Browser;
+  beforeAll(async () => {
+    server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
+    relay = attachRelay(server.server);
+    browser = await chromium.launch({
+      executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
+      args: CHROMIUM_ARGS,
+    });
+  });
+  afterAll(async () => {
+    await browser.close();
+    await relay.close();
+    await server.close();
+  });
+
+  it('two pages play one room through the relay and agree on the final hash', async () => {
+    const ticks = 360;
+    const pages = await Promise.all([0, 1].map(() => browser.newPage()));
+    const problems = pages.map((p) => watch(p));
+    for (const p of pages) {
+      await p.goto(`${server.url}#/network?room=e2e-room&ticks=${ticks}`);
+      await p.getByTestId('control-join').click();
+    }
+    const finals = await Promise.all(
+      pages.map(async (p) => {
+        await expect
+          .poll(() => p.getByTestId('readout-online-final-hash').getAttribute('data-value'), {
+            timeout: 30_000,
+          })
+          .toMatch(/^[0-9a-f]{16}$/);
+        return readouts(p);
+      }),
+    );
+    console.log(
+      finals
+        .map(
+          (r) =>
+            `slot ${r['readout-online-slot']}: ${r['readout-online-final-hash']} rtt ${r['readout-online-rtt']}`,
+        )
+        .join('\n'),
+    );
+    expect(finals[0]!['readout-online-final-hash']).toBe(finals[1]!['readout-online-final-hash']);
+    expect(new Set(finals.map((r) => r['readout-online-slot']))).toEqual(new Set(['1', '2']));
+    for (const r of finals) expect(num(r, 'online-desyncs')).toBe(0);
+    await pages[1]!.screenshot({ path: path.join(shots, 'network-online.png'), fullPage: true });
+    expect(problems).toEqual([[], []]);
+    for (const p of pages) await p.close();
+  });
+});
