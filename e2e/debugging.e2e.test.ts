@@ -5,27 +5,10 @@
  */
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import type { Page } from 'playwright-core';
-import { num, readouts, shots, useLab, watch } from './harness.js';
+import { freshRun, num, readouts, shots, skip, useLab, watch } from './harness.js';
 
 const RATES = [30, 60, 144, 240];
 const lab = useLab();
-
-async function freshRun(page: Page): Promise<void> {
-  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
-    await page.getByTestId('control-pause').click();
-  }
-  await page.getByTestId('control-restart').click();
-  await expect.poll(() => page.getByTestId('readout-clock').getAttribute('data-value')).toBe('0');
-}
-
-async function skip(page: Page, times = 1): Promise<void> {
-  const before = Number(await page.getByTestId('readout-clock').getAttribute('data-value'));
-  for (let i = 0; i < times; i++) await page.getByTestId('control-skip').click();
-  await expect
-    .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
-    .toBe(before + 5000 * times);
-}
 
 function hashes(r: Record<string, string>, loop: string): string[] {
   return RATES.map((hz) => r[`readout-${loop}-${hz}-hash`] ?? '');

@@ -4,26 +4,9 @@
  */
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import type { Page } from 'playwright-core';
-import { num, readouts, shots, useLab, watch } from './harness.js';
+import { freshRun, num, readouts, shots, skip, useLab, watch } from './harness.js';
 
 const lab = useLab();
-
-async function freshRun(page: Page): Promise<void> {
-  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
-    await page.getByTestId('control-pause').click();
-  }
-  await page.getByTestId('control-restart').click();
-  await expect.poll(() => page.getByTestId('readout-clock').getAttribute('data-value')).toBe('0');
-}
-
-async function skip(page: Page, times = 1): Promise<void> {
-  const before = Number(await page.getByTestId('readout-clock').getAttribute('data-value'));
-  for (let i = 0; i < times; i++) await page.getByTestId('control-skip').click();
-  await expect
-    .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
-    .toBe(before + 5000 * times);
-}
 
 describe('chapter 8, final fixes', () => {
   it('spirals without the clamp, stays bounded with it, and shrugs off a clock set back', async () => {

@@ -6,7 +6,7 @@
 import { existsSync, mkdirSync } from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { afterAll, beforeAll } from 'vitest';
+import { afterAll, beforeAll, expect } from 'vitest';
 import { chromium, type Browser, type Page } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/cli';
 
@@ -82,4 +82,26 @@ export function watch(page: Page): string[] {
   page.on('pageerror', (error) => problems.push(`page error: ${error.message}`));
   page.on('requestfailed', (req) => problems.push(`request failed: ${req.url()}`));
   return problems;
+}
+
+/** The lab's virtual clock in ms (every chapter shows it as `readout-clock`). */
+async function clock(page: Page): Promise<number> {
+  return Number(await page.getByTestId('readout-clock').getAttribute('data-value'));
+}
+
+/** Pause the chapter, optionally choose a display rate, and restart: the clock stops at exactly 0. */
+export async function freshRun(page: Page, hz?: number): Promise<void> {
+  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
+    await page.getByTestId('control-pause').click();
+  }
+  if (hz !== undefined) await page.getByTestId(`control-hz-${String(hz)}`).click();
+  await page.getByTestId('control-restart').click();
+  await expect.poll(() => clock(page)).toBe(0);
+}
+
+/** Press "Skip +5 s" `times` times and wait until the clock shows it. */
+export async function skip(page: Page, times = 1): Promise<void> {
+  const before = await clock(page);
+  for (let i = 0; i < times; i++) await page.getByTestId('control-skip').click();
+  await expect.poll(() => clock(page)).toBe(before + 5000 * times);
 }

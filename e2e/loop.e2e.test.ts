@@ -5,30 +5,11 @@
  */
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import type { Page } from 'playwright-core';
-import { num, readouts, shots, useLab, watch } from './harness.js';
+import { freshRun, num, readouts, shots, skip, useLab, watch } from './harness.js';
 
 const FIXED = ['fixed-naive', 'fixed-final', 'fixed'] as const;
 
 const lab = useLab();
-
-/** Stop the virtual clock at exactly zero, on a chosen display rate. */
-async function freshRun(page: Page, hz: number): Promise<void> {
-  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
-    await page.getByTestId('control-pause').click();
-  }
-  await page.getByTestId(`control-hz-${hz}`).click();
-  await page.getByTestId('control-restart').click();
-  await expect.poll(() => page.getByTestId('readout-clock').getAttribute('data-value')).toBe('0');
-}
-
-async function skip(page: Page, times = 1): Promise<void> {
-  const before = Number(await page.getByTestId('readout-clock').getAttribute('data-value'));
-  for (let i = 0; i < times; i++) await page.getByTestId('control-skip').click();
-  await expect
-    .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
-    .toBe(before + 5000 * times);
-}
 
 describe('chapter 1, the loop', () => {
   it('shows the talk’s contrasts in its numbers at 60 and 144 Hz', async () => {

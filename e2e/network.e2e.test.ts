@@ -4,20 +4,12 @@
  */
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { chromium, type Browser, type Page } from 'playwright-core';
+import { chromium, type Browser } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/cli';
 import { attachRelay, type RelayEndpoint } from '../packages/cli/src/net/server.js';
-import { CHROMIUM_ARGS, dist, num, readouts, shots, useLab, watch } from './harness.js';
+import { CHROMIUM_ARGS, dist, num, readouts, shots, skip, useLab, watch } from './harness.js';
 
 const lab = useLab();
-
-async function skip(page: Page, times: number): Promise<void> {
-  const before = Number(await page.getByTestId('readout-clock').getAttribute('data-value'));
-  for (let i = 0; i < times; i++) await page.getByTestId('control-skip').click();
-  await expect
-    .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
-    .toBe(before + 5000 * times);
-}
 
 describe('chapter 6, network', () => {
   it('lockstep and rollback agree on the hashes over a lossy, late link', async () => {
