@@ -264,7 +264,7 @@ function assertSame(id: EngineId): void {
 describe('determinism across engines and display rates', () => {
   it('the catalogue covers every kind of scene, and every game at every display rate', () => {
     const ids = scenes.map((s) => s.id);
-    for (const prefix of ['math/', 'random/', 'ball/', 'physics/', 'springs/']) {
+    for (const prefix of ['math/', 'random/', 'ball/', 'physics/', 'springs/', 'lab/']) {
       expect(ids.find((id) => id.startsWith(prefix))).toBeDefined();
     }
     expect(ids.filter((id) => /^springs\/rope-[a-z0-9-]+$/.test(id))).toHaveLength(6);

@@ -13,9 +13,38 @@ export { encodeGameConfig, decodeGameConfig } from './games/config.js';
 export { GAMES, findGame } from './games/registry.js';
 export { replayOptionsFor, gameFromReplayHeader } from './games/replay.js';
 export * from './games/runner/index.js';
-export * from './games/arena/index.js';
-export * from './games/ctf/index.js';
-export * from './games/survival/index.js';
+export {
+  WallRange,
+  WallRangeRig,
+  ShotStatus,
+  RANGE_HALF_WIDTH,
+  RANGE_HALF_HEIGHT,
+  wallRangeConfig,
+  wallRule,
+} from './scenes/collisions.js';
+export type {
+  WallRangeOptions,
+  WallRangeConfig,
+  WallRangeRigOptions,
+  WallRule,
+  RangeLoopKind,
+} from './scenes/collisions.js';
+export { OscillatorRace, isStable, runIntegratorExperiment } from './scenes/physics.js';
+export type {
+  OscillatorRaceOptions,
+  RaceLane,
+  IntegratorExperimentOptions,
+  IntegratorResult,
+  IntegratorExperiment,
+} from './scenes/physics.js';
+export {
+  Rope,
+  ropeConfig,
+  ropeSystemDef,
+  ropeOmegaMax,
+  ropeRestPositions,
+} from './scenes/springs.js';
+export type { RopeOptions, RopeConfig, RopePoke } from './scenes/springs.js';
 export { SceneRig } from './scenes/movement-rig.js';
 export type { SteppedScene, SceneRigOptions } from './scenes/movement-rig.js';
 export {
@@ -62,4 +91,7 @@ export type {
   SpiralOptions,
   BackwardsOptions,
 } from './scenes/final-fixes.js';
+export * from './games/arena/index.js';
+export * from './games/ctf/index.js';
+export * from './games/survival/index.js';
 export * from './determinism/index.js';

@@ -1,115 +1,15 @@
+import { INTEGRATOR_METHODS } from 'fixedstep';
 import {
-  HarmonicOscillator,
-  INTEGRATOR_INFO,
-  INTEGRATOR_METHODS,
-  createIntegrator,
-  datan2,
-  dcos,
-  dsin,
-  type IntegratorMethod,
-} from 'fixedstep';
+  runIntegratorExperiment,
+  type IntegratorExperiment,
+  type IntegratorExperimentOptions,
+  type IntegratorResult,
+} from '@fixedstep/games';
 
-export interface IntegratorExperimentOptions {
-  /** Angular frequency ω, rad/s. */
-  omega: number;
-  /** Step, s. */
-  dt: number;
-  /** Simulated time, s. */
-  duration: number;
-  /** Start position (m) and velocity (m/s). */
-  x0: number;
-  v0: number;
-  methods: readonly IntegratorMethod[];
-  /** Keep every `sampleEvery`-th step in the series (for CSV and plots). Default: ~500 samples. */
-  sampleEvery?: number;
-}
-
-export interface IntegratorResult {
-  method: IntegratorMethod;
-  label: string;
-  order: number;
-  stabilityLimit: number;
-  /** E(T) / E(0). */
-  energyRatio: number;
-  /** max over the run of |E(t)/E(0) − 1|. */
-  maxEnergyError: number;
-  /** Phase of the numerical (x, v/ω) minus the exact phase at the end, wrapped to (−π, π], rad. */
-  phaseError: number;
-  /** Sampled series: time (s), x (m), energy ratio. */
-  t: number[];
-  x: number[];
-  energy: number[];
-}
-
-export interface IntegratorExperiment {
-  options: IntegratorExperimentOptions;
-  steps: number;
-  results: IntegratorResult[];
-}
-
-const TWO_PI = 2 * Math.PI;
-
-function wrap(a: number): number {
-  let r = a - TWO_PI * Math.floor((a + Math.PI) / TWO_PI);
-  if (r <= -Math.PI) r += TWO_PI;
-  return r;
-}
-
-/** Runs each method on `x'' = −ω²x` and measures energy drift and phase error against the exact solution. */
-export function runIntegratorExperiment(
-  options: IntegratorExperimentOptions,
-): IntegratorExperiment {
-  const { omega, dt, duration, x0, v0 } = options;
-  const steps = Math.max(1, Math.round(duration / dt));
-  const every = options.sampleEvery ?? Math.max(1, Math.ceil(steps / 500));
-  const model = new HarmonicOscillator(omega);
-  const e0 = model.energy(x0, v0);
-  if (!(e0 > 0))
-    throw new RangeError(
-      'the oscillator needs some energy: x0 and v0 cannot both be 0 (or ω = 0 with v0 = 0)',
-    );
-  const results = options.methods.map((method): IntegratorResult => {
-    const info = INTEGRATOR_INFO[method];
-    const integrator = createIntegrator(method, model);
-    const state = model.state(x0, v0);
-    integrator.start(state, dt);
-    const t = [0];
-    const xs = [x0];
-    const energy = [1];
-    let maxErr = 0;
-    for (let n = 1; n <= steps; n++) {
-      integrator.step(state, dt);
-      const ratio = model.energy(state.x[0]!, state.v[0]!) / e0;
-      const err = Math.abs(ratio - 1);
-      if (err > maxErr || Number.isNaN(err)) maxErr = Number.isNaN(err) ? Infinity : err;
-      if (n % every === 0 || n === steps) {
-        t.push(n * dt);
-        xs.push(state.x[0]!);
-        energy.push(ratio);
-      }
-    }
-    const T = steps * dt;
-    // Exact: x = x0 cos ωT + (v0/ω) sin ωT, v = −x0 ω sin ωT + v0 cos ωT.
-    const c = dcos(omega * T);
-    const s = dsin(omega * T);
-    const xe = x0 * c + (omega > 0 ? (v0 / omega) * s : v0 * T);
-    const ve = -x0 * omega * s + v0 * c;
-    const phase = (x: number, v: number) => datan2(omega > 0 ? -v / omega : -v, x);
-    return {
-      method,
-      label: info.label,
-      order: info.order,
-      stabilityLimit: info.stabilityLimit,
-      energyRatio: energy[energy.length - 1]!,
-      maxEnergyError: maxErr,
-      phaseError: wrap(phase(state.x[0]!, state.v[0]!) - phase(xe, ve)),
-      t,
-      x: xs,
-      energy,
-    };
-  });
-  return { options, steps, results };
-}
+// The experiment itself lives in @fixedstep/games (scenes/physics.ts), built on the same
+// OscillatorRace the lab's physics chapter runs live; this module formats it for the CLI.
+export { runIntegratorExperiment };
+export type { IntegratorExperiment, IntegratorExperimentOptions, IntegratorResult };
 
 function fmt(x: number, digits = 4): string {
   if (!Number.isFinite(x)) return Number.isNaN(x) ? 'NaN' : x > 0 ? 'inf' : '-inf';

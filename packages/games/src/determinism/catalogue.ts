@@ -12,6 +12,7 @@ import {
   bulletsScenes,
   circlesScene,
   detMathScene,
+  labScenes,
   randomScene,
   ropeScenes,
 } from './scenes.js';
@@ -37,6 +38,7 @@ export const TRACE_TICKS = Object.freeze({
   circles: 600,
   bullets: 400,
   rope: 1200,
+  lab: 600,
   game: 3600,
 });
 
@@ -53,6 +55,7 @@ export function traceCatalogue(options: TraceCatalogueOptions = {}): TraceScene[
     circlesScene(n(TRACE_TICKS.circles)),
     ...bulletsScenes(n(TRACE_TICKS.bullets), rates),
     ...ropeScenes(n(TRACE_TICKS.rope)),
+    ...labScenes(n(TRACE_TICKS.lab)),
     ...games.flatMap((def) => gameScenes(def, n(options.gameTicks ?? TRACE_TICKS.game), rates)),
   ];
   const seen = new Set<string>();

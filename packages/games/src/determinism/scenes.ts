@@ -29,6 +29,9 @@ import {
   type SpringSystemDef,
 } from 'fixedstep';
 import { BallButtons } from '../scenes/ball.js';
+import { WallRange, type WallRangeOptions } from '../scenes/collisions.js';
+import { OscillatorRace } from '../scenes/physics.js';
+import { Rope, type RopePoke } from '../scenes/springs.js';
 import { LoopRig, type ScriptedInput } from '../scenes/loop-rig.js';
 import {
   displayRun,
@@ -567,4 +570,109 @@ export function ropeScenes(ticks = 1200): TraceScene[] {
     });
   }
   return scenes;
+}
+
+// ----------------------------------------------------------------------------- the lab's scenes
+
+/** A scene stepped by `step(t)` (t = 1, 2, …) and saved after every tick. */
+function simScene(
+  id: string,
+  title: string,
+  ticks: number,
+  make: () => { save(): Uint8Array; step: (t: number) => void },
+): TraceScene {
+  return {
+    id,
+    title,
+    ticks,
+    start(): TraceRun {
+      const sim = make();
+      let t = 0;
+      return {
+        next(): Uint8Array {
+          sim.step(++t);
+          return sim.save();
+        },
+      };
+    },
+  };
+}
+
+/** Frame times of a 30 Hz display with ±30 % jitter and a 250 ms hitch every 200 frames, s. */
+function jitteryFrames(seed: number): () => number {
+  const rng = new Random(seed);
+  let frame = 0;
+  return () => (++frame % 200 === 0 ? 0.25 : (1 / 30) * rng.range(0.7, 1.3));
+}
+
+/**
+ * The scenes chapters 3 and 4 of the lab run live: the firing range (fixed step, with and
+ * without CCD, and one step per frame of a jittery display — a variable-Δt run is
+ * reproducible too, given the same Δts), the six-integrator race on the talk's spring, and the
+ * pokeable rope under explicit Euler (it explodes: the stop must land on the same tick in every
+ * engine) and velocity Verlet.
+ */
+export function labScenes(ticks = 600): TraceScene[] {
+  const range = (options: WallRangeOptions, dts?: () => number) => () => {
+    const r = new WallRange(options);
+    return {
+      save: () => r.save(),
+      step: () => {
+        if (dts) r.stepBy(dts());
+        else r.step();
+      },
+    };
+  };
+  const rope = (integrator: IntegratorMethod) => () => {
+    const r = new Rope({ dt: 0.03, integrator });
+    const none: RopePoke[] = [];
+    return {
+      save: () => r.save(),
+      step: (t: number) => {
+        r.step(t % 37 === 5 ? [{ bead: 1 + (t % 14), dvx: 2, dvy: -1 }] : none);
+      },
+    };
+  };
+  return [
+    simScene(
+      'lab/wall-range',
+      'WallRange: 80 m/s against a 1.8 m wall, 30 ms fixed step, discrete detection',
+      ticks,
+      range({ speed: 80, wall: 1.8 }),
+    ),
+    simScene(
+      'lab/wall-range-ccd',
+      'WallRange: 300 m/s against a 0.3 m wall, 30 ms fixed step, CCD',
+      ticks,
+      range({ speed: 300, wall: 0.3, ccd: true }),
+    ),
+    simScene(
+      'lab/wall-range-variable',
+      'WallRange: 60 m/s against 3.5 m, one step per frame of a jittery 30 Hz display',
+      ticks,
+      range({ speed: 60, wall: 3.5 }, jitteryFrames(11)),
+    ),
+    simScene(
+      'lab/oscillator-race',
+      'OscillatorRace: k 20 N/m on 1 kg at dt 0.03 s, six integrators in lockstep',
+      ticks,
+      () => {
+        const race = new OscillatorRace({ omega: Math.sqrt(20), dt: 0.03, explodeAt: 1e6 });
+        return {
+          save: () => race.save(),
+          step: () => {
+            race.step();
+          },
+        };
+      },
+    ),
+    ...(['explicit-euler', 'velocity-verlet'] as const).map((m) =>
+      simScene(
+        `lab/rope-${m}`,
+        `the lab's rope (16 beads, 40 N/m, 30 ms), ${m}, a poke every 37 ticks`,
+        ticks,
+        rope(m),
+      ),
+    ),
+  ];
 }

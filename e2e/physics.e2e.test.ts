@@ -1,0 +1,124 @@
+/**
+ * Chapter 4 in a real browser: the built lab, driven by its own controls on the simulated
+ * display, so every number is exact. The talk's claim: at a 0.03 s step Euler's spring explodes;
+ * the alternatives do not.
+ */
+import path from 'node:path';
+import { describe, expect, it } from 'vitest';
+import type { Page } from 'playwright-core';
+import { freshRun, num, readouts, shots, skip, useLab, watch } from './harness.js';
+
+const lab = useLab();
+
+async function open(page: Page): Promise<void> {
+  await page.goto(`${lab.server.url}#/physics`);
+  await expect.poll(() => page.title()).toBe('4. Physics — fixedstep lab');
+  await page.getByTestId('readout-explicit-euler-energy-ratio').waitFor();
+  await freshRun(page);
+}
+
+async function pause(page: Page): Promise<void> {
+  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
+    await page.getByTestId('control-pause').click();
+  }
+}
+
+describe('chapter 4, physics', () => {
+  it('explodes explicit Euler’s spring at 0.03 s while velocity Verlet keeps its energy', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    const problems = watch(page);
+    await open(page);
+    await skip(page, 2);
+    const r = await readouts(page);
+    console.log(
+      `10 s at dt 0.03, k 20 N/m: ${['explicit-euler', 'semi-implicit-euler', 'backward-euler', 'position-verlet', 'velocity-verlet', 'rk4'].map((m) => `${m} ${num(r, `${m}-energy-ratio`).toPrecision(6)}`).join(', ')}`,
+    );
+    expect(r['readout-clock']).toBe('10000');
+    expect(num(r, 'ticks')).toBe(333);
+    expect(num(r, 'omega-dt')).toBeCloseTo(0.13416, 5);
+    expect(num(r, 'explicit-euler-energy-ratio')).toBeGreaterThan(10);
+    expect(num(r, 'explicit-euler-energy-ratio')).toBeCloseTo(380.198, 2);
+    expect(Math.abs(num(r, 'velocity-verlet-energy-ratio') - 1)).toBeLessThan(0.01);
+    expect(num(r, 'velocity-verlet-max-error')).toBeLessThan(0.01);
+    expect(num(r, 'semi-implicit-euler-max-error')).toBeLessThan(0.08);
+    expect(num(r, 'backward-euler-energy-ratio')).toBeLessThan(0.01);
+    expect(Math.abs(num(r, 'rk4-energy-ratio') - 1)).toBeLessThan(1e-4);
+    expect(r['readout-explicit-euler-state']).toBe('grows');
+    expect(r['readout-velocity-verlet-state']).toBe('stable');
+    expect(r['readout-backward-euler-state']).toBe('damped');
+    expect(r['readout-rope-state']).toBe('swinging');
+    expect(num(r, 'rope-pokes')).toBe(1);
+    await page.screenshot({ path: path.join(shots, 'physics.png'), fullPage: true });
+
+    // Past ω·dt = 2 (k = 5000 N/m): the symplectic methods explode, RK4 and backward Euler hold.
+    await page.getByTestId('control-stiffness').fill('13');
+    await expect.poll(async () => num(await readouts(page), 'omega-dt')).toBeCloseTo(2.1213, 4);
+    const stiff = await readouts(page);
+    const states = [
+      'explicit-euler',
+      'semi-implicit-euler',
+      'position-verlet',
+      'velocity-verlet',
+    ].map((m) => stiff[`readout-${m}-state`]);
+    expect(states).toEqual(['exploded', 'exploded', 'exploded', 'exploded']);
+    expect(stiff['readout-rk4-state']).toBe('stable');
+    expect(stiff['readout-backward-euler-state']).toBe('damped');
+
+    // The rope: a click pokes it, the arrow keys poke it, explicit Euler shreds it.
+    const rope = page.getByTestId('canvas-rope');
+    await rope.scrollIntoViewIfNeeded();
+    const box = (await rope.boundingBox())!;
+    await rope.click({ position: { x: box.width / 2, y: box.height * 0.75 } });
+    await expect.poll(async () => num(await readouts(page), 'rope-pokes')).toBe(2);
+    await pause(page);
+    await rope.focus();
+    await page.keyboard.press('ArrowUp');
+    await page.keyboard.press('Period');
+    await page.keyboard.press('ArrowLeft');
+    await expect.poll(async () => num(await readouts(page), 'rope-pokes')).toBe(4);
+    await pause(page);
+    await page.getByTestId('control-rope-explicit-euler').click();
+    await skip(page);
+    const shredded = await readouts(page);
+    expect(shredded['readout-rope-state']).toBe('exploded');
+    expect(num(shredded, 'rope-pokes')).toBeGreaterThanOrEqual(1);
+    await page.getByTestId('control-rope-backward-euler').click();
+    await expect.poll(async () => (await readouts(page))['readout-rope-state']).toBe('swinging');
+
+    // The real clock runs.
+    await page.getByTestId('control-real-clock').click();
+    await page.getByTestId('control-pause').click();
+    await expect
+      .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
+      .toBeGreaterThan(100);
+    await page.getByTestId('control-real-clock').click();
+
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('fits a phone screen', async () => {
+    const context = await lab.browser.newContext({
+      viewport: { width: 390, height: 844 },
+      deviceScaleFactor: 2,
+      isMobile: true,
+      hasTouch: true,
+    });
+    const page = await context.newPage();
+    const problems = watch(page);
+    await open(page);
+    await skip(page, 2);
+    await page.screenshot({ path: path.join(shots, 'physics-phone.png'), fullPage: true });
+    const overflow = await page.evaluate(
+      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
+    );
+    expect(overflow).toBe(0);
+    // A tap on the rope pokes it.
+    const rope = page.getByTestId('canvas-rope');
+    await rope.scrollIntoViewIfNeeded();
+    await rope.tap();
+    await expect.poll(async () => num(await readouts(page), 'rope-pokes')).toBe(2);
+    expect(problems).toEqual([]);
+    await context.close();
+  });
+});
