@@ -1,10 +1,65 @@
 /**
- * Canonical state bytes: little-endian, every float written with -0 as +0 and every NaN as the
- * one quiet NaN (0x7ff8000000000000), so two states that are equal as numbers are equal as bytes
- * and hash the same in every engine. Used by every `Simulation.save()`.
+ * Canonical bytes: little-endian, every float written with -0 as +0 and every NaN as the one
+ * quiet NaN (0x7ff8000000000000), so two states that are equal as numbers are equal as bytes and
+ * hash the same in every engine. Used by every `Simulation.save()`, and — with the canonical
+ * LEB128 varints below — by the replay format and the network protocol, which add their own
+ * bounds-checked readers on top of {@link readVarint}.
  */
 
 const CANONICAL_NAN_HI = 0x7ff80000;
+const utf8Encoder = new TextEncoder();
+
+/** How many bytes {@link ByteWriter.varint} writes for `v` (a u32). */
+export function varintSize(v: number): number {
+  let x = v >>> 0;
+  let n = 1;
+  while (x >= 0x80) {
+    x >>>= 7;
+    n++;
+  }
+  return n;
+}
+
+/** {@link readVarint}: the bytes end inside the varint. */
+export const VARINT_TRUNCATED = -1;
+/**
+ * {@link readVarint}: the fifth byte carries bits above 2^32 − 1 (a fifth byte with its "more"
+ * bit set does too, so no varint is ever longer than 5 bytes).
+ */
+export const VARINT_TOO_LARGE = -2;
+/** {@link readVarint}: a redundant zero last byte (the same value has a shorter form). */
+export const VARINT_NOT_CANONICAL = -3;
+
+/**
+ * Reads a canonical unsigned LEB128 u32 from `buf[at.pos … end)` and moves `at.pos` past it.
+ * Returns the value (≥ 0), or one of the negative `VARINT_*` codes, for which
+ * {@link varintProblem} gives the words; the caller turns that into its own error type. Allocates
+ * nothing.
+ */
+export function readVarint(at: { pos: number }, buf: Uint8Array, end: number): number {
+  let result = 0;
+  let scale = 1; // 128^i, exact in a double
+  for (let i = 0; ; i++) {
+    if (at.pos >= end) return VARINT_TRUNCATED;
+    const b = buf[at.pos++]!;
+    if (i === 4 && b > 0x0f) return VARINT_TOO_LARGE;
+    result += (b & 0x7f) * scale;
+    if ((b & 0x80) === 0) return b === 0 && i > 0 ? VARINT_NOT_CANONICAL : result;
+    scale *= 128;
+  }
+}
+
+/** What a negative {@link readVarint} result means, e.g. `varint runs past the end`. */
+export function varintProblem(code: number): string {
+  switch (code) {
+    case VARINT_TRUNCATED:
+      return 'varint runs past the end';
+    case VARINT_TOO_LARGE:
+      return 'varint above 2^32 - 1';
+    default:
+      return 'non-canonical varint (redundant zero byte)';
+  }
+}
 
 /** Appends canonical little-endian values to a growing buffer. Reuse one writer to avoid allocation. */
 export class ByteWriter {
@@ -97,6 +152,40 @@ export class ByteWriter {
       this.pos += w;
     }
     return this;
+  }
+
+  /** A u64 from a bigint (its low 64 bits). */
+  u64(v: bigint): this {
+    this.ensure(8);
+    this.view.setBigUint64(this.pos, BigInt.asUintN(64, v), true);
+    this.pos += 8;
+    return this;
+  }
+
+  /**
+   * An unsigned LEB128 varint of a u32: 7 bits a byte, low first, high bit = more; always the
+   * shortest form (what {@link readVarint} insists on). Throws a RangeError for anything that is
+   * not an integer from 0 to 2^32 − 1.
+   */
+  varint(v: number): this {
+    if (!(v >= 0 && v <= 0xffffffff && v === Math.floor(v))) {
+      throw new RangeError(`ByteWriter: cannot write ${String(v)} as a u32 varint`);
+    }
+    this.ensure(5);
+    let x = v >>> 0;
+    while (x >= 0x80) {
+      this.buf[this.pos++] = (x & 0x7f) | 0x80;
+      x >>>= 7;
+    }
+    this.buf[this.pos++] = x;
+    return this;
+  }
+
+  /** A string as a varint byte length, then its UTF-8. */
+  str(s: string): this {
+    const b = utf8Encoder.encode(s);
+    this.varint(b.length);
+    return this.bytes(b);
   }
 
   /** Raw bytes. */

@@ -1,6 +1,15 @@
 export { Random } from './random.js';
 export { Fnv1a64, fnv1a64, fnv1a64Hex } from './hash.js';
-export { ByteWriter, ByteReader } from './bytes.js';
+export {
+  ByteWriter,
+  ByteReader,
+  readVarint,
+  varintProblem,
+  varintSize,
+  VARINT_TRUNCATED,
+  VARINT_TOO_LARGE,
+  VARINT_NOT_CANONICAL,
+} from './bytes.js';
 export {
   dsin,
   dcos,

@@ -10,6 +10,7 @@
  * {@link decodeMessage} checks every size against {@link ProtocolLimits} before it allocates, and
  * throws only {@link ProtocolError} — whatever the bytes.
  */
+import { ByteWriter, VARINT_TRUNCATED, readVarint, varintProblem } from '../det/bytes.js';
 import { deinterleave, interleave } from '../replay/codec.js';
 
 /** The protocol version this code writes and reads (byte 0 of every message). */
@@ -356,69 +357,17 @@ export class ProtocolError extends Error {
 const encoder = new TextEncoder();
 const decoder = new TextDecoder('utf-8', { fatal: true, ignoreBOM: true });
 
-class Writer {
-  buf: Uint8Array;
-  view: DataView;
-  pos = 0;
-  constructor(capacity: number) {
-    this.buf = new Uint8Array(Math.max(32, capacity));
-    this.view = new DataView(this.buf.buffer);
-  }
-  private ensure(n: number): void {
-    if (this.pos + n <= this.buf.length) return;
-    let cap = this.buf.length * 2;
-    while (cap < this.pos + n) cap *= 2;
-    const next = new Uint8Array(cap);
-    next.set(this.buf.subarray(0, this.pos));
-    this.buf = next;
-    this.view = new DataView(next.buffer);
-  }
-  u8(v: number): void {
-    this.ensure(1);
-    this.buf[this.pos++] = v & 0xff;
-  }
-  varint(v: number): void {
-    if (!(Number.isInteger(v) && v >= 0 && v <= 0xffffffff)) {
-      throw new RangeError(`net: cannot encode ${String(v)} as a u32 varint`);
-    }
-    this.ensure(5);
-    let x = v >>> 0;
-    while (x >= 0x80) {
-      this.buf[this.pos++] = (x & 0x7f) | 0x80;
-      x >>>= 7;
-    }
-    this.buf[this.pos++] = x;
-  }
-  u32(v: number): void {
-    this.ensure(4);
-    this.view.setUint32(this.pos, v >>> 0, true);
-    this.pos += 4;
-  }
-  u64(v: bigint): void {
-    this.ensure(8);
-    this.view.setBigUint64(this.pos, BigInt.asUintN(64, v), true);
-    this.pos += 8;
-  }
-  f64(v: number): void {
+/** The shared canonical writer, with the protocol's two extra rules. */
+class Writer extends ByteWriter {
+  /** Times must be finite (a NaN or Infinity is a sender bug). */
+  override f64(v: number): this {
     if (!Number.isFinite(v)) throw new RangeError(`net: cannot encode a non-finite time ${v}`);
-    this.ensure(8);
-    this.view.setFloat64(this.pos, v, true);
-    this.pos += 8;
+    return super.f64(v);
   }
-  raw(b: Uint8Array): void {
-    this.ensure(b.length);
-    this.buf.set(b, this.pos);
-    this.pos += b.length;
-  }
-  bytes(b: Uint8Array): void {
+  /** A byte field: varint length, then the bytes. */
+  field(b: Uint8Array): this {
     this.varint(b.length);
-    this.raw(b);
-  }
-  str(s: string): void {
-    this.bytes(encoder.encode(s));
-  }
-  finish(): Uint8Array {
-    return this.buf.slice(0, this.pos);
+    return this.bytes(b);
   }
 }
 
@@ -447,20 +396,9 @@ class Reader {
   }
   varint(what: string): number {
     const at = this.pos;
-    let result = 0;
-    let shift = 0;
-    for (let i = 0; i < 5; i++) {
-      if (this.pos >= this.buf.length) this.fail('TRUNCATED', `${what}: varint runs past the end`);
-      const b = this.buf[this.pos++]!;
-      if (i === 4 && b > 0x0f) this.fail('BAD_VALUE', `${what}: varint above 2^32 - 1`, at);
-      result += (b & 0x7f) * 2 ** shift;
-      if ((b & 0x80) === 0) {
-        if (b === 0 && i > 0) this.fail('BAD_VALUE', `${what}: non-canonical varint`, at);
-        return result;
-      }
-      shift += 7;
-    }
-    return this.fail('BAD_VALUE', `${what}: varint longer than 5 bytes`, at);
+    const v = readVarint(this, this.buf, this.buf.length);
+    if (v === VARINT_TRUNCATED) this.fail('TRUNCATED', `${what}: ${varintProblem(v)}`);
+    return v < 0 ? this.fail('BAD_VALUE', `${what}: ${varintProblem(v)}`, at) : v;
   }
   /** A varint bounded by `max` (inclusive). */
   count(what: string, max: number, min = 0): number {
@@ -583,7 +521,7 @@ export function encodeMessage(m: NetMessage): Uint8Array {
       w.varint(m.players);
       w.u8((m.seed !== undefined ? 1 : 0) | (m.token !== undefined ? 2 : 0));
       if (m.seed !== undefined) w.u32(m.seed);
-      if (m.token !== undefined) w.raw(m.token);
+      if (m.token !== undefined) w.bytes(m.token);
       w.str(m.name);
       break;
     }
@@ -601,13 +539,13 @@ export function encodeMessage(m: NetMessage): Uint8Array {
       w.varint(m.deadlineMs);
       w.varint(m.inputFrom);
       w.varint(m.startTick);
-      w.bytes(m.config);
-      w.bytes(m.token);
+      w.field(m.config);
+      w.field(m.token);
       w.u8((m.startAt !== undefined ? 1 : 0) | (m.snapshot !== undefined ? 2 : 0));
       if (m.startAt !== undefined) w.f64(m.startAt);
       if (m.snapshot !== undefined) {
         check(m.snapshot.length <= limits.maxSnapshotBytes, 'snapshot too large');
-        w.bytes(m.snapshot);
+        w.field(m.snapshot);
       }
       break;
     }
@@ -696,7 +634,7 @@ export function encodeMessage(m: NetMessage): Uint8Array {
       w.varint(m.room);
       w.varint(m.id);
       w.varint(m.tick);
-      w.bytes(m.bytes);
+      w.field(m.bytes);
       break;
     case 'hashes-request':
       check(m.count >= 1 && m.count <= limits.maxHashes, 'hash count');

@@ -1,9 +1,10 @@
 /**
- * Low-level pieces of the replay format (see docs/replay-format.md): constants, a growable byte
- * sink, a bounds-checked cursor that throws {@link ReplayError}s, LEB128 varints, the bit
- * interleave of input words.
+ * Low-level pieces of the replay format (see docs/replay-format.md): constants, a bounds-checked
+ * cursor that throws {@link ReplayError}s, the bit interleave of input words. Bytes are written
+ * with det/bytes.ts's `ByteWriter` and its canonical LEB128 varints.
  * @internal
  */
+import { readVarint, varintProblem } from '../det/bytes.js';
 import { ReplayError } from './errors.js';
 
 /** "FSREPLAY" in ASCII. */
@@ -47,89 +48,6 @@ export function sectionName(id: number): string {
     default:
       return id >= 0x80 ? `ancillary 0x${id.toString(16)}` : `unknown 0x${id.toString(16)}`;
   }
-}
-
-/** A growable little-endian byte buffer; grows by doubling, so appends are amortised O(1). */
-export class ByteSink {
-  private buf: Uint8Array;
-  private view: DataView;
-  private pos = 0;
-
-  constructor(initialCapacity = 64) {
-    this.buf = new Uint8Array(Math.max(16, initialCapacity));
-    this.view = new DataView(this.buf.buffer);
-  }
-
-  get length(): number {
-    return this.pos;
-  }
-
-  private ensure(n: number): void {
-    if (this.pos + n <= this.buf.length) return;
-    let cap = this.buf.length * 2;
-    while (cap < this.pos + n) cap *= 2;
-    const next = new Uint8Array(cap);
-    next.set(this.buf.subarray(0, this.pos));
-    this.buf = next;
-    this.view = new DataView(next.buffer);
-  }
-
-  u8(v: number): void {
-    this.ensure(1);
-    this.buf[this.pos++] = v & 0xff;
-  }
-
-  u32(v: number): void {
-    this.ensure(4);
-    this.view.setUint32(this.pos, v >>> 0, true);
-    this.pos += 4;
-  }
-
-  u64(v: bigint): void {
-    this.ensure(8);
-    this.view.setBigUint64(this.pos, BigInt.asUintN(64, v), true);
-    this.pos += 8;
-  }
-
-  /** Unsigned LEB128 of a u32: 7 bits a byte, low first, high bit = more; minimal length. */
-  varint(v: number): void {
-    this.ensure(5);
-    let x = v >>> 0;
-    while (x >= 0x80) {
-      this.buf[this.pos++] = (x & 0x7f) | 0x80;
-      x >>>= 7;
-    }
-    this.buf[this.pos++] = x;
-  }
-
-  bytes(b: Uint8Array): void {
-    this.ensure(b.length);
-    this.buf.set(b, this.pos);
-    this.pos += b.length;
-  }
-
-  /** A string as varint byte length + UTF-8. */
-  str(s: string): void {
-    const b = utf8Encoder.encode(s);
-    this.varint(b.length);
-    this.bytes(b);
-  }
-
-  /** A view of the bytes written (valid until the next write). */
-  view8(): Uint8Array {
-    return this.buf.subarray(0, this.pos);
-  }
-}
-
-/** How many bytes {@link ByteSink.varint} writes for `v`. */
-export function varintSize(v: number): number {
-  let x = v >>> 0;
-  let n = 1;
-  while (x >= 0x80) {
-    x >>>= 7;
-    n++;
-  }
-  return n;
 }
 
 const utf8Encoder = new TextEncoder();
@@ -196,20 +114,8 @@ export class Cursor {
   /** A canonical unsigned LEB128 u32: at most 5 bytes, value below 2^32, no redundant 0x00 tail. */
   varint(what: string): number {
     const at = this.pos;
-    let result = 0;
-    let scale = 1; // 128^i, exact in a double
-    for (let i = 0; i < 5; i++) {
-      if (this.pos >= this.end) this.fail(`${what}: varint runs past the end`, at);
-      const b = this.buf[this.pos++]!;
-      if (i === 4 && b > 0x0f) this.fail(`${what}: varint above 2^32 - 1`, at);
-      result += (b & 0x7f) * scale;
-      if ((b & 0x80) === 0) {
-        if (b === 0 && i > 0) this.fail(`${what}: non-canonical varint (redundant zero byte)`, at);
-        return result;
-      }
-      scale *= 128;
-    }
-    return this.fail(`${what}: varint longer than 5 bytes`, at);
+    const v = readVarint(this, this.buf, this.end);
+    return v < 0 ? this.fail(`${what}: ${varintProblem(v)}`, at) : v;
   }
 
   bytes(n: number, what: string): Uint8Array {

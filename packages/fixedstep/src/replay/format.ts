@@ -1,3 +1,4 @@
+import { ByteWriter } from '../det/bytes.js';
 import { Fnv1a64 } from '../det/hash.js';
 import { Timestep } from '../time/timestep.js';
 import {
@@ -9,7 +10,6 @@ import {
   MAX_STRING_BYTES,
   SECTION_HEADER_BYTES,
   Section,
-  ByteSink,
   deinterleave,
   gcd,
   low32,
@@ -660,7 +660,7 @@ export interface ReplayParts {
 /** Lays out a whole file — header, sections, checksum — in one exact-size allocation. @internal */
 export function assembleReplay(parts: ReplayParts): Uint8Array {
   const h = parts.header;
-  const game = new ByteSink(64 + h.config.length);
+  const game = new ByteWriter(64 + h.config.length);
   game.str(h.gameId);
   game.str(h.gameVersion);
   game.varint(h.stepNumerator);
@@ -672,7 +672,7 @@ export function assembleReplay(parts: ReplayParts): Uint8Array {
   game.varint(h.players.length);
   for (const name of h.players) game.str(name);
 
-  const ticks = new ByteSink(32);
+  const ticks = new ByteWriter(32);
   ticks.u32(parts.tickCount);
   ticks.u64(parts.finalHash);
   ticks.varint(parts.checkpointEvery);
@@ -680,16 +680,16 @@ export function assembleReplay(parts: ReplayParts): Uint8Array {
 
   let inputLength = 0;
   for (const s of parts.inputStreams) inputLength += s.length + 5;
-  const inputs = new ByteSink(inputLength);
+  const inputs = new ByteWriter(inputLength);
   for (const s of parts.inputStreams) {
     inputs.varint(s.length);
     inputs.bytes(s);
   }
 
   const sections: [number, Uint8Array][] = [
-    [Section.GAME, game.view8()],
-    [Section.TICKS, ticks.view8()],
-    [Section.INPUTS, inputs.view8()],
+    [Section.GAME, game.peek()],
+    [Section.TICKS, ticks.peek()],
+    [Section.INPUTS, inputs.peek()],
     [Section.CHECKPOINTS, parts.checkpoints],
     [Section.KEYFRAMES, parts.keyframes],
   ];

@@ -1,6 +1,7 @@
 import type { Simulation } from '../sim/simulation.js';
 import { Timestep } from '../time/timestep.js';
-import { ByteSink, MAX_STRING_BYTES, gcd, interleave, low32, utf8Length } from './codec.js';
+import { ByteWriter } from '../det/bytes.js';
+import { MAX_STRING_BYTES, gcd, interleave, low32, utf8Length } from './codec.js';
 import { assembleReplay } from './format.js';
 import type { ReplayHeader } from './format.js';
 
@@ -63,14 +64,14 @@ export class ReplayRecorder {
   /** See {@link ReplayRecorderOptions.tickHashes}. */
   readonly withTickHashes: boolean;
 
-  private readonly streams: ByteSink[] = [];
+  private readonly streams: ByteWriter[] = [];
   /** Per player: the interleaved value of the open run, of the run before it, and the open run's length. */
   private readonly runValue: Uint32Array;
   private readonly prevValue: Uint32Array;
   private readonly runLength: Float64Array;
-  private readonly checkpoints = new ByteSink(256);
-  private readonly keyframes = new ByteSink(256);
-  private readonly tickHashSink: ByteSink | null;
+  private readonly checkpoints = new ByteWriter(256);
+  private readonly keyframes = new ByteWriter(256);
+  private readonly tickHashSink: ByteWriter | null;
   private ticks = 0;
   private started = false;
   private initialHash = 0n;
@@ -130,11 +131,11 @@ export class ReplayRecorder {
       players: Object.freeze([...players]),
     });
     const n = players.length;
-    for (let p = 0; p < n; p++) this.streams.push(new ByteSink(64));
+    for (let p = 0; p < n; p++) this.streams.push(new ByteWriter(64));
     this.runValue = new Uint32Array(n);
     this.prevValue = new Uint32Array(n);
     this.runLength = new Float64Array(n);
-    this.tickHashSink = this.withTickHashes ? new ByteSink(1024) : null;
+    this.tickHashSink = this.withTickHashes ? new ByteWriter(1024) : null;
   }
 
   /** Ticks recorded so far. */
@@ -237,11 +238,11 @@ export class ReplayRecorder {
     const streams = this.streams.map((s, p) => {
       if (this.ticks === 0) return new Uint8Array(0);
       // Close the open run on a copy, so recording can continue.
-      const out = new ByteSink(s.length + 10);
-      out.bytes(s.view8());
+      const out = new ByteWriter(s.length + 10);
+      out.bytes(s.peek());
       out.varint((this.runValue[p]! ^ this.prevValue[p]!) >>> 0);
       out.varint(this.runLength[p]! - 1);
-      return out.view8();
+      return out.peek();
     });
     return assembleReplay({
       header: this.header,
@@ -250,9 +251,9 @@ export class ReplayRecorder {
       checkpointEvery: this.checkpointEvery,
       keyframeEvery: this.keyframeEvery,
       inputStreams: streams,
-      checkpoints: this.checkpoints.view8(),
-      keyframes: this.keyframes.view8(),
-      tickHashes: this.tickHashSink?.view8() ?? null,
+      checkpoints: this.checkpoints.peek(),
+      keyframes: this.keyframes.peek(),
+      tickHashes: this.tickHashSink?.peek() ?? null,
     });
   }
 }
