@@ -6,7 +6,18 @@
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
-import { freshRun, num, readouts, shots, skip, useLab, watch } from './harness.js';
+import {
+  freshRun,
+  horizontalOverflow,
+  num,
+  phonePage,
+  readouts,
+  realClockRuns,
+  shots,
+  skip,
+  useLab,
+  watch,
+} from './harness.js';
 
 const lab = useLab();
 
@@ -68,33 +79,18 @@ describe('chapter 3, collisions', () => {
     expect(num(hitch, 'fixed-max-dt')).toBe(30);
 
     // The real clock runs.
-    await page.getByTestId('control-real-clock').click();
-    await page.getByTestId('control-pause').click();
-    await expect
-      .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
-      .toBeGreaterThan(100);
-    await page.getByTestId('control-real-clock').click();
+    await realClockRuns(page);
 
     expect(problems).toEqual([]);
     await page.close();
   });
 
   it('fits a phone screen and works from the keyboard', async () => {
-    const context = await lab.browser.newContext({
-      viewport: { width: 390, height: 844 },
-      deviceScaleFactor: 2,
-      isMobile: true,
-      hasTouch: true,
-    });
-    const page = await context.newPage();
-    const problems = watch(page);
+    const { context, page, problems } = await phonePage(lab.browser);
     await open(page);
     await skip(page);
     await page.screenshot({ path: path.join(shots, 'collisions-phone.png'), fullPage: true });
-    const overflow = await page.evaluate(
-      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
-    );
-    expect(overflow).toBe(0);
+    expect(await horizontalOverflow(page)).toBe(0);
 
     // A slider moves with the arrow keys: 60 → 61 m/s, one step is then 1.83 m.
     await page.getByTestId('control-speed').focus();

@@ -5,7 +5,17 @@
  */
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import { freshRun, num, readouts, shots, skip, useLab, watch } from './harness.js';
+import {
+  freshRun,
+  horizontalOverflow,
+  num,
+  phonePage,
+  readouts,
+  shots,
+  skip,
+  useLab,
+  watch,
+} from './harness.js';
 
 const RATES = [30, 60, 144, 240];
 const lab = useLab();
@@ -98,23 +108,13 @@ describe('chapter 7, debugging', () => {
   });
 
   it('fits a phone screen', async () => {
-    const context = await lab.browser.newContext({
-      viewport: { width: 390, height: 844 },
-      deviceScaleFactor: 2,
-      isMobile: true,
-      hasTouch: true,
-    });
-    const page = await context.newPage();
-    const problems = watch(page);
+    const { context, page, problems } = await phonePage(lab.browser);
     await page.goto(`${lab.server.url}#/debugging`);
     await page.getByTestId('readout-fixed-hashes-equal').waitFor();
     await freshRun(page);
     await skip(page);
     await page.screenshot({ path: path.join(shots, 'debugging-phone.png'), fullPage: true });
-    const overflow = await page.evaluate(
-      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
-    );
-    expect(overflow).toBe(0);
+    expect(await horizontalOverflow(page)).toBe(0);
     expect((await readouts(page))['readout-fixed-hashes-equal']).toBe('true');
     expect(problems).toEqual([]);
     await context.close();

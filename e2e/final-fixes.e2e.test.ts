@@ -4,7 +4,18 @@
  */
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import { freshRun, num, readouts, shots, skip, useLab, watch } from './harness.js';
+import {
+  freshRun,
+  horizontalOverflow,
+  num,
+  phonePage,
+  readouts,
+  realClockRuns,
+  shots,
+  skip,
+  useLab,
+  watch,
+} from './harness.js';
 
 const lab = useLab();
 
@@ -76,35 +87,20 @@ describe('chapter 8, final fixes', () => {
     expect(num(await readouts(page), 'backwards-fixed-backward-frames')).toBe(2);
 
     // The real clock runs both benches on the page's frames.
-    await page.getByTestId('control-real-clock').click();
-    await page.getByTestId('control-pause').click();
-    await expect
-      .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
-      .toBeGreaterThan(500);
-    await page.getByTestId('control-real-clock').click();
+    await realClockRuns(page, 500);
 
     expect(problems).toEqual([]);
     await page.close();
   });
 
   it('fits a phone screen', async () => {
-    const context = await lab.browser.newContext({
-      viewport: { width: 390, height: 844 },
-      deviceScaleFactor: 2,
-      isMobile: true,
-      hasTouch: true,
-    });
-    const page = await context.newPage();
-    const problems = watch(page);
+    const { context, page, problems } = await phonePage(lab.browser);
     await page.goto(`${lab.server.url}#/final-fixes`);
     await page.getByTestId('readout-noclamp-max-steps').waitFor();
     await freshRun(page);
     await skip(page, 3);
     await page.screenshot({ path: path.join(shots, 'final-fixes-phone.png'), fullPage: true });
-    const overflow = await page.evaluate(
-      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
-    );
-    expect(overflow).toBe(0);
+    expect(await horizontalOverflow(page)).toBe(0);
     expect((await readouts(page))['readout-noclamp-stalled']).toBe('true');
     expect(problems).toEqual([]);
     await context.close();

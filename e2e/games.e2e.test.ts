@@ -11,7 +11,16 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/cli';
 import { HighscoreStore, highscoreApi } from '../packages/cli/src/highscores.js';
-import { dist, num, readouts, shots, useLab, watch } from './harness.js';
+import {
+  dist,
+  horizontalOverflow,
+  num,
+  phonePage,
+  readouts,
+  shots,
+  useLab,
+  watch,
+} from './harness.js';
 
 const lab = useLab();
 let api: RunningServer;
@@ -305,24 +314,14 @@ describe('chapter 9, games', () => {
   });
 
   it('fits a phone screen', async () => {
-    const context = await lab.browser.newContext({
-      viewport: { width: 390, height: 844 },
-      deviceScaleFactor: 2,
-      isMobile: true,
-      hasTouch: true,
-    });
-    const page = await context.newPage();
-    const problems = watch(page);
+    const { context, page, problems } = await phonePage(lab.browser);
     await page.goto(`${api.url}#/games?game=survival&seed=7`);
     await page.getByTestId('readout-tick').waitFor();
     await page.getByTestId('control-bot').click();
     await skip(page, 1);
     await pause(page);
     await page.screenshot({ path: path.join(shots, 'games-phone.png'), fullPage: true });
-    const overflow = await page.evaluate(
-      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
-    );
-    expect(overflow).toBe(0);
+    expect(await horizontalOverflow(page)).toBe(0);
     expect(problems).toEqual([]);
     await context.close();
   });

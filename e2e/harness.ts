@@ -7,7 +7,7 @@ import { existsSync, mkdirSync } from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { afterAll, beforeAll, expect } from 'vitest';
-import { chromium, type Browser, type Page } from 'playwright-core';
+import { chromium, type Browser, type BrowserContext, type Page } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/cli';
 
 const repo = fileURLToPath(new URL('..', import.meta.url));
@@ -104,4 +104,36 @@ export async function skip(page: Page, times = 1): Promise<void> {
   const before = await clock(page);
   for (let i = 0; i < times; i++) await page.getByTestId('control-skip').click();
   await expect.poll(() => clock(page)).toBe(before + 5000 * times);
+}
+
+/** A phone-sized page (390 × 844 CSS px, touch, 2× pixels) in a context of its own, watched. */
+export async function phonePage(
+  browser: Browser,
+): Promise<{ context: BrowserContext; page: Page; problems: string[] }> {
+  const context = await browser.newContext({
+    viewport: { width: 390, height: 844 },
+    deviceScaleFactor: 2,
+    isMobile: true,
+    hasTouch: true,
+  });
+  const page = await context.newPage();
+  return { context, page, problems: watch(page) };
+}
+
+/** How many CSS px the page is wider than its window: 0 means no sideways scrolling. */
+export function horizontalOverflow(page: Page): Promise<number> {
+  return page.evaluate(
+    () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
+  );
+}
+
+/**
+ * Switch the (paused) chapter to the real clock, play, wait until its clock has passed `ms`, and
+ * switch back to the simulated display.
+ */
+export async function realClockRuns(page: Page, ms = 100): Promise<void> {
+  await page.getByTestId('control-real-clock').click();
+  await page.getByTestId('control-pause').click();
+  await expect.poll(() => clock(page)).toBeGreaterThan(ms);
+  await page.getByTestId('control-real-clock').click();
 }

@@ -5,7 +5,18 @@
  */
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import { freshRun, num, readouts, shots, skip, useLab, watch } from './harness.js';
+import {
+  freshRun,
+  horizontalOverflow,
+  num,
+  phonePage,
+  readouts,
+  realClockRuns,
+  shots,
+  skip,
+  useLab,
+  watch,
+} from './harness.js';
 
 const FIXED = ['fixed-naive', 'fixed-final', 'fixed'] as const;
 
@@ -124,35 +135,20 @@ describe('chapter 1, the loop', () => {
 
     // Interpolation off and the real clock: no errors, and the real clock moves.
     await page.getByTestId('control-interp').click();
-    await page.getByTestId('control-real-clock').click();
-    await page.getByTestId('control-pause').click();
-    await expect
-      .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
-      .toBeGreaterThan(100);
-    await page.getByTestId('control-real-clock').click();
+    await realClockRuns(page);
 
     expect(problems).toEqual([]);
     await page.close();
   });
 
   it('fits a phone screen and works from the keyboard', async () => {
-    const context = await lab.browser.newContext({
-      viewport: { width: 390, height: 844 },
-      deviceScaleFactor: 2,
-      isMobile: true,
-      hasTouch: true,
-    });
-    const page = await context.newPage();
-    const problems = watch(page);
+    const { context, page, problems } = await phonePage(lab.browser);
     await page.goto(`${lab.server.url}#/loop`);
     await page.getByTestId('readout-fixed-hash').waitFor();
     await freshRun(page, 144);
     await skip(page);
     await page.screenshot({ path: path.join(shots, 'loop-phone.png'), fullPage: true });
-    const overflow = await page.evaluate(
-      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
-    );
-    expect(overflow).toBe(0);
+    expect(await horizontalOverflow(page)).toBe(0);
 
     // The skip button works from the keyboard.
     await page.getByTestId('control-skip').focus();

@@ -4,7 +4,17 @@
  */
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import { freshRun, num, readouts, shots, skip, useLab, watch } from './harness.js';
+import {
+  freshRun,
+  horizontalOverflow,
+  num,
+  phonePage,
+  readouts,
+  shots,
+  skip,
+  useLab,
+  watch,
+} from './harness.js';
 
 const RATES = [30, 60, 144, 240];
 const lab = useLab();
@@ -85,14 +95,7 @@ describe('chapter 2, movement', () => {
   });
 
   it('fits a phone screen and works from the keyboard', async () => {
-    const context = await lab.browser.newContext({
-      viewport: { width: 390, height: 844 },
-      deviceScaleFactor: 2,
-      isMobile: true,
-      hasTouch: true,
-    });
-    const page = await context.newPage();
-    const problems = watch(page);
+    const { context, page, problems } = await phonePage(lab.browser);
     await page.goto(`${lab.server.url}#/movement`);
     await page.getByTestId('readout-fixed-apex-spread').waitFor();
     await freshRun(page);
@@ -102,10 +105,7 @@ describe('chapter 2, movement', () => {
       .poll(() => page.getByTestId('readout-clock').getAttribute('data-value'))
       .toBe('5000');
     await page.screenshot({ path: path.join(shots, 'movement-phone.png'), fullPage: true });
-    const overflow = await page.evaluate(
-      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
-    );
-    expect(overflow).toBe(0);
+    expect(await horizontalOverflow(page)).toBe(0);
     const r = await readouts(page);
     expect(num(r, 'fixed-landing-spread')).toBe(0);
     expect(problems).toEqual([]);

@@ -6,7 +6,18 @@
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
-import { freshRun, num, readouts, shots, skip, useLab, watch } from './harness.js';
+import {
+  freshRun,
+  horizontalOverflow,
+  num,
+  phonePage,
+  readouts,
+  realClockRuns,
+  shots,
+  skip,
+  useLab,
+  watch,
+} from './harness.js';
 
 const lab = useLab();
 
@@ -86,33 +97,18 @@ describe('chapter 4, physics', () => {
     await expect.poll(async () => (await readouts(page))['readout-rope-state']).toBe('swinging');
 
     // The real clock runs.
-    await page.getByTestId('control-real-clock').click();
-    await page.getByTestId('control-pause').click();
-    await expect
-      .poll(async () => Number(await page.getByTestId('readout-clock').getAttribute('data-value')))
-      .toBeGreaterThan(100);
-    await page.getByTestId('control-real-clock').click();
+    await realClockRuns(page);
 
     expect(problems).toEqual([]);
     await page.close();
   });
 
   it('fits a phone screen', async () => {
-    const context = await lab.browser.newContext({
-      viewport: { width: 390, height: 844 },
-      deviceScaleFactor: 2,
-      isMobile: true,
-      hasTouch: true,
-    });
-    const page = await context.newPage();
-    const problems = watch(page);
+    const { context, page, problems } = await phonePage(lab.browser);
     await open(page);
     await skip(page, 2);
     await page.screenshot({ path: path.join(shots, 'physics-phone.png'), fullPage: true });
-    const overflow = await page.evaluate(
-      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
-    );
-    expect(overflow).toBe(0);
+    expect(await horizontalOverflow(page)).toBe(0);
     // A tap on the rope pokes it.
     const rope = page.getByTestId('canvas-rope');
     await rope.scrollIntoViewIfNeeded();

@@ -11,7 +11,16 @@ import type { Page } from 'playwright-core';
 import { readReplay } from 'fixedstep';
 import { startServer, type RunningServer } from '@fixedstep/cli';
 import { HighscoreStore, highscoreApi } from '../packages/cli/src/highscores.js';
-import { dist, num, readouts, shots, useLab, watch } from './harness.js';
+import {
+  dist,
+  horizontalOverflow,
+  num,
+  phonePage,
+  readouts,
+  shots,
+  useLab,
+  watch,
+} from './harness.js';
 
 const lab = useLab();
 /** The lab with the highscore API (the replay view shows the game's table). */
@@ -187,22 +196,12 @@ describe('chapter 5, replays', () => {
   });
 
   it('fits a phone screen', async () => {
-    const context = await lab.browser.newContext({
-      viewport: { width: 390, height: 844 },
-      deviceScaleFactor: 2,
-      isMobile: true,
-      hasTouch: true,
-    });
-    const page = await context.newPage();
-    const problems = watch(page);
+    const { context, page, problems } = await phonePage(lab.browser);
     await openBotGame(page, 'runner');
     await page.getByTestId('control-play').click();
     await page.waitForTimeout(500);
     await page.screenshot({ path: path.join(shots, 'replays-phone.png'), fullPage: true });
-    const overflow = await page.evaluate(
-      () => document.documentElement.scrollWidth - document.documentElement.clientWidth,
-    );
-    expect(overflow).toBe(0);
+    expect(await horizontalOverflow(page)).toBe(0);
     expect(problems).toEqual([]);
     await context.close();
   });
