@@ -27,7 +27,8 @@ import {
   type SliderSpec,
 } from './collisions-lab.js';
 import { CHART_COLORS, WallChart } from './collisions-chart.js';
-import { code, h, setAttr, setText } from '../ui/dom.js';
+import { h, setAttr, setText } from '../ui/dom.js';
+import { ideaCards, type IdeaCard } from '../ui/cards.js';
 import { LabDriver } from '../ui/driver.js';
 import { TimeControls, button, slider, toggle, type Slider } from '../ui/controls.js';
 import * as fmt from '../ui/format.js';
@@ -957,7 +958,7 @@ function rangeSlider(
 }
 
 function ideas(): HTMLElement {
-  const cards: { title: string; color: string; text: string; snippet: string }[] = [
+  const cards: IdeaCard[] = [
     {
       title: 'Discrete detection',
       color: '#94a3b8',
@@ -983,24 +984,12 @@ function ideas(): HTMLElement {
       snippet: 't = timeOfImpact(body, wall)\nx += v * dt * t\nbounce(); sweep the rest',
     },
   ];
-  return h(
-    'section',
-    { class: 'evolution', 'aria-labelledby': 'ideas-title' },
-    h('h2', { id: 'ideas-title' }, 'Why bodies go through walls'),
-    h(
-      'ol',
-      { class: 'evolution-steps idea-cards' },
-      cards.map((c, i) =>
-        h(
-          'li',
-          { class: 'evolution-step', style: `--accent: ${c.color}` },
-          h('h3', {}, h('span', { class: 'step-num' }, String(i + 1)), c.title),
-          h('p', {}, c.text),
-          code(c.snippet),
-        ),
-      ),
-    ),
-  );
+  return ideaCards({
+    id: 'ideas-title',
+    title: 'Why bodies go through walls',
+    cards,
+    listClass: 'idea-cards',
+  });
 }
 
 function legend(): HTMLElement {

@@ -19,7 +19,8 @@ import {
   type PanelSpec,
 } from './loop-lab.js';
 import { button, toggle } from '../ui/controls.js';
-import { code, h, setAttr, setText } from '../ui/dom.js';
+import { h, setAttr, setText } from '../ui/dom.js';
+import { ideaCards, type IdeaCard } from '../ui/cards.js';
 import { LabDriver } from '../ui/driver.js';
 import * as fmt from '../ui/format.js';
 import { StepsChart } from '../ui/steps-chart.js';
@@ -361,7 +362,7 @@ class LoopChapter {
   // ---------------------------------------------------------------- building
 
   private evolution(): HTMLElement {
-    const steps: { title: string; text: string; snippet: string; color: string }[] = [
+    const steps: IdeaCard[] = [
       {
         title: 'Frame-locked',
         color: COLORS['frame-locked']!,
@@ -393,24 +394,7 @@ class LoopChapter {
         snippet: 'n = loop.frame(now)\nfor (…n) world.step()\nrender(loop.alpha)',
       },
     ];
-    return h(
-      'section',
-      { class: 'evolution', 'aria-labelledby': 'evolution-title' },
-      h('h2', { id: 'evolution-title' }, 'How the loop evolved'),
-      h(
-        'ol',
-        { class: 'evolution-steps' },
-        steps.map((s, i) =>
-          h(
-            'li',
-            { class: 'evolution-step', style: `--accent: ${s.color}` },
-            h('h3', {}, h('span', { class: 'step-num' }, String(i + 1)), s.title),
-            h('p', {}, s.text),
-            code(s.snippet),
-          ),
-        ),
-      ),
-    );
+    return ideaCards({ id: 'evolution-title', title: 'How the loop evolved', cards: steps });
   }
 
   private buildPanel(spec: PanelSpec): HTMLElement {

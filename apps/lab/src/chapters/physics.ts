@@ -23,7 +23,8 @@ import {
   type Stability,
 } from './physics-lab.js';
 import { EnergyChart } from './physics-chart.js';
-import { code, h, setAttr, setText } from '../ui/dom.js';
+import { h, setAttr, setText } from '../ui/dom.js';
+import { ideaCards, type IdeaCard } from '../ui/cards.js';
 import { LabDriver } from '../ui/driver.js';
 import { TimeControls, button, toggle } from '../ui/controls.js';
 import * as fmt from '../ui/format.js';
@@ -1238,7 +1239,7 @@ function setLadder(ladder: readonly number[], input: HTMLInputElement, value: nu
 }
 
 function methodsIntro(): HTMLElement {
-  const cards: { title: string; color: string; text: string; snippet: string }[] = [
+  const cards: IdeaCard[] = [
     {
       title: 'Explicit Euler',
       color: COLORS['explicit-euler'],
@@ -1258,24 +1259,12 @@ function methodsIntro(): HTMLElement {
       snippet: 'v += ½a·dt;  x += v·dt\na = force(x) / m\nv += ½a·dt   // velocity Verlet',
     },
   ];
-  return h(
-    'section',
-    { class: 'evolution', 'aria-labelledby': 'methods-title' },
-    h('h2', { id: 'methods-title' }, 'Integrators'),
-    h(
-      'ol',
-      { class: 'evolution-steps method-cards' },
-      cards.map((c, i) =>
-        h(
-          'li',
-          { class: 'evolution-step', style: `--accent: ${c.color}` },
-          h('h3', {}, h('span', { class: 'step-num' }, String(i + 1)), c.title),
-          h('p', {}, c.text),
-          code(c.snippet),
-        ),
-      ),
-    ),
-  );
+  return ideaCards({
+    id: 'methods-title',
+    title: 'Integrators',
+    cards,
+    listClass: 'method-cards',
+  });
 }
 
 function energyLegend(): HTMLElement {
