@@ -1,7 +1,8 @@
 /**
- * What the two shooters share: walls and their collision queries, movement in eight directions,
- * a bullet pool with discrete and continuous detection, the bots' navigation grid, and a helper
- * that plays a game on a simulated display.
+ * What the two shooters share: the game shell (config checks, step and update, snapshots, the
+ * player's walk) and the state's common part, walls and their collision queries, movement in
+ * eight directions, a bullet pool with discrete and continuous detection, the bots' navigation
+ * grid and searches, and a helper that plays a game on a simulated display.
  * @module
  */
 export { Walls, border, mirrored } from './walls.js';
@@ -16,6 +17,8 @@ export {
   dirToward,
   nearestLine,
 } from './motion.js';
+export { ArenaGame, ArenaState } from './game.js';
+export type { ArenaSpec, ArenaStateFormat } from './game.js';
 export { Bullets } from './bullets.js';
 export type { BulletTargets } from './bullets.js';
 export { NavGrid } from './nav.js';

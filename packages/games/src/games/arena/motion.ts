@@ -33,6 +33,10 @@ const S = Math.SQRT1_2;
 export const DIR_X: Readonly<Float64Array> = Float64Array.of(1, S, 0, -S, -1, -S, 0, S);
 export const DIR_Y: Readonly<Float64Array> = Float64Array.of(0, S, 1, S, 0, -S, -1, -S);
 
+/** The input bit of the fire button, and of the strafe button. */
+export const FIRE = 1 << ShooterButtons.fire;
+export const STRAFE = 1 << ShooterButtons.strafe;
+
 const U = 1 << ShooterButtons.up;
 const D = 1 << ShooterButtons.down;
 const L = 1 << ShooterButtons.left;
@@ -95,6 +99,11 @@ export function nearestLine(dx: number, dy: number, out: Float64Array): number {
     }
   }
   return best;
+}
+
+/** `v` kept within [lo, hi] (lo ≤ hi). */
+export function clamp(v: number, lo: number, hi: number): number {
+  return v < lo ? lo : v > hi ? hi : v;
 }
 
 /** Whether `x` is a finite number (for validating loaded state). */

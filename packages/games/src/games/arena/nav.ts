@@ -223,3 +223,18 @@ export class NavGrid {
     return found >= 0;
   }
 }
+
+/**
+ * An arena's navigation grid for its bots, as a getter: built on first use (a few ms), then
+ * shared — it is static data. Cells of 40 units, for a player of radius `playerRadius` with 2
+ * units to spare.
+ */
+export function sharedNav(
+  walls: Walls,
+  width: number,
+  height: number,
+  playerRadius: number,
+): () => NavGrid {
+  let nav: NavGrid | undefined;
+  return () => (nav ??= new NavGrid(walls, width, height, 40, playerRadius + 2));
+}

@@ -3,10 +3,11 @@ import {
   DIR_BUTTONS as DIR_BUTTONS_,
   DIR_X as DIR_X_,
   DIR_Y as DIR_Y_,
-  ShooterButtons,
-  dirToward as dirToward_,
+  FIRE,
+  STRAFE,
   nearestLine as nearestLine_,
 } from '../arena/motion.js';
+import { nearestVisible as nearestVisible_, walkTo as walkTo_ } from '../arena/seek.js';
 import {
   CTF as CTF_,
   FLAG_STAND_X as FLAG_STAND_X_,
@@ -22,8 +23,9 @@ import type { CtfGame } from './game.js';
 const DIR_BUTTONS = DIR_BUTTONS_;
 const DIR_X = DIR_X_;
 const DIR_Y = DIR_Y_;
-const dirToward = dirToward_;
 const nearestLine = nearestLine_;
+const nearestVisible = nearestVisible_;
+const walkTo = walkTo_;
 const CTF = CTF_;
 const FLAG_STAND_X = FLAG_STAND_X_;
 const FLAG_STAND_Y = FLAG_STAND_Y_;
@@ -31,8 +33,6 @@ const GUARD_X = GUARD_X_;
 const GUARD_Y = GUARD_Y_;
 const ctfNav = ctfNav_;
 
-const FIRE = 1 << ShooterButtons.fire;
-const STRAFE = 1 << ShooterButtons.strafe;
 /** Farther than this, a bot does not shoot (a bullet flies 720 units). */
 const RANGE = 320;
 /** An attacker ignores enemies farther than this. */
@@ -63,9 +63,9 @@ function laneOf(seed: number, slot: number, tick: number): number {
   return (h >>> 0) % 4;
 }
 
-/** Scratch (never state): a signed distance, a waypoint. */
+/** Scratch (never state): a signed distance, a squared one. */
 const perp = new Float64Array(1);
-const wp = new Float64Array(2);
+const dist2 = new Float64Array(1);
 
 /**
  * The capture-the-flag AI, for one slot: a pure function of the state (it reads, never writes,
@@ -98,19 +98,21 @@ export function ctfBotInput(game: CtfGame, p: number): ButtonInput {
   const runner = role === 0;
   // A carrier does not stop to fight: it runs home.
   const range = carrying ? 0 : defender ? RANGE : runner ? RUNNER_RANGE : ATTACKER_RANGE;
-  let target = -1;
-  let best = range * range;
-  for (let q = foe; q < CTF.slots; q += 2) {
-    if (s.alive[q] === 0) continue;
-    const ex = s.x[q]! - x;
-    const ey = s.y[q]! - y;
-    const d2 = ex * ex + ey * ey;
-    if (d2 >= best) continue;
-    // Clear for the bullet and most of its spread.
-    if (!walls.clear(x, y, s.x[q]!, s.y[q]!, LOS_CLEARANCE)) continue;
-    best = d2;
-    target = q;
-  }
+  // In sight: clear for the bullet and most of its spread. The enemies are on every other slot.
+  const target = nearestVisible(
+    walls,
+    x,
+    y,
+    range,
+    LOS_CLEARANCE,
+    s.alive,
+    s.x,
+    s.y,
+    dist2,
+    foe,
+    2,
+  );
+  const best = dist2[0]!;
   let line = -1;
   if (target >= 0) {
     // No lead: a target that is itself sidestepping reverses every few ticks, and leading it
@@ -171,6 +173,5 @@ export function ctfBotInput(game: CtfGame, p: number): ButtonInput {
   const dx = gx - x;
   const dy = gy - y;
   if (dx * dx + dy * dy < 16) return 0;
-  ctfNav().waypoint(x, y, gx, gy, wp);
-  return DIR_BUTTONS[dirToward(wp[0]! - x, wp[1]! - y)]!;
+  return walkTo(ctfNav(), x, y, gx, gy);
 }

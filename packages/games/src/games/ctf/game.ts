@@ -1,20 +1,17 @@
 import {
-  ByteReader,
-  ByteWriter,
-  Random,
   dsincos as dsincos_,
-  fnv1a64,
   isDown as isDown_,
   type ButtonInput,
+  type ByteReader,
+  type ByteWriter,
 } from 'fixedstep';
-import type { Game, GameConfig, GameInfo } from '../game.js';
-import { Bullets, type BulletTargets } from '../arena/bullets.js';
+import type { GameConfig } from '../game.js';
+import type { BulletTargets } from '../arena/bullets.js';
+import { ArenaGame, ArenaState, arenaInfo } from '../arena/game.js';
 import {
   DIR_X as DIR_X_,
   DIR_Y as DIR_Y_,
-  SHOOTER_BUTTON_INFO,
   ShooterButtons as ShooterButtons_,
-  inputDir as inputDir_,
   isFiniteNumber,
 } from '../arena/motion.js';
 import {
@@ -34,14 +31,11 @@ const dsincos = dsincos_;
 const isDown = isDown_;
 const DIR_X = DIR_X_;
 const DIR_Y = DIR_Y_;
-const inputDir = inputDir_;
 const ShooterButtons = ShooterButtons_;
 const CTF = CTF_;
 const FLAG_STAND_X = FLAG_STAND_X_;
 const FLAG_STAND_Y = FLAG_STAND_Y_;
 const ctfBotInput = ctfBotInput_;
-/** The fixed step: 60 Hz. */
-const STEP = 1 / 60;
 const SLOTS = CTF.slots;
 const R = CTF.playerRadius;
 const MAGIC = 0x31465443; // "CTF1"
@@ -60,18 +54,7 @@ export const FlagState = {
 export const NO_CARRIER = 255;
 
 /** Capture the flag's identity, for the registry, replays and the lab. */
-export const CTF_INFO: GameInfo = Object.freeze({
-  id: 'ctf',
-  version: CTF_VERSION,
-  title: 'Capture the flag',
-  /** Highscore tables rank by player 0's kills. */
-  scoreKey: 'kills',
-  stepSeconds: STEP,
-  tickRate: 60,
-  minPlayers: 1,
-  maxPlayers: 4,
-  buttons: SHOOTER_BUTTON_INFO,
-});
+export const CTF_INFO = arenaInfo('ctf', CTF_VERSION, 'Capture the flag', 4);
 
 /** Options of a {@link CtfGame} beyond the {@link GameConfig}. */
 export interface CtfOptions extends GameConfig {
@@ -87,12 +70,7 @@ export interface CtfOptions extends GameConfig {
  * slot & 1, 0 red, 1 blue), flags by team, bullets in a pool. Everything here is saved, loaded
  * and hashed — except `prevX`/`prevY` (render interpolation only).
  */
-export class CtfState {
-  tick = 0;
-  /** Simulated seconds: `tick × step` under {@link CtfGame.step}, a sum of Δt under `update`. */
-  clock = 0;
-  over = 0;
-  readonly rng = new Random(0);
+export class CtfState extends ArenaState {
   /** Captures by team. */
   readonly score = new Uint32Array(2);
   /** Shots fired by everyone. */
@@ -100,31 +78,15 @@ export class CtfState {
   /** Times a player's path went through a wall (a diagnostic; only possible under `update`). */
   playersThroughWalls = 0;
 
-  /** 1 for a slot in play (a human or a bot). */
-  readonly active = new Uint8Array(SLOTS);
-  readonly alive = new Uint8Array(SLOTS);
   /** Hits left before dying (while alive). */
   readonly health = new Uint8Array(SLOTS);
-  /** Facing direction 0–7 (see `DIR_X`). */
-  readonly facing = new Uint8Array(SLOTS);
-  readonly x = new Float64Array(SLOTS);
-  readonly y = new Float64Array(SLOTS);
-  /** Velocity of the last move, units per second. */
-  readonly vx = new Float64Array(SLOTS);
-  readonly vy = new Float64Array(SLOTS);
-  /** Seconds until the next shot is allowed. */
-  readonly cooldown = new Float64Array(SLOTS);
   /** Seconds until respawn (while dead). */
   readonly respawn = new Float64Array(SLOTS);
   /** Seconds of spawn protection left. */
   readonly protect = new Float64Array(SLOTS);
-  readonly kills = new Uint32Array(SLOTS);
   readonly deaths = new Uint32Array(SLOTS);
   /** Flags captured. */
   readonly captures = new Uint32Array(SLOTS);
-  /** Position before the last step (render interpolation; not saved). */
-  readonly prevX = new Float64Array(SLOTS);
-  readonly prevY = new Float64Array(SLOTS);
 
   /** Flags by team: {@link FlagState}, carrier slot (or {@link NO_CARRIER}), position, return timer. */
   readonly flagState = new Uint8Array(2);
@@ -133,12 +95,18 @@ export class CtfState {
   readonly flagY = new Float64Array(2);
   readonly flagTimer = new Float64Array(2);
 
-  readonly bullets = new Bullets(CTF.bulletCapacity, CTF.bulletRadius);
+  constructor() {
+    super({
+      magic: MAGIC,
+      what: 'capture-the-flag state',
+      slots: SLOTS,
+      maxTeam: 1,
+      bulletCapacity: CTF.bulletCapacity,
+      bulletRadius: CTF.bulletRadius,
+    });
+  }
 
-  /** Canonical bytes. */
-  write(w: ByteWriter, players: number): void {
-    w.u32(MAGIC).u8(players).u32(this.tick).f64(this.clock).u8(this.over);
-    w.ints(this.rng.getState());
+  protected override writeBody(w: ByteWriter): void {
     w.ints(this.score).u32(this.shots).u32(this.playersThroughWalls);
     w.ints(this.active).ints(this.alive).ints(this.health).ints(this.facing);
     w.f64s(this.x).f64s(this.y).f64s(this.vx).f64s(this.vy);
@@ -146,23 +114,9 @@ export class CtfState {
     w.ints(this.kills).ints(this.deaths).ints(this.captures);
     w.ints(this.flagState).ints(this.flagCarrier);
     w.f64s(this.flagX).f64s(this.flagY).f64s(this.flagTimer);
-    this.bullets.write(w);
   }
 
-  /** Read and validate {@link write}'s bytes; throws a RangeError naming the first problem. */
-  read(bytes: Uint8Array, players: number): void {
-    const r = new ByteReader(bytes);
-    if (r.u32() !== MAGIC) throw new RangeError('not a capture-the-flag state');
-    const p = r.u8();
-    if (p !== players) {
-      throw new RangeError(`the state is of a game for ${p} players, this one has ${players}`);
-    }
-    this.tick = r.u32();
-    this.clock = r.f64();
-    this.over = r.u8();
-    const rng = new Uint32Array(4);
-    r.ints(rng);
-    this.rng.setState(rng);
+  protected override readBody(r: ByteReader): void {
     r.ints(this.score);
     this.shots = r.u32();
     this.playersThroughWalls = r.u32();
@@ -185,10 +139,9 @@ export class CtfState {
     r.f64s(this.flagX);
     r.f64s(this.flagY);
     r.f64s(this.flagTimer);
-    this.bullets.read(r, SLOTS - 1, 1);
-    r.end();
-    if (!(this.clock >= 0 && isFiniteNumber(this.clock))) throw new RangeError('bad clock');
-    if (this.over > 1) throw new RangeError(`bad over flag ${this.over}`);
+  }
+
+  protected override validate(): void {
     for (let s = 0; s < SLOTS; s++) {
       if (this.active[s]! > 1 || this.alive[s]! > this.active[s]!) {
         throw new RangeError(`player ${s}: bad active/alive flags`);
@@ -228,36 +181,18 @@ export class CtfState {
         throw new RangeError(`flag ${t}: a number is not finite`);
       }
     }
-    this.prevX.set(this.x);
-    this.prevY.set(this.y);
   }
 
-  /** Make this state a copy of `o` (used by `load` once the bytes have been validated). */
-  copyFrom(o: CtfState): void {
-    this.tick = o.tick;
-    this.clock = o.clock;
-    this.over = o.over;
-    this.rng.setState(o.rng.getState());
+  protected override copyBody(o: this): void {
     this.score.set(o.score);
     this.shots = o.shots;
     this.playersThroughWalls = o.playersThroughWalls;
     for (const k of [
-      'active',
-      'alive',
       'health',
-      'facing',
-      'x',
-      'y',
-      'vx',
-      'vy',
-      'cooldown',
       'respawn',
       'protect',
-      'kills',
       'deaths',
       'captures',
-      'prevX',
-      'prevY',
       'flagState',
       'flagCarrier',
       'flagX',
@@ -266,19 +201,18 @@ export class CtfState {
     ] as const) {
       this[k].set(o[k]);
     }
-    this.bullets.copyFrom(o.bullets);
   }
 }
 
-/** Scratch for push-out results and a sine and cosine; never part of any state. */
-const moved = new Float64Array(2);
+/** Scratch for a sine and cosine; never part of any state. */
 const sc = new Float64Array(2);
 
 /**
  * Capture the flag, as in the talk's demo ("Kills: 1, Flags captured: 0"): a top-down arena with
  * walls, some of them thin (4 units), two teams of four (red left, blue right; 1–4 human or
  * bot players on slots 0–3, AI bots on the rest), fast bullets (15 units per step), flags,
- * respawns. One hit kills; a carrier who dies drops the flag where it fell.
+ * respawns. One hit kills; a carrier who dies drops the flag where it fell. The match is over
+ * when a team reaches the capture limit or time runs out.
  *
  * - {@link step} is the real game: a fixed 1/60 s step, bullets swept against walls and players
  *   (continuous detection), walls that satisfy the talk's rule for every other body
@@ -292,17 +226,9 @@ const sc = new Float64Array(2);
  * slots is {@link ctfBotInput} — the same function the registry's bot uses for human slots —
  * evaluated for every bot before anything moves.
  */
-export class CtfGame implements Game, BulletTargets {
-  readonly info = CTF_INFO;
-  /** Human (or externally driven) players: slots 0 … players − 1. */
-  readonly players: number;
+export class CtfGame extends ArenaGame<CtfState> implements BulletTargets {
   /** Whether the other slots are filled with AI bots. */
   readonly fill: boolean;
-  readonly seed: number;
-  /** The state. Read it freely (renderers, bots); change it only through the game. */
-  readonly state = new CtfState();
-  /** The walls (static). */
-  readonly walls = CTF_WALLS;
 
   // BulletTargets: the players.
   readonly targetCount = SLOTS;
@@ -311,24 +237,13 @@ export class CtfGame implements Game, BulletTargets {
   readonly targetRadius = R;
 
   private readonly inputs = new Uint32Array(SLOTS);
-  private readonly writer = new ByteWriter(8192);
-  private scratch: CtfState | null = null;
 
   constructor(options: CtfOptions) {
-    const { seed, players } = options;
-    if (!Number.isInteger(seed) || seed < 0 || seed > 0xffffffff) {
-      throw new RangeError(`CtfGame: seed must be a u32, got ${String(seed)}`);
-    }
-    if (!Number.isInteger(players) || players < 1 || players > 4) {
-      throw new RangeError(`CtfGame: players must be from 1 to 4, got ${String(players)}`);
-    }
-    this.seed = seed;
-    this.players = players;
+    super('CtfGame', CTF_INFO, CTF, CTF_WALLS, () => new CtfState(), options);
     this.fill = options.fill ?? true;
     const s = this.state;
-    s.rng.seed(seed);
     for (let p = 0; p < SLOTS; p++) {
-      if (p >= players && !this.fill) continue;
+      if (p >= this.players && !this.fill) continue;
       s.active[p] = 1;
       this.spawn(p, p >> 1);
     }
@@ -337,41 +252,8 @@ export class CtfGame implements Game, BulletTargets {
     s.prevY.set(s.y);
   }
 
-  /** Steps (or updates) so far. */
-  get tick(): number {
-    return this.state.tick;
-  }
-
-  /** Whether the match has ended (a team reached the capture limit or time ran out); later steps only count ticks. */
-  get over(): boolean {
-    return this.state.over === 1;
-  }
-
-  /** One fixed step of 1/60 s with continuous detection for bullets. `inputs[p]` drives slot p (missing: nothing held). */
-  step(inputs: readonly ButtonInput[]): void {
-    this.advance(STEP, inputs, true);
-    const s = this.state;
-    s.tick++;
-    s.clock = s.tick * STEP;
-  }
-
-  /**
-   * The naive variable-Δt game (for the lab's demo): advance by `dt` seconds with discrete
-   * detection only. Not deterministic across frame rates — the point of the demo. Do not mix with
-   * {@link step} in one game.
-   */
-  update(dt: number, inputs: readonly ButtonInput[]): void {
-    if (!(dt >= 0 && isFiniteNumber(dt))) {
-      throw new RangeError(`CtfGame.update: dt must be a finite number ≥ 0, got ${String(dt)}`);
-    }
-    this.advance(dt, inputs, false);
-    const s = this.state;
-    s.tick++;
-    s.clock += dt;
-  }
-
   /** Player 0's numbers, as on the slide ("Kills: 1, Flags captured: 0"), and the match's. */
-  hud(): Readonly<Record<string, number>> {
+  override hud(): Readonly<Record<string, number>> {
     const s = this.state;
     return {
       kills: s.kills[0]!,
@@ -384,23 +266,6 @@ export class CtfGame implements Game, BulletTargets {
     };
   }
 
-  save(): Uint8Array {
-    this.state.write(this.writer.reset(), this.players);
-    return this.writer.finish();
-  }
-
-  /** Restore a {@link save}d state of a game with the same number of players; RangeError on bad bytes (the game is then unchanged). */
-  load(bytes: Uint8Array): void {
-    this.scratch ??= new CtfState();
-    this.scratch.read(bytes, this.players);
-    this.state.copyFrom(this.scratch);
-  }
-
-  hash(): bigint {
-    this.state.write(this.writer.reset(), this.players);
-    return fnv1a64(this.writer.peek());
-  }
-
   /** Team of a slot: 0 red, 1 blue. */
   teamOf(slot: number): number {
     return slot & 1;
@@ -411,22 +276,6 @@ export class CtfGame implements Game, BulletTargets {
     const s = this.state;
     const t = 1 - (slot & 1);
     return s.flagState[t] === FlagState.carried && s.flagCarrier[t] === slot ? t : -1;
-  }
-
-  /**
-   * Put a living player somewhere, facing `facing` (0–7): for experiments and the lab's
-   * set-ups. Changes the state like a step would (deterministically).
-   */
-  place(slot: number, x: number, y: number, facing: number): void {
-    const s = this.state;
-    if (!(slot >= 0 && slot < SLOTS && s.alive[slot] === 1)) {
-      throw new RangeError(`CtfGame.place: slot ${slot} is not a living player`);
-    }
-    s.x[slot] = x;
-    s.y[slot] = y;
-    s.prevX[slot] = x;
-    s.prevY[slot] = y;
-    s.facing[slot] = facing & 7;
   }
 
   // --- BulletTargets ---
@@ -445,7 +294,7 @@ export class CtfGame implements Game, BulletTargets {
 
   // --- the rules ---
 
-  private advance(dt: number, given: readonly ButtonInput[], continuous: boolean): void {
+  protected override advance(dt: number, given: readonly ButtonInput[], continuous: boolean): void {
     const s = this.state;
     if (s.over === 1) return;
     const inputs = this.inputs;
@@ -473,25 +322,9 @@ export class CtfGame implements Game, BulletTargets {
       s.prevX[p] = x;
       s.prevY[p] = y;
       if (s.alive[p] === 0) continue;
-      const input = inputs[p]!;
-      const d = inputDir(input);
-      if (d < 0) {
-        s.vx[p] = 0;
-        s.vy[p] = 0;
-        continue;
+      if (this.walk(p, inputs[p]!, dt) && this.walls.crosses(x, y, s.x[p]!, s.y[p]!)) {
+        s.playersThroughWalls++;
       }
-      if (!isDown(input, ShooterButtons.strafe)) s.facing[p] = d;
-      const vx = DIR_X[d]! * CTF.playerSpeed;
-      const vy = DIR_Y[d]! * CTF.playerSpeed;
-      s.vx[p] = vx;
-      s.vy[p] = vy;
-      this.walls.pushOut(x + vx * dt, y + vy * dt, R, moved);
-      // Keep everyone on the field whatever happened (the naive game can push one out of it).
-      const nx = Math.min(CTF.width - R, Math.max(R, moved[0]!));
-      const ny = Math.min(CTF.height - R, Math.max(R, moved[1]!));
-      if (this.walls.crosses(x, y, nx, ny)) s.playersThroughWalls++;
-      s.x[p] = nx;
-      s.y[p] = ny;
     }
     // Fire.
     const bullets = s.bullets;

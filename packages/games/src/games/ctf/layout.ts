@@ -1,4 +1,4 @@
-import { NavGrid } from '../arena/nav.js';
+import { sharedNav, type NavGrid } from '../arena/nav.js';
 import { Walls, border, mirrored, type Rect } from '../arena/walls.js';
 
 /**
@@ -95,10 +95,5 @@ export const CTF_WALLS = new Walls([
   ...CENTRE,
 ]);
 
-let nav: NavGrid | undefined;
-
 /** The bots' navigation grid (built on first use, then shared: it is static data). */
-export function ctfNav(): NavGrid {
-  nav ??= new NavGrid(CTF_WALLS, CTF.width, CTF.height, 40, CTF.playerRadius + 2);
-  return nav;
-}
+export const ctfNav: () => NavGrid = sharedNav(CTF_WALLS, CTF.width, CTF.height, CTF.playerRadius);

@@ -3,10 +3,15 @@ import {
   DIR_BUTTONS as DIR_BUTTONS_,
   DIR_X as DIR_X_,
   DIR_Y as DIR_Y_,
-  ShooterButtons,
-  dirToward as dirToward_,
+  FIRE,
+  STRAFE,
   nearestLine as nearestLine_,
 } from '../arena/motion.js';
+import {
+  nearestLive as nearestLive_,
+  nearestVisible as nearestVisible_,
+  walkTo as walkTo_,
+} from '../arena/seek.js';
 import { SURVIVAL as SURVIVAL_, survivalNav as survivalNav_ } from './layout.js';
 import type { SurvivalGame } from './game.js';
 
@@ -15,12 +20,12 @@ import type { SurvivalGame } from './game.js';
 const DIR_BUTTONS = DIR_BUTTONS_;
 const DIR_X = DIR_X_;
 const DIR_Y = DIR_Y_;
-const dirToward = dirToward_;
 const nearestLine = nearestLine_;
+const nearestLive = nearestLive_;
+const nearestVisible = nearestVisible_;
+const walkTo = walkTo_;
 const SURVIVAL = SURVIVAL_;
 const survivalNav = survivalNav_;
-const FIRE = 1 << ShooterButtons.fire;
-const STRAFE = 1 << ShooterButtons.strafe;
 /** Farther than this, the bot does not shoot. */
 const RANGE = 480;
 /** A shot is taken when the target is within this of a firing line. */
@@ -32,9 +37,9 @@ const CALM = 90;
 /** Enemies nearer than this to a probe point count as danger. */
 const DANGER = 200;
 
-/** Scratch (never state). */
+/** Scratch (never state): a signed distance, a squared one. */
 const perp = new Float64Array(1);
-const wp = new Float64Array(2);
+const dist2 = new Float64Array(1);
 
 /**
  * The survival bot, for one player: a pure function of the state (reads only, no random
@@ -53,18 +58,8 @@ export function survivalBotInput(game: SurvivalGame, p: number): ButtonInput {
   const y = s.y[p]!;
 
   // The nearest visible enemy in range, and how to line up a shot at it.
-  let target = -1;
-  let best = RANGE * RANGE;
-  for (let e = 0; e < SURVIVAL.enemyCapacity; e++) {
-    if (s.enemyAlive[e] === 0) continue;
-    const dx = s.ex[e]! - x;
-    const dy = s.ey[e]! - y;
-    const d2 = dx * dx + dy * dy;
-    if (d2 >= best) continue;
-    if (!walls.clear(x, y, s.ex[e]!, s.ey[e]!, SURVIVAL.bulletRadius + 4)) continue;
-    best = d2;
-    target = e;
-  }
+  const clearance = SURVIVAL.bulletRadius + 4;
+  const target = nearestVisible(walls, x, y, RANGE, clearance, s.enemyAlive, s.ex, s.ey, dist2);
   let line = -1;
   let aligned = false;
   if (target >= 0) {
@@ -75,32 +70,10 @@ export function survivalBotInput(game: SurvivalGame, p: number): ButtonInput {
 
   // Nothing in sight and nothing near: go and find the nearest enemy (the wave will not end
   // while one waits behind a wall).
-  if (target < 0) {
-    let nearest = -1;
-    let nd2 = Infinity;
-    for (let e = 0; e < SURVIVAL.enemyCapacity; e++) {
-      if (s.enemyAlive[e] === 0) continue;
-      const dx = s.ex[e]! - x;
-      const dy = s.ey[e]! - y;
-      const d2 = dx * dx + dy * dy;
-      if (d2 < nd2) {
-        nd2 = d2;
-        nearest = e;
-      }
-    }
-    if (nearest >= 0 && nd2 > DANGER * DANGER) {
-      survivalNav().waypoint(x, y, s.ex[nearest]!, s.ey[nearest]!, wp);
-      return DIR_BUTTONS[dirToward(wp[0]! - x, wp[1]! - y)]!;
-    }
-  }
-
-  let nearest2 = Infinity;
-  for (let e = 0; e < SURVIVAL.enemyCapacity; e++) {
-    if (s.enemyAlive[e] === 0) continue;
-    const dx = s.ex[e]! - x;
-    const dy = s.ey[e]! - y;
-    const d2 = dx * dx + dy * dy;
-    if (d2 < nearest2) nearest2 = d2;
+  const nearest = nearestLive(x, y, s.enemyAlive, s.ex, s.ey, dist2);
+  const nearest2 = dist2[0]!;
+  if (target < 0 && nearest >= 0 && nearest2 > DANGER * DANGER) {
+    return walkTo(survivalNav(), x, y, s.ex[nearest]!, s.ey[nearest]!);
   }
 
   // Where to go: score standing still and the eight directions.

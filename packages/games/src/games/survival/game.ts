@@ -1,21 +1,15 @@
-import {
-  ByteReader,
-  ByteWriter,
-  Random,
-  fnv1a64,
-  isDown as isDown_,
-  type ButtonInput,
-} from 'fixedstep';
-import type { Game, GameConfig, GameInfo } from '../game.js';
-import { Bullets, type BulletTargets } from '../arena/bullets.js';
+import { isDown as isDown_, type ButtonInput, type ByteReader, type ByteWriter } from 'fixedstep';
+import type { GameConfig } from '../game.js';
+import type { BulletTargets } from '../arena/bullets.js';
+import { ArenaGame, ArenaState, arenaInfo } from '../arena/game.js';
 import {
   DIR_X as DIR_X_,
   DIR_Y as DIR_Y_,
-  SHOOTER_BUTTON_INFO,
   ShooterButtons as ShooterButtons_,
-  inputDir as inputDir_,
+  clamp as clamp_,
   isFiniteNumber,
 } from '../arena/motion.js';
+import { nearestLive as nearestLive_ } from '../arena/seek.js';
 import {
   START_X,
   START_Y,
@@ -32,11 +26,10 @@ import {
 const isDown = isDown_;
 const DIR_X = DIR_X_;
 const DIR_Y = DIR_Y_;
-const inputDir = inputDir_;
 const ShooterButtons = ShooterButtons_;
+const clamp = clamp_;
+const nearestLive = nearestLive_;
 const SURVIVAL = SURVIVAL_;
-/** The fixed step: 60 Hz. */
-const STEP = 1 / 60;
 const PLAYERS = SURVIVAL.maxPlayers;
 const CAP = SURVIVAL.enemyCapacity;
 const PR = SURVIVAL.playerRadius;
@@ -52,18 +45,7 @@ export const WavePhase = {
 } as const;
 
 /** Survival's identity, for the registry, replays and the lab. */
-export const SURVIVAL_INFO: GameInfo = Object.freeze({
-  id: 'survival',
-  version: SURVIVAL_VERSION,
-  title: 'Survival',
-  /** Highscore tables rank by player 0's kills. */
-  scoreKey: 'kills',
-  stepSeconds: STEP,
-  tickRate: 60,
-  minPlayers: 1,
-  maxPlayers: PLAYERS,
-  buttons: SHOOTER_BUTTON_INFO,
-});
+export const SURVIVAL_INFO = arenaInfo('survival', SURVIVAL_VERSION, 'Survival', PLAYERS);
 
 /** Options of a {@link SurvivalGame} beyond the {@link GameConfig}. */
 export interface SurvivalOptions extends GameConfig {
@@ -78,12 +60,7 @@ export interface SurvivalOptions extends GameConfig {
  * pools (a new one takes the lowest free slot; a removed one's slot is zeroed). Everything is
  * saved, loaded and hashed except `prevX`/`prevY` (render interpolation only).
  */
-export class SurvivalState {
-  tick = 0;
-  /** Simulated seconds: `tick × step` under `step`, a sum of Δt under `update`. */
-  clock = 0;
-  over = 0;
-  readonly rng = new Random(0);
+export class SurvivalState extends ArenaState {
   /** The current wave (0 before the first). */
   wave = 0;
   /** {@link WavePhase}. */
@@ -99,20 +76,9 @@ export class SurvivalState {
   /** Serial of the next enemy (unique per enemy in a game). */
   nextEnemy = 1;
 
-  readonly active = new Uint8Array(PLAYERS);
-  readonly alive = new Uint8Array(PLAYERS);
-  readonly facing = new Uint8Array(PLAYERS);
   readonly lives = new Uint8Array(PLAYERS);
-  readonly x = new Float64Array(PLAYERS);
-  readonly y = new Float64Array(PLAYERS);
-  readonly vx = new Float64Array(PLAYERS);
-  readonly vy = new Float64Array(PLAYERS);
-  readonly cooldown = new Float64Array(PLAYERS);
   /** Seconds of invulnerability left. */
   readonly invulnerable = new Float64Array(PLAYERS);
-  readonly kills = new Uint32Array(PLAYERS);
-  readonly prevX = new Float64Array(PLAYERS);
-  readonly prevY = new Float64Array(PLAYERS);
 
   readonly enemyAlive = new Uint8Array(CAP);
   readonly enemySerial = new Uint32Array(CAP);
@@ -129,11 +95,18 @@ export class SurvivalState {
   /** Live enemies. */
   enemies = 0;
 
-  readonly bullets = new Bullets(SURVIVAL.bulletCapacity, SURVIVAL.bulletRadius);
+  constructor() {
+    super({
+      magic: MAGIC,
+      what: 'survival state',
+      slots: PLAYERS,
+      maxTeam: 0,
+      bulletCapacity: SURVIVAL.bulletCapacity,
+      bulletRadius: SURVIVAL.bulletRadius,
+    });
+  }
 
-  write(w: ByteWriter, players: number): void {
-    w.u32(MAGIC).u8(players).u32(this.tick).f64(this.clock).u8(this.over);
-    w.ints(this.rng.getState());
+  protected override writeBody(w: ByteWriter): void {
     w.u32(this.wave).u8(this.phase).f64(this.timer).u32(this.toSpawn).u32(this.cleared);
     w.u32(this.enemiesThroughWalls).u32(this.nextEnemy);
     w.ints(this.active).ints(this.alive).ints(this.facing).ints(this.lives);
@@ -142,23 +115,9 @@ export class SurvivalState {
     w.ints(this.enemyAlive).ints(this.enemySerial);
     w.f64s(this.ex).f64s(this.ey).f64s(this.evx).f64s(this.evy).f64s(this.espeed);
     w.ints(this.eslide);
-    this.bullets.write(w);
   }
 
-  /** Read and validate {@link write}'s bytes; throws a RangeError naming the first problem. */
-  read(bytes: Uint8Array, players: number): void {
-    const r = new ByteReader(bytes);
-    if (r.u32() !== MAGIC) throw new RangeError('not a survival state');
-    const p = r.u8();
-    if (p !== players) {
-      throw new RangeError(`the state is of a game for ${p} players, this one has ${players}`);
-    }
-    this.tick = r.u32();
-    this.clock = r.f64();
-    this.over = r.u8();
-    const rng = new Uint32Array(4);
-    r.ints(rng);
-    this.rng.setState(rng);
+  protected override readBody(r: ByteReader): void {
     this.wave = r.u32();
     this.phase = r.u8();
     this.timer = r.f64();
@@ -185,11 +144,10 @@ export class SurvivalState {
     r.f64s(this.evy);
     r.f64s(this.espeed);
     r.ints(this.eslide);
-    this.bullets.read(r, PLAYERS - 1, 0);
-    r.end();
-    if (!(this.clock >= 0 && isFiniteNumber(this.clock))) throw new RangeError('bad clock');
+  }
+
+  protected override validate(players: number): void {
     if (!isFiniteNumber(this.timer)) throw new RangeError('bad wave timer');
-    if (this.over > 1) throw new RangeError(`bad over flag ${this.over}`);
     if (this.phase > 1) throw new RangeError(`bad wave phase ${this.phase}`);
     if (this.toSpawn > 1000 || this.wave > 1_000_000) throw new RangeError('bad wave counters');
     for (let s = 0; s < PLAYERS; s++) {
@@ -226,18 +184,11 @@ export class SurvivalState {
       }
     }
     this.enemies = n;
-    this.prevX.set(this.x);
-    this.prevY.set(this.y);
     this.enemyPrevX.set(this.ex);
     this.enemyPrevY.set(this.ey);
   }
 
-  /** Make this state a copy of `o` (used by `load` once the bytes have been validated). */
-  copyFrom(o: SurvivalState): void {
-    this.tick = o.tick;
-    this.clock = o.clock;
-    this.over = o.over;
-    this.rng.setState(o.rng.getState());
+  protected override copyBody(o: this): void {
     this.wave = o.wave;
     this.phase = o.phase;
     this.timer = o.timer;
@@ -247,19 +198,8 @@ export class SurvivalState {
     this.nextEnemy = o.nextEnemy;
     this.enemies = o.enemies;
     for (const k of [
-      'active',
-      'alive',
-      'facing',
       'lives',
-      'x',
-      'y',
-      'vx',
-      'vy',
-      'cooldown',
       'invulnerable',
-      'kills',
-      'prevX',
-      'prevY',
       'enemyAlive',
       'enemySerial',
       'ex',
@@ -273,19 +213,20 @@ export class SurvivalState {
     ] as const) {
       this[k].set(o[k]);
     }
-    this.bullets.copyFrom(o.bullets);
   }
 }
 
-/** Scratch, never state: push-out results, per-enemy shoves. */
+/** Scratch, never state: push-out results, per-enemy shoves, a nearest distance. */
 const moved = new Float64Array(2);
 const shoveX = new Float64Array(CAP);
 const shoveY = new Float64Array(CAP);
+const near = new Float64Array(1);
 
 /**
  * Survival, as in the talk's demo ("Kills: 0, Lives: 15"): waves of fast enemies, spawned at
  * seeded places along the edges, run straight at the nearest player inside a walled arena; the
- * player (or two, co-op) moves and shoots; an enemy that touches a player costs a life.
+ * player (or two, co-op) moves and shoots; an enemy that touches a player costs a life. The game
+ * is over when every player has lost every life.
  *
  * - {@link step}: 1/60 s, bullets swept (continuous detection); every wall is 10 units thick or
  *   more, while an enemy moves at most 7 units per step (5.5 running plus 1.5 shoved): the talk's
@@ -294,15 +235,9 @@ const shoveY = new Float64Array(CAP);
  *   during a long frame (a hitch, a slow display) jumps past its middle and is pushed out on the
  *   player's side — the slide's enemies that slip through walls.
  */
-export class SurvivalGame implements Game, BulletTargets {
-  readonly info = SURVIVAL_INFO;
-  readonly players: number;
-  readonly seed: number;
+export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTargets {
   /** Whether waves come by themselves. */
   readonly waves: boolean;
-  /** The state. Read it freely (renderers, bots); change it only through the game. */
-  readonly state = new SurvivalState();
-  readonly walls = SURVIVAL_WALLS;
 
   // BulletTargets: the enemies.
   readonly targetCount = CAP;
@@ -311,29 +246,23 @@ export class SurvivalGame implements Game, BulletTargets {
   readonly targetRadius = ER;
 
   private readonly inputs = new Uint32Array(PLAYERS);
-  private readonly writer = new ByteWriter(8192);
-  private scratch: SurvivalState | null = null;
 
   constructor(options: SurvivalOptions) {
-    const { seed, players } = options;
-    if (!Number.isInteger(seed) || seed < 0 || seed > 0xffffffff) {
-      throw new RangeError(`SurvivalGame: seed must be a u32, got ${String(seed)}`);
-    }
-    if (!Number.isInteger(players) || players < 1 || players > PLAYERS) {
-      throw new RangeError(
-        `SurvivalGame: players must be from 1 to ${PLAYERS}, got ${String(players)}`,
-      );
-    }
+    super(
+      'SurvivalGame',
+      SURVIVAL_INFO,
+      SURVIVAL,
+      SURVIVAL_WALLS,
+      () => new SurvivalState(),
+      options,
+    );
     const lives = options.lives ?? SURVIVAL.lives;
     if (!Number.isInteger(lives) || lives < 1 || lives > 255) {
       throw new RangeError(`SurvivalGame: lives must be from 1 to 255, got ${String(lives)}`);
     }
-    this.seed = seed;
-    this.players = players;
     this.waves = options.waves ?? true;
     const s = this.state;
-    s.rng.seed(seed);
-    for (let p = 0; p < players; p++) {
+    for (let p = 0; p < this.players; p++) {
       s.active[p] = 1;
       s.alive[p] = 1;
       s.lives[p] = lives;
@@ -346,43 +275,8 @@ export class SurvivalGame implements Game, BulletTargets {
     s.timer = SURVIVAL.firstWaveDelay;
   }
 
-  /** Steps (or updates) so far. */
-  get tick(): number {
-    return this.state.tick;
-  }
-
-  /** Whether the match has ended (every player has lost every life); later steps only count ticks. */
-  get over(): boolean {
-    return this.state.over === 1;
-  }
-
-  /** One fixed step of 1/60 s with continuous detection for bullets. `inputs[p]` drives player p. */
-  step(inputs: readonly ButtonInput[]): void {
-    this.advance(STEP, inputs, true);
-    const s = this.state;
-    s.tick++;
-    s.clock = s.tick * STEP;
-  }
-
-  /**
-   * The naive variable-Δt game (the lab's demo): advance by `dt` seconds with discrete detection
-   * only. Not deterministic across frame rates — the point of the demo. Do not mix with
-   * {@link step} in one game.
-   */
-  update(dt: number, inputs: readonly ButtonInput[]): void {
-    if (!(dt >= 0 && isFiniteNumber(dt))) {
-      throw new RangeError(
-        `SurvivalGame.update: dt must be a finite number ≥ 0, got ${String(dt)}`,
-      );
-    }
-    this.advance(dt, inputs, false);
-    const s = this.state;
-    s.tick++;
-    s.clock += dt;
-  }
-
   /** Player 0's numbers, as on the slide ("Kills: 0, Lives: 15"), and the waves'. */
-  hud(): Readonly<Record<string, number>> {
+  override hud(): Readonly<Record<string, number>> {
     const s = this.state;
     return {
       kills: s.kills[0]!,
@@ -392,23 +286,6 @@ export class SurvivalGame implements Game, BulletTargets {
       enemies: s.enemies,
       throughWalls: s.enemiesThroughWalls + s.bullets.throughWalls,
     };
-  }
-
-  save(): Uint8Array {
-    this.state.write(this.writer.reset(), this.players);
-    return this.writer.finish();
-  }
-
-  /** Restore a {@link save}d state of a game with the same number of players; RangeError on bad bytes (the game is then unchanged). */
-  load(bytes: Uint8Array): void {
-    this.scratch ??= new SurvivalState();
-    this.scratch.read(bytes, this.players);
-    this.state.copyFrom(this.scratch);
-  }
-
-  hash(): bigint {
-    this.state.write(this.writer.reset(), this.players);
-    return fnv1a64(this.writer.peek());
   }
 
   /**
@@ -438,19 +315,6 @@ export class SurvivalGame implements Game, BulletTargets {
     return -1;
   }
 
-  /** Put a living player somewhere: for experiments and the lab's set-ups. */
-  place(p: number, x: number, y: number, facing: number): void {
-    const s = this.state;
-    if (!(p >= 0 && p < PLAYERS && s.alive[p] === 1)) {
-      throw new RangeError(`SurvivalGame.place: ${p} is not a living player`);
-    }
-    s.x[p] = x;
-    s.y[p] = y;
-    s.prevX[p] = x;
-    s.prevY[p] = y;
-    s.facing[p] = facing & 7;
-  }
-
   // --- BulletTargets ---
 
   canHit(_b: number, t: number): boolean {
@@ -466,7 +330,7 @@ export class SurvivalGame implements Game, BulletTargets {
 
   // --- the rules ---
 
-  private advance(dt: number, given: readonly ButtonInput[], continuous: boolean): void {
+  protected override advance(dt: number, given: readonly ButtonInput[], continuous: boolean): void {
     const s = this.state;
     if (s.over === 1) return;
     const inputs = this.inputs;
@@ -482,20 +346,7 @@ export class SurvivalGame implements Game, BulletTargets {
       s.cooldown[p] = Math.max(0, s.cooldown[p]! - dt);
       s.invulnerable[p] = Math.max(0, s.invulnerable[p]! - dt);
       const input = inputs[p]!;
-      const d = inputDir(input);
-      if (d < 0) {
-        s.vx[p] = 0;
-        s.vy[p] = 0;
-      } else {
-        if (!isDown(input, ShooterButtons.strafe)) s.facing[p] = d;
-        const vx = DIR_X[d]! * SURVIVAL.playerSpeed;
-        const vy = DIR_Y[d]! * SURVIVAL.playerSpeed;
-        s.vx[p] = vx;
-        s.vy[p] = vy;
-        this.walls.pushOut(x + vx * dt, y + vy * dt, PR, moved);
-        s.x[p] = clamp(moved[0]!, PR, SURVIVAL.width - PR);
-        s.y[p] = clamp(moved[1]!, PR, SURVIVAL.height - PR);
-      }
+      this.walk(p, input, dt);
       if (s.cooldown[p]! > 0 || !isDown(input, ShooterButtons.fire)) continue;
       const f = s.facing[p]!;
       const b = bullets.spawn(
@@ -556,23 +407,11 @@ export class SurvivalGame implements Game, BulletTargets {
         x = edge === 2 ? lo : SURVIVAL.width - lo;
         y = lo + along * (SURVIVAL.height - 2 * lo);
       }
-      if (this.nearestPlayerDistance2(x, y) > 180 * 180) break;
+      nearestLive(x, y, s.alive, s.x, s.y, near);
+      if (near[0]! > 180 * 180) break;
     }
     const speed = waveSpeed(s.wave) * (0.85 + 0.3 * rng.next());
     return this.spawnEnemy(x, y, speed) >= 0;
-  }
-
-  private nearestPlayerDistance2(x: number, y: number): number {
-    const s = this.state;
-    let best = Infinity;
-    for (let p = 0; p < PLAYERS; p++) {
-      if (s.alive[p] === 0) continue;
-      const dx = s.x[p]! - x;
-      const dy = s.y[p]! - y;
-      const d2 = dx * dx + dy * dy;
-      if (d2 < best) best = d2;
-    }
-    return best;
   }
 
   /**
@@ -616,30 +455,16 @@ export class SurvivalGame implements Game, BulletTargets {
         shoveY[j] = shoveY[j]! + ny * push;
       }
     }
-    const anyPlayer = s.alive[0] === 1 || s.alive[1] === 1;
     for (let e = 0; e < CAP; e++) {
       if (s.enemyAlive[e] === 0) continue;
       const x = s.ex[e]!;
       const y = s.ey[e]!;
       let vx = 0;
       let vy = 0;
-      if (anyPlayer) {
-        let best = Infinity;
-        let tx = x;
-        let ty = y;
-        for (let p = 0; p < PLAYERS; p++) {
-          if (s.alive[p] === 0) continue;
-          const dx = s.x[p]! - x;
-          const dy = s.y[p]! - y;
-          const d2 = dx * dx + dy * dy;
-          if (d2 < best) {
-            best = d2;
-            tx = s.x[p]!;
-            ty = s.y[p]!;
-          }
-        }
-        const dx = tx - x;
-        const dy = ty - y;
+      const p = nearestLive(x, y, s.alive, s.x, s.y, near);
+      if (p >= 0) {
+        const dx = s.x[p]! - x;
+        const dy = s.y[p]! - y;
         const d = Math.sqrt(dx * dx + dy * dy);
         if (d > 0) {
           vx = (dx / d) * s.espeed[e]!;
@@ -735,8 +560,4 @@ export class SurvivalGame implements Game, BulletTargets {
     s.eslide[e] = 0;
     s.enemies--;
   }
-}
-
-function clamp(v: number, lo: number, hi: number): number {
-  return v < lo ? lo : v > hi ? hi : v;
 }

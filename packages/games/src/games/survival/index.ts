@@ -1,5 +1,5 @@
-import type { Bot, Game, GameDefinition } from '../game.js';
-import { decodeGameConfig, encodeGameConfig } from '../config.js';
+import type { Bot, GameDefinition } from '../game.js';
+import { arenaBot, arenaDefinition } from '../arena/game.js';
 import { SURVIVAL_INFO, SurvivalGame } from './game.js';
 import { survivalBotInput } from './bot.js';
 
@@ -16,17 +16,11 @@ export {
 } from './layout.js';
 
 /** The survival bot as a {@link Bot}: for a {@link SurvivalGame} only. */
-export const survivalBot: Bot = (game: Game, player: number) => {
-  if (!(game instanceof SurvivalGame)) throw new TypeError('survivalBot: not a survival game');
-  return survivalBotInput(game, player);
-};
+export const survivalBot: Bot = arenaBot('survivalBot', 'survival', SurvivalGame, survivalBotInput);
 
 /** Survival in the game registry. */
-export const survivalGame: GameDefinition = Object.freeze<GameDefinition>({
-  info: SURVIVAL_INFO,
-  create: (config) => new SurvivalGame(config),
-  bot: survivalBot,
-  encodeConfig: encodeGameConfig,
-  decodeConfig: (bytes) =>
-    decodeGameConfig(bytes, SURVIVAL_INFO.minPlayers, SURVIVAL_INFO.maxPlayers),
-});
+export const survivalGame: GameDefinition = arenaDefinition(
+  SURVIVAL_INFO,
+  (config) => new SurvivalGame(config),
+  survivalBot,
+);

@@ -1,4 +1,4 @@
-import { NavGrid } from '../arena/nav.js';
+import { sharedNav, type NavGrid } from '../arena/nav.js';
 import { Walls, border } from '../arena/walls.js';
 
 /**
@@ -76,16 +76,10 @@ export const SURVIVAL_WALLS = new Walls([
   { x0: 395, y0: 70, x1: 405, y1: 170 },
 ]);
 
-let nav: NavGrid | undefined;
-
 /** The bot's navigation grid (built on first use, then shared: it is static data). */
-export function survivalNav(): NavGrid {
-  nav ??= new NavGrid(
-    SURVIVAL_WALLS,
-    SURVIVAL.width,
-    SURVIVAL.height,
-    40,
-    SURVIVAL.playerRadius + 2,
-  );
-  return nav;
-}
+export const survivalNav: () => NavGrid = sharedNav(
+  SURVIVAL_WALLS,
+  SURVIVAL.width,
+  SURVIVAL.height,
+  SURVIVAL.playerRadius,
+);
