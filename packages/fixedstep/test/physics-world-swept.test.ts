@@ -1,6 +1,15 @@
 import { describe, expect, it } from 'vitest';
 import fc from 'fast-check';
-import { toiBoxSegment, toiPointCapsule, toiPointCircle, toiPointRoundedBox } from 'fixedstep';
+import {
+  hitBoxSegment,
+  hitPointCapsule,
+  hitPointCircle,
+  hitPointRoundedBox,
+  toiBoxSegment,
+  toiPointCapsule,
+  toiPointCircle,
+  toiPointRoundedBox,
+} from 'fixedstep';
 
 /**
  * The swept tests against brute force: sample the motion finely and find where the signed
@@ -218,5 +227,45 @@ describe('swept tests agree with brute force', () => {
     const u = toiPointCapsule(-10, 0.3, 30, 0, 0, -1, 0, 1, 0.1, out);
     expect(-10 + u * 30).toBeCloseTo(-0.1, 12);
     expect([...out]).toEqual([-1, 0]);
+  });
+});
+
+describe('hit* and toi* are one test in two forms', () => {
+  it('a hit writes (normal, u) to out[0..2] exactly where toi returns u and the normal', () => {
+    let hits = 0;
+    fc.assert(
+      fc.property(motion, size, size, size, coord, coord, (m, a, b, r, ex, ey) => {
+        const [px, py, dx, dy] = m;
+        // Fresh scratch per pair, so a miss can be seen to leave `out` alone.
+        const check = (toi: (o: Float64Array) => number, hit: (o: Float64Array) => boolean) => {
+          const o2 = new Float64Array([7, 7]);
+          const o3 = new Float64Array([7, 7, 7]);
+          const u = toi(o2);
+          const touched = hit(o3);
+          if (touched) hits++;
+          // A hit: u and the normal agree; a miss: -1, and `out` left as it was.
+          expect([touched, ...o3]).toEqual(u >= 0 ? [true, o2[0], o2[1], u] : [false, 7, 7, 7]);
+          expect(u >= 0 || (o2[0] === 7 && o2[1] === 7)).toBe(true);
+        };
+        check(
+          (o) => toiPointCircle(px, py, dx, dy, a, o),
+          (o) => hitPointCircle(px, py, dx, dy, a, o),
+        );
+        check(
+          (o) => toiPointRoundedBox(px, py, dx, dy, a, b, r, o),
+          (o) => hitPointRoundedBox(px, py, dx, dy, a, b, r, o),
+        );
+        check(
+          (o) => toiPointCapsule(px, py, dx, dy, 0, 0, ex, ey, r, o),
+          (o) => hitPointCapsule(px, py, dx, dy, 0, 0, ex, ey, r, o),
+        );
+        check(
+          (o) => toiBoxSegment(px, py, dx, dy, a, b, 0, 0, ex, ey, o),
+          (o) => hitBoxSegment(px, py, dx, dy, a, b, 0, 0, ex, ey, o),
+        );
+      }),
+      { numRuns: 2000 },
+    );
+    expect(hits).toBeGreaterThan(500);
   });
 });

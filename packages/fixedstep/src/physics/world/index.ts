@@ -4,6 +4,15 @@ export { defaultWorldDef } from './def.js';
 export type { WorldDef, CcdMode, BodyOptions, CircleOptions, BoxOptions } from './def.js';
 export { minWallSize, maxSafeSpeed, tunnellingShare, checkTunnellingRule } from './rule.js';
 export type { TunnellingWarning } from './rule.js';
-export { toiPointCircle, toiPointRoundedBox, toiPointCapsule, toiBoxSegment } from './swept.js';
+export {
+  hitPointCircle,
+  hitPointRoundedBox,
+  hitPointCapsule,
+  hitBoxSegment,
+  toiPointCircle,
+  toiPointRoundedBox,
+  toiPointCapsule,
+  toiBoxSegment,
+} from './swept.js';
 export { circlesInBox, circlesInBoxScene, bulletsScene, buildWorld } from './scenes.js';
 export type { PhysicsScene, SceneBody, SceneBox, SceneSegment } from './scenes.js';

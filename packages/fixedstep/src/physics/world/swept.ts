@@ -3,10 +3,16 @@
  * another shape, as a ray against the Minkowski sum of the two shapes.
  *
  * Every function takes the mover's centre `p` and its displacement `d` over the interval, both
- * **relative to the other shape** (subtract the other shape's centre and displacement first), and
- * returns the fraction `u ∈ [0, 1]` of `d` at which the shapes first touch, or `-1` for no hit
- * within the interval. On a hit, `out[0], out[1]` receive the unit contact normal, pointing from
- * the other shape towards the mover.
+ * **relative to the other shape** (subtract the other shape's centre and displacement first).
+ * The `hit*` functions return whether the shapes touch within the interval and, on a hit, write
+ * the unit contact normal (pointing from the other shape towards the mover) to `out[0], out[1]`
+ * and the fraction `u ∈ [0, 1]` of `d` at which they first touch to `out[2]`: `out` needs 3
+ * numbers. The `toi*` functions are the same tests returning `u`, or `-1` for no hit, with the
+ * normal in `out[0], out[1]`.
+ *
+ * Hot loops (the world's CCD, the games' walls and bots) call the `hit*` forms: a function that
+ * V8 does not inline returns a fractional double boxed in a fresh heap object, so returning `u`
+ * would allocate on every hit; a boolean never does.
  *
  * Shapes that already overlap at `u = 0` return `0` with the minimum-translation normal when the
  * mover is moving *into* the other shape (`d · n < 0`), and `-1` when it is moving out: the
@@ -17,23 +23,33 @@
  */
 
 /** Scratch for the nearer of two candidate hits; never part of any state. */
-const tmp = new Float64Array(2);
+const tmp = new Float64Array(3);
+/** Scratch for the `toi*` forms. */
+const hit = new Float64Array(3);
+
+/** The `toi*` form of a `hit*` result in {@link hit}: `u` (normal copied to `out`), or -1. */
+function toi(touched: boolean, out: Float64Array): number {
+  if (!touched) return -1;
+  out[0] = hit[0]!;
+  out[1] = hit[1]!;
+  return hit[2]!;
+}
 
 /**
  * A point moving from `(px, py)` by `(dx, dy)` against a circle of radius `radius` at the origin
  * (circle vs circle: `radius` = the sum of the radii). Solves `|p + u·d|² = R²` for the smaller root.
  */
-export function toiPointCircle(
+export function hitPointCircle(
   px: number,
   py: number,
   dx: number,
   dy: number,
   radius: number,
   out: Float64Array,
-): number {
+): boolean {
   const c = px * px + py * py - radius * radius;
   const b = px * dx + py * dy;
-  if (b >= 0) return -1; // moving away (or not moving): no new contact
+  if (b >= 0) return false; // moving away (or not moving): no new contact
   if (c <= 0) {
     // Already touching: stop now, along the line of centres.
     const len = Math.sqrt(px * px + py * py);
@@ -45,20 +61,22 @@ export function toiPointCircle(
       out[0] = -dx / dl;
       out[1] = -dy / dl;
     }
-    return 0;
+    out[2] = 0;
+    return true;
   }
   const a = dx * dx + dy * dy;
   const disc = b * b - a * c;
-  if (disc < 0) return -1;
+  if (disc < 0) return false;
   // (-b - √disc) / a, rationalised to avoid cancellation when the ray grazes.
   const u = c / (-b + Math.sqrt(disc));
-  if (u > 1) return -1;
+  if (u > 1) return false;
   const hx = px + u * dx;
   const hy = py + u * dy;
   const hl = Math.sqrt(hx * hx + hy * hy);
   out[0] = hx / hl;
   out[1] = hy / hl;
-  return u;
+  out[2] = u;
+  return true;
 }
 
 /**
@@ -68,7 +86,7 @@ export function toiPointCircle(
  * square becomes a test against the corner circle (a miss there is a miss overall: the ray cannot
  * leave a corner square into a face region without passing within `radius` of the corner).
  */
-export function toiPointRoundedBox(
+export function hitPointRoundedBox(
   px: number,
   py: number,
   dx: number,
@@ -77,14 +95,14 @@ export function toiPointRoundedBox(
   hh: number,
   radius: number,
   out: Float64Array,
-): number {
+): boolean {
   const ex = hw + radius;
   const ey = hh + radius;
   const ax = px < 0 ? -px : px;
   const ay = py < 0 ? -py : py;
   if (ax < ex && ay < ey) {
     if (radius > 0 && ax > hw && ay > hh) {
-      return toiPointCircle(
+      return hitPointCircle(
         px - (px > 0 ? hw : -hw),
         py - (py > 0 ? hh : -hh),
         dx,
@@ -100,16 +118,17 @@ export function toiPointRoundedBox(
     else if (ay > hh) ny = py >= 0 ? 1 : -1;
     else if (ex - ax <= ey - ay) nx = px >= 0 ? 1 : -1;
     else ny = py >= 0 ? 1 : -1;
-    if (nx * dx + ny * dy >= 0) return -1;
+    if (nx * dx + ny * dy >= 0) return false;
     out[0] = nx;
     out[1] = ny;
-    return 0;
+    out[2] = 0;
+    return true;
   }
   let tin = 0;
   let tout = 1;
   let axis = 0; // 1: entered through an x face, 2: through a y face
   if (dx === 0) {
-    if (ax >= ex) return -1;
+    if (ax >= ex) return false;
   } else {
     let t1 = (-ex - px) / dx;
     let t2 = (ex - px) / dx;
@@ -125,7 +144,7 @@ export function toiPointRoundedBox(
     if (t2 < tout) tout = t2;
   }
   if (dy === 0) {
-    if (ay >= ey) return -1;
+    if (ay >= ey) return false;
   } else {
     let t1 = (-ey - py) / dy;
     let t2 = (ey - py) / dy;
@@ -140,12 +159,12 @@ export function toiPointRoundedBox(
     }
     if (t2 < tout) tout = t2;
   }
-  if (tin > tout || axis === 0) return -1;
+  if (tin > tout || axis === 0) return false;
   if (radius > 0) {
     const hx = px + tin * dx;
     const hy = py + tin * dy;
     if ((hx > hw || hx < -hw) && (hy > hh || hy < -hh)) {
-      return toiPointCircle(
+      return hitPointCircle(
         px - (hx > 0 ? hw : -hw),
         py - (hy > 0 ? hh : -hh),
         dx,
@@ -162,14 +181,15 @@ export function toiPointRoundedBox(
     out[0] = 0;
     out[1] = dy > 0 ? -1 : 1;
   }
-  return tin;
+  out[2] = tin;
+  return true;
 }
 
 /**
  * A point against the segment `a → b` (absolute coordinates, like the point) rounded by `radius`
  * (a capsule): a circle of that radius against a static wall segment. `radius` must be positive.
  */
-export function toiPointCapsule(
+export function hitPointCapsule(
   px: number,
   py: number,
   dx: number,
@@ -180,11 +200,11 @@ export function toiPointCapsule(
   by: number,
   radius: number,
   out: Float64Array,
-): number {
+): boolean {
   const ex = bx - ax;
   const ey = by - ay;
   const len = Math.sqrt(ex * ex + ey * ey);
-  if (len === 0) return toiPointCircle(px - ax, py - ay, dx, dy, radius, out);
+  if (len === 0) return hitPointCircle(px - ax, py - ay, dx, dy, radius, out);
   const tx = ex / len;
   const ty = ey / len;
   const nx = -ty;
@@ -199,33 +219,36 @@ export function toiPointCapsule(
     if (along >= 0 && along <= len) {
       // Overlapping the flat part: push out on the side the centre is on.
       const side = s > 0 ? 1 : s < 0 ? -1 : ds > 0 ? -1 : 1;
-      if (side * ds >= 0) return -1;
+      if (side * ds >= 0) return false;
       out[0] = side * nx;
       out[1] = side * ny;
-      return 0;
+      out[2] = 0;
+      return true;
     }
   } else {
     const side = s > 0 ? 1 : -1;
     if (side * ds < 0) {
       const u = (side * radius - s) / ds;
-      if (u > 1) return -1;
+      if (u > 1) return false;
       const al = along + u * (dx * tx + dy * ty);
       if (al >= 0 && al <= len) {
         out[0] = side * nx;
         out[1] = side * ny;
-        return u;
+        out[2] = u;
+        return true;
       }
     }
   }
   // The end caps.
-  const ua = toiPointCircle(rx, ry, dx, dy, radius, out);
-  const ub = toiPointCircle(px - bx, py - by, dx, dy, radius, tmp);
-  if (ub >= 0 && (ua < 0 || ub < ua)) {
+  const ha = hitPointCircle(rx, ry, dx, dy, radius, out);
+  const hb = hitPointCircle(px - bx, py - by, dx, dy, radius, tmp);
+  if (hb && (!ha || tmp[2]! < out[2]!)) {
     out[0] = tmp[0]!;
     out[1] = tmp[1]!;
-    return ub;
+    out[2] = tmp[2]!;
+    return true;
   }
-  return ua;
+  return ha;
 }
 
 /**
@@ -234,7 +257,7 @@ export function toiPointCapsule(
  * along x, along y and along the segment's normal — so this clips the ray against the three
  * (Cyrus–Beck).
  */
-export function toiBoxSegment(
+export function hitBoxSegment(
   px: number,
   py: number,
   dx: number,
@@ -246,7 +269,7 @@ export function toiBoxSegment(
   bx: number,
   by: number,
   out: Float64Array,
-): number {
+): boolean {
   const ex = bx - ax;
   const ey = by - ay;
   const len = Math.sqrt(ex * ex + ey * ey);
@@ -301,7 +324,7 @@ export function toiBoxSegment(
       penY = axY;
     }
     if (rate === 0) {
-      if (val <= lo || val >= hi) return -1;
+      if (val <= lo || val >= hi) return false;
       continue;
     }
     let t1 = (lo - val) / rate;
@@ -322,17 +345,78 @@ export function toiBoxSegment(
     }
     if (t2 < tout) tout = t2;
   }
-  if (tin > tout || tout <= 0) return -1;
+  if (tin > tout || tout <= 0) return false;
   if (tin < 0) {
     // Inside all three slabs: overlapping now.
-    if (minPen <= 0) return -1;
-    if (penX * dx + penY * dy >= 0) return -1;
+    if (minPen <= 0) return false;
+    if (penX * dx + penY * dy >= 0) return false;
     out[0] = penX;
     out[1] = penY;
-    return 0;
+    out[2] = 0;
+    return true;
   }
-  if (tin > 1) return -1;
+  if (tin > 1) return false;
   out[0] = inX;
   out[1] = inY;
-  return tin;
+  out[2] = tin;
+  return true;
+}
+
+/** {@link hitPointCircle}, returning `u` or -1; the normal goes to `out[0], out[1]`. */
+export function toiPointCircle(
+  px: number,
+  py: number,
+  dx: number,
+  dy: number,
+  radius: number,
+  out: Float64Array,
+): number {
+  return toi(hitPointCircle(px, py, dx, dy, radius, hit), out);
+}
+
+/** {@link hitPointRoundedBox}, returning `u` or -1; the normal goes to `out[0], out[1]`. */
+export function toiPointRoundedBox(
+  px: number,
+  py: number,
+  dx: number,
+  dy: number,
+  hw: number,
+  hh: number,
+  radius: number,
+  out: Float64Array,
+): number {
+  return toi(hitPointRoundedBox(px, py, dx, dy, hw, hh, radius, hit), out);
+}
+
+/** {@link hitPointCapsule}, returning `u` or -1; the normal goes to `out[0], out[1]`. */
+export function toiPointCapsule(
+  px: number,
+  py: number,
+  dx: number,
+  dy: number,
+  ax: number,
+  ay: number,
+  bx: number,
+  by: number,
+  radius: number,
+  out: Float64Array,
+): number {
+  return toi(hitPointCapsule(px, py, dx, dy, ax, ay, bx, by, radius, hit), out);
+}
+
+/** {@link hitBoxSegment}, returning `u` or -1; the normal goes to `out[0], out[1]`. */
+export function toiBoxSegment(
+  px: number,
+  py: number,
+  dx: number,
+  dy: number,
+  hw: number,
+  hh: number,
+  ax: number,
+  ay: number,
+  bx: number,
+  by: number,
+  out: Float64Array,
+): number {
+  return toi(hitBoxSegment(px, py, dx, dy, hw, hh, ax, ay, bx, by, hit), out);
 }

@@ -10,7 +10,7 @@ import {
   type WorldDef,
 } from './def.js';
 import { tunnellingShare, type TunnellingWarning } from './rule.js';
-import { toiBoxSegment, toiPointCapsule, toiPointCircle, toiPointRoundedBox } from './swept.js';
+import { hitBoxSegment, hitPointCapsule, hitPointCircle, hitPointRoundedBox } from './swept.js';
 
 // Body flags.
 const ALIVE = 1;
@@ -146,7 +146,7 @@ export class PhysicsWorld implements Simulation<unknown> {
   private farList = new Int32Array(0);
   private farLen = 0;
   private isFar = new Uint8Array(0);
-  private readonly toiOut = new Float64Array(2);
+  private readonly toiOut = new Float64Array(3);
   // The best hit of the current sweep.
   private hitU = 2;
   private hitBody = -1;
@@ -1641,14 +1641,14 @@ export class PhysicsWorld implements Simulation<unknown> {
       const o = s * SS;
       if (minX > sd[o + 6]! || maxX < sd[o + 4]! || minY > sd[o + 7]! || maxY < sd[o + 5]!)
         continue;
-      let u: number;
+      let touched: boolean;
       if (this.sKind[s] === SEGMENT) {
-        u = isBox
-          ? toiBoxSegment(px, py, dx, dy, wi, hi, sd[o]!, sd[o + 1]!, sd[o + 2]!, sd[o + 3]!, out)
-          : toiPointCapsule(px, py, dx, dy, sd[o]!, sd[o + 1]!, sd[o + 2]!, sd[o + 3]!, wi, out);
+        touched = isBox
+          ? hitBoxSegment(px, py, dx, dy, wi, hi, sd[o]!, sd[o + 1]!, sd[o + 2]!, sd[o + 3]!, out)
+          : hitPointCapsule(px, py, dx, dy, sd[o]!, sd[o + 1]!, sd[o + 2]!, sd[o + 3]!, wi, out);
       } else {
-        u = isBox
-          ? toiPointRoundedBox(
+        touched = isBox
+          ? hitPointRoundedBox(
               px - sd[o]!,
               py - sd[o + 1]!,
               dx,
@@ -1658,7 +1658,7 @@ export class PhysicsWorld implements Simulation<unknown> {
               0,
               out,
             )
-          : toiPointRoundedBox(
+          : hitPointRoundedBox(
               px - sd[o]!,
               py - sd[o + 1]!,
               dx,
@@ -1669,6 +1669,7 @@ export class PhysicsWorld implements Simulation<unknown> {
               out,
             );
       }
+      const u = touched ? out[2]! : -1;
       if (u >= 0 && u < this.hitU) {
         this.hitU = u;
         this.hitBody = -1 - s;
@@ -1820,12 +1821,12 @@ export class PhysicsWorld implements Simulation<unknown> {
     if ((rx > ex && rx + rdx > ex) || (rx < -ex && rx + rdx < -ex)) return;
     if ((ry > ey && ry + rdy > ey) || (ry < -ey && ry + rdy < -ey)) return;
     const out = this.toiOut;
-    let u: number;
-    if (((fi | fj) & BOX) === 0) u = toiPointCircle(rx, ry, rdx, rdy, ex, out);
-    else if ((fi & fj & BOX) !== 0) u = toiPointRoundedBox(rx, ry, rdx, rdy, ex, ey, 0, out);
-    else if ((fi & BOX) === 0) u = toiPointRoundedBox(rx, ry, rdx, rdy, wj, hj, wi, out);
-    else u = toiPointRoundedBox(rx, ry, rdx, rdy, wi, hi, wj, out);
-    if (u >= 0) u = f0 + u * f1;
+    let touched: boolean;
+    if (((fi | fj) & BOX) === 0) touched = hitPointCircle(rx, ry, rdx, rdy, ex, out);
+    else if ((fi & fj & BOX) !== 0) touched = hitPointRoundedBox(rx, ry, rdx, rdy, ex, ey, 0, out);
+    else if ((fi & BOX) === 0) touched = hitPointRoundedBox(rx, ry, rdx, rdy, wj, hj, wi, out);
+    else touched = hitPointRoundedBox(rx, ry, rdx, rdy, wi, hi, wj, out);
+    const u = touched ? f0 + out[2]! * f1 : -1;
     if (u >= 0 && u < this.hitU) {
       this.hitU = u;
       this.hitBody = j;
