@@ -147,6 +147,7 @@ beforeAll(async () => {
       status: nodeComparison.mismatches.length === 0 ? 'passed' : 'failed',
       version: `Node ${process.version}`,
       jsVersion: `V8 ${process.versions.v8}`,
+      wasm: reference.wasm,
       userAgent: `Node.js/${process.version} (${process.platform}; ${process.arch})`,
       startMs: 0, // Node is already running
       runMs: reference.ms,
@@ -191,6 +192,7 @@ beforeAll(async () => {
           status: comparison.mismatches.length === 0 ? 'passed' : 'failed',
           version: session.version,
           jsVersion: session.jsVersion,
+          wasm: run.wasm,
           userAgent: session.userAgent,
           startMs: session.startMs,
           runMs: run.ms,
@@ -268,6 +270,7 @@ describe('determinism across engines and display rates', () => {
       expect(ids.find((id) => id.startsWith(prefix))).toBeDefined();
     }
     expect(ids.filter((id) => /^springs\/rope-[a-z0-9-]+$/.test(id))).toHaveLength(6);
+    expect(ids.filter((id) => /^springs\/cloth-[a-z0-9-]+$/.test(id))).toHaveLength(6);
     for (const hz of TRACE_DISPLAY_RATES) expect(ids).toContain(`ball/loop-rig@${rateLabel(hz)}`);
     // Every registered game (none yet is fine): bot match, replay, reload, and every display.
     for (const game of GAMES) {
@@ -280,6 +283,8 @@ describe('determinism across engines and display rates', () => {
 
   it('Node: every display-rate and replay scene equals its reference, tick for tick', () => {
     assertSame('node');
+    // The cloth scenes ran SpringModel's WebAssembly kernel here (the browsers report theirs).
+    expect(nodeRun?.wasm).toBe(true);
   });
 
   for (const id of BROWSERS) {

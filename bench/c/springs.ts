@@ -16,7 +16,7 @@ export const SPRINGS_JS = fileURLToPath(new URL('./springs-js.ts', import.meta.u
 /** The contestants springs-js.ts hosts, by index. */
 export const JS_CONTESTANTS: readonly string[] = [
   'fixedstep SpringSystem.step',
-  'fixedstep Integrator.step',
+  'fixedstep Integrator.step, plain arrays',
   'hand-written JS (same loop as the C)',
 ];
 

@@ -9,8 +9,11 @@
  * bit-identical after any number of steps: the suite checks that before it times anything.
  *
  * Candidates, all stepping the same scene the same number of steps per round:
- * - `SpringSystem.step`: the Simulation (integrator step + the render copy of the positions);
- * - `Integrator.step`: `createIntegrator(method, new SpringModel(def))` on a DynamicsState;
+ * - `SpringSystem.step`: the Simulation (integrator step + the render copy of the positions).
+ *   Its arrays come from `SpringModel.allocate`, so a 2D model of ≥ 64 springs runs the
+ *   WebAssembly kernel (kernels.wat);
+ * - `Integrator.step, plain arrays`: `createIntegrator(method, new SpringModel(def))` on a
+ *   `new DynamicsState(size)` of plain Float64Arrays: the JavaScript kernel;
  * - hand-written JS: the C loop written in TypeScript (2D, scalars, a plain function taking the
  *   arrays) — what JavaScript itself costs for this loop, the floor for a reusable library kernel;
  * - C (gcc -O2).

@@ -17,6 +17,8 @@ export interface EngineReport {
   reason?: string;
   version?: string;
   jsVersion?: string;
+  /** Whether the engine ran the WebAssembly spring kernel (the cloth scenes). */
+  wasm?: boolean;
   userAgent?: string;
   /** Start-up and page load, ms. */
   startMs?: number;
@@ -76,12 +78,14 @@ export function reportMarkdown(r: DeterminismReport): string {
       `${String(r.catalogue.requiredTicks)} required ticks per engine; set-up to verdict ${seconds(r.totalMs)}.`,
     '',
   );
-  lines.push('| Engine | Status | Version | JS engine | Scenes | Ticks compared | Start | Run |');
-  lines.push('|---|---|---|---|---|---|---|---|');
+  lines.push(
+    '| Engine | Status | Version | JS engine | WebAssembly kernel | Scenes | Ticks compared | Start | Run |',
+  );
+  lines.push('|---|---|---|---|---|---|---|---|---|');
   for (const e of r.engines) {
     lines.push(
       `| ${e.name} | ${e.status}${e.status === 'failed' && e.mismatches.length ? ` (${String(e.mismatches.length)} mismatches)` : ''} | ` +
-        `${e.version ?? '—'} | ${dash(e.jsVersion)} | ${e.scenes === undefined ? '—' : String(e.scenes)} | ` +
+        `${e.version ?? '—'} | ${dash(e.jsVersion)} | ${e.wasm === undefined ? '—' : e.wasm ? 'yes' : 'no'} | ${e.scenes === undefined ? '—' : String(e.scenes)} | ` +
         `${e.ticks === undefined ? '—' : e.ticks.toLocaleString('en-US')} | ${seconds(e.startMs)} | ${seconds(e.runMs)} |`,
     );
   }
@@ -178,7 +182,7 @@ export function consoleSummary(r: DeterminismReport, files: { json: string; md: 
           ? `FAILED to run — ${e.reason}`
           : `${e.status === 'passed' ? 'same traces' : `${String(e.mismatches.length)} MISMATCHES`}: ` +
             `${String(e.scenes ?? 0)} scenes, ${(e.ticks ?? 0).toLocaleString('en-US')} ticks; ` +
-            `${e.version ?? ''}${e.jsVersion ? `, ${e.jsVersion}` : ''}; start ${seconds(e.startMs)}, run ${seconds(e.runMs)}`;
+            `${e.version ?? ''}${e.jsVersion ? `, ${e.jsVersion}` : ''}${e.wasm === undefined ? '' : e.wasm ? ', WebAssembly' : ', no WebAssembly'}; start ${seconds(e.startMs)}, run ${seconds(e.runMs)}`;
     lines.push(`  ${ENGINE_NAMES[e.id].padEnd(27)} ${what}`);
   }
   for (const m of r.engines.flatMap((e) => e.mismatches).slice(0, 20)) {

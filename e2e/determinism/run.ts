@@ -2,6 +2,7 @@
  * Runs the scenes and packs the traces — the one function every engine calls (the browser page
  * wraps it; Node calls it directly), so every engine's answer has the same shape.
  */
+import { springKernelsAvailable } from 'fixedstep';
 import { bytesToHex, sceneStateAt, traceScene, type TraceScene } from '@fixedstep/games';
 
 /** One scene's result in one engine. */
@@ -21,6 +22,8 @@ export interface EngineRun {
   scenes: SceneResult[];
   /** Wall time of the whole run, ms. */
   ms: number;
+  /** Whether this engine ran SpringModel's WebAssembly kernel (else the JavaScript one). */
+  wasm: boolean;
 }
 
 function now(): number {
@@ -55,7 +58,7 @@ function select(scenes: readonly TraceScene[], ids?: readonly string[]): TraceSc
 export function runScenes(scenes: readonly TraceScene[], ids?: readonly string[]): EngineRun {
   const start = now();
   const results = select(scenes, ids).map(runScene);
-  return { scenes: results, ms: now() - start };
+  return { scenes: results, ms: now() - start, wasm: springKernelsAvailable() };
 }
 
 /** The same, yielding to the event loop between scenes (Node, while browsers are driven). */
@@ -69,7 +72,7 @@ export async function runScenesYielding(
     await new Promise<void>((resolve) => setTimeout(resolve, 0));
     results.push(runScene(scene));
   }
-  return { scenes: results, ms: now() - start };
+  return { scenes: results, ms: now() - start, wasm: springKernelsAvailable() };
 }
 
 /** The state bytes of scene `id` after tick `tick`, as hex. */

@@ -11,6 +11,7 @@ import {
   ballScenes,
   bulletsScenes,
   circlesScene,
+  clothScenes,
   detMathScene,
   labScenes,
   randomScene,
@@ -38,6 +39,7 @@ export const TRACE_TICKS = Object.freeze({
   circles: 600,
   bullets: 400,
   rope: 1200,
+  cloth: 600,
   lab: 600,
   game: 3600,
 });
@@ -55,6 +57,7 @@ export function traceCatalogue(options: TraceCatalogueOptions = {}): TraceScene[
     circlesScene(n(TRACE_TICKS.circles)),
     ...bulletsScenes(n(TRACE_TICKS.bullets), rates),
     ...ropeScenes(n(TRACE_TICKS.rope)),
+    ...clothScenes(n(TRACE_TICKS.cloth)),
     ...labScenes(n(TRACE_TICKS.lab)),
     ...games.flatMap((def) => gameScenes(def, n(options.gameTicks ?? TRACE_TICKS.game), rates)),
   ];

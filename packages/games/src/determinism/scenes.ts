@@ -572,6 +572,61 @@ export function ropeScenes(ticks = 1200): TraceScene[] {
   return scenes;
 }
 
+/**
+ * A 12 × 10 cloth hung by its top row, kicked in one corner: 218 springs, so SpringSystem runs it
+ * on the WebAssembly kernel (SpringModel.allocate) wherever WebAssembly runs — each engine's
+ * WebAssembly must give the JavaScript kernel's bits.
+ */
+export function clothDef(integrator: IntegratorMethod): SpringSystemDef {
+  const w = 12;
+  const h = 10;
+  const particles: SpringSystemDef['particles'][number][] = [];
+  const springs: SpringSystemDef['springs'][number][] = [];
+  for (let r = 0; r < h; r++) {
+    for (let c = 0; c < w; c++) {
+      particles.push({
+        position: [c * 0.05, -r * 0.05],
+        velocity: r === h - 1 && c === 0 ? [0.4, 0.9] : [0, 0],
+        mass: 0.01,
+        fixed: r === 0,
+      });
+    }
+  }
+  for (let r = 0; r < h; r++) {
+    for (let c = 0; c < w; c++) {
+      const i = r * w + c;
+      if (c + 1 < w) springs.push({ a: i, b: i + 1, stiffness: 20, damping: 0.02 });
+      if (r + 1 < h) springs.push({ a: i, b: i + w, stiffness: 20, damping: 0.02 });
+    }
+  }
+  return { dim: 2, gravity: [0, -9.81], particles, springs, dt: 1 / 60, integrator };
+}
+
+/** The cloth under each of the six integrators. */
+export function clothScenes(ticks = 600): TraceScene[] {
+  return INTEGRATOR_METHODS.map((method): TraceScene => {
+    let fieldsSystem: SpringSystem | undefined;
+    return {
+      id: `springs/cloth-${method}`,
+      title: `SpringSystem cloth 12 × 10 (218 springs: the WebAssembly kernel), ${method}, 1/60 s`,
+      ticks,
+      start(): TraceRun {
+        const s = new SpringSystem(clothDef(method));
+        return {
+          next(): Uint8Array {
+            s.step();
+            return s.save();
+          },
+        };
+      },
+      fields: (state) => {
+        fieldsSystem ??= new SpringSystem(clothDef(method));
+        return springSystemFields(fieldsSystem, state);
+      },
+    };
+  });
+}
+
 // ----------------------------------------------------------------------------- the lab's scenes
 
 /** A scene stepped by `step(t)` (t = 1, 2, …) and saved after every tick. */

@@ -4,7 +4,7 @@
  * See docs/integrators.md.
  */
 export { BandMatrix } from './band-matrix.js';
-export { DynamicsState, isImplicitModel } from './model.js';
+export { DynamicsState, allocateFor, isImplicitModel } from './model.js';
 export type { DynamicsModel, ImplicitModel } from './model.js';
 export { createIntegrator, INTEGRATOR_METHODS, INTEGRATOR_INFO } from './integrators.js';
 export type {
@@ -14,7 +14,8 @@ export type {
   IntegratorOptions,
 } from './integrators.js';
 export { HarmonicOscillator } from './oscillator.js';
-export { SpringModel, SpringSystem, springChain } from './springs.js';
+export { SpringModel, SpringSystem, springChain, WASM_MIN_SPRINGS } from './springs.js';
+export { springKernelsAvailable } from './wasm.js';
 export type {
   ParticleDef,
   SpringDef,

@@ -1,5 +1,6 @@
 import { BandMatrix } from './band-matrix.js';
 import {
+  allocateFor,
   isImplicitModel,
   type DynamicsModel,
   type DynamicsState,
@@ -284,7 +285,7 @@ class SemiImplicitEuler implements Integrator {
     checkSize(this.model, state);
     const { x, v, a } = state;
     this.model.accelerations(x, v, a);
-    kickDrift(x, v, a, dt, dt);
+    if (this.model.kickDrift?.(x, v, a, dt, dt) !== true) kickDrift(x, v, a, dt, dt);
   }
 }
 
@@ -323,9 +324,9 @@ class BackwardEuler implements Integrator {
     this.model = model;
     const n = model.size;
     this.matrix = new BandMatrix(n, Math.min(n - 1, Math.max(0, model.bandwidth)));
-    this.v0 = new Float64Array(n);
-    this.xt = new Float64Array(n);
-    this.rhs = new Float64Array(n);
+    this.v0 = allocateFor(model, n);
+    this.xt = allocateFor(model, n);
+    this.rhs = allocateFor(model, n);
   }
 
   start(state: DynamicsState): void {
@@ -414,7 +415,8 @@ class VelocityVerlet implements Integrator {
     checkSize(this.model, state);
     const { x, v, a } = state;
     const half = 0.5 * dt;
-    kickDrift(x, v, a, half, dt); // v½ = v + ½a·dt; x += v½·dt
+    // v½ = v + ½a·dt; x += v½·dt
+    if (this.model.kickDrift?.(x, v, a, half, dt) !== true) kickDrift(x, v, a, half, dt);
     this.model.accelerations(x, v, a);
     kickOnly(v, a, half);
   }
@@ -440,12 +442,12 @@ class RungeKutta4 implements Integrator {
 
   constructor(readonly model: DynamicsModel) {
     const n = model.size;
-    this.k1 = new Float64Array(n);
-    this.k2 = new Float64Array(n);
-    this.k3 = new Float64Array(n);
-    this.k4 = new Float64Array(n);
-    this.xt = new Float64Array(n);
-    this.vt = new Float64Array(n);
+    this.k1 = allocateFor(model, n);
+    this.k2 = allocateFor(model, n);
+    this.k3 = allocateFor(model, n);
+    this.k4 = allocateFor(model, n);
+    this.xt = allocateFor(model, n);
+    this.vt = allocateFor(model, n);
   }
 
   start(state: DynamicsState): void {

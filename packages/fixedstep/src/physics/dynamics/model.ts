@@ -14,6 +14,29 @@ export interface DynamicsModel {
    * and `v`, must not allocate, and must use only deterministic math (see `Simulation`).
    */
   accelerations(x: Float64Array, v: Float64Array, out: Float64Array): void;
+  /**
+   * Optional: a zeroed array of `size` numbers that {@link accelerations} computes on fastest
+   * (e.g. a view of the memory of a WebAssembly kernel). States and integrators take their arrays
+   * from here when it exists; any Float64Array still works, only slower.
+   */
+  allocate?(size: number): Float64Array;
+  /**
+   * Optional: `v += a·kick`, then `x += v·drift` (with the new v), element by element, exactly
+   * so, if the model can do it faster for these arrays (returns true), else nothing (false, and
+   * the integrator does it).
+   */
+  kickDrift?(
+    x: Float64Array,
+    v: Float64Array,
+    a: Float64Array,
+    kick: number,
+    drift: number,
+  ): boolean;
+}
+
+/** `model.allocate(size)` where the model has it, else a plain zeroed Float64Array. */
+export function allocateFor(model: DynamicsModel | undefined, size: number): Float64Array {
+  return model?.allocate?.(size) ?? new Float64Array(size);
 }
 
 /**
@@ -65,16 +88,20 @@ export class DynamicsState {
   /** Positions one step back (position Verlet's memory), e.g. m. */
   readonly xPrev: Float64Array;
 
-  /** A zero state of `size` degrees of freedom (an integer ≥ 1). */
-  constructor(size: number) {
+  /**
+   * A zero state of `size` degrees of freedom (an integer ≥ 1). With a `model` that has
+   * {@link DynamicsModel.allocate}, the arrays come from it (see SpringModel: the WebAssembly
+   * kernel's memory).
+   */
+  constructor(size: number, model?: DynamicsModel) {
     if (!Number.isInteger(size) || size < 1) {
       throw new RangeError(`DynamicsState: size must be an integer ≥ 1, got ${size}`);
     }
     this.size = size;
-    this.x = new Float64Array(size);
-    this.v = new Float64Array(size);
-    this.a = new Float64Array(size);
-    this.xPrev = new Float64Array(size);
+    this.x = allocateFor(model, size);
+    this.v = allocateFor(model, size);
+    this.a = allocateFor(model, size);
+    this.xPrev = allocateFor(model, size);
   }
 
   /** Copy every array of `other` (of the same size) into this state. */

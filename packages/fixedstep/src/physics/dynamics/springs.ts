@@ -1,4 +1,5 @@
 import { ByteReader, ByteWriter } from '../../det/bytes.js';
+import { springKernels, type SpringKernels } from './wasm.js';
 import { fnv1a64 } from '../../det/hash.js';
 import type { Simulation } from '../../sim/simulation.js';
 import type { BandMatrix } from './band-matrix.js';
@@ -72,6 +73,10 @@ function finite(v: number, what: string): number {
 
 /** Numbers per spring in {@link SpringModel}'s packed spring data: k, L, c, 1/m_a, 1/m_b. */
 const SPRING_DATA = 5;
+/** 2D models with at least this many springs run on the WebAssembly kernel (see SpringModel.allocate). */
+export const WASM_MIN_SPRINGS = 64;
+/** How many state-sized arrays a model's kernel memory holds (a state, RK4's scratch, spare). */
+const WASM_ARRAYS = 12;
 
 function sizeError(x: Float64Array, v: Float64Array, out: Float64Array, size: number): RangeError {
   return new RangeError(
@@ -262,6 +267,18 @@ export class SpringModel implements ImplicitModel {
   private readonly gravityBase: Float64Array;
   private readonly u: Float64Array;
   private readonly w: Float64Array;
+  /**
+   * The WebAssembly kernel and its memory (2D models of at least {@link WASM_MIN_SPRINGS}
+   * springs): created on the first {@link allocate}, undefined until then or where WebAssembly
+   * cannot run, null for models that keep to JavaScript.
+   */
+  private kernels: SpringKernels | undefined | null;
+  /** Byte offsets in the kernel's memory: constants, then the next free array. */
+  private wasmBase = 0;
+  private wasmIdx = 0;
+  private wasmData = 0;
+  private wasmNext = 0;
+  private wasmEnd = 0;
 
   constructor(def: SpringModelDef) {
     const dim: number = def.dim ?? 2; // checked: callers from plain JS
@@ -380,6 +397,71 @@ export class SpringModel implements ImplicitModel {
     this.linear = linear;
     this.u = new Float64Array(dim);
     this.w = new Float64Array(dim);
+    this.kernels = dim === 2 && springs >= WASM_MIN_SPRINGS ? undefined : null;
+  }
+
+  /**
+   * A zeroed array of {@link size} numbers. For a 2D model of at least {@link WASM_MIN_SPRINGS}
+   * springs, a view of the memory of the model's WebAssembly kernel (up to
+   * {@link WASM_ARRAYS} of them; plain arrays after that, or where WebAssembly cannot run):
+   * {@link accelerations} on three such arrays runs the kernel, on any others the JavaScript one,
+   * with the same bits either way. SpringSystem and the integrators take their arrays from here.
+   */
+  allocate(size: number): Float64Array {
+    if (size !== this.size || this.kernels === null) return new Float64Array(size);
+    if (this.kernels === undefined) {
+      const springs = this.springIndex.length >> 1;
+      const bytes = 8 * this.size; // base
+      this.wasmIdx = bytes;
+      this.wasmData = this.wasmIdx + 8 * springs; // idx (two i32 per spring)
+      this.wasmNext = this.wasmData + 8 * SPRING_DATA * springs;
+      this.wasmEnd = this.wasmNext + WASM_ARRAYS * 8 * this.size;
+      const k = springKernels(this.wasmEnd);
+      if (k === undefined) {
+        this.kernels = null;
+        return new Float64Array(size);
+      }
+      const buf = k.memory.buffer;
+      new Float64Array(buf, this.wasmBase, this.size).set(this.gravityBase);
+      new Int32Array(buf, this.wasmIdx, 2 * springs).set(this.springIndex);
+      new Float64Array(buf, this.wasmData, SPRING_DATA * springs).set(this.springData);
+      this.kernels = k;
+    }
+    if (this.wasmNext >= this.wasmEnd) return new Float64Array(size);
+    const view = new Float64Array(this.kernels.memory.buffer, this.wasmNext, size);
+    this.wasmNext += 8 * size;
+    return view;
+  }
+
+  /** Whether `x`, `v` and `out` are all arrays of this model's kernel memory (see {@link allocate}). */
+  private inKernelMemory(x: Float64Array, v: Float64Array, out: Float64Array): boolean {
+    const k = this.kernels;
+    if (!k) return false;
+    const buf = k.memory.buffer;
+    return (
+      x.buffer === buf &&
+      v.buffer === buf &&
+      out.buffer === buf &&
+      x.length === this.size &&
+      v.length === this.size &&
+      out.length === this.size
+    );
+  }
+
+  /**
+   * `v += a·kick; x += v·drift`, element by element, in the kernel when all three arrays are
+   * its memory's (returns true), else not at all (returns false: the caller does it).
+   */
+  kickDrift(
+    x: Float64Array,
+    v: Float64Array,
+    a: Float64Array,
+    kick: number,
+    drift: number,
+  ): boolean {
+    if (!this.inKernelMemory(x, v, a)) return false;
+    this.kernels!.kickDrift(this.size, x.byteOffset, v.byteOffset, a.byteOffset, kick, drift);
+    return true;
   }
 
   /**
@@ -389,6 +471,19 @@ export class SpringModel implements ImplicitModel {
    * order as a generic loop over the dimensions would.
    */
   accelerations(x: Float64Array, v: Float64Array, out: Float64Array): void {
+    if (this.kernels && this.inKernelMemory(x, v, out)) {
+      this.kernels.accelerations2(
+        this.springIndex.length >> 1,
+        this.size,
+        x.byteOffset,
+        v.byteOffset,
+        out.byteOffset,
+        this.wasmBase,
+        this.wasmIdx,
+        this.wasmData,
+      );
+      return;
+    }
     const { gravityBase: base, springIndex: idx, springData: data } = this;
     if (this.dim === 2) accelerations2(x, v, out, base, idx, data);
     else if (this.dim === 3) accelerations3(x, v, out, base, idx, data);
@@ -528,7 +623,7 @@ export class SpringSystem implements Simulation<unknown> {
     const newtonIterations = def.newtonIterations ?? 1;
     this.integrator = createIntegrator(method, this.model, { newtonIterations });
     this.methodId = INTEGRATOR_METHODS.indexOf(method);
-    this.state = new DynamicsState(this.model.size);
+    this.state = new DynamicsState(this.model.size, this.model);
     this.state.x.set(this.model.startPosition);
     this.state.v.set(this.model.startVelocity);
     this.previous = new Float64Array(this.model.size);
