@@ -198,6 +198,37 @@ describe('chapter 9, games', () => {
     await page.close();
   });
 
+  it('slows time down and steps one tick at a time under the fixed step', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const problems = watch(page);
+    await openGame(page, 'game=ctf&seed=3');
+    await page.getByTestId('control-hz-60').click();
+    await page.getByTestId('control-bot').click();
+    await pause(page);
+    const start = num(await readouts(page), 'tick');
+    await page.getByTestId('control-speed-0.25').click();
+    await skip(page, 1);
+    const slow = num(await readouts(page), 'tick');
+    // 5 s of display at a quarter speed: 75 ticks of 1/60 s (a frame or so either way).
+    expect(slow - start).toBeGreaterThanOrEqual(74);
+    expect(slow - start).toBeLessThanOrEqual(76);
+    for (let i = 1; i <= 3; i++) {
+      await page.getByTestId('control-step-tick').click();
+      await expect.poll(async () => num(await readouts(page), 'tick')).toBe(slow + i);
+    }
+    // Back to 1×: the next 5 s run 300 ticks.
+    await page.getByTestId('control-speed-1').click();
+    await skip(page, 1);
+    const normal = num(await readouts(page), 'tick') - (slow + 3);
+    expect(normal).toBeGreaterThanOrEqual(298);
+    expect(normal).toBeLessThanOrEqual(301);
+    // A variable Δt has no time scale: the controls say so by being off.
+    await page.getByTestId('control-loop-variable').click();
+    expect(await page.getByTestId('control-step-tick').isDisabled()).toBe(true);
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
   it('plays the runner from the keyboard, with a visible focus ring', async () => {
     const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
     const problems = watch(page);

@@ -269,3 +269,69 @@ describe('the highscore client', () => {
     expect(table).toMatchObject({ kind: 'ok', entries: [{ name: 'ann', score: 3 }] });
   });
 });
+
+describe('slow motion and single steps (fixed step only)', () => {
+  const session = (mode: LoopMode = 'fixed') =>
+    new GameSession({
+      def: gameDef('ctf'),
+      seed: 7,
+      mode,
+      player: 'bot',
+      display: { hz: 60, jitter: 0.2 },
+      bot: true,
+    });
+
+  it('a time scale changes how many ticks a second runs, never what a tick does', () => {
+    const normal = session();
+    const slow = session();
+    slow.setSpeed(0.25);
+    expect(slow.speed).toBe(0.25);
+    normal.advanceTo(4000);
+    slow.advanceTo(4000);
+    expect(normal.game.tick).toBeGreaterThanOrEqual(239);
+    expect(normal.game.tick).toBeLessThanOrEqual(240);
+    expect(slow.game.tick).toBeGreaterThanOrEqual(59);
+    expect(slow.game.tick).toBeLessThanOrEqual(60);
+    // Bring both to tick 400 (the slow one a tick at a time at the end): the same game.
+    normal.advanceTo(6600);
+    slow.advanceTo(26_000);
+    for (const s of [normal, slow]) while (s.game.tick < 400) s.stepTick();
+    expect(normal.game.tick).toBe(400);
+    expect(slow.game.tick).toBe(400);
+    expect(slow.game.hash()).toBe(normal.game.hash());
+    // And its recording replays.
+    const bytes = slow.replay()!;
+    const r = verifyReplay(bytes, gameFromReplayHeader);
+    expect(r.ok).toBe(true);
+    expect(r.ticks).toBe(400);
+  });
+
+  it('one step is exactly one tick, with the inputs received so far', () => {
+    const s = new GameSession({
+      def: gameDef('runner'),
+      seed: 42,
+      mode: 'fixed',
+      player: 'ann',
+      display: { hz: 144, jitter: 0 },
+    });
+    s.advanceTo(1000);
+    const t0 = s.game.tick;
+    expect(s.stepTick()).toBe(true);
+    expect(s.game.tick).toBe(t0 + 1);
+    s.press(1000, RunnerButtons.jump, true);
+    expect(s.stepTick()).toBe(true);
+    expect(s.game.tick).toBe(t0 + 2);
+    expect((s.game as unknown as { onGround: boolean }).onGround).toBe(false);
+    // The clock did not move; playing on from here takes the display's frames again.
+    expect(s.timeMs).toBe(1000);
+    s.advanceTo(2000);
+    expect(s.game.tick).toBeGreaterThan(t0 + 55);
+  });
+
+  it('does nothing under a variable Δt', () => {
+    const s = session('variable');
+    s.setSpeed(0.25);
+    expect(s.speed).toBe(1);
+    expect(s.stepTick()).toBe(false);
+  });
+});

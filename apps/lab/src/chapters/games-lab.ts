@@ -306,6 +306,37 @@ export class GameSession {
     for (const b of this.def.info.buttons) this.sampler.push(timeMs, b.button, false);
   }
 
+  /**
+   * Fixed step only: how fast simulated time runs against the display's (FixedLoop's time
+   * scale: more or fewer ticks per second, never a longer or shorter tick, so the recording and
+   * its replay stay the same game). Ignored under a variable Δt.
+   */
+  setSpeed(scale: number): void {
+    if (this.loop instanceof FixedLoop) this.loop.setTimeScale(scale);
+  }
+
+  /** The time scale (1 under a variable Δt). */
+  get speed(): number {
+    return this.loop instanceof FixedLoop ? this.loop.timeScale : 1;
+  }
+
+  /**
+   * Fixed step only: run exactly one tick now, at the session's time (FixedLoop's pause and
+   * single step), with every input received up to then. For looking at a game tick by tick while
+   * the clock stands still; the time since the last display frame is not simulated (paused
+   * time). Returns whether a tick ran.
+   */
+  stepTick(): boolean {
+    const loop = this.loop;
+    if (!(loop instanceof FixedLoop) || this.ended) return false;
+    const before = this.game.tick;
+    loop.pause();
+    loop.singleStep();
+    this.runFrame(Math.max(this.lastFrame, this.time));
+    loop.resume();
+    return this.game.tick > before;
+  }
+
   /** End the game now (the recording stays as it is). */
   end(): void {
     this.ended = true;

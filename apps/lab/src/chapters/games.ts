@@ -46,6 +46,9 @@ import { setLastReplay } from './replays-store.js';
 import './games.css';
 
 const SKIP_MS = 5000;
+/** Time scales of the fixed loop the chapter offers. */
+const SPEEDS = [0.25, 0.5, 1, 2] as const;
+type Speed = (typeof SPEEDS)[number];
 const NAME_KEY = 'fixedstep.player';
 const REFERENCE_APEX = runnerApex(1 / 60);
 
@@ -156,6 +159,9 @@ class GamesChapter {
   private readonly gameSeg: Segmented<GameId>;
   private readonly loopSeg: Segmented<LoopMode>;
   private readonly rateSeg: Segmented<DisplayRate>;
+  private readonly speedSeg: Segmented<Speed>;
+  private readonly stepBtn: HTMLButtonElement;
+  private speed: Speed = 1;
   private readonly jitterSlider: Slider;
   private readonly clockBtn: HTMLButtonElement;
   private readonly botBtn: HTMLButtonElement;
@@ -239,6 +245,28 @@ class GamesChapter {
         this.session.setDisplay({ hz, jitter: this.jitter });
       },
     });
+    this.speedSeg = segmented<Speed>({
+      name: 'game-speed',
+      label: 'Speed of simulated time',
+      testPrefix: 'control-speed',
+      values: SPEEDS,
+      selected: this.speed,
+      text: (v) => (v === 0.25 ? '¼×' : v === 0.5 ? '½×' : `${v}×`),
+      onChange: (v) => {
+        this.speed = v;
+        this.session.setSpeed(v);
+      },
+    });
+    this.speedSeg.el.title =
+      'FixedLoop’s time scale: fewer or more ticks per second, each the same size — slow motion that plays back as the same game';
+    this.stepBtn = button('Step 1 tick', 'control-step-tick', () => {
+      if (!this.started) this.start();
+      this.driver.setPaused(true);
+      this.session.stepTick();
+      this.refreshControls();
+      this.render();
+    });
+    this.stepBtn.title = 'Pause and run exactly one tick (FixedLoop’s single step)';
     this.jitterSlider = slider({
       id: 'game-jitter',
       label: 'Jitter',
@@ -320,6 +348,7 @@ class GamesChapter {
         this.nameInput,
       ),
       group('Time', ...this.time.buttons, newBtn, endBtn),
+      group('Speed', this.speedSeg.el, this.stepBtn),
       h('div', { class: 'status' }, ...this.time.status, this.seedOut),
     );
     const settle = () => {
@@ -496,7 +525,7 @@ class GamesChapter {
   // ---------------------------------------------------------------- sessions
 
   private makeSession(seed: number): GameSession {
-    return new GameSession({
+    const session = new GameSession({
       def: gameDef(this.gameId),
       seed,
       mode: this.mode,
@@ -504,6 +533,8 @@ class GamesChapter {
       display: this.real ? 'real' : { hz: this.hz, jitter: this.jitter },
       bot: this.botBtn.getAttribute('aria-pressed') === 'true',
     });
+    session.setSpeed(this.speed);
+    return session;
   }
 
   private newSession(seed: number): void {
@@ -652,6 +683,9 @@ class GamesChapter {
     const paused = this.driver.isPaused;
     this.time.refresh(paused, !this.real);
     this.rateSeg.setDisabled(this.real);
+    const fixed = this.session.mode === 'fixed';
+    this.speedSeg.setDisabled(!fixed);
+    this.stepBtn.disabled = !fixed || this.session.ended;
     this.jitterSlider.input.disabled = this.real;
     setPressed(this.botBtn, this.session.bot);
     this.startOverlay.hidden = this.started;
@@ -667,7 +701,7 @@ class GamesChapter {
       : `simulated ${this.hz} Hz${this.jitter > 0 ? ` ±${Math.round(this.jitter * 100)} %` : ''}`;
     this.time.show(
       s.timeMs,
-      `${display} · ${s.mode === 'fixed' ? `fixed step, ${s.def.info.tickRate} ticks/s` : 'variable Δt'}${running ? '' : this.started ? ' · paused' : ' · press Play'}`,
+      `${display} · ${s.mode === 'fixed' ? `fixed step, ${s.def.info.tickRate} ticks/s${s.speed !== 1 ? ` at ${s.speed}×` : ''}` : 'variable Δt'}${running ? '' : this.started ? ' · paused' : ' · press Play'}`,
     );
     setText(this.seedOut, `seed ${s.seed}`);
     setAttr(this.seedOut, 'data-value', String(s.seed));
