@@ -10,7 +10,6 @@ import {
   ButtonSampler,
   FixedLoop,
   ReplayRecorder,
-  SimulatedDisplay,
   VariableLoop,
   hex64,
   type ButtonInput,
@@ -28,6 +27,7 @@ import {
   type GameDefinition,
   type GameInfo,
 } from '@fixedstep/games';
+import { DisplayClock, type DisplaySpec as ClockDisplaySpec } from '../ui/display-clock.js';
 
 /** The games, in the order the chapter lists them. */
 export const GAME_IDS = ['runner', 'ctf', 'survival'] as const;
@@ -40,10 +40,9 @@ export type DisplayRate = (typeof DISPLAY_RATES)[number];
 /** Which loop runs the game: the production fixed step, or the talk's naive variable Δt. */
 export type LoopMode = 'fixed' | 'variable';
 
-/** A simulated display: its rate and its frame jitter (a fraction of the period, 0–0.3). */
-export interface DisplaySpec {
+/** A simulated display of one of the chapter's rates (see DisplayClock). */
+export interface DisplaySpec extends ClockDisplaySpec {
   hz: DisplayRate;
-  jitter: number;
 }
 
 /** Checkpoint hashes every second of play, keyframes (seek points) every five. */
@@ -180,12 +179,7 @@ export class GameSession {
   lastJump: JumpMeasure | undefined;
   /** Things seen going through a wall (the latest, for drawing). */
   readonly breaches: Breach[] = [];
-  private display: SimulatedDisplay | undefined;
-  private spec: DisplaySpec | 'real';
-  private nextFrame = 0;
-  private lastFrame = 0;
-  private time = 0;
-  private realBase: number | undefined;
+  private readonly clock: DisplayClock;
   private readonly inputs: ButtonInput[] = [0];
   private airApex = 0;
   private airStart = 0;
@@ -212,19 +206,20 @@ export class GameSession {
       );
       this.recorder.start(this.game);
     }
-    this.spec = options.display;
     this.loop.frame(0);
-    this.startDisplay(0);
+    this.clock = new DisplayClock(options.display, (t) => {
+      this.runFrame(t);
+    });
   }
 
   /** The session's clock: ms from the start (the last time it was advanced to). */
   get timeMs(): number {
-    return this.time;
+    return this.clock.timeMs;
   }
 
   /** The display in use. */
   get displaySpec(): DisplaySpec | 'real' {
-    return this.spec;
+    return this.clock.displaySpec as DisplaySpec | 'real';
   }
 
   /** Simulated seconds: tick × step under the fixed step, the sum of every Δt under the variable one. */
@@ -244,53 +239,26 @@ export class GameSession {
 
   /** Switch the display (rate, jitter, or the real clock); the game goes on. */
   setDisplay(spec: DisplaySpec | 'real'): void {
-    this.spec = spec;
-    this.startDisplay(this.lastFrame);
-  }
-
-  private startDisplay(fromMs: number): void {
-    this.realBase = undefined;
-    if (this.spec === 'real') {
-      this.display = undefined;
-      return;
-    }
-    const { hz, jitter } = this.spec;
-    this.display = new SimulatedDisplay({ hz, jitter, seed: hz, startMs: fromMs });
-    this.display.next(); // the frame at fromMs, already taken
-    this.nextFrame = this.display.next().time;
+    this.clock.setDisplay(spec);
   }
 
   /** Simulated display: move the clock to `ms`, taking every display frame due by then. */
   advanceTo(ms: number): void {
-    if (!(ms > this.time)) return;
-    this.time = ms;
-    const d = this.display;
-    if (!d) return;
-    while (this.nextFrame <= ms) {
-      this.runFrame(this.nextFrame);
-      this.nextFrame = d.next().time;
-    }
+    this.clock.advanceTo(ms);
   }
 
   advanceBy(ms: number): void {
-    this.advanceTo(this.time + ms);
+    this.clock.advanceBy(ms);
   }
 
-  /**
-   * Real clock: one display frame at `realMs` on the driver's time line. The first frame after
-   * switching to the real clock pins that time line to the session's.
-   */
+  /** Real clock: one display frame at `realMs` on the driver's time line (see DisplayClock). */
   realFrame(realMs: number): void {
-    if (this.spec !== 'real') return;
-    this.realBase ??= realMs - this.lastFrame;
-    const t = Math.max(this.lastFrame, realMs - this.realBase);
-    this.time = Math.max(this.time, t);
-    this.runFrame(t);
+    this.clock.realFrame(realMs);
   }
 
   /** The session time of a real-clock reading (for stamping input events). */
   sessionTimeOfReal(realMs: number): number {
-    return this.realBase === undefined ? this.time : realMs - this.realBase;
+    return this.clock.timeOfReal(realMs);
   }
 
   /** A key went down or up at session time `timeMs`. Ignored once the game has ended. */
@@ -332,7 +300,7 @@ export class GameSession {
     const before = this.game.tick;
     loop.pause();
     loop.singleStep();
-    this.runFrame(Math.max(this.lastFrame, this.time));
+    this.runFrame(Math.max(this.clock.lastFrameMs, this.clock.timeMs));
     loop.resume();
     return this.game.tick > before;
   }
@@ -353,8 +321,6 @@ export class GameSession {
   }
 
   private runFrame(t: number): void {
-    if (t < this.lastFrame) t = this.lastFrame;
-    this.lastFrame = t;
     if (this.ended) return;
     this.frames++;
     const loop = this.loop;

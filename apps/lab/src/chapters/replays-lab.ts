@@ -8,7 +8,6 @@
 import {
   ReplayError,
   ReplayPlayer,
-  SimulatedDisplay,
   hex64,
   readReplay,
   verifyReplay,
@@ -26,6 +25,7 @@ import {
   type DisplayRate,
   type DisplaySpec,
 } from './games-lab.js';
+import { DisplayClock } from '../ui/display-clock.js';
 
 /** Where playback frames come from. */
 export type Source = DisplayRate | 'real';
@@ -109,12 +109,7 @@ export class ReplayLab {
   readonly def: GameDefinition | undefined;
   /** Where the file came from (“your last game”, a file name …). */
   readonly label: string;
-  private display: SimulatedDisplay | undefined;
-  private spec: DisplaySpec | 'real';
-  private nextFrame = 0;
-  private lastFrame = 0;
-  private time = 0;
-  private realBase: number | undefined;
+  private readonly clock: DisplayClock;
   private inFrame = false;
   private verification: Verification | undefined;
   /** Checkpoint tick → hash, per display, for the ticks passed while playing. */
@@ -132,9 +127,10 @@ export class ReplayLab {
       },
       onMismatch: (m) => this.mismatches.push(m),
     });
-    this.spec = display;
     this.player.frame(0);
-    this.startDisplay(0);
+    this.clock = new DisplayClock(display, (t) => {
+      this.frame(t);
+    });
   }
 
   get header(): ReplayHeader {
@@ -150,11 +146,11 @@ export class ReplayLab {
   }
 
   get timeMs(): number {
-    return this.time;
+    return this.clock.timeMs;
   }
 
   get displaySpec(): DisplaySpec | 'real' {
-    return this.spec;
+    return this.clock.displaySpec as DisplaySpec | 'real';
   }
 
   /** Mismatches the player met while playing or seeking. */
@@ -253,49 +249,24 @@ export class ReplayLab {
 
   /** Switch the display (rate, jitter, or the real clock); playback goes on. */
   setDisplay(spec: DisplaySpec | 'real'): void {
-    this.spec = spec;
-    this.startDisplay(this.lastFrame);
-  }
-
-  private startDisplay(fromMs: number): void {
-    this.realBase = undefined;
-    if (this.spec === 'real') {
-      this.display = undefined;
-      return;
-    }
-    const { hz, jitter } = this.spec;
-    this.display = new SimulatedDisplay({ hz, jitter, seed: hz, startMs: fromMs });
-    this.display.next();
-    this.nextFrame = this.display.next().time;
+    this.clock.setDisplay(spec);
   }
 
   /** Simulated display: move the clock to `ms`, feeding the player every frame due by then. */
   advanceTo(ms: number): void {
-    if (!(ms > this.time)) return;
-    this.time = ms;
-    const d = this.display;
-    if (!d) return;
-    while (this.nextFrame <= ms) {
-      this.frame(this.nextFrame);
-      this.nextFrame = d.next().time;
-    }
+    this.clock.advanceTo(ms);
   }
 
   advanceBy(ms: number): void {
-    this.advanceTo(this.time + ms);
+    this.clock.advanceBy(ms);
   }
 
   /** Real clock: one display frame at `realMs` on the driver's time line. */
   realFrame(realMs: number): void {
-    if (this.spec !== 'real') return;
-    this.realBase ??= realMs - this.lastFrame;
-    const t = Math.max(this.lastFrame, realMs - this.realBase);
-    this.time = Math.max(this.time, t);
-    this.frame(t);
+    this.clock.realFrame(realMs);
   }
 
   private frame(t: number): void {
-    this.lastFrame = t;
     this.inFrame = true;
     try {
       this.player.frame(t);
@@ -305,7 +276,8 @@ export class ReplayLab {
   }
 
   private get source(): Source {
-    return this.spec === 'real' ? 'real' : this.spec.hz;
+    const spec = this.displaySpec;
+    return spec === 'real' ? 'real' : spec.hz;
   }
 
   private onTick(tick: number, sim: Simulation, resimulating: boolean): void {
