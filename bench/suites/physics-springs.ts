@@ -27,7 +27,7 @@
 import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { SpringModel, springChain, type SpringSystemDef } from 'fixedstep';
+import { SpringModel, springChain, springCloth, type SpringSystemDef } from 'fixedstep';
 import {
   compileSprings,
   encodeSpringScene,
@@ -79,25 +79,10 @@ function rope(n: number, method: CMethod): Scene {
  * numbered particle by particle: right neighbour, then the one below.
  */
 function cloth(w: number, h: number, method: CMethod): Scene {
-  const particles: SpringSystemDef['particles'][number][] = [];
-  const springs: SpringSystemDef['springs'][number][] = [];
-  const spacing = 0.05;
-  for (let r = 0; r < h; r++) {
-    for (let c = 0; c < w; c++) {
-      particles.push({ position: [c * spacing, -r * spacing], mass: 0.01, fixed: r === 0 });
-    }
-  }
-  for (let r = 0; r < h; r++) {
-    for (let c = 0; c < w; c++) {
-      const i = r * w + c;
-      if (c + 1 < w) springs.push({ a: i, b: i + 1, stiffness: 20, damping: 0.02 });
-      if (r + 1 < h) springs.push({ a: i, b: i + w, stiffness: 20, damping: 0.02 });
-    }
-  }
   return {
     name: `cloth ${w}×${h}`,
     method,
-    def: { dim: 2, gravity: [0, -9.81], particles, springs, dt: DT, integrator: method },
+    def: springCloth({ columns: w, rows: h, spacing: 0.05, dt: DT, integrator: method }),
   };
 }
 

@@ -6,6 +6,7 @@ import {
   SpringModel,
   SpringSystem,
   createIntegrator,
+  springCloth,
   hex64,
   type IntegratorMethod,
   type SpringSystemDef,
@@ -14,29 +15,32 @@ import { WASM_MIN_SPRINGS } from '../src/physics/dynamics/springs.js';
 import { SPRING_KERNELS_WASM } from '../src/physics/dynamics/kernels-wasm.js';
 import { assembleKernels, kernelsModule } from '../../../scripts/wasm.mjs';
 
-/** A w × h cloth hung by its top row, a kick in one corner: 2(w−1)h-ish springs. */
+/** A w × h cloth hung by its top row, its bottom-left corner kicked. */
 function cloth(w: number, h: number, integrator: IntegratorMethod): SpringSystemDef {
-  const particles: SpringSystemDef['particles'][number][] = [];
-  const springs: SpringSystemDef['springs'][number][] = [];
-  for (let r = 0; r < h; r++) {
-    for (let c = 0; c < w; c++) {
-      particles.push({
-        position: [c * 0.05, -r * 0.05],
-        velocity: r === h - 1 && c === 0 ? [0.4, 0.9] : [0, 0],
-        mass: 0.01,
-        fixed: r === 0,
-      });
-    }
-  }
-  for (let r = 0; r < h; r++) {
-    for (let c = 0; c < w; c++) {
-      const i = r * w + c;
-      if (c + 1 < w) springs.push({ a: i, b: i + 1, stiffness: 20, damping: 0.02 });
-      if (r + 1 < h) springs.push({ a: i, b: i + w, stiffness: 20, damping: 0.02 });
-    }
-  }
-  return { dim: 2, gravity: [0, -9.81], particles, springs, dt: 1 / 60, integrator };
+  const def = springCloth({ columns: w, rows: h, dt: 1 / 60, integrator });
+  const corner = (h - 1) * w;
+  return {
+    ...def,
+    particles: def.particles.map((p, i) => (i === corner ? { ...p, velocity: [0.4, 0.9] } : p)),
+  };
 }
+
+describe('springCloth', () => {
+  it('builds a grid hung by its top row, structural springs only', () => {
+    const def = springCloth({ columns: 12, rows: 10, dt: 1 / 60 });
+    expect(def.particles).toHaveLength(120);
+    expect(def.springs).toHaveLength(11 * 10 + 12 * 9);
+    expect(def.particles.filter((p) => p.fixed).length).toBe(12);
+    expect(def.particles[13]!.position).toEqual([0.05, -0.05]);
+    expect(def.springs.slice(0, 3).map((s) => [s.a, s.b])).toEqual([
+      [0, 1],
+      [0, 12],
+      [1, 2],
+    ]);
+    expect(() => springCloth({ columns: 1, rows: 5, dt: 1 / 60 })).toThrow(RangeError);
+    expect(() => springCloth({ columns: 4, rows: 2.5, dt: 1 / 60 })).toThrow(RangeError);
+  });
+});
 
 describe('the WebAssembly spring kernel', () => {
   it('is kernels.wat, assembled: the committed bytes are not stale', async () => {

@@ -23,6 +23,7 @@ import {
   dsincos,
   dtan,
   springChain,
+  springCloth,
   wrapAngle,
   type IntegratorMethod,
   type PhysicsWorld,
@@ -578,28 +579,12 @@ export function ropeScenes(ticks = 1200): TraceScene[] {
  * WebAssembly must give the JavaScript kernel's bits.
  */
 export function clothDef(integrator: IntegratorMethod): SpringSystemDef {
-  const w = 12;
-  const h = 10;
-  const particles: SpringSystemDef['particles'][number][] = [];
-  const springs: SpringSystemDef['springs'][number][] = [];
-  for (let r = 0; r < h; r++) {
-    for (let c = 0; c < w; c++) {
-      particles.push({
-        position: [c * 0.05, -r * 0.05],
-        velocity: r === h - 1 && c === 0 ? [0.4, 0.9] : [0, 0],
-        mass: 0.01,
-        fixed: r === 0,
-      });
-    }
-  }
-  for (let r = 0; r < h; r++) {
-    for (let c = 0; c < w; c++) {
-      const i = r * w + c;
-      if (c + 1 < w) springs.push({ a: i, b: i + 1, stiffness: 20, damping: 0.02 });
-      if (r + 1 < h) springs.push({ a: i, b: i + w, stiffness: 20, damping: 0.02 });
-    }
-  }
-  return { dim: 2, gravity: [0, -9.81], particles, springs, dt: 1 / 60, integrator };
+  const def = springCloth({ columns: 12, rows: 10, dt: 1 / 60, integrator });
+  const corner = 9 * 12;
+  return {
+    ...def,
+    particles: def.particles.map((p, i) => (i === corner ? { ...p, velocity: [0.4, 0.9] } : p)),
+  };
 }
 
 /** The cloth under each of the six integrators. */

@@ -14,7 +14,13 @@ export type {
   IntegratorOptions,
 } from './integrators.js';
 export { HarmonicOscillator } from './oscillator.js';
-export { SpringModel, SpringSystem, springChain, WASM_MIN_SPRINGS } from './springs.js';
+export {
+  SpringModel,
+  SpringSystem,
+  springChain,
+  springCloth,
+  WASM_MIN_SPRINGS,
+} from './springs.js';
 export { springKernelsAvailable } from './wasm.js';
 export type {
   ParticleDef,
@@ -22,4 +28,5 @@ export type {
   SpringModelDef,
   SpringSystemDef,
   SpringChainOptions,
+  SpringClothOptions,
 } from './springs.js';
