@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { count, exact, hashHue, millis, ratio, seconds } from '../src/ui/format.js';
+import { count, exact, hashHue, millis, ratio, sci, seconds } from '../src/ui/format.js';
 import { routeOf } from '../src/chapters.js';
 
 describe('format', () => {
@@ -14,6 +14,10 @@ describe('format', () => {
     expect(millis(1758.333)).toBe('1\u202f758 ms');
     expect(millis(-5)).toBe('−5 ms');
     expect(count(10008)).toBe('10\u202f008');
+    expect(sci(4.02e-118)).toBe('4.02 × 10⁻¹¹⁸');
+    expect(sci(1e9, 0)).toBe('10⁹');
+    expect(sci(1.05e10)).toBe('1.05 × 10¹⁰');
+    expect(sci(Infinity)).toBe('Infinity');
     expect(exact(0.1 + 0.2)).toBe('0.30000000000000004');
     expect(exact(NaN)).toBe('NaN');
     expect(exact(undefined)).toBe('');

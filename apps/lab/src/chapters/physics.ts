@@ -429,7 +429,7 @@ class PhysicsChapter {
           h(
             'p',
             { class: 'lede' },
-            'A simulation advances positions and velocities in steps: an integrator. The simplest one, Euler’s, is exact only for constant forces. On a spring — the force grows with the stretch — the small error of each step can feed itself: the spring gains energy every step until it blows up. A fixed step makes the behaviour at least the same everywhere; the integrator decides whether it is right.',
+            'A simulation advances positions and velocities in steps: an integrator. The simplest one, Euler’s (move with the old velocity, then update it), is exact only for constant forces. On a spring — the force grows with the stretch — the small error of each step feeds itself: the spring gains energy every step until it blows up. Swap the two lines, as the talk’s own code does, and it holds; push the step or the stiffness too far and every explicit method blows up. A fixed step makes the behaviour at least the same everywhere; the integrator decides whether it is right.',
           ),
         ),
         methodsIntro(),
@@ -614,41 +614,61 @@ class PhysicsChapter {
   }
 
   private experiments(): HTMLElement {
+    // Each sets everything its text assumes and starts again, whatever was clicked before.
+    const run = (
+      settings: Partial<PhysicsSettings>,
+      playMs: number | undefined,
+      show: HTMLElement,
+    ) => {
+      this.change({
+        stepMs: 30,
+        stiffness: 20,
+        ropeStiffness: 40,
+        ropeMethod: 'semi-implicit-euler',
+        ...settings,
+      });
+      this.methodInputs.get(this.lab.settings.ropeMethod)!.checked = true;
+      this.lab.restart();
+      this.lastPoke = undefined;
+      if (playMs !== undefined) {
+        this.lab.advanceBy(playMs);
+        this.setPaused(true);
+      } else {
+        this.setPaused(false);
+      }
+      show.scrollIntoView({ block: 'start', behavior: 'smooth' });
+    };
     const items: { title: string; text: string; action: string; run: () => void }[] = [
       {
         title: 'The talk’s exploding spring',
         text: 'k = 20 N/m at the talk’s 30 ms: ω·dt ≈ 0.13, tiny. Explicit Euler still gains 1.8 % per step — ×380 in 10 s — while the talk’s own code (semi-implicit Euler) wobbles within 7 % and velocity Verlet within 0.5 %.',
         action: 'Run 10 s',
         run: () => {
-          this.change({ stepMs: 30, stiffness: 20 });
-          this.lab.restart();
-          this.lab.advanceBy(10_000);
-          this.setPaused(true);
+          run({}, 10_000, this.laneGrid);
         },
       },
       {
         title: 'Just past 2',
-        text: 'k = 5000 N/m at 30 ms: ω·dt ≈ 2.12. Semi-implicit Euler and both Verlets blow up in a few steps; RK4 (limit 2√2) and backward Euler hold. Smaller steps, not cleverer code, are what fixes a stiff spring.',
+        text: 'k = 5000 N/m at 30 ms: ω·dt ≈ 2.12. Semi-implicit Euler and both Verlets blow up within the first second; RK4 (limit 2√2) stays bounded but drains the motion away, backward Euler too. Smaller steps, not cleverer code, are what fixes a stiff spring.',
         action: 'k = 5000 N/m',
         run: () => {
-          this.change({ stepMs: 30, stiffness: 5000 });
+          run({ stiffness: 5000 }, undefined, this.laneGrid);
         },
       },
       {
         title: 'A smaller step',
-        text: 'Halve the step to 15 ms. Explicit Euler’s growth per step falls four times, but it still grows; everyone else gets closer to 1. The error of the first-order methods halves, the Verlets’ quarters.',
+        text: 'The talk’s spring at 15 ms instead of 30 for 10 s. Explicit Euler’s growth per step falls four times and it takes twice the steps: ×20 instead of ×380 — better, still wrong. Everyone else gets closer to 1: the error of the first-order methods halves, the Verlets’ quarters.',
         action: 'Step 15 ms',
         run: () => {
-          this.change({ stepMs: 15 });
+          run({ stepMs: 15 }, 10_000, this.laneGrid);
         },
       },
       {
         title: 'Only backward Euler survives',
-        text: 'Stiffen the rope’s links to 1000 N/m: its fastest mode has ω·dt ≈ 6. Every explicit method shreds it within a few steps; backward Euler stays calm — and you can see it drain the swing away.',
+        text: 'Stiffen the rope’s links to 1000 N/m at 30 ms: its fastest mode has ω·dt ≈ 6. Every explicit method shreds it within a few steps; backward Euler stays calm — and you can see it drain the swing away.',
         action: 'Stiff rope',
         run: () => {
-          this.change({ ropeStiffness: 1000, ropeMethod: 'backward-euler' });
-          this.methodInputs.get('backward-euler')!.checked = true;
+          run({ ropeStiffness: 1000, ropeMethod: 'backward-euler' }, undefined, this.ropeCanvas);
         },
       },
     ];
@@ -912,8 +932,16 @@ class PhysicsChapter {
     put('energy-ratio', energyText(ratio), ratio);
     put('max-error', errorText(lane.maxEnergyError), lane.maxEnergyError);
     const phase = race.phaseError(lane);
-    put('phase', `${phase >= 0 ? '+' : '−'}${Math.abs(phase).toFixed(3)} rad`, phase);
-    const st: Stability | 'exploded' = lane.exploded ? 'exploded' : stabilityOf(l.method, omegaDt);
+    const phaseText = Math.abs(phase).toFixed(3);
+    put('phase', `${phaseText === '0.000' ? '±' : phase >= 0 ? '+' : '−'}${phaseText} rad`, phase);
+    // A method inside its stability limit may still drain the motion (RK4 near 2√2): that is
+    // "damped", not "stable" — stable is not the same as right.
+    const limitState = stabilityOf(l.method, omegaDt);
+    const st: Stability | 'exploded' = lane.exploded
+      ? 'exploded'
+      : limitState === 'stable' && ratio < 1e-3
+        ? 'damped'
+        : limitState;
     put('state', st === 'exploded' ? 'exploded' : st === 'grows' ? 'grows' : st, st);
     setAttr(l.chip, 'data-state', st);
     l.cells.get('energy-ratio')?.classList.toggle('warn', !(Math.abs(ratio - 1) < 0.1));
@@ -1058,7 +1086,7 @@ class PhysicsChapter {
     setText(
       this.ropeOverlay,
       rope.exploded
-        ? `Exploded after ${(rope.explodedAt * rope.config.dt).toFixed(2)} s: a bead flew ${rope.config.explodeBeyond} m off. Restart, or pick another integrator.`
+        ? `Exploded after ${(rope.explodedAt * rope.config.dt).toFixed(2)} s: a bead flew ${rope.config.explodeBeyond} m off. Pick another integrator, or soften the links or shorten the step so ω·dt falls inside its limit.`
         : '',
     );
 
@@ -1176,22 +1204,23 @@ function clamp(v: number, lo: number, hi: number): number {
 }
 
 function zoomText(z: number): string {
-  if (z >= 1e4) return z.toExponential(0).replace('e+', 'e');
+  if (z >= 1e4) return fmt.sci(z, 0);
   return z >= 10 ? z.toFixed(0) : z.toFixed(1);
 }
 
 /** E/E₀ for a readout: 4 significant digits near 1, then grouped, then powers of ten. */
 function energyText(r: number): string {
   if (!Number.isFinite(r)) return '—';
-  if (r >= 1e5 || (r > 0 && r < 1e-3)) return `${r.toExponential(2)}×`;
+  if (r >= 1e5 || (r > 0 && r < 1e-3)) return `${fmt.sci(r)}×`;
   if (r >= 100) return `${fmt.count(r)}×`;
   return `${r.toFixed(4)}×`;
 }
 
+/** max |ΔE| / E₀: a percentage below 10×, a factor above (an explosion). */
 function errorText(e: number): string {
   if (!Number.isFinite(e)) return '∞';
-  if (e >= 1e5) return e.toExponential(2);
-  if (e >= 10) return fmt.count(e);
+  if (e >= 1e5) return `${fmt.sci(e)}×`;
+  if (e >= 10) return `${fmt.count(e)}×`;
   return `${(e * 100).toFixed(2)} %`;
 }
 
@@ -1249,7 +1278,7 @@ function methodsIntro(): HTMLElement {
     {
       title: 'The talk’s code: semi-implicit Euler',
       color: COLORS['semi-implicit-euler'],
-      text: 'Swap the two lines — velocity first, then move with the new velocity — and the energy stays bounded while ω·dt < 2. The slides’ loop is this one; it explodes only for stiff springs.',
+      text: 'Swap the two lines — velocity first, then move with the new velocity — and the energy stays bounded while ω·dt < 2. The slides’ own loop is this one: it wobbles but holds at the talk’s spring, and explodes only for stiff springs. The explosion the talk shows is what card 1 does.',
       snippet: 'velocity += acceleration * dt\nposition += velocity * dt',
     },
     {
@@ -1290,7 +1319,7 @@ function howItWorks(): HTMLElement {
     h(
       'p',
       {},
-      `The six panels are one deterministic simulation: fixedstep’s integrators on one harmonic oscillator, stepped in lockstep by a fixed-step loop (FixedLoop) with the step you chose. Energy is ½v² + ½ω²x² per kilogram; a method whose energy passes ${EXPLODE_AT.toExponential(0)} times the start is stopped and marked exploded. The rope is a SpringSystem (fixedstep’s springs) that starts hanging at rest.`,
+      `The six panels are one deterministic simulation: fixedstep’s integrators on one harmonic oscillator, stepped in lockstep by a fixed-step loop (FixedLoop) with the step you chose. Energy is ½v² + ½ω²x² per kilogram; a method whose energy passes ${fmt.sci(EXPLODE_AT, 0)} times the start is stopped and marked exploded. The rope is a SpringSystem (fixedstep’s springs) that starts hanging at rest.`,
     ),
     h(
       'p',

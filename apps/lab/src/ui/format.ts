@@ -39,3 +39,17 @@ export function exact(v: number | string | boolean | undefined): string {
   if (typeof v === 'number') return Number.isNaN(v) ? 'NaN' : String(v);
   return String(v);
 }
+
+const SUPERSCRIPT = '⁰¹²³⁴⁵⁶⁷⁸⁹';
+
+/** Powers of ten as people write them: sci(4e-118) = "4.00 × 10⁻¹¹⁸", sci(1e9, 0) = "10⁹". */
+export function sci(x: number, digits = 2): string {
+  if (!Number.isFinite(x) || x === 0) return String(x);
+  const [mantissa = '', power = '0'] = x.toExponential(digits).split('e');
+  const e = Number(power);
+  const sup = `${e < 0 ? '⁻' : ''}${String(Math.abs(e))
+    .split('')
+    .map((d) => SUPERSCRIPT[Number(d)])
+    .join('')}`;
+  return mantissa === '1' ? `10${sup}` : `${mantissa} × 10${sup}`;
+}
