@@ -150,6 +150,33 @@ describe('chapter 4, physics', () => {
     await page.close();
   });
 
+  it('a hitch breaks the talk’s spring under a variable Δt, not under the fixed step', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const problems = watch(page);
+    await open(page);
+    await skip(page);
+    let r = await readouts(page);
+    expect(num(r, 'hitch-variable-omega-dt')).toBeLessThan(0.5);
+    expect(num(r, 'hitch-variable-max-energy')).toBeLessThan(1.6);
+    await page.getByTestId('control-spring-hitch').click();
+    await expect.poll(async () => num(await readouts(page), 'hitch-count')).toBe(1);
+    await skip(page);
+    r = await readouts(page);
+    console.log(
+      `hitch at 5 s: variable ω·Δt ${r['readout-hitch-variable-omega-dt']}, largest E/E0 ${r['readout-hitch-variable-max-energy']}; fixed ${r['readout-hitch-fixed-omega-dt']}, ${r['readout-hitch-fixed-max-energy']}`,
+    );
+    expect(num(r, 'hitch-variable-omega-dt')).toBeGreaterThan(2);
+    expect(num(r, 'hitch-variable-max-dt')).toBeGreaterThan(250);
+    expect(num(r, 'hitch-fixed-omega-dt')).toBeCloseTo(0.3, 9);
+    expect(num(r, 'hitch-fixed-max-energy')).toBeLessThan(1.2);
+    await page.getByTestId('canvas-hitch-variable').scrollIntoViewIfNeeded();
+    await page
+      .locator('.hitch-section')
+      .screenshot({ path: path.join(shots, 'physics-hitch.png') });
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
   it('fits a phone screen', async () => {
     const { context, page, problems } = await phonePage(lab.browser);
     await open(page);

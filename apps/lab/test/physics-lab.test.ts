@@ -3,6 +3,7 @@ import { INTEGRATOR_METHODS, hex64 } from 'fixedstep';
 import {
   ClockPhysics,
   EnergyHistory,
+  HitchLab,
   PLOT_SAMPLES,
   PhysicsLab,
   defaultSettings,
@@ -115,5 +116,44 @@ describe('PhysicsLab', () => {
     for (let t = 0; t <= 1500; t += 16.7) clock.frameAt(t);
     expect(clock.run.rope.pokes).toBe(1);
     expect(clock.run.race.tick).toBe(Math.floor(clock.timeMs / 30));
+  });
+});
+
+describe('HitchLab: the talk’s spring code under a variable Δt and a fixed step', () => {
+  it('jitter alone is harmless; a hitch pushes the variable loop past ω·Δt = 2, the fixed step never', () => {
+    const lab = new HitchLab();
+    lab.advanceTo(2000);
+    const v = () => lab.run('variable').rig.scene;
+    const f = () => lab.run('fixed').rig.scene;
+    expect(v().maxRatio).toBeLessThan(1.6);
+    expect(v().omega * v().maxDt).toBeLessThan(0.5);
+    lab.addHitch();
+    expect(lab.hitches).toEqual([2000]);
+    lab.advanceTo(6000);
+    expect(v().maxDt * 1000).toBeGreaterThan(250);
+    expect(v().omega * v().maxDt).toBeGreaterThan(2);
+    expect(v().maxRatio).toBeGreaterThan(10);
+    expect(f().maxDt).toBe(0.03);
+    expect(f().maxRatio).toBeLessThan(1.2);
+    // The traces hold the last few seconds of x(t), in time order.
+    const { t } = lab.run('variable').trace;
+    expect(t.at(-1)!).toBeGreaterThan(5.9);
+    expect(t.every((x, i) => i === 0 || x > t[i - 1]!)).toBe(true);
+  });
+
+  it('replays: the same hitches give the same numbers; restart forgets them', () => {
+    const a = new HitchLab();
+    a.advanceTo(2000);
+    a.addHitch();
+    a.advanceTo(5000);
+    const b = new HitchLab();
+    b.advanceTo(2000);
+    b.addHitch();
+    for (let t = 2000; t <= 5000; t += 16.7) b.advanceTo(t);
+    b.advanceTo(5000);
+    expect(b.run('variable').rig.scene.x).toBe(a.run('variable').rig.scene.x);
+    a.restart();
+    expect(a.hitches).toEqual([]);
+    expect(a.timeMs).toBe(0);
   });
 });

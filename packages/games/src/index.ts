@@ -29,7 +29,7 @@ export type {
   WallRule,
   RangeLoopKind,
 } from './scenes/collisions.js';
-export { OscillatorRace, isStable, runIntegratorExperiment } from './scenes/physics.js';
+export { OscillatorRace, TalkSpring, isStable, runIntegratorExperiment } from './scenes/physics.js';
 export type {
   OscillatorRaceOptions,
   RaceLane,

@@ -10,6 +10,8 @@
 import {
   OscillatorRace,
   Rope,
+  SceneRig,
+  TalkSpring,
   makeLoop,
   ropeOmegaMax,
   type RaceLane,
@@ -373,5 +375,109 @@ export class ClockPhysics {
       this.run.poke(SCRIPTED_POKES[this.scripted++]!);
     }
     this.run.frameAt(tMs);
+  }
+}
+
+// ----------------------------------------------------------------------------- a hitch
+
+/** The hitch demo's spring: k = 100 N/m on 1 kg, so ω = 10 rad/s (ω·dt = 0.3 at 30 ms). */
+export const HITCH_OMEGA = 10;
+/** How long a hitch holds the display, ms. */
+export const HITCH_MS = 250;
+/** The hitch demo's display: 30 Hz with ±30 % jitter. */
+export const HITCH_DISPLAY = { hz: 30, jitter: 0.3, seed: 11 } as const;
+/** Seconds of x(t) the demo keeps for drawing. */
+export const HITCH_WINDOW_S = 6;
+
+/** x(t) after each update, the last {@link HITCH_WINDOW_S} seconds of it. */
+export class SpringTrace {
+  readonly t: number[] = [];
+  readonly x: number[] = [];
+  push(t: number, x: number): void {
+    this.t.push(t);
+    this.x.push(x);
+    let drop = 0;
+    while (drop < this.t.length && this.t[drop]! < t - HITCH_WINDOW_S) drop++;
+    if (drop > 64) {
+      this.t.splice(0, drop);
+      this.x.splice(0, drop);
+    }
+  }
+}
+
+/** One of the two loops of the hitch demo. */
+export interface HitchRun {
+  readonly kind: 'variable' | 'fixed';
+  readonly rig: SceneRig<TalkSpring>;
+  readonly trace: SpringTrace;
+}
+
+/**
+ * The talk's spring code (`v += a·dt; x += v·dt`) under a variable Δt and under a fixed 30 ms
+ * step, on one jittery 30 Hz display that the user can make hitch: a hitch is one update of
+ * ω·dt ≈ 2.8 for the variable loop — past the method's limit of 2, so its energy jumps —
+ * and nine ordinary steps for the fixed one. Like the rest of the chapter, it replays from zero
+ * whenever a hitch is added, so its numbers repeat exactly.
+ */
+export class HitchLab {
+  readonly hitches: number[] = [];
+  runs: readonly HitchRun[] = [];
+  private t = 0;
+
+  constructor() {
+    this.build();
+  }
+
+  get timeMs(): number {
+    return this.t;
+  }
+
+  run(kind: 'variable' | 'fixed'): HitchRun {
+    return this.runs.find((r) => r.kind === kind)!;
+  }
+
+  /** Both loops up to `ms` of display time (back in time: replayed from zero). */
+  advanceTo(ms: number): void {
+    if (ms < this.t) {
+      this.build();
+      this.t = 0;
+    }
+    for (const r of this.runs) r.rig.advanceTo(ms);
+    this.t = ms;
+  }
+
+  /** The display stops for {@link HITCH_MS} from now. */
+  addHitch(): void {
+    this.hitches.push(this.t);
+    const t = this.t;
+    this.build();
+    this.t = 0;
+    this.advanceTo(t);
+  }
+
+  restart(): void {
+    this.hitches.length = 0;
+    this.build();
+    this.t = 0;
+  }
+
+  private build(): void {
+    const events = this.hitches.map((atMs) => ({
+      kind: 'hitch' as const,
+      atMs,
+      durationMs: HITCH_MS,
+    }));
+    this.runs = (['variable', 'fixed'] as const).map((kind): HitchRun => {
+      const trace = new SpringTrace();
+      const rig = new SceneRig<TalkSpring>({
+        loop: kind === 'fixed' ? { kind: 'fixed', stepMs: 30 } : { kind: 'variable' },
+        display: { ...HITCH_DISPLAY, events },
+        scene: new TalkSpring(HITCH_OMEGA),
+        onUpdate: (scene) => {
+          trace.push(scene.time, scene.x);
+        },
+      });
+      return { kind, rig, trace };
+    });
   }
 }

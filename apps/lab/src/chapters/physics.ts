@@ -25,6 +25,7 @@ import {
 import { EnergyChart } from './physics-chart.js';
 import { h, setAttr, setText } from '../ui/dom.js';
 import { ideaCards, type IdeaCard } from '../ui/cards.js';
+import { HitchSection } from './physics-hitch.js';
 import { LabDriver } from '../ui/driver.js';
 import { TimeControls, button, toggle } from '../ui/controls.js';
 import * as fmt from '../ui/format.js';
@@ -125,6 +126,7 @@ class PhysicsChapter {
   private readonly rulerMarker: HTMLElement;
   private readonly rulerMarkerLabel: HTMLElement;
   private readonly laneGrid: HTMLElement;
+  private readonly hitch: HitchSection;
   private readonly chartHost: HTMLElement;
 
   // The rope.
@@ -303,6 +305,9 @@ class PhysicsChapter {
     );
 
     // ------------------------------------------------------------ lanes
+    this.hitch = new HitchSection(() => {
+      this.render();
+    });
     this.laneGrid = h('div', { class: 'panels lane-panels' });
     for (const method of INTEGRATOR_METHODS) this.laneGrid.append(this.buildLane(method));
 
@@ -448,6 +453,7 @@ class PhysicsChapter {
           h('h3', { class: 'chart-heading' }, 'Energy, E / E₀ (log scale)'),
           h('div', { class: 'energy-chart-wrap' }, this.chartHost, energyLegend()),
         ),
+        this.hitch.el,
         h(
           'section',
           { class: 'rope-section', 'aria-labelledby': 'rope-title' },
@@ -814,6 +820,7 @@ class PhysicsChapter {
   }
 
   private restart(): void {
+    this.hitch.restart();
     if (this.clock) this.setRealClock(true);
     else this.lab.restart();
     this.lastPoke = undefined;
@@ -876,6 +883,7 @@ class PhysicsChapter {
   private render(): void {
     const run = this.run();
     const t = this.clock ? this.clock.timeMs : this.lab.timeMs;
+    this.hitch.render(t);
     const s = this.lab.settings;
     const hz = this.driver.measuredHz;
     this.time.show(

@@ -343,3 +343,55 @@ export function runIntegratorExperiment(
   });
   return { options, steps, results };
 }
+
+/**
+ * The talk's own spring code — `v += a·dt; x += v·dt` (semi-implicit Euler) on `x'' = −ω²x` —
+ * as a {@link SteppedScene} for {@link SceneRig}: it takes whatever Δt its loop hands it, so the
+ * same spring can run under a fixed step and under a variable Δt side by side. Stable while
+ * ω·dt < 2; one longer update (a hitch, under a variable Δt) multiplies its energy. Only
+ * `+ − ×`, so deterministic.
+ */
+export class TalkSpring {
+  readonly omega: number;
+  x: number;
+  v: number;
+  /** Position before the last update (render interpolation). */
+  prevX: number;
+  /** E₀ = ½v² + ½ω²x² at the start, per kilogram. */
+  readonly energy0: number;
+  /** The longest Δt it was given, s. */
+  maxDt = 0;
+  /** The largest E/E₀ reached. */
+  maxRatio = 1;
+  /** Updates taken and simulated time (the sum of the Δts), s. */
+  updates = 0;
+  time = 0;
+
+  constructor(omega: number, x0 = 1, v0 = 0) {
+    if (!(omega > 0 && omega < Infinity)) {
+      throw new RangeError(`TalkSpring: ω must be finite and > 0, got ${omega}`);
+    }
+    this.omega = omega;
+    this.x = x0;
+    this.v = v0;
+    this.prevX = x0;
+    this.energy0 = 0.5 * v0 * v0 + 0.5 * omega * omega * x0 * x0;
+  }
+
+  /** E/E₀ now. */
+  get energyRatio(): number {
+    return (0.5 * this.v * this.v + 0.5 * this.omega * this.omega * this.x * this.x) / this.energy0;
+  }
+
+  update(dt: number): void {
+    if (!(dt > 0 && dt < Infinity)) return;
+    this.prevX = this.x;
+    this.v += -this.omega * this.omega * this.x * dt;
+    this.x += this.v * dt;
+    this.updates++;
+    this.time += dt;
+    if (dt > this.maxDt) this.maxDt = dt;
+    const r = this.energyRatio;
+    if (r > this.maxRatio) this.maxRatio = r;
+  }
+}
