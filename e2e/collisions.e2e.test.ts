@@ -85,6 +85,96 @@ describe('chapter 3, collisions', () => {
     await page.close();
   });
 
+  it('takes every click on the chart, and each experiment does what it says', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    const problems = watch(page);
+    await open(page);
+    await skip(page);
+
+    // Four clicks in turn, the mouse moving between them inside the chart: each picks its
+    // setting, although every new setting adds a row to the results table (uPlot measures the
+    // chart only when the mouse enters it or the page scrolls).
+    const over = page.locator('[data-testid="chart-walls"] .u-over');
+    const setting = async () => {
+      const r = await readouts(page);
+      return {
+        speed: Number(await page.getByTestId('control-speed').inputValue()),
+        wall: Number(await page.getByTestId('control-wall').inputValue()),
+        step: num(r, 'step-distance'),
+        safe: num(r, 'max-safe-speed'),
+      };
+    };
+    const points = [
+      [0.2, 0.93],
+      [0.7, 0.3],
+      [0.45, 0.96],
+      [0.9, 0.6],
+    ] as const;
+    await over.scrollIntoViewIfNeeded();
+    let taken = 0;
+    for (const [fx, fy] of points) {
+      const before = await setting();
+      const box = await over.boundingBox();
+      if (!box) throw new Error('no chart');
+      await page.mouse.move(box.x + box.width * fx, box.y + box.height * fy, { steps: 8 });
+      await page.mouse.down();
+      await page.mouse.up();
+      await expect.poll(async () => (await setting()).speed).not.toBe(before.speed);
+      const after = await setting();
+      expect(after.speed).toBeCloseTo(150 * fx, -0.5);
+      expect(after.wall).toBeCloseTo(8 * (1 - fy), 0);
+      expect(after.step).toBeCloseTo(after.speed * 0.03, 9);
+      expect(after.wall).not.toBe(before.wall);
+      expect(after.safe).not.toBe(before.safe);
+      taken++;
+    }
+    console.log(`chart clicks taken: ${taken} of ${points.length}`);
+
+    // The experiments, in page order: each one's claim holds whatever came before.
+    const run = async (n: number) => {
+      await page.getByTestId(`experiment-${n}`).click();
+      await page.getByTestId('control-pause').click();
+      await skip(page, 2);
+      return readouts(page);
+    };
+    const rule = await run(1);
+    expect(await page.getByTestId('control-wall').inputValue()).toBe('1.8');
+    expect(num(rule, 'theory-share')).toBeCloseTo(0.4444, 3);
+    expect(Math.abs(num(rule, 'measured-share') - 0.4444)).toBeLessThan(0.08);
+    expect(num(rule, 'ccd-tunnelled')).toBe(0);
+
+    const hitch = await run(2);
+    expect(await page.getByTestId('control-speed').inputValue()).toBe('60');
+    expect(await page.getByTestId('control-wall').inputValue()).toBe('3.5');
+    expect(await page.getByTestId('control-jitter').inputValue()).toBe('0');
+    expect(await page.locator('#col-hz-60').isChecked()).toBe(true);
+    expect(num(hitch, 'variable-max-dt')).toBeGreaterThanOrEqual(250);
+    expect(num(hitch, 'variable-tunnelled')).toBeGreaterThan(0);
+    expect(num(hitch, 'fixed-max-dt')).toBe(30);
+    expect(num(hitch, 'fixed-tunnelled')).toBe(0);
+
+    const smooth = await run(3);
+    expect(await page.locator('#col-hz-144').isChecked()).toBe(true);
+    expect(num(smooth, 'variable-max-dt')).toBeLessThan(7.5);
+    expect(num(smooth, 'variable-tunnelled')).toBe(0);
+    expect(num(smooth, 'fixed-tunnelled')).toBe(0);
+
+    const bullets = await run(4);
+    expect(await page.getByTestId('control-ccd').getAttribute('aria-pressed')).toBe('true');
+    expect(num(bullets, 'variable-share')).toBeGreaterThan(0.5);
+    expect(num(bullets, 'fixed-share')).toBeGreaterThan(0.5);
+    expect(num(bullets, 'ccd-tunnelled')).toBe(0);
+
+    // Again from the end: the rule's experiment draws the discrete twins and lets ~44 % through.
+    const again = await run(1);
+    expect(await page.getByTestId('control-ccd').getAttribute('aria-pressed')).toBe('false');
+    expect(await page.locator('#col-hz-30').isChecked()).toBe(true);
+    expect(Math.abs(num(again, 'measured-share') - 0.4444)).toBeLessThan(0.08);
+
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
   it('fits a phone screen and works from the keyboard', async () => {
     const { context, page, problems } = await phonePage(lab.browser);
     await open(page);

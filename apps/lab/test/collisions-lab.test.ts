@@ -3,6 +3,8 @@ import { hex64 } from 'fixedstep';
 import {
   ClockRanges,
   CollisionsLab,
+  EXPERIMENT_HITCH_AT_MS,
+  EXPERIMENTS,
   PANELS,
   defaultSettings,
   type CollisionsSettings,
@@ -105,5 +107,100 @@ describe('CollisionsLab', () => {
     expect(r.fixed!.fired).toBeGreaterThanOrEqual(19);
     expect(r.variable!.lastDtMs).toBeCloseTo(16.7, 6);
     expect(clock.result().speed).toBe(60);
+  });
+
+  it('keeps the CCD twins’ own resolved count in a setting’s result', () => {
+    const lab = new CollisionsLab({ ...defaultSettings(), speed: 150, wall: 0.5 });
+    lab.advanceTo(6000);
+    const r = lab.result();
+    const live = readouts(lab);
+    expect(r.variable.ccdResolved).toBe(live.variable!.ccdResolved);
+    expect(r.fixed.ccdResolved).toBe(live.fixed!.ccdResolved);
+    expect(r.fixed.ccdResolved).toBeGreaterThan(0);
+  });
+});
+
+/**
+ * Runs an experiment as its button does and checks what its text says; returns the claims that
+ * do not hold (empty: the text is true).
+ */
+function experimentFails(lab: CollisionsLab, index: number): string[] {
+  const exp = EXPERIMENTS[index]!;
+  lab.startOver(exp.settings);
+  const claims: [string, boolean][] = [
+    ['starts from zero', lab.timeMs === 0],
+    ['with exactly its settings', JSON.stringify(lab.settings) === JSON.stringify(exp.settings)],
+  ];
+  const claim = (what: string, ok: boolean) => claims.push([`${exp.action}: ${what}`, ok]);
+  switch (exp.action) {
+    case 'Wall = v·dt': {
+      lab.advanceTo(20_000);
+      const r = readouts(lab);
+      claim('the wall is one step', Math.abs(lab.rule.stepDistance - 1.8) < 1e-9);
+      claim('the text says about 44 %', /about 44\s% of the bodies, almost half/.test(exp.text));
+      claim('theory 44.4 %', Math.abs(lab.rule.theoryShare - 0.4444) < 0.001);
+      claim('about 44 % through, fixed', Math.abs(r.fixed!.share - 0.444) < 0.06);
+      claim('none through with CCD', r.fixed!.ccdThrough + r.variable!.ccdThrough === 0);
+      claim('draws the discrete twins', !exp.ccd);
+      break;
+    }
+    case 'Drop a hitch': {
+      lab.advanceTo(EXPERIMENT_HITCH_AT_MS - 1);
+      const before = readouts(lab);
+      claim('resolved before the hitch', before.variable!.resolved > 0);
+      claim('none through before the hitch', before.variable!.through === 0);
+      claim('17 ms steps before the hitch', before.variable!.maxDtMs < 17);
+      lab.advanceTo(10_000);
+      const after = readouts(lab);
+      claim('a step of at least 250 ms', after.variable!.maxDtMs >= 250);
+      claim('bodies through, variable', after.variable!.through > 0);
+      claim('fixed steps stay 30 ms', after.fixed!.maxDtMs === 30);
+      claim('none through, fixed', after.fixed!.through === 0);
+      break;
+    }
+    case '144 Hz, no jitter': {
+      lab.advanceTo(20_000);
+      const r = readouts(lab);
+      claim('resolved', r.variable!.resolved > 150);
+      claim('none through, variable', r.variable!.through === 0);
+      claim('none through, fixed', r.fixed!.through === 0);
+      claim('7 ms steps', r.variable!.maxDtMs < 7.5);
+      break;
+    }
+    case 'Fire bullets': {
+      lab.advanceTo(10_000);
+      const r = readouts(lab);
+      claim('4.5 m per step', Math.abs(lab.rule.stepDistance - 4.5) < 1e-9);
+      claim('most through, variable', r.variable!.share > 0.5);
+      claim('most through, fixed', r.fixed!.share > 0.5);
+      claim('CCD resolved', r.variable!.ccdResolved > 50 && r.fixed!.ccdResolved > 50);
+      claim('none through with CCD', r.variable!.ccdThrough + r.fixed!.ccdThrough === 0);
+      claim('draws the CCD twins', exp.ccd);
+      break;
+    }
+    default:
+      claim('has a check', false);
+  }
+  return claims.filter(([, ok]) => !ok).map(([what]) => what);
+}
+
+describe('Things to try', () => {
+  it('each experiment’s claim holds, run in page order on one lab', () => {
+    const lab = new CollisionsLab();
+    lab.advanceTo(3000);
+    const fails = EXPERIMENTS.flatMap((_, i) => experimentFails(lab, i));
+    expect(fails).toEqual([]);
+  });
+
+  it('and in any other order, after any other setting', () => {
+    const lab = new CollisionsLab();
+    const fails: string[] = [];
+    for (const i of [3, 1, 2, 0, 1, 3, 2]) {
+      lab.update({ speed: 33, wall: 6.1, jitter: 0.5, hz: 30 });
+      lab.advanceTo(lab.timeMs + 1500);
+      lab.addHitch();
+      fails.push(...experimentFails(lab, i));
+    }
+    expect(fails).toEqual([]);
   });
 });

@@ -60,7 +60,9 @@ export class WallChart {
           x: true,
           y: true,
           points: { show: false },
-          drag: { x: false, y: false },
+          // No drag: a press and release is always a click that picks a setting. (uPlot would
+          // otherwise take a click whose rect went stale as a drag and swallow it.)
+          drag: { x: false, y: false, setScale: false, click: () => undefined },
         },
         select: { show: false, left: 0, top: 0, width: 0, height: 0 },
         scales: {
@@ -118,6 +120,12 @@ export class WallChart {
       [xs, xs.map((v) => v * STEP_S), xs.map(() => 0), xs.map(() => null)],
       host,
     );
+    // The page above the chart can change height; measure the plot afresh on every press.
+    const sync = () => {
+      this.plot.syncRect();
+    };
+    this.plot.over.addEventListener('pointerenter', sync);
+    this.plot.over.addEventListener('pointerdown', sync);
     this.plot.over.addEventListener('click', (event) => {
       const rect = this.plot.over.getBoundingClientRect();
       const speed = this.plot.posToVal(event.clientX - rect.left, 'x');
@@ -151,6 +159,11 @@ export class WallChart {
     }
   }
 
+  /** The page moved or changed size around the chart: let uPlot measure it again. */
+  syncRect(): void {
+    this.plot.syncRect(true);
+  }
+
   destroy(): void {
     this.plot.destroy();
   }
@@ -164,36 +177,85 @@ export class WallChart {
     ctx.beginPath();
     ctx.rect(left, top, width, height);
     ctx.clip();
+    ctx.setLineDash([]);
     const X = (v: number) => u.valToPos(v, 'x', true);
     const Y = (v: number) => u.valToPos(v, 'y', true);
+
+    // Name the three regions where each fits, clear of the lines that bound it.
+    const rule: Line = (v) => v * STEP_S;
+    const bounce: Line = (v) => 2 * (v * STEP_S - RADIUS);
+    const dtv = this.state.variableMaxDt;
+    const dashed: Line[] = dtv > 0 ? [(v) => v * dtv] : [];
+    const size = width < 500 * dpr ? 10 : 11;
+    ctx.font = `600 ${Math.round(size * dpr)}px system-ui, sans-serif`;
+    ctx.textBaseline = 'middle';
+    ctx.textAlign = 'left';
+    const area: Area = { u, ctx, dpr, lineH: Math.round((size + 3) * dpr) };
+    const label = (texts: string[][], color: string, fit: Fit) => {
+      // Clear of every line if it can be; else across the dashed line (the halo keeps it
+      // readable), but never across the lines that bound its region.
+      const fits = [fit, { ...fit, avoid: [] }];
+      for (const [lines, f] of fits.flatMap((f) => texts.map((t) => [t, f] as const))) {
+        const at = placeLabel(area, lines, f);
+        if (!at) continue;
+        ctx.lineJoin = 'round';
+        ctx.lineWidth = 3 * dpr;
+        ctx.strokeStyle = 'rgba(17, 24, 39, 0.8)';
+        ctx.fillStyle = color;
+        lines.forEach((line, i) => {
+          const y = at.y + (i + 0.5) * area.lineH;
+          ctx.strokeText(line, at.x, y);
+          ctx.fillText(line, at.x, y);
+        });
+        return;
+      }
+      // Nowhere to fit: the chart's legend names the region.
+    };
+    label([['can jump over unseen'], ['can jump', 'over unseen']], 'rgba(252, 165, 165, 0.95)', {
+      above: [rule],
+      below: [],
+      avoid: dashed,
+      from: 'right',
+    });
+    label(
+      [['seen, some pushed through'], ['seen, some', 'pushed through']],
+      'rgba(252, 211, 77, 0.95)',
+      {
+        above: [bounce],
+        below: [rule],
+        avoid: dashed,
+        from: 'right',
+      },
+    );
+    label([['always bounces'], ['always', 'bounces']], 'rgba(110, 231, 183, 0.95)', {
+      above: [],
+      below: [bounce],
+      avoid: dashed,
+      from: 'left',
+    });
+
+    // Settings tried: a dot each, with a ring so it stands out on the lines.
     for (const r of this.state.results) {
       const n = r.fixed.resolved;
       if (n === 0) continue;
       const share = r.fixed.through / n;
+      const x = X(r.speed);
+      const y = Y(r.wall);
+      const radius = (5.5 + 5 * share) * dpr;
       ctx.beginPath();
-      ctx.arc(X(r.speed), Y(r.wall), (3.5 + 5 * share) * dpr, 0, 2 * Math.PI);
+      ctx.arc(x, y, radius, 0, 2 * Math.PI);
       ctx.fillStyle = share > 0 ? CHART_COLORS.some : CHART_COLORS.none;
-      ctx.globalAlpha = 0.85;
       ctx.fill();
-      ctx.globalAlpha = 1;
-      ctx.lineWidth = dpr;
+      ctx.lineWidth = 2 * dpr;
       ctx.strokeStyle = '#0b1020';
       ctx.stroke();
+      ctx.beginPath();
+      ctx.arc(x, y, radius + 1.75 * dpr, 0, 2 * Math.PI);
+      ctx.lineWidth = 1.5 * dpr;
+      ctx.strokeStyle = 'rgba(255, 255, 255, 0.9)';
+      ctx.stroke();
     }
-    // Name the three regions: two against the right edge, one against the left.
-    ctx.font = `600 ${Math.round((width < 500 * dpr ? 10 : 11) * dpr)}px system-ui, sans-serif`;
-    ctx.textBaseline = 'middle';
-    const vr = SPEED.max * 0.93;
-    const rule = vr * STEP_S;
-    const right = left + width - 8 * dpr;
-    ctx.textAlign = 'right';
-    ctx.fillStyle = 'rgba(252, 165, 165, 0.9)';
-    ctx.fillText('can jump over unseen', right, Y(rule * 0.4));
-    ctx.fillStyle = 'rgba(252, 211, 77, 0.9)';
-    ctx.fillText('seen, some pushed through', right, Y(0.25 * rule + 0.75 * 2 * (rule - RADIUS)));
-    ctx.textAlign = 'left';
-    ctx.fillStyle = 'rgba(110, 231, 183, 0.9)';
-    ctx.fillText('always bounces', left + 8 * dpr, Y(WALL.max * 0.6));
+
     const cx = X(this.state.speed);
     const cy = Y(this.state.wall);
     ctx.strokeStyle = CHART_COLORS.current;
@@ -208,9 +270,75 @@ export class WallChart {
     ctx.globalAlpha = 1;
     ctx.setLineDash([]);
     ctx.beginPath();
-    ctx.arc(cx, cy, 7 * dpr, 0, 2 * Math.PI);
+    ctx.arc(cx, cy, 9 * dpr, 0, 2 * Math.PI);
     ctx.lineWidth = 2.5 * dpr;
     ctx.stroke();
     ctx.restore();
   }
+}
+
+/** A line of the chart: wall thickness (m) as a function of speed (m/s), increasing. */
+type Line = (speed: number) => number;
+
+/** Where a region's label may go: lines that must pass above it, below it, and not through it. */
+interface Fit {
+  above: Line[];
+  below: Line[];
+  avoid: Line[];
+  /** Which side of the chart to try first. */
+  from: 'left' | 'right';
+}
+
+interface Area {
+  u: uPlot;
+  ctx: CanvasRenderingContext2D;
+  dpr: number;
+  /** Height of one line of text, canvas px. */
+  lineH: number;
+}
+
+/**
+ * The top-left corner (canvas px) of a box for `lines` inside the plot that no line of `fit`
+ * crosses, with the `above` lines above it and the `below` lines below it; the first position
+ * from `fit.from` that has room, centred in the room it has there. Undefined if none.
+ */
+function placeLabel(area: Area, lines: string[], fit: Fit): { x: number; y: number } | undefined {
+  const { u, ctx, dpr, lineH } = area;
+  const { left, top, width, height } = u.bbox;
+  const pad = 5 * dpr;
+  const boxW = Math.max(...lines.map((l) => ctx.measureText(l).width));
+  const boxH = lines.length * lineH;
+  if (boxW + 2 * pad > width || boxH + 2 * pad > height) return undefined;
+  // Canvas px ↔ values: both scales are linear and fixed.
+  const speedAt = (x: number) => ((x - left) / width) * SPEED.max;
+  const yOf = (wall: number) => top + height - (wall / WALL.max) * height;
+  const stepX = 4 * dpr;
+  const stepY = 2 * dpr;
+  const xs: number[] = [];
+  for (let x = left + pad; x + boxW <= left + width - pad; x += stepX) xs.push(x);
+  if (fit.from === 'right') xs.reverse();
+  for (const x0 of xs) {
+    const v0 = speedAt(x0 - pad);
+    const v1 = speedAt(x0 + boxW + pad);
+    // A line over [v0, v1] runs from pixel y `lo` (at v1, highest) to `hi` (at v0, lowest).
+    const span = (f: Line) => ({ lo: yOf(f(v1)), hi: yOf(f(v0)) });
+    const above = fit.above.map(span);
+    const below = fit.below.map(span);
+    const avoid = fit.avoid.map(span);
+    let best: { start: number; n: number } | undefined;
+    let run: { start: number; n: number } | undefined;
+    for (let y0 = top + pad; y0 + boxH <= top + height - pad; y0 += stepY) {
+      const y1 = y0 + boxH;
+      const ok =
+        above.every((l) => l.hi < y0 - pad) &&
+        below.every((l) => l.lo > y1 + pad) &&
+        avoid.every((l) => l.hi < y0 - pad || l.lo > y1 + pad);
+      if (ok) {
+        run = run ? { start: run.start, n: run.n + 1 } : { start: y0, n: 1 };
+        if (!best || run.n > best.n) best = run;
+      } else run = undefined;
+    }
+    if (best) return { x: x0, y: best.start + ((best.n - 1) * stepY) / 2 };
+  }
+  return undefined;
 }

@@ -94,6 +94,64 @@ export function defaultSettings(): CollisionsSettings {
   };
 }
 
+/** When the "A hiccup" experiment's hitch comes. ms from the start. */
+export const EXPERIMENT_HITCH_AT_MS = 2000;
+
+/**
+ * One of the page's "Things to try". It sets everything its text assumes — speed, wall, display,
+ * jitter, hitches, which twin is drawn — and starts again from zero, so what it says comes true
+ * whatever was clicked before.
+ */
+export interface Experiment {
+  readonly title: string;
+  readonly text: string;
+  /** The button's label. */
+  readonly action: string;
+  /** The settings it starts over with. */
+  readonly settings: Readonly<CollisionsSettings>;
+  /** Draw the CCD twins. */
+  readonly ccd: boolean;
+}
+
+const DEFAULT_DISPLAY = { hz: 30, jitter: JITTER.initial / 100 } as const;
+
+export const EXPERIMENTS: readonly Experiment[] = [
+  {
+    title: 'The talk’s rule, exactly',
+    text: `Set the wall to exactly one step: at 60 m/s and ${STEP_MS} ms that is 1.8 m. Every overlap is now detected — and still about 44\u00a0% of the bodies, almost half, go through the fixed-step wall, pushed out on the far side.`,
+    action: 'Wall = v·dt',
+    settings: { speed: 60, wall: 1.8, ...DEFAULT_DISPLAY, events: [] },
+    ccd: false,
+  },
+  {
+    title: 'A hiccup',
+    text: `On a steady 60 Hz display each variable step is 17 ms, 1 m at 60 m/s: nothing goes through the 3.5 m wall. Two seconds in, the display stalls for ${HITCH_MS} ms, so the variable loop’s next step is at least ${HITCH_MS} ms long: a body on its way jumps ${(60 * HITCH_MS) / 1000} m or more at once and lands beyond the wall. The fixed loop pays the same time out in ordinary ${STEP_MS} ms steps, and nothing changes.`,
+    action: 'Drop a hitch',
+    settings: {
+      speed: 60,
+      wall: 3.5,
+      hz: 60,
+      jitter: 0,
+      events: [{ kind: 'hitch', atMs: EXPERIMENT_HITCH_AT_MS, durationMs: HITCH_MS }],
+    },
+    ccd: false,
+  },
+  {
+    title: 'A smooth fast display',
+    text: 'Switch the display to 144 Hz without jitter, at 60 m/s against the 3.5 m wall. Now the variable steps are 7 ms short and nothing tunnels — on this machine. The fixed step behaves the same on every machine, which is what lets you choose the wall once.',
+    action: '144 Hz, no jitter',
+    settings: { speed: 60, wall: 3.5, hz: 144, jitter: 0, events: [] },
+    ccd: false,
+  },
+  {
+    title: 'Bullets',
+    text: 'At 150 m/s against a 0.5 m wall, a body moves 4.5 m per step: discrete detection misses most hits whatever the loop. With CCD each body is swept along its path and stopped at the time of impact: none goes through. The panels now draw the CCD twins.',
+    action: 'Fire bullets',
+    settings: { speed: 150, wall: 0.5, ...DEFAULT_DISPLAY, events: [] },
+    ccd: true,
+  },
+];
+
 /** The numbers one panel shows. */
 export interface RangeReadouts {
   /** Bodies fired. */
@@ -175,14 +233,22 @@ function makeRig(
   });
 }
 
+/** One loop's counts at a setting: discrete detection and the CCD twin, each of its own resolved. */
+export interface LoopResult {
+  through: number;
+  resolved: number;
+  ccdThrough: number;
+  ccdResolved: number;
+}
+
 /** The result of a run at one setting, for the per-setting table and the chart's points. */
 export interface SettingResult {
   speed: number;
   wall: number;
   /** Virtual time the setting ran for, s. */
   seconds: number;
-  variable: { through: number; resolved: number; ccdThrough: number };
-  fixed: { through: number; resolved: number; ccdThrough: number };
+  variable: LoopResult;
+  fixed: LoopResult;
   /** What geometry predicts for the fixed step. */
   theoryShare: number;
 }
@@ -271,6 +337,21 @@ export class CollisionsLab {
     this.build();
   }
 
+  /**
+   * Start again from time zero with exactly these settings (hitches included): what an
+   * experiment does, so its outcome does not depend on what was set before. Leaving a speed and
+   * wall keeps its result, as {@link update} does.
+   */
+  startOver(settings: Readonly<CollisionsSettings>): void {
+    const next = cloneSettings(settings);
+    if (next.speed !== this.current.speed || next.wall !== this.current.wall) {
+      this.remember(this.result());
+    }
+    this.time = 0;
+    this.current = next;
+    this.build();
+  }
+
   /** Keep a result in the history (replacing an earlier one at the same speed and wall). */
   remember(r: SettingResult): void {
     if (r.variable.resolved + r.fixed.resolved === 0) return;
@@ -302,6 +383,7 @@ function resultOf(
       through: r?.through ?? 0,
       resolved: r?.resolved ?? 0,
       ccdThrough: r?.ccdThrough ?? 0,
+      ccdResolved: r?.ccdResolved ?? 0,
     };
   };
   return {

@@ -8,6 +8,7 @@ import {
   ClockRanges,
   CollisionsLab,
   DISPLAY_RATES,
+  EXPERIMENTS,
   FIRE_EVERY_S,
   HITCH_MS,
   JITTER,
@@ -20,6 +21,7 @@ import {
   STEP_S,
   WALL,
   type DisplayRate,
+  type Experiment,
   type RangePanel,
   type RangePanelSpec,
   type RangeReadouts,
@@ -30,7 +32,7 @@ import { CHART_COLORS, WallChart } from './collisions-chart.js';
 import { h, setAttr, setText } from '../ui/dom.js';
 import { ideaCards, type IdeaCard } from '../ui/cards.js';
 import { LabDriver } from '../ui/driver.js';
-import { TimeControls, button, slider, toggle, type Slider } from '../ui/controls.js';
+import { TimeControls, button, setPressed, slider, toggle, type Slider } from '../ui/controls.js';
 import * as fmt from '../ui/format.js';
 import './collisions.css';
 
@@ -41,6 +43,10 @@ const COLORS: Readonly<Record<string, string>> = {
 const BODY = { flying: '#e2e8f0', bounced: '#34d399', through: '#e879f9' } as const;
 
 const SKIP_MS = 5000;
+/** The strip at the top of a panel's canvas that holds the step ruler, CSS px. */
+const RULER_STRIP = 38;
+const RULE_COLOR = '#fbbf24';
+const BOUNCE_COLOR = '#34d399';
 /** The arena as drawn: a little margin around the range. */
 const VIEW_W = 2 * RANGE_HALF_WIDTH + 1;
 const VIEW_H = 2 * RANGE_HALF_HEIGHT + 1;
@@ -74,6 +80,37 @@ const ROWS: readonly { field: Field; label: string; title: string; time?: true }
     time: true,
   },
   { field: 'sim', label: 'Sim time', title: 'Time as the loop has simulated it', time: true },
+];
+
+/** The per-setting table's columns; `short` labels a value when a narrow screen stacks a row. */
+const RESULT_COLUMNS: readonly { label: string; short: string; cls: string; title: string }[] = [
+  { label: 'Speed', short: 'Speed', cls: 'col-speed', title: 'Speed of the bodies' },
+  { label: 'Wall', short: 'Wall', cls: 'col-wall', title: 'Wall thickness' },
+  { label: 'Ran', short: 'Ran', cls: 'col-ran', title: 'Virtual time the setting ran for' },
+  {
+    label: 'Variable Δt',
+    short: 'Variable Δt',
+    cls: 'col-num',
+    title: 'Through / resolved, variable Δt, discrete detection',
+  },
+  {
+    label: 'Fixed step',
+    short: 'Fixed step',
+    cls: 'col-num',
+    title: 'Through / resolved, fixed step, discrete detection',
+  },
+  {
+    label: 'Theory, fixed',
+    short: 'Theory, fixed',
+    cls: 'col-num',
+    title: 'The share through that geometry predicts for the fixed step',
+  },
+  {
+    label: 'CCD',
+    short: 'CCD, both',
+    cls: 'col-num',
+    title: 'Through / resolved, the CCD twins of both loops',
+  },
 ];
 
 interface PanelView {
@@ -200,12 +237,12 @@ class CollisionsChapter {
     this.hitchBtn = button(`${HITCH_MS} ms hitch`, 'control-hitch', () => {
       this.lab.addHitch();
     });
-    this.hitchBtn.title = `No display frame for ${HITCH_MS} ms: the variable loop's next step is that long`;
-    this.ccdBtn = toggle('CCD', 'control-ccd', false, (on) => {
+    this.hitchBtn.title = `No display frame for ${HITCH_MS} ms: the variable loop's next step is at least that long`;
+    this.ccdBtn = toggle('CCD twins', 'control-ccd', false, (on) => {
       this.ccd = on;
     });
     this.ccdBtn.title =
-      'Draw the twin ranges that use continuous collision detection (both are always simulated)';
+      'Draw the twin ranges that use continuous collision detection instead of the discrete ones (both always run)';
     this.interpBtn = toggle('Interpolation', 'control-interp', true, (on) => {
       this.interpolate = on;
     });
@@ -235,19 +272,19 @@ class CollisionsChapter {
       { class: 'controls', role: 'group', 'aria-label': 'The range and its display' },
       this.speed.el,
       this.wall.el,
-      h(
-        'div',
-        { class: 'control-group' },
-        h('span', { class: 'control-label' }, 'Detect'),
-        this.ccdBtn,
-      ),
       h('div', { class: 'control-group' }, h('span', { class: 'control-label' }, 'Display'), rates),
       this.jitter.el,
       h(
         'div',
         { class: 'control-group' },
         h('span', { class: 'control-label' }, 'Draw'),
+        this.ccdBtn,
         this.interpBtn,
+      ),
+      h(
+        'div',
+        { class: 'control-group' },
+        h('span', { class: 'control-label' }, 'Clock'),
         this.clockBtn,
       ),
       h(
@@ -290,20 +327,16 @@ class CollisionsChapter {
       h(
         'table',
         { class: 'results', 'data-testid': 'results-table' },
-        h('caption', {}, 'Through the wall, per setting (through / resolved)'),
+        h('caption', {}, 'Through the wall, per setting tried (through / resolved)'),
         h(
           'thead',
           {},
           h(
             'tr',
             {},
-            h('th', { scope: 'col' }, 'Speed'),
-            h('th', { scope: 'col' }, 'Wall'),
-            h('th', { scope: 'col' }, 'Ran'),
-            h('th', { scope: 'col' }, 'Variable Δt'),
-            h('th', { scope: 'col' }, 'Fixed step'),
-            h('th', { scope: 'col' }, 'Theory, fixed'),
-            h('th', { scope: 'col' }, 'CCD'),
+            ...RESULT_COLUMNS.map((c) =>
+              h('th', { scope: 'col', class: c.cls, title: c.title }, c.label),
+            ),
           ),
         ),
         this.resultsBody,
@@ -331,7 +364,7 @@ class CollisionsChapter {
           h(
             'p',
             { class: 'lede' },
-            'A simulation does not watch bodies move: it teleports them one step at a time and then looks for overlaps. A body that jumps farther in one step than a wall is thick can land beyond it, and nothing ever saw them touch. With a variable Δt the step is as long as the last frame — a hiccup of the display is a giant leap through the wall.',
+            'A simulation does not watch bodies move: it teleports them one step at a time and then looks for overlaps. A body that jumps farther in one step than a wall is thick can land beyond it, and nothing ever saw them touch. Even a shorter jump can end past the middle of the wall, and the engine pushes an overlapping body out through the nearest face — here the far one. So every body bounces only while one step is at most half the wall plus the body’s radius. With a variable Δt the step is as long as the last frame — a hiccup of the display is a giant leap through the wall.',
           ),
         ),
         ideas(),
@@ -342,13 +375,12 @@ class CollisionsChapter {
           h(
             'p',
             { class: 'section-intro' },
-            `A body of radius ${RADIUS * 100} cm leaves the muzzle every ${FIRE_EVERY_S} s, in one of ${LANES} lanes, straight at a wall. Both panels fire the same shots; the left takes one step per display frame, the right takes steps of ${STEP_MS} ms. Each also runs a twin with continuous detection (CCD) — press CCD to watch it. Bodies that end up on the far side turn magenta.`,
+            `A body of radius ${RADIUS * 100} cm leaves the muzzle every ${FIRE_EVERY_S} s, in one of ${LANES} lanes, straight at a wall. Both panels fire the same shots; the left takes one step per display frame, the right takes steps of ${STEP_MS} ms. Each also runs a twin with continuous detection (CCD) — press CCD twins to draw those instead. Bodies that end up on the far side turn magenta. The bar above each range is one step; once it is longer than the green bar below it (half the wall plus the radius), some bodies are pushed through.`,
           ),
           controls,
           this.panelGrid,
           totals,
           legend(),
-          results,
         ),
         h(
           'section',
@@ -361,6 +393,7 @@ class CollisionsChapter {
           ),
           h('div', { class: 'wall-chart-wrap' }, this.chartHost, this.ruleReadouts()),
           chartLegend(),
+          results,
         ),
         this.experiments(),
         howItWorks(),
@@ -373,6 +406,9 @@ class CollisionsChapter {
     });
     for (const p of this.panels) this.observer.observe(p.canvas);
     this.observer.observe(this.chartHost);
+    // Anything above the chart that changes height moves it: uPlot must measure it again.
+    this.observer.observe(controls);
+    this.observer.observe(this.panelGrid);
 
     this.resize();
     this.refreshControls();
@@ -466,24 +502,20 @@ class CollisionsChapter {
   private ruleReadouts(): HTMLElement {
     const rows: { id: string; label: string; title: string }[] = [
       {
-        id: 'step-distance',
-        label: 'One step, v·dt',
-        title: 'How far a body moves in one fixed step',
-      },
-      {
         id: 'min-wall',
-        label: 'minWallSize = v·dt',
-        title: 'The talk’s rule: the thinnest wall a body cannot jump over unseen',
+        label: 'One step v·dt = minWallSize',
+        title:
+          'How far a body moves in one fixed step — the talk’s rule makes that the thinnest wall a body cannot jump over unseen',
       },
       {
         id: 'bounce-wall',
-        label: 'Bounce wall, 2(v·dt − r)',
-        title: 'The thinnest wall from which every body bounces',
+        label: 'All bounce if w ≥ 2(v·dt − r)',
+        title: 'The thinnest wall from which every body bounces: v·dt ≤ w/2 + r',
       },
       {
         id: 'max-safe-speed',
-        label: 'Max safe speed',
-        title: 'The fastest body that always bounces off this wall: (w/2 + r) / dt',
+        label: 'Max safe speed, (w/2 + r) / dt',
+        title: 'The fastest body that always bounces off this wall',
       },
       {
         id: 'theory-share',
@@ -502,9 +534,15 @@ class CollisionsChapter {
       rows
         .map((r) => {
           const value = h('span', {});
-          const dd = h('dd', { 'data-testid': `readout-${r.id}` }, value);
+          // One step and minWallSize are the same number: one row, both readouts.
+          const inner =
+            r.id === 'min-wall'
+              ? h('span', { 'data-testid': 'readout-step-distance' }, value)
+              : value;
+          const dd = h('dd', { 'data-testid': `readout-${r.id}` }, inner);
           this.ruleValues.set(r.id, value);
           this.ruleValues.set(`${r.id}:cell`, dd);
+          if (inner !== value) this.ruleValues.set('step-distance:cell', inner);
           return [h('dt', { title: r.title }, r.label), dd];
         })
         .flat(),
@@ -512,44 +550,6 @@ class CollisionsChapter {
   }
 
   private experiments(): HTMLElement {
-    const items: { title: string; text: string; action: string; run: () => void }[] = [
-      {
-        title: 'The talk’s rule, exactly',
-        text: `Set the wall to exactly one step: at 60 m/s and ${STEP_MS} ms that is 1.8 m. Every overlap is now detected — and still about a third of the bodies go through the fixed-step wall, pushed out on the far side.`,
-        action: 'Wall = v·dt',
-        run: () => {
-          this.changeSetting({ speed: 60, wall: 1.8 });
-        },
-      },
-      {
-        title: 'A hiccup',
-        text: `Drop a ${HITCH_MS} ms hitch. The variable loop’s next step is ${HITCH_MS} ms long, so at 60 m/s a body near the wall jumps ${(60 * HITCH_MS) / 1000} m at once. The fixed loop runs ${Math.round(HITCH_MS / STEP_MS)} ordinary steps instead and nothing changes.`,
-        action: 'Drop a hitch',
-        run: () => {
-          this.lab.addHitch();
-          this.setPaused(false);
-        },
-      },
-      {
-        title: 'A smooth fast display',
-        text: 'Switch the display to 144 Hz without jitter. Now the variable steps are short and nothing tunnels — on this machine. The fixed step behaves the same on every machine, which is what lets you choose the wall once.',
-        action: '144 Hz, no jitter',
-        run: () => {
-          this.lab.update({ hz: 144, jitter: 0 });
-          this.rateInputs.get(144)!.checked = true;
-          this.jitter.set(0);
-        },
-      },
-      {
-        title: 'Bullets',
-        text: 'At 150 m/s against a 0.5 m wall, a body moves 4.5 m per step: discrete detection misses most hits whatever the loop. With CCD each body is swept along its path and stopped at the time of impact: none goes through.',
-        action: 'Fire bullets',
-        run: () => {
-          this.changeSetting({ speed: 150, wall: 0.5 });
-          if (!this.ccd) this.ccdBtn.click();
-        },
-      },
-    ];
     return h(
       'section',
       { class: 'experiments', 'aria-labelledby': 'col-experiments-title' },
@@ -557,19 +557,37 @@ class CollisionsChapter {
       h(
         'ol',
         { class: 'experiment-list' },
-        items.map((item) => {
-          const btn = h('button', { type: 'button', class: 'btn btn-small' }, item.action);
+        EXPERIMENTS.map((item, i) => {
+          const btn = h(
+            'button',
+            { type: 'button', class: 'btn btn-small', 'data-testid': `experiment-${i + 1}` },
+            item.action,
+          );
           btn.addEventListener('click', () => {
-            if (this.clock) this.setRealClock(false);
-            item.run();
-            this.refreshControls();
-            this.render();
+            this.runExperiment(item);
             this.panelGrid.scrollIntoView({ block: 'nearest' });
           });
           return h('li', {}, h('h3', {}, item.title), h('p', {}, item.text), btn);
         }),
       ),
     );
+  }
+
+  /** Set everything the experiment's text assumes and start again from zero, playing. */
+  private runExperiment(item: Experiment): void {
+    if (this.clock) this.setRealClock(false);
+    const s = item.settings;
+    this.lab.startOver(s);
+    this.speed.set(s.speed);
+    this.wall.set(s.wall);
+    this.jitter.set(Math.round(s.jitter * 100));
+    const radio = this.rateInputs.get(s.hz);
+    if (radio) radio.checked = true;
+    this.ccd = item.ccd;
+    setPressed(this.ccdBtn, item.ccd);
+    this.setPaused(false);
+    this.refreshControls();
+    this.render();
   }
 
   // ---------------------------------------------------------------- state changes
@@ -664,7 +682,10 @@ class CollisionsChapter {
         () => (window.innerWidth < 600 ? 240 : 320),
       );
       this.render();
-    } else this.chart?.resize(cw);
+    } else if (this.chart) {
+      this.chart.resize(cw);
+      this.chart.syncRect();
+    }
   }
 
   // ---------------------------------------------------------------- the frame
@@ -705,8 +726,9 @@ class CollisionsChapter {
       setText(v, text);
       setAttr(cell, 'data-value', fmt.exact(value));
     };
-    put('step-distance', `${rule.stepDistance.toFixed(2)} m`, rule.stepDistance);
     put('min-wall', `${rule.minWall.toFixed(2)} m`, rule.minWall);
+    const stepCell = this.ruleValues.get('step-distance:cell');
+    if (stepCell) setAttr(stepCell, 'data-value', fmt.exact(rule.stepDistance));
     put('bounce-wall', `${rule.bounceWall.toFixed(2)} m`, rule.bounceWall);
     put('max-safe-speed', `${rule.maxSafeSpeed.toFixed(1)} m/s`, rule.maxSafeSpeed);
     put('theory-share', percent(rule.theoryShare), rule.theoryShare);
@@ -741,15 +763,28 @@ class CollisionsChapter {
 
   private renderResults(results: SettingResult[]): void {
     const key = results
-      .map(
-        (r) =>
-          `${r.speed}|${r.wall}|${r.variable.through}|${r.variable.resolved}|${r.fixed.through}|${r.fixed.resolved}|${r.variable.ccdThrough + r.fixed.ccdThrough}|${Math.floor(r.seconds)}`,
+      .map((r) =>
+        [
+          r.speed,
+          r.wall,
+          r.variable.through,
+          r.variable.resolved,
+          r.fixed.through,
+          r.fixed.resolved,
+          r.variable.ccdThrough + r.fixed.ccdThrough,
+          r.variable.ccdResolved + r.fixed.ccdResolved,
+          Math.floor(r.seconds),
+        ].join('|'),
       )
       .join(';');
     if (key === this.resultsKey) return;
     this.resultsKey = key;
-    const frac = (t: number, n: number) =>
-      h('td', { class: t > 0 ? 'bad' : n > 0 ? 'good' : '' }, `${t} / ${n}`);
+    const cell = (i: number, text: string, cls = '') => {
+      const c = RESULT_COLUMNS[i]!;
+      return h('td', { class: `${c.cls} ${cls}`.trim(), 'data-label': c.short }, text);
+    };
+    const frac = (i: number, t: number, n: number) =>
+      cell(i, `${t} / ${n}`, t > 0 ? 'bad' : n > 0 ? 'good' : '');
     this.resultsBody.replaceChildren(
       ...[...results]
         .reverse()
@@ -757,15 +792,16 @@ class CollisionsChapter {
           h(
             'tr',
             i === 0 ? { class: 'current', 'aria-current': 'true' } : {},
-            h('td', {}, `${r.speed} m/s`),
-            h('td', {}, `${r.wall.toFixed(1)} m`),
-            h('td', {}, `${r.seconds.toFixed(0)} s`),
-            frac(r.variable.through, r.variable.resolved),
-            frac(r.fixed.through, r.fixed.resolved),
-            h('td', {}, percent(r.theoryShare)),
+            cell(0, `${r.speed} m/s`),
+            cell(1, `${r.wall.toFixed(1)} m`),
+            cell(2, `${r.seconds.toFixed(0)} s`),
+            frac(3, r.variable.through, r.variable.resolved),
+            frac(4, r.fixed.through, r.fixed.resolved),
+            cell(5, percent(r.theoryShare)),
             frac(
+              6,
               r.variable.ccdThrough + r.fixed.ccdThrough,
-              r.variable.resolved + r.fixed.resolved,
+              r.variable.ccdResolved + r.fixed.ccdResolved,
             ),
           ),
         ),
@@ -784,21 +820,27 @@ class CollisionsChapter {
 
     const { ctx, w, h: hh, dpr } = p;
     if (w <= 1 || hh <= 1) return;
-    const s = Math.min(w / VIEW_W, hh / VIEW_H);
+    // The ruler has a strip of its own at the top; the range is drawn below it.
+    const strip = Math.round(RULER_STRIP * dpr);
+    const s = Math.min(w / VIEW_W, (hh - strip) / VIEW_H);
     const ox = w / 2;
-    const oy = hh / 2;
+    const oy = strip + (hh - strip) / 2;
     const px = (x: number) => ox + x * s;
     const py = (y: number) => oy - y * s;
     ctx.setTransform(1, 0, 0, 1, 0, 0);
+    ctx.fillStyle = '#0d1529';
+    ctx.fillRect(0, 0, w, strip);
     ctx.fillStyle = '#0a1122';
-    ctx.fillRect(0, 0, w, hh);
+    ctx.fillRect(0, strip, w, hh - strip);
+    ctx.fillStyle = 'rgba(141, 160, 189, 0.18)';
+    ctx.fillRect(0, strip - Math.max(1, dpr), w, Math.max(1, dpr));
 
     // Grid, 2 m.
     ctx.strokeStyle = 'rgba(141, 160, 189, 0.08)';
     ctx.lineWidth = 1;
     ctx.beginPath();
     for (let x = -RANGE_HALF_WIDTH; x <= RANGE_HALF_WIDTH; x += 2) {
-      ctx.moveTo(Math.round(px(x)) + 0.5, 0);
+      ctx.moveTo(Math.round(px(x)) + 0.5, strip);
       ctx.lineTo(Math.round(px(x)) + 0.5, hh);
     }
     for (let y = -4; y <= 4; y += 2) {
@@ -810,45 +852,93 @@ class CollisionsChapter {
     // The wall.
     const wallW = range.config.wall / 2;
     ctx.fillStyle = '#334155';
-    ctx.fillRect(px(-wallW), 0, 2 * wallW * s, hh);
+    ctx.fillRect(px(-wallW), strip, 2 * wallW * s, hh - strip);
     ctx.fillStyle = 'rgba(148, 163, 184, 0.5)';
-    ctx.fillRect(px(-wallW), 0, Math.max(1, dpr), hh);
-    ctx.fillRect(px(wallW) - Math.max(1, dpr), 0, Math.max(1, dpr), hh);
+    ctx.fillRect(px(-wallW), strip, Math.max(1, dpr), hh - strip);
+    ctx.fillRect(px(wallW) - Math.max(1, dpr), strip, Math.max(1, dpr), hh - strip);
     ctx.strokeStyle = 'rgba(148, 163, 184, 0.35)';
     ctx.setLineDash([2 * dpr, 4 * dpr]);
     ctx.beginPath();
-    ctx.moveTo(px(0), 0);
+    ctx.moveTo(px(0), strip);
     ctx.lineTo(px(0), hh);
     ctx.stroke();
     ctx.setLineDash([]);
 
-    // One step of travel, ending at the wall's face: compare it with the wall.
     const speed = range.config.speed;
     const stepLen = speed * (run.rig.kind === 'fixed' ? STEP_S : r.lastDtMs / 1000);
-    const rulerY = py(RANGE_HALF_HEIGHT + 0.1);
-    const x1 = px(-wallW);
-    const x0 = Math.max(2 * dpr, x1 - stepLen * s);
-    ctx.strokeStyle = p.color;
-    ctx.fillStyle = p.color;
-    ctx.lineWidth = 2 * dpr;
-    ctx.beginPath();
-    ctx.moveTo(x0, rulerY);
-    ctx.lineTo(x1, rulerY);
-    ctx.moveTo(x0, rulerY - 4 * dpr);
-    ctx.lineTo(x0, rulerY + 4 * dpr);
-    ctx.moveTo(x1, rulerY - 4 * dpr);
-    ctx.lineTo(x1, rulerY + 4 * dpr);
-    ctx.stroke();
-    ctx.font = `${Math.round(11 * dpr)}px system-ui, sans-serif`;
-    ctx.textBaseline = 'top';
-    ctx.textAlign = 'right';
-    ctx.fillText(`one step ${stepLen.toFixed(2)} m`, x1 - 4 * dpr, rulerY + 5 * dpr);
+    this.drawRuler(p, stepLen, range.config.wall, s, px(-wallW), strip);
 
     // Muzzle.
     ctx.fillStyle = 'rgba(141, 160, 189, 0.5)';
     ctx.fillRect(0, py(RANGE_HALF_HEIGHT - 0.2), 4 * dpr, (2 * RANGE_HALF_HEIGHT - 0.4) * s);
 
     this.drawBodies(ctx, range, run.rig.alpha, s, px, py, dpr);
+  }
+
+  /**
+   * One step of travel as a bar ending at the wall's face, against two marks: amber at the wall's
+   * thickness (a longer step can jump the wall unseen: the talk's rule) and a green bar of half
+   * the wall plus the radius (a longer step can land a body past the middle: pushed out the far
+   * side). Drawn in the strip above the range, with its numbers on the line above the bar.
+   */
+  private drawRuler(
+    p: PanelView,
+    stepLen: number,
+    wall: number,
+    s: number,
+    face: number,
+    strip: number,
+  ): void {
+    const { ctx, w, dpr } = p;
+    const barY = strip - 15 * dpr;
+    const limitY = strip - 7 * dpr;
+    const safe = wall / 2 + RADIUS;
+    const edge = 2 * dpr;
+    // The talk's rule: a tick at the wall's thickness, across both bars.
+    const xa = face - wall * s;
+    if (xa >= edge) {
+      ctx.fillStyle = RULE_COLOR;
+      ctx.fillRect(xa - dpr, barY - 5 * dpr, 2 * dpr, limitY - barY + 8 * dpr);
+      ctx.font = `${Math.round(10 * dpr)}px system-ui, sans-serif`;
+      ctx.textBaseline = 'middle';
+      ctx.textAlign = 'right';
+      ctx.fillText('w', xa - 4 * dpr, (barY + limitY) / 2);
+    }
+    // The bounce limit, a second bar below: every body bounces while the step is no longer.
+    const xs = Math.max(edge, face - safe * s);
+    ctx.fillStyle = BOUNCE_COLOR;
+    ctx.fillRect(xs, limitY - 1.5 * dpr, face - xs, 3 * dpr);
+    ctx.fillRect(xs - dpr, limitY - 4 * dpr, 2 * dpr, 8 * dpr);
+    // The step.
+    const x0 = Math.max(edge, face - stepLen * s);
+    ctx.strokeStyle = p.color;
+    ctx.lineWidth = 2 * dpr;
+    ctx.beginPath();
+    ctx.moveTo(x0, barY);
+    ctx.lineTo(face, barY);
+    ctx.moveTo(x0, barY - 4 * dpr);
+    ctx.lineTo(x0, barY + 4 * dpr);
+    ctx.moveTo(face, barY - 4 * dpr);
+    ctx.lineTo(face, limitY + 4 * dpr);
+    ctx.stroke();
+
+    ctx.font = `${Math.round(11 * dpr)}px system-ui, sans-serif`;
+    ctx.textBaseline = 'middle';
+    ctx.textAlign = 'left';
+    const textY = 9 * dpr;
+    const step = `one step ${stepLen.toFixed(2)} m`;
+    const gap = 12 * dpr;
+    const room = w - 12 * dpr - ctx.measureText(step).width - gap;
+    const bounce =
+      [
+        `every body bounces while ≤ ${safe.toFixed(2)} m (w/2 + r)`,
+        `all bounce while ≤ ${safe.toFixed(2)} m`,
+        `bounce ≤ ${safe.toFixed(2)} m`,
+      ].find((t) => ctx.measureText(t).width <= room) ?? '';
+    ctx.fillStyle = p.color;
+    ctx.fillText(step, 6 * dpr, textY);
+    ctx.fillStyle = '#6ee7b7';
+    if (bounce) ctx.fillText(bounce, 6 * dpr + ctx.measureText(step).width + gap, textY);
   }
 
   private drawBodies(
@@ -1016,13 +1106,13 @@ function legend(): HTMLElement {
       h(
         'dd',
         {},
-        'The bar at the top ends at the wall’s face and is as long as one step (the last one, for variable Δt). Longer than the wall is thick: the talk’s rule is broken.',
+        'The bar above the range is one step (the last one, for variable Δt), ending at the wall’s face. Past the amber mark it is longer than the wall is thick: the talk’s rule is broken and a body can jump the wall unseen. Past the end of the green bar below it, half the wall plus the radius (w/2 + r), a body can land beyond the wall’s middle and is pushed out the far side. While it is no longer than the green bar, every body bounces.',
       ),
       h('dt', {}, 'Through, discrete / CCD'),
       h(
         'dd',
         {},
-        'Both twins fire the same shots. The highlighted row is the one drawn; CCD switches the drawing.',
+        'Both twins fire the same shots. The highlighted row is the one drawn; “CCD twins” draws the continuous ones instead.',
       ),
     ),
   );
