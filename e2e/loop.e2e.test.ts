@@ -141,6 +141,69 @@ describe('chapter 1, the loop', () => {
     await page.close();
   });
 
+  it('sets up each “Things to try” card afresh, in page order and after the others', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    const problems = watch(page);
+    await page.goto(`${lab.server.url}#/loop`);
+    await page.getByTestId('readout-fixed-hash').waitFor();
+    const cards = page.locator('.experiment-list button');
+    expect(await cards.count()).toBe(5);
+    const pressed = (id: string) => page.getByTestId(id).getAttribute('aria-pressed');
+    // Each card plays; pause it where it starts (5 s in) and check what its text says.
+    const check = async (i: number) => {
+      await cards.nth(i).click();
+      expect(await pressed('control-pause')).toBe('false');
+      await page.getByTestId('control-pause').click();
+      const t0 = num(await readouts(page), 'clock');
+      expect(t0).toBeGreaterThanOrEqual(5000);
+      expect(await pressed('control-interp')).toBe(i === 4 ? 'false' : 'true');
+      expect(await pressed('control-slow')).toBe(i === 3 ? 'true' : 'false');
+      expect(await page.locator('#jitter').inputValue()).toBe('0');
+      const hz = i === 0 || i === 4 ? 144 : 60;
+      expect(await page.locator(`#hz-${String(hz)}`).isChecked()).toBe(true);
+      if (i === 0 || i === 4) {
+        // 144 Hz: the frame-locked ball runs 2.4× too fast, variable Δt keeps time, the three
+        // fixed loops agree on ticks and hashes; a 30 ms step spans 4–5 frames, never 2 steps.
+        const r = await readouts(page);
+        expect(num(r, 'frame-locked-ratio')).toBeCloseTo(2.4, 1);
+        expect(num(r, 'variable-ratio')).toBeCloseTo(1, 6);
+        for (const id of FIXED) {
+          expect(r[`readout-${id}-hash150`]).toBe(r['readout-fixed-hash150']);
+          expect(r[`readout-${id}-hash`]).toBe(r['readout-fixed-hash']);
+          expect(num(r, `${id}-max-steps`)).toBe(1);
+          expect(num(r, `${id}-dropped`)).toBe(0);
+        }
+        expect(r['readout-variable-hash150']).not.toBe(r['readout-fixed-hash150']);
+      } else if (i === 1) {
+        await skip(page);
+        const r = await readouts(page);
+        expect(num(r, 'fixed-naive-max-steps')).toBeGreaterThanOrEqual(66);
+        expect(num(r, 'fixed-naive-dropped')).toBe(0);
+        expect(num(r, 'fixed-final-max-steps')).toBe(33);
+        expect(num(r, 'fixed-final-dropped')).toBeGreaterThan(900);
+        expect(num(r, 'fixed-final-dropped')).toBeLessThan(1100);
+        expect(num(r, 'fixed-max-steps')).toBe(8);
+        expect(num(r, 'fixed-dropped')).toBeGreaterThan(1700);
+      } else if (i === 2) {
+        await skip(page, 2);
+        const r = await readouts(page);
+        expect(num(r, 'fixed-naive-max-steps')).toBeGreaterThanOrEqual(333);
+        expect(num(r, 'fixed-max-steps')).toBe(1);
+        expect(num(r, 'fixed-dropped')).toBeGreaterThanOrEqual(10_000);
+      } else {
+        await skip(page, 6);
+        const r = await readouts(page);
+        expect(r['readout-fixed-naive-stalled']).toBe('true');
+        expect(r['readout-fixed-stalled']).toBe('false');
+        expect(num(r, 'fixed-max-steps')).toBe(8);
+        expect(num(r, 'fixed-ratio')).toBeLessThan(1);
+      }
+    };
+    for (const i of [0, 1, 2, 3, 4, 3, 2, 1, 0]) await check(i);
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
   it('fits a phone screen and works from the keyboard', async () => {
     const { context, page, problems } = await phonePage(lab.browser);
     await page.goto(`${lab.server.url}#/loop`);

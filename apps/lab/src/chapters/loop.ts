@@ -13,7 +13,9 @@ import {
   PANELS,
   SLOW_UPDATE_COST_MS,
   STEP_MS,
+  defaultSettings,
   type DisplayRate,
+  type LoopLabSettings,
   type PanelReadouts,
   type PanelRun,
   type PanelSpec,
@@ -38,6 +40,11 @@ const BOX_H = 7;
 const HITCH_MS = 2000;
 const HIDDEN_MS = 10_000;
 const SKIP_MS = 5000;
+/**
+ * Where a "Things to try" card starts its run: past update {@link CHECKPOINT_TICK} (4.5 s), so
+ * "Hash @150" is already in, and with the ball in flight when a hitch or a hidden tab begins.
+ */
+const EXPERIMENT_LEAD_MS = 5000;
 
 type Field = keyof Omit<PanelReadouts, 'owed'>;
 
@@ -490,7 +497,7 @@ class LoopChapter {
         text: 'Switch the display to 144 Hz. The frame-locked ball now runs 2.4 times too fast (look at its sim / real). The variable-Δt ball keeps the right speed but follows a different path. The three fixed loops do not notice: same ticks, same hash.',
         action: 'Show 144 Hz',
         run: () => {
-          this.selectRate(144);
+          this.setUp({ hz: 144 });
         },
       },
       {
@@ -498,8 +505,8 @@ class LoopChapter {
         text: 'No frame for 2 s, then life goes on. Variable Δt takes one 2 s update. The slides’ accumulator runs every owed step in one frame (look at max steps), the final fixes clamp the debt at 1 s, and FixedLoop runs at most 8 steps and counts what it dropped.',
         action: 'Drop a 2 s hitch',
         run: () => {
+          this.setUp({});
           this.lab.addEvent('hitch', HITCH_MS);
-          this.setPaused(false);
         },
       },
       {
@@ -507,8 +514,8 @@ class LoopChapter {
         text: 'The page is hidden for 10 s (press Skip twice to get through it). On return the naive loop fast-forwards 10 s at once; FixedLoop pauses instead and counts the hidden time as dropped.',
         action: 'Hide the tab',
         run: () => {
+          this.setUp({});
           this.lab.addEvent('hidden', HIDDEN_MS);
-          this.setPaused(false);
         },
       },
       {
@@ -516,8 +523,7 @@ class LoopChapter {
         text: `Each update now costs ${SLOW_UPDATE_COST_MS} ms but simulates only ${STEP_MS} ms. The slides’ loop spirals: each frame owes more steps than the last, until the page stalls. The clamp bounds the debt; FixedLoop caps the steps per frame and stays responsive, in slow motion.`,
         action: 'Slow this machine down',
         run: () => {
-          this.lab.update({ slow: true });
-          this.setPaused(false);
+          this.setUp({ slow: true });
         },
       },
       {
@@ -525,7 +531,7 @@ class LoopChapter {
         text: `At 144 Hz a ${STEP_MS} ms step lasts 4–5 frames. Turn interpolation off and the fixed balls stand still for several frames, then jump: their trails turn into clumps of dots. With interpolation they are drawn between the last two states, at α = accumulator / step.`,
         action: 'Show stutter',
         run: () => {
-          this.selectRate(144);
+          this.setUp({ hz: 144 });
           this.setInterpolation(false);
         },
       },
@@ -542,6 +548,7 @@ class LoopChapter {
           btn.addEventListener('click', () => {
             if (this.clock) this.setRealClock(false);
             item.run();
+            this.setPaused(false);
             this.refreshControls();
             this.render();
             this.panelGrid.scrollIntoView({ block: 'nearest' });
@@ -554,10 +561,20 @@ class LoopChapter {
 
   // ---------------------------------------------------------------- state changes
 
-  private selectRate(hz: DisplayRate): void {
-    this.lab.update({ hz });
-    const input = this.rateInputs.get(hz);
+  /**
+   * A card's fresh run, whatever was clicked before: the default display (60 Hz, no jitter, no
+   * slow machine, no events or throws) changed by `change`, interpolation on, replayed from zero
+   * to {@link EXPERIMENT_LEAD_MS}.
+   */
+  private setUp(change: Partial<LoopLabSettings>): void {
+    this.lab.restart();
+    this.lab.update({ ...defaultSettings(), ...change });
+    this.lab.advanceTo(EXPERIMENT_LEAD_MS);
+    const s = this.lab.settings;
+    const input = this.rateInputs.get(s.hz);
     if (input) input.checked = true;
+    this.jitterInput.value = String(Math.round(s.jitter * 100));
+    this.setInterpolation(true);
   }
 
   private setInterpolation(on: boolean): void {
