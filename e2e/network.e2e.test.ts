@@ -7,7 +7,19 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { chromium, type Browser } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/cli';
 import { attachRelay, type RelayEndpoint } from '../packages/cli/src/net/server.js';
-import { CHROMIUM_ARGS, dist, num, readouts, shots, skip, useLab, watch } from './harness.js';
+import {
+  CHROMIUM_ARGS,
+  dist,
+  horizontalOverflow,
+  num,
+  phonePage,
+  readouts,
+  realClockRuns,
+  shots,
+  skip,
+  useLab,
+  watch,
+} from './harness.js';
 
 const lab = useLab();
 
@@ -47,6 +59,32 @@ describe('chapter 6, network', () => {
     expect(problems).toEqual([]);
     await page.close();
   });
+
+  it('runs on the real clock and fits a phone screen', async () => {
+    const { context, page, problems } = await phonePage(lab.browser);
+    await page.goto(`${lab.server.url}#/network?room=phone-room`);
+    await page.getByTestId('readout-lockstep-hashes-equal').waitFor();
+    await page.getByTestId('control-pause').click();
+    await page.getByTestId('control-restart').click();
+    // Both machines on this page's animation frames for 2.5 s: they reach checkpoints and agree.
+    await realClockRuns(page, 2500);
+    const r = await readouts(page);
+    for (const mode of ['lockstep', 'rollback']) {
+      expect(num(r, `${mode}-checkpoint`)).toBeGreaterThanOrEqual(60);
+      expect(r[`readout-${mode}-hashes-equal`]).toBe('true');
+    }
+    // Offline, the online panel says what to do and links the room for a second tab.
+    expect(await page.getByTestId('readout-online-state').getAttribute('data-value')).toBe(
+      'offline',
+    );
+    expect(await page.getByTestId('link-room-tab').getAttribute('href')).toBe(
+      '#/network?room=phone-room&join=1',
+    );
+    await page.screenshot({ path: path.join(shots, 'network-phone.png'), fullPage: true });
+    expect(await horizontalOverflow(page)).toBe(0);
+    expect(problems).toEqual([]);
+    await context.close();
+  });
 });
 
 describe('chapter 6, play online', () => {
@@ -71,10 +109,12 @@ describe('chapter 6, play online', () => {
     const ticks = 360;
     const pages = await Promise.all([0, 1].map(() => browser.newPage()));
     const problems = pages.map((p) => watch(p));
-    for (const p of pages) {
-      await p.goto(`${server.url}#/network?room=e2e-room&ticks=${ticks}`);
-      await p.getByTestId('control-join').click();
-    }
+    // The first joins with the button; the second opens the first's "new tab" link, which joins.
+    await pages[0]!.goto(`${server.url}#/network?room=e2e-room&ticks=${ticks}`);
+    await pages[0]!.getByTestId('control-join').click();
+    const link = await pages[0]!.getByTestId('link-room-tab').getAttribute('href');
+    expect(link).toBe(`#/network?room=e2e-room&ticks=${ticks}&join=1`);
+    await pages[1]!.goto(`${server.url}${link}`);
     const finals = await Promise.all(
       pages.map(async (p) => {
         await expect

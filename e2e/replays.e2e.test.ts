@@ -116,6 +116,22 @@ describe('chapter 5, replays', () => {
       el.scrollIntoView({ block: 'start' });
     });
     await page.screenshot({ path: path.join(shots, 'replays.png') });
+
+    // On the page's real animation frames (16×, so it is quick) the replay reaches the same states.
+    await page.getByTestId('control-real-clock').click();
+    await page.getByTestId('control-speed-16').click();
+    await page.getByTestId('control-to-start').click();
+    await page.getByTestId('control-play').click();
+    await expect
+      .poll(async () => num(await readouts(page), 'replay-tick'), { timeout: 15_000 })
+      .toBeGreaterThan(tick + 120);
+    await page.getByTestId('control-play').click(); // pause
+    const real = await readouts(page);
+    expect(num(real, 'replay-common-tick')).toBeGreaterThanOrEqual(tick);
+    expect(real['readout-replay-hash-real']).toMatch(/^[0-9a-f]{16}$/);
+    expect(real['readout-replay-hash-real']).toBe(real['readout-replay-hash-30']);
+    expect(real['readout-replay-hash-real']).toBe(real['readout-replay-hash-144']);
+    expect(real['readout-replay-displays-equal']).toBe('true');
     expect(problems).toEqual([]);
     await page.close();
   });

@@ -330,18 +330,41 @@ function drawBullets(
   ctx.lineCap = 'butt';
 }
 
-/** A HUD line in a dark pill: `text` at (x, y), aligned left or right. */
+/**
+ * The HUD's font size for one row of pills across the top of the canvas: {@link fontPx}, shrunk
+ * (to 6 CSS px at the least) until the pills `texts`, `extraEm` em of other width, the gaps
+ * between them and the margins fit side by side — so a small canvas shows a smaller HUD, not
+ * overlapping pills. `fits` is false if they do not fit even at the smallest size: the caller
+ * then leaves a pill out.
+ */
+function hudFont(
+  s: Surface,
+  texts: readonly string[],
+  extraEm = 0,
+): { readonly f: number; readonly fits: boolean } {
+  const f = fontPx(s);
+  const { ctx } = s;
+  ctx.font = `700 ${f}px ${MONO}`;
+  let w = (extraEm + 1.2 + 0.6 * (texts.length - 1)) * f; // other width, margins, gaps
+  for (const t of texts) w += ctx.measureText(t).width + f; // text + padding
+  if (w <= s.w) return { f, fits: true };
+  const min = 6 * s.dpr;
+  const scaled = Math.floor((f * s.w) / w);
+  return { f: Math.max(min, scaled), fits: scaled >= min };
+}
+
+/** A HUD line in a dark pill of font size `f`: `text` at (x, y), aligned left or right. */
 function hudText(
   s: Surface,
   text: string,
   x: number,
   y: number,
   align: 'left' | 'right',
+  f: number,
   color = TEXT,
   weight = 700,
 ): number {
   const { ctx } = s;
-  const f = fontPx(s);
   ctx.font = `${weight} ${f}px ${MONO}`;
   ctx.textBaseline = 'middle';
   ctx.textAlign = align;
@@ -463,15 +486,19 @@ function drawCtf(s: Surface, game: CtfGame, o: RenderOptions): void {
 
   // The HUD, as on the slide: "Kills: 1, Flags captured: 0".
   const hud = game.hud();
-  const m = fontPx(s, 0.6);
-  hudText(s, `Kills: ${hud.kills}, Flags captured: ${hud.flags}`, m, m, 'left');
+  const left = `Kills: ${hud.kills}, Flags captured: ${hud.flags}`;
   const time = Math.max(0, hud.timeLeft ?? 0);
   const clock = `${Math.floor(time / 60)}:${String(time % 60).padStart(2, '0')}`;
-  const f = fontPx(s);
+  const scoreText = `${hud.red} : ${hud.blue}`;
+  // Three pills in a row; the score pill is its text, 2 em of padding and 1.2 em of chips.
+  const full = hudFont(s, [left, clock, scoreText], 2.2);
+  const showClock = full.fits; // too narrow for three pills: the clock goes
+  const { f } = showClock ? full : hudFont(s, [left, scoreText], 2.2);
+  const m = Math.round(f * 0.6);
+  hudText(s, left, m, m, 'left', f);
   const right = s.w - m;
   // Team scores: red and blue chips.
   ctx.font = `700 ${f}px ${MONO}`;
-  const scoreText = `${hud.red} : ${hud.blue}`;
   const sw = ctx.measureText(scoreText).width;
   const pad = f * 0.5;
   const boxW = sw + pad * 4 + f * 1.2;
@@ -491,7 +518,7 @@ function drawCtf(s: Surface, game: CtfGame, o: RenderOptions): void {
   ctx.textAlign = 'center';
   ctx.textBaseline = 'middle';
   ctx.fillText(scoreText, bx + boxW / 2, m + f * 0.83);
-  hudText(s, clock, bx - f * 0.4, m, 'right', MUTED, 600);
+  if (showClock) hudText(s, clock, bx - f * 0.6, m, 'right', f, MUTED, 600);
   if (game.over) {
     const title =
       hud.red === hud.blue ? 'DRAW' : (hud.red ?? 0) > (hud.blue ?? 0) ? 'RED WINS' : 'BLUE WINS';
@@ -586,19 +613,16 @@ function drawSurvival(s: Surface, game: SurvivalGame, o: RenderOptions): void {
   drawBreaches(s, v, o);
 
   const hud = game.hud();
-  const m = fontPx(s, 0.6);
   // As on the slide: "Kills: 0, Lives: 15".
-  hudText(s, `Kills: ${hud.kills}, Lives: ${hud.lives}`, m, m, 'left');
+  const left = `Kills: ${hud.kills}, Lives: ${hud.lives}`;
   const wave = hud.wave ?? 0;
-  hudText(
-    s,
-    wave === 0 ? 'Get ready' : `Wave ${wave} · ${hud.enemies} on the field`,
-    s.w - m,
-    m,
-    'right',
-    MUTED,
-    600,
-  );
+  const long = wave === 0 ? 'Get ready' : `Wave ${wave} · ${hud.enemies} on the field`;
+  const full = hudFont(s, [left, long]);
+  const right = full.fits || wave === 0 ? long : `Wave ${wave}`;
+  const { f } = right === long ? full : hudFont(s, [left, right]);
+  const m = Math.round(f * 0.6);
+  hudText(s, left, m, m, 'left', f);
+  hudText(s, right, s.w - m, m, 'right', f, MUTED, 600);
   if (game.over) gameOver(s, 'GAME OVER', o.hint);
 }
 
@@ -727,14 +751,14 @@ function drawRunner(s: Surface, game: RunnerGame, o: RenderOptions): void {
   }
 
   // The HUD, as on the slide: SCORE and HIGHSCORE, top right.
-  const f = fontPx(s);
-  const m = fontPx(s, 0.6);
-  ctx.font = `700 ${f}px ${MONO}`;
   const pad5 = (n: number) => String(n).padStart(5, '0');
   const text = `SCORE ${pad5(game.score)}   HIGHSCORE ${pad5(game.highscore)}`;
-  hudText(s, text, s.w - m, m, 'right');
   const speed = `${game.speed.toFixed(1)} m/s · run ${game.runs}`;
-  hudText(s, speed, m, m, 'left', MUTED, 500);
+  const full = hudFont(s, [text, speed]);
+  const { f } = full.fits ? full : hudFont(s, [text]); // too narrow for both: the speed goes
+  const m = Math.round(f * 0.6);
+  hudText(s, text, s.w - m, m, 'right', f);
+  if (full.fits) hudText(s, speed, m, m, 'left', f, MUTED, 500);
   if (game.over) gameOver(s, 'GAME OVER', o.hint);
 }
 

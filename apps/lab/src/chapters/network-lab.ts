@@ -88,6 +88,11 @@ export class NetMatch {
   readonly def: GameDefinition;
   /** Buttons held on the keyboard (player 0 when `settings.keyboard`). */
   keys = 0;
+  /**
+   * Real display frames: both machines draw when the page does ({@link realFrame}) instead of
+   * on their simulated 60 Hz displays.
+   */
+  realFrames = false;
 
   constructor(
     readonly mode: NetMode,
@@ -148,11 +153,11 @@ export class NetMatch {
       };
       const session: NetSession =
         mode === 'lockstep' ? new LockstepSession(options) : new RollbackSession(options);
-      // Display frames at 60 Hz, the two machines out of phase.
+      // Display frames at 60 Hz, the two machines out of phase (unless real frames drive them).
       this.scheduler.every(
         1000 / 60,
         () => {
-          session.frame(this.scheduler.now);
+          if (!this.realFrames) session.frame(this.scheduler.now);
         },
         slot * 7.3,
       );
@@ -170,6 +175,12 @@ export class NetMatch {
 
   advanceTo(ms: number): void {
     if (ms > this.scheduler.now) this.scheduler.runUntil(ms);
+  }
+
+  /** A real display frame at virtual `ms`: the links and the relay run to then, both machines draw. */
+  realFrame(ms: number): void {
+    this.advanceTo(ms);
+    for (const s of this.sessions) s.frame(this.scheduler.now);
   }
 
   setLink(c: LinkConditions): void {
@@ -221,11 +232,17 @@ export class NetMatch {
   }
 }
 
-/** Both matches, side by side, on one virtual clock. */
+/**
+ * Both matches, side by side, on one virtual clock. The links are always simulated; the machines'
+ * displays are simulated 60 Hz ones, or — with {@link realClock} — the page's own animation
+ * frames, which move the virtual clock at the page's pace ({@link realFrame}).
+ */
 export class NetworkLab {
   settings: NetSettings;
   matches: Record<NetMode, NetMatch>;
   private time = 0;
+  private real = false;
+  private realBase: number | undefined;
 
   constructor(settings: Partial<NetSettings> = {}) {
     this.settings = { ...DEFAULT_NET_SETTINGS, ...settings };
@@ -233,16 +250,31 @@ export class NetworkLab {
   }
 
   private build(): Record<NetMode, NetMatch> {
-    return {
+    const matches = {
       lockstep: new NetMatch('lockstep', this.settings),
       rollback: new NetMatch('rollback', this.settings),
     };
+    for (const m of NET_MODES) matches[m].realFrames = this.real;
+    return matches;
   }
 
   get timeMs(): number {
     return this.time;
   }
 
+  /** The machines draw on the page's real animation frames instead of simulated 60 Hz ones. */
+  get realClock(): boolean {
+    return this.real;
+  }
+
+  /** Switch the machines' displays, going on from now; the real time line is pinned to now at its first frame. */
+  setRealClock(on: boolean): void {
+    this.real = on;
+    this.realBase = undefined;
+    for (const m of NET_MODES) this.matches[m].realFrames = on;
+  }
+
+  /** Simulated displays: move the virtual clock to `ms`. */
   advanceTo(ms: number): void {
     this.time = Math.max(this.time, ms);
     for (const m of NET_MODES) this.matches[m].advanceTo(this.time);
@@ -252,9 +284,18 @@ export class NetworkLab {
     this.advanceTo(this.time + ms);
   }
 
+  /** Real clock: one animation frame at `realMs` on the driver's time line (ignored otherwise). */
+  realFrame(realMs: number): void {
+    if (!this.real) return;
+    this.realBase ??= realMs - this.time;
+    this.time = Math.max(this.time, realMs - this.realBase);
+    for (const m of NET_MODES) this.matches[m].realFrame(this.time);
+  }
+
   /** Start both matches again from zero with the current settings. */
   restart(): void {
     this.time = 0;
+    this.realBase = undefined;
     this.matches = this.build();
   }
 

@@ -22,21 +22,43 @@ import { gameDef } from './games-lab.js';
 import { ASPECT, drawGame } from './games-render.js';
 import { BOT_EVERY, CHECKPOINT_TICKS } from './network-lab.js';
 
-/** Room and match length from the address: `#/network?room=abc&ticks=600`. */
-export function onlineOptions(hash: string): { room: string | undefined; ticks: number } {
+/** A room name the relay accepts. */
+const ROOM_NAME = /^[A-Za-z0-9_.-]{1,32}$/;
+const DEFAULT_TICKS = 3600;
+
+/**
+ * Room, match length and whether to join at once, from the address:
+ * `#/network?room=abc&ticks=600&join=1`.
+ */
+export function onlineOptions(hash: string): {
+  room: string | undefined;
+  ticks: number;
+  join: boolean;
+} {
   const q = hash.includes('?') ? new URLSearchParams(hash.slice(hash.indexOf('?') + 1)) : undefined;
   const room = q?.get('room') ?? undefined;
   const ticks = Number(q?.get('ticks') ?? '');
+  const valid = room !== undefined && ROOM_NAME.test(room);
   return {
-    room: room && /^[A-Za-z0-9_.-]{1,32}$/.test(room) ? room : undefined,
-    ticks: Number.isInteger(ticks) && ticks >= CHECKPOINT_TICKS ? ticks : 3600,
+    room: valid ? room : undefined,
+    ticks: Number.isInteger(ticks) && ticks >= CHECKPOINT_TICKS ? ticks : DEFAULT_TICKS,
+    join: valid && q?.get('join') === '1',
   };
+}
+
+/** The address that opens `room` in another tab and joins it there. */
+export function roomLink(room: string, ticks: number): string {
+  const q = new URLSearchParams({ room });
+  if (ticks !== DEFAULT_TICKS) q.set('ticks', String(ticks));
+  q.set('join', '1');
+  return `#/network?${q.toString()}`;
 }
 
 export class OnlinePanel {
   readonly el: HTMLElement;
   private readonly roomInput: HTMLInputElement;
   private readonly joinBtn: HTMLButtonElement;
+  private readonly tabLink: HTMLAnchorElement;
   private readonly canvas: SceneCanvas;
   private readonly out: Record<string, Readout> = {};
   private session: NetSession | undefined;
@@ -60,6 +82,21 @@ export class OnlinePanel {
       if (this.session) this.leave();
       else this.join();
     });
+    this.tabLink = h(
+      'a',
+      {
+        class: 'net-tab-link',
+        target: '_blank',
+        rel: 'noopener',
+        'data-testid': 'link-room-tab',
+        title: 'The second player: this page in a new tab, joining the same room',
+      },
+      'Open this room in a new tab ↗',
+    );
+    this.roomInput.addEventListener('input', () => {
+      this.updateLink();
+    });
+    this.updateLink();
     this.canvas = new SceneCanvas({
       class: 'scene net-online-scene',
       label: 'Your machine in the online room',
@@ -89,6 +126,7 @@ export class OnlinePanel {
           h('label', { class: 'control-label', for: 'net-room' }, 'Room'),
           this.roomInput,
           this.joinBtn,
+          this.tabLink,
         ),
       ),
       h(
@@ -110,11 +148,19 @@ export class OnlinePanel {
       ),
     );
     this.render();
+    if (opts.join) this.join();
+  }
+
+  private updateLink(): void {
+    const room = this.roomInput.value.trim();
+    const ok = ROOM_NAME.test(room);
+    this.tabLink.hidden = !ok;
+    if (ok) this.tabLink.href = roomLink(room, this.stopAt);
   }
 
   private join(): void {
     const room = this.roomInput.value.trim();
-    if (!/^[A-Za-z0-9_.-]{1,32}$/.test(room)) {
+    if (!ROOM_NAME.test(room)) {
       this.state = 'bad room name';
       this.render();
       return;
@@ -172,7 +218,13 @@ export class OnlinePanel {
     this.render();
   }
 
-  private render(): void {
+  /** True while joined: the panel then draws on animation frames of its own. */
+  get active(): boolean {
+    return this.session !== undefined;
+  }
+
+  /** Show the connection's numbers and draw the machine (or what it is waiting for). */
+  render(): void {
     const s = this.session;
     const o = this.out;
     const state = s
@@ -212,12 +264,40 @@ export class OnlinePanel {
           badge: { text: `tick ${s.tick}`, tone: 'info' },
         });
       } else {
-        const c = this.canvas;
-        c.ctx.setTransform(1, 0, 0, 1, 0, 0);
-        c.ctx.fillStyle = '#0a1122';
-        c.ctx.fillRect(0, 0, c.w, c.h);
+        this.drawMessage(
+          s
+            ? s.phase === 'closed'
+              ? ['The connection closed.', 'Join the room again to play.']
+              : ['Waiting for the other player…', 'Open this room in a second tab to start.']
+            : this.state === 'offline'
+              ? [
+                  'Not in a room.',
+                  'Press “Join room”, then open the room in a second tab:',
+                  'the match starts when both players are in.',
+                ]
+              : this.state === 'connecting'
+                ? ['Connecting to the server…']
+                : [`Could not join: ${this.state}.`, 'Check the room name and the server.'],
+        );
       }
     }
+  }
+
+  /** The empty canvas with a line or three of text in its middle. */
+  private drawMessage(lines: readonly string[]): void {
+    const c = this.canvas;
+    const { ctx } = c;
+    ctx.setTransform(1, 0, 0, 1, 0, 0);
+    ctx.fillStyle = '#0a1122';
+    ctx.fillRect(0, 0, c.w, c.h);
+    const f = Math.round(Math.max(11 * c.dpr, Math.min(16 * c.dpr, c.w / 36)));
+    ctx.textAlign = 'center';
+    ctx.textBaseline = 'middle';
+    lines.forEach((line, i) => {
+      ctx.font = `${i === 0 ? 600 : 400} ${f}px system-ui, sans-serif`;
+      ctx.fillStyle = i === 0 ? '#e6edf7' : '#a3b3cc';
+      ctx.fillText(line, c.w / 2, c.h / 2 + (i - (lines.length - 1) / 2) * f * 1.6);
+    });
   }
 
   destroy(): void {

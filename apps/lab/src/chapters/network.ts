@@ -63,7 +63,9 @@ class NetworkChapter {
       advance: (ms) => {
         this.lab.advanceBy(ms);
       },
-      realFrame: () => undefined,
+      realFrame: (t) => {
+        this.lab.realFrame(t);
+      },
       render: () => {
         this.render();
       },
@@ -124,6 +126,12 @@ class NetworkChapter {
       this.lab.reset({ keyboard: on });
     });
     keyboard.title = 'Drive player 1 with the keyboard (WASD or arrows, Space to shoot)';
+    this.clockBtn = toggle('Real clock', 'control-real-clock', false, (on) => {
+      this.lab.setRealClock(on);
+      this.driver.setReal(on);
+    });
+    this.clockBtn.title =
+      'Both machines draw on this page’s own animation frames instead of simulated 60 Hz displays (the links stay simulated)';
     this.time = new TimeControls({
       skipMs: SKIP_MS,
       onPause: () => {
@@ -134,6 +142,7 @@ class NetworkChapter {
       },
       onRestart: () => {
         this.lab.restart();
+        if (this.lab.realClock) this.driver.restartReal();
       },
     });
     const controls = h(
@@ -143,7 +152,7 @@ class NetworkChapter {
       jitter.el,
       loss.el,
       group('Game', game.el, keyboard),
-      group('Time', ...this.time.buttons),
+      group('Time', ...this.time.buttons, this.clockBtn),
       h('div', { class: 'status', 'aria-live': 'off' }, ...this.time.status),
     );
     controls.addEventListener('click', () => {
@@ -216,6 +225,7 @@ class NetworkChapter {
   }
 
   private keys = 0;
+  private readonly clockBtn: HTMLButtonElement;
 
   private buildPanel(mode: NetMode): HTMLElement {
     const canvases: [SceneCanvas, SceneCanvas] = [0, 1].map(
@@ -278,10 +288,15 @@ class NetworkChapter {
   }
 
   private render(): void {
-    this.time.refresh(this.driver.isPaused, true);
-    this.time.show(this.lab.timeMs, 'simulated network, virtual clock');
+    const real = this.lab.realClock;
+    this.time.refresh(this.driver.isPaused, !real);
+    this.time.show(
+      this.lab.timeMs,
+      `simulated network · ${real ? `real clock, your display ≈ ${this.driver.measuredHz} Hz` : 'simulated 60 Hz displays'}${this.driver.isPaused ? ' · paused' : ''}`,
+    );
     const all = this.lab.readouts();
     for (const mode of NET_MODES) this.renderPanel(mode, all[mode]);
+    if (!this.online.active) this.online.render();
   }
 
   private renderPanel(mode: NetMode, r: MatchReadouts): void {
