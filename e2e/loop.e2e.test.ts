@@ -152,13 +152,16 @@ describe('chapter 1, the loop', () => {
     // What each card's text says, from the moment it starts.
     const at144 = async () => {
       // 144 Hz: the frame-locked ball runs 2.4× too fast, variable Δt keeps time, the three
-      // fixed loops agree on ticks and hashes; a 30 ms step spans 4–5 frames, never 2 steps.
+      // fixed loops agree on the hash after update 150 and on the ticks (the slides' `acc > STEP`
+      // may be one step behind for the one frame that lands exactly on a step boundary, so "hash
+      // now" is not compared at wherever the pause landed: loop-lab.test.ts pins that down); a
+      // 30 ms step spans 4–5 frames, never 2 steps.
       const r = await readouts(page);
       expect(num(r, 'frame-locked-ratio')).toBeCloseTo(2.4, 1);
       expect(num(r, 'variable-ratio')).toBeCloseTo(1, 6);
       for (const id of FIXED) {
         expect(r[`readout-${id}-hash150`]).toBe(r['readout-fixed-hash150']);
-        expect(r[`readout-${id}-hash`]).toBe(r['readout-fixed-hash']);
+        expect(Math.abs(num(r, `${id}-sim`) - num(r, 'fixed-sim'))).toBeLessThanOrEqual(0.030001);
         expect(num(r, `${id}-max-steps`)).toBe(1);
         expect(num(r, `${id}-dropped`)).toBe(0);
       }

@@ -57,6 +57,23 @@ describe('LoopLab', () => {
     expect(a['frame-locked']!.droppedMs).toBeUndefined();
   });
 
+  it('runs a step a frame late in the slides’ loops when a frame lands exactly on a step boundary', () => {
+    // At 144 Hz frame 108 is at exactly 750 ms = 25 steps of 30 ms. FixedLoop's integer
+    // accumulator pays a step that is exactly due (acc >= step); the slides' `while (acc > STEP)`
+    // waits for the next frame, 6.9 ms later. Then all three agree again, tick and hash.
+    for (const boundary of [1500, 3000, 4500]) {
+      const on = at({ hz: 144 }, boundary);
+      const after = at({ hz: 144 }, boundary + 7);
+      expect(on.fixed!.updates).toBe(boundary / 30);
+      for (const id of ['fixed-naive', 'fixed-final']) {
+        expect(on[id]!.updates).toBe(boundary / 30 - 1);
+        expect(on[id]!.hash).not.toBe(on.fixed!.hash);
+        expect(after[id]!.updates).toBe(after.fixed!.updates);
+        expect(after[id]!.hash).toBe(after.fixed!.hash);
+      }
+    }
+  });
+
   it('takes the checkpoint hash right after update 150, even inside a multi-step frame', () => {
     // At 30 Hz the fixed loops run 1 or 2 steps a frame; a plain rig traced per update agrees.
     const lab = new LoopLab({

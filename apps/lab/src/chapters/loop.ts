@@ -76,7 +76,13 @@ const ROWS: readonly { field: Field; id: string; label: string; title: string }[
     label: 'Dropped',
     title: 'Real time the loop chose not to simulate (n/a: the loop has no accumulator)',
   },
-  { field: 'hash', id: 'hash', label: 'Hash now', title: 'FNV-1a 64 of the ball’s state now' },
+  {
+    field: 'hash',
+    id: 'hash',
+    label: 'Hash now',
+    title:
+      'FNV-1a 64 of the ball’s state now. On a frame that lands exactly on a step boundary the slides’ loops (acc > STEP) are one update behind FixedLoop (acc ≥ step) until the next frame',
+  },
   {
     field: 'checkpointHash',
     id: 'hash150',
@@ -494,7 +500,7 @@ class LoopChapter {
     const items: { title: string; text: string; action: string; run: () => void }[] = [
       {
         title: 'A faster screen',
-        text: 'Switch the display to 144 Hz. The frame-locked ball now runs 2.4 times too fast (look at its sim / real). The variable-Δt ball keeps the right speed but follows a different path. The three fixed loops do not notice: same ticks, same hash.',
+        text: 'Switch the display to 144 Hz. The frame-locked ball now runs 2.4 times too fast (look at its sim / real). The variable-Δt ball keeps the right speed but follows a different path. The three fixed loops do not notice: same ticks, same Hash @150.',
         action: 'Show 144 Hz',
         run: () => {
           this.setUp({ hz: 144 });
