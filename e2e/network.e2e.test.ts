@@ -80,6 +80,15 @@ describe('chapter 6, network', () => {
     expect(await page.getByTestId('link-room-tab').getAttribute('href')).toBe(
       '#/network?room=phone-room&join=1',
     );
+    // …on its canvas, drawn when it was laid out (nothing redraws it per frame): text pixels.
+    const lit = await page.getByTestId('canvas-online').evaluate((el) => {
+      const c = el as HTMLCanvasElement;
+      const d = c.getContext('2d')!.getImageData(0, 0, c.width, c.height).data;
+      let n = 0;
+      for (let i = 0; i < d.length; i += 4) if (d[i]! + d[i + 1]! + d[i + 2]! > 300) n++;
+      return n;
+    });
+    expect(lit).toBeGreaterThan(500);
     await page.screenshot({ path: path.join(shots, 'network-phone.png'), fullPage: true });
     expect(await horizontalOverflow(page)).toBe(0);
     expect(problems).toEqual([]);

@@ -45,7 +45,6 @@ describe('NetworkLab on the real clock', () => {
     lab.advanceTo(2000);
     const before = lab.readouts();
     lab.setRealClock(true);
-    // The driver's real time line starts at 0 when the real clock is switched on.
     expect(lab.realClock).toBe(true);
     // Simulated display frames no longer step the machines: 1 s of virtual time, no new ticks.
     lab.advanceTo(3000);

@@ -163,6 +163,23 @@ function gameOver(s: Surface, title: string, hint: string | undefined): void {
   }
 }
 
+/** The empty scene with a few lines of text in its middle: the first a title, the rest muted. */
+export function drawMessage(s: Surface, lines: readonly string[]): void {
+  const { ctx } = s;
+  ctx.setTransform(1, 0, 0, 1, 0, 0);
+  ctx.globalAlpha = 1;
+  ctx.fillStyle = BG;
+  ctx.fillRect(0, 0, s.w, s.h);
+  const f = fontPx(s, 1.3);
+  ctx.textAlign = 'center';
+  ctx.textBaseline = 'middle';
+  lines.forEach((line, i) => {
+    ctx.font = `${i === 0 ? 600 : 400} ${f}px ${SANS}`;
+    ctx.fillStyle = i === 0 ? TEXT : MUTED;
+    ctx.fillText(line, s.w / 2, s.h / 2 + (i - (lines.length - 1) / 2) * f * 1.6);
+  });
+}
+
 /** Fit an arena of `aw × ah` units (y down) into the surface, centred. */
 class ArenaView {
   readonly k: number;
@@ -618,8 +635,9 @@ function drawSurvival(s: Surface, game: SurvivalGame, o: RenderOptions): void {
   const wave = hud.wave ?? 0;
   const long = wave === 0 ? 'Get ready' : `Wave ${wave} · ${hud.enemies} on the field`;
   const full = hudFont(s, [left, long]);
-  const right = full.fits || wave === 0 ? long : `Wave ${wave}`;
-  const { f } = right === long ? full : hudFont(s, [left, right]);
+  const keepLong = full.fits || wave === 0; // too narrow: the wave without its enemy count
+  const right = keepLong ? long : `Wave ${wave}`;
+  const { f } = keepLong ? full : hudFont(s, [left, right]);
   const m = Math.round(f * 0.6);
   hudText(s, left, m, m, 'left', f);
   hudText(s, right, s.w - m, m, 'right', f, MUTED, 600);

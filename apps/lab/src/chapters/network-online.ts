@@ -19,7 +19,7 @@ import { h, setAttr, setText } from '../ui/dom.js';
 import * as fmt from '../ui/format.js';
 import { Readout } from '../ui/readout.js';
 import { gameDef } from './games-lab.js';
-import { ASPECT, drawGame } from './games-render.js';
+import { ASPECT, drawGame, drawMessage } from './games-render.js';
 import { BOT_EVERY, CHECKPOINT_TICKS } from './network-lab.js';
 
 /** A room name the relay accepts. */
@@ -101,6 +101,10 @@ export class OnlinePanel {
       class: 'scene net-online-scene',
       label: 'Your machine in the online room',
       testId: 'canvas-online',
+      // Joined, the panel draws on every animation frame; before that, when it changes or resizes.
+      onResize: () => {
+        if (!this.session) this.render();
+      },
     });
     this.canvas.canvas.style.setProperty('--aspect', String(ASPECT.ctf ?? 1.5));
     const row = (label: string, id: string, hash = false) => {
@@ -218,13 +222,8 @@ export class OnlinePanel {
     this.render();
   }
 
-  /** True while joined: the panel then draws on animation frames of its own. */
-  get active(): boolean {
-    return this.session !== undefined;
-  }
-
   /** Show the connection's numbers and draw the machine (or what it is waiting for). */
-  render(): void {
+  private render(): void {
     const s = this.session;
     const o = this.out;
     const state = s
@@ -264,40 +263,25 @@ export class OnlinePanel {
           badge: { text: `tick ${s.tick}`, tone: 'info' },
         });
       } else {
-        this.drawMessage(
-          s
-            ? s.phase === 'closed'
-              ? ['The connection closed.', 'Join the room again to play.']
-              : ['Waiting for the other player…', 'Open this room in a second tab to start.']
-            : this.state === 'offline'
-              ? [
-                  'Not in a room.',
-                  'Press “Join room”, then open the room in a second tab:',
-                  'the match starts when both players are in.',
-                ]
-              : this.state === 'connecting'
-                ? ['Connecting to the server…']
-                : [`Could not join: ${this.state}.`, 'Check the room name and the server.'],
-        );
+        drawMessage(this.canvas, this.message());
       }
     }
   }
 
-  /** The empty canvas with a line or three of text in its middle. */
-  private drawMessage(lines: readonly string[]): void {
-    const c = this.canvas;
-    const { ctx } = c;
-    ctx.setTransform(1, 0, 0, 1, 0, 0);
-    ctx.fillStyle = '#0a1122';
-    ctx.fillRect(0, 0, c.w, c.h);
-    const f = Math.round(Math.max(11 * c.dpr, Math.min(16 * c.dpr, c.w / 36)));
-    ctx.textAlign = 'center';
-    ctx.textBaseline = 'middle';
-    lines.forEach((line, i) => {
-      ctx.font = `${i === 0 ? 600 : 400} ${f}px system-ui, sans-serif`;
-      ctx.fillStyle = i === 0 ? '#e6edf7' : '#a3b3cc';
-      ctx.fillText(line, c.w / 2, c.h / 2 + (i - (lines.length - 1) / 2) * f * 1.6);
-    });
+  /** What the canvas says while there is no game to draw. */
+  private message(): string[] {
+    const s = this.session;
+    if (s?.phase === 'closed') return ['The connection closed.', 'Join the room again to play.'];
+    if (s) return ['Waiting for the other player…', 'Open this room in a second tab to start.'];
+    if (this.state === 'connecting') return ['Connecting to the server…'];
+    if (this.state !== 'offline') {
+      return [`Could not join: ${this.state}.`, 'Check the room name and the server.'];
+    }
+    return [
+      'Not in a room.',
+      'Press “Join room”, then open the room in a second tab:',
+      'the match starts when both players are in.',
+    ];
   }
 
   destroy(): void {

@@ -296,7 +296,6 @@ class NetworkChapter {
     );
     const all = this.lab.readouts();
     for (const mode of NET_MODES) this.renderPanel(mode, all[mode]);
-    if (!this.online.active) this.online.render();
   }
 
   private renderPanel(mode: NetMode, r: MatchReadouts): void {

@@ -13,7 +13,11 @@ export class SceneCanvas {
   dpr = 1;
   private readonly observer: ResizeObserver;
 
-  constructor(attrs: { class?: string; label: string; testId: string }) {
+  /**
+   * `onResize`: called after the backing store was resized (which clears it), for a canvas whose
+   * owner does not redraw on every animation frame.
+   */
+  constructor(attrs: { class?: string; label: string; testId: string; onResize?: () => void }) {
     this.canvas = h('canvas', {
       class: attrs.class ?? 'scene',
       role: 'img',
@@ -23,8 +27,11 @@ export class SceneCanvas {
     const ctx = this.canvas.getContext('2d');
     if (!ctx) throw new Error('The lab needs a 2D canvas');
     this.ctx = ctx;
+    const onResize = attrs.onResize;
     this.observer = new ResizeObserver(() => {
-      this.fit();
+      const w = this.w;
+      const hh = this.h;
+      if (this.fit() && onResize && (this.w !== w || this.h !== hh)) onResize();
     });
     this.observer.observe(this.canvas);
   }
