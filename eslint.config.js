@@ -3,60 +3,45 @@ import js from '@eslint/js';
 import tseslint from 'typescript-eslint';
 import vitest from '@vitest/eslint-plugin';
 import globals from 'globals';
+import { tsImport } from 'tsx/esm/api';
+
+// The one list of forbidden functions, shared with the runtime determinism guard
+// (packages/fixedstep/src/det/forbidden.ts), loaded through tsx because it is TypeScript.
+const { FORBIDDEN_FUNCTIONS } =
+  /** @type {typeof import('./packages/fixedstep/src/det/forbidden.ts')} */ (
+    await tsImport('./packages/fixedstep/src/det/forbidden.ts', import.meta.url)
+  );
 
 /** Calls that make a simulation non-deterministic: clocks, Math.random, engine-dependent math. */
-const nonDeterministic = [
-  ...[
-    'random',
-    'sin',
-    'cos',
-    'tan',
-    'asin',
-    'acos',
-    'atan',
-    'atan2',
-    'exp',
-    'expm1',
-    'log',
-    'log1p',
-    'log2',
-    'log10',
-    'pow',
-    'hypot',
-    'sinh',
-    'cosh',
-    'tanh',
-    'cbrt',
-    'asinh',
-    'acosh',
-    'atanh',
-  ].map((property) => ({
-    object: 'Math',
-    property,
-    message:
-      'Simulation code must be deterministic: use the helpers in fixedstep det/ (dsin, dcos, datan2, …).',
-  })),
-  {
-    object: 'Date',
-    property: 'now',
-    message: 'Simulation code never reads a clock: time is tick × step.',
+const nonDeterministic = FORBIDDEN_FUNCTIONS.map((f) => ({
+  object: f.object,
+  property: f.property,
+  message: `Simulation code must be deterministic: ${f.advice}.`,
+}));
+
+/**
+ * The library's layers, lowest first: a module may import from its own layer and the ones before
+ * it, never after (`det ← time ← sim ← input/physics/replay ← net`). `testing` sits on top.
+ */
+const LAYERS = ['det', 'time', 'sim', 'input', 'physics', 'replay', 'net', 'testing'];
+/** input (device adapters), physics and replay are one level: none imports another. */
+const LEVEL = { det: 0, time: 1, sim: 2, input: 3, physics: 3, replay: 3, net: 4, testing: 5 };
+const layerRules = LAYERS.map((layer) => ({
+  files: [`packages/fixedstep/src/${layer}/**/*.ts`],
+  rules: {
+    'no-restricted-imports': [
+      'error',
+      {
+        patterns: LAYERS.filter((other) => other !== layer && LEVEL[other] >= LEVEL[layer]).map(
+          (other) => ({
+            group: [`../${other}/*`, `../../${other}/*`, `../${other}`, `../../${other}`],
+            message: `Layers: ${layer}/ may import only from ${LAYERS.filter((o) => LEVEL[o] < LEVEL[layer]).join(', ') || 'itself'} (det ← time ← sim ← physics/replay ← net).`,
+          }),
+        ),
+      },
+    ],
   },
-  {
-    object: 'performance',
-    property: 'now',
-    message: 'Simulation code never reads a clock: time is tick × step.',
-  },
-  {
-    object: 'crypto',
-    property: 'getRandomValues',
-    message: 'Simulation code must be deterministic: use a seeded Random.',
-  },
-  {
-    object: 'crypto',
-    property: 'randomUUID',
-    message: 'Simulation code must be deterministic: use a seeded Random.',
-  },
-];
+}));
 
 export default tseslint.config(
   {
@@ -117,6 +102,7 @@ export default tseslint.config(
       ],
     },
   },
+  ...layerRules,
   {
     files: ['**/*.test.ts', 'e2e/**/*.ts'],
     plugins: { vitest },

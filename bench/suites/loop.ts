@@ -7,7 +7,7 @@
  * So the difference is the loop's own bookkeeping: integer time, the clamp, the cap and policies,
  * the counters, input sampling.
  */
-import { ButtonSampler, FixedLoop, Random, Runner } from 'fixedstep';
+import { InputSampler, FixedLoop, Random, FrameStepper } from 'fixedstep';
 import type { Candidate } from '../lib/suite.js';
 import { formatBytes } from '../lib/format.js';
 import { ALLOCATION_NOISE_BYTES } from '../lib/report.js';
@@ -20,7 +20,7 @@ const SEED = 0x5eed;
 /** Frames in the sequence (a power of two: candidates wrap around it with a mask). */
 const FRAMES = 4096;
 const MASK = FRAMES - 1;
-/** On average one button event per this many frames, for the Runner with a ButtonSampler. */
+/** On average one button event per this many frames, for the FrameStepper with a InputSampler. */
 const FRAMES_PER_EVENT = 8;
 const BUTTONS = 4;
 
@@ -172,14 +172,14 @@ function fixedFrame(f: Frames): LoopCandidate {
 }
 
 /**
- * The whole per-frame path of a game: button events pushed into a ButtonSampler as they happen,
- * then `Runner.frame(now)`: the loop, one sampled input per update, the render callback.
+ * The whole per-frame path of a game: button events pushed into a InputSampler as they happen,
+ * then `FrameStepper.frame(now)`: the loop, one sampled input per update, the render callback.
  */
 function runnerWithInput(f: Frames): LoopCandidate {
   const { at, eventAt, eventButton, eventDown } = f;
-  const sampler = new ButtonSampler();
+  const sampler = new InputSampler();
   const s = new State();
-  const runner = new Runner({
+  const runner = new FrameStepper({
     loop: new FixedLoop({ step: TICK_HZ }),
     update: (_dt, input) => {
       s.ticks++;
@@ -191,7 +191,7 @@ function runnerWithInput(f: Frames): LoopCandidate {
     input: sampler,
   });
   return {
-    name: 'Runner + ButtonSampler',
+    name: 'FrameStepper + InputSampler',
     ticks: () => s.ticks,
     run(ops) {
       for (let k = 0; k < ops; k++) {
@@ -246,7 +246,7 @@ export default defineSuite({
     const eventCount = frames.eventAt.filter((t) => t === t).length;
     ctx.note(
       `${FRAMES} frames at ${DISPLAY_HZ} Hz ± ${JITTER * 100} % (seed ${SEED}), tick ${TICK_HZ} Hz, ` +
-        `${eventCount} button events for the Runner; all candidates run ${expected} ` +
+        `${eventCount} button events for the FrameStepper; all candidates run ${expected} ` +
         `updates per ${checkFrames} frames (±1)`,
     );
 

@@ -3,6 +3,7 @@ import {
   ByteReader,
   ByteWriter,
   DeterminismError,
+  FORBIDDEN_FUNCTIONS,
   Random,
   dsin,
   fnv1a64,
@@ -53,6 +54,27 @@ describe('withDeterminismGuard', () => {
     );
     expect(error).toMatchObject({ call: 'Math.random', tick: undefined });
     expectRestored();
+  });
+
+  it('traps every function on the one forbidden list (the list the lint rule reads), and restores each', () => {
+    const owners: Record<string, object> = { Math, Date, performance, crypto };
+    expect(FORBIDDEN_FUNCTIONS.length).toBeGreaterThanOrEqual(27);
+    for (const f of FORBIDDEN_FUNCTIONS) {
+      const owner = owners[f.object]!;
+      const original: unknown = Reflect.get(owner, f.property);
+      expect(typeof original, `${f.object}.${f.property} exists here`).toBe('function');
+      const error = thrownBy(
+        () => (Reflect.get(owner, f.property) as (x: number) => unknown)(0.5),
+        7,
+      );
+      expect(error, `${f.object}.${f.property}`).toBeInstanceOf(DeterminismError);
+      expect((error as DeterminismError).call).toBe(`${f.object}.${f.property}`);
+      expect((error as DeterminismError).message).toContain(f.advice);
+      expect(Reflect.get(owner, f.property), `${f.property} restored`).toBe(original);
+    }
+    expect(FORBIDDEN_FUNCTIONS.map((f) => f.property)).toEqual(
+      expect.arrayContaining(['asinh', 'acosh', 'atanh', 'random', 'now', 'getRandomValues']),
+    );
   });
 
   it('names the tick when it is known', () => {

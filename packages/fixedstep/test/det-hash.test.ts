@@ -143,18 +143,20 @@ describe('ByteWriter / ByteReader', () => {
     r.u8();
     r.u16();
     expect(() => r.u8()).toThrow(RangeError);
-    expect(() => r.u8()).toThrow(/u8 needs 1 bytes at offset 3, 0 left/);
+    expect(() => r.u8()).toThrow(/u8 needs 1 bytes, 0 left \(at byte 3\)/);
     const s = new ByteReader(bytes);
     s.u8();
-    expect(() => s.u32()).toThrow(/truncated input: u32 needs 4 bytes at offset 1, 2 left/);
-    expect(() => new ByteReader(bytes).f64()).toThrow(/f64 needs 8 bytes at offset 0/);
+    expect(() => s.u32()).toThrow(/truncated input: u32 needs 4 bytes, 2 left \(at byte 1\)/);
+    expect(() => new ByteReader(bytes).f64()).toThrow(/f64 needs 8 bytes, 3 left \(at byte 0\)/);
     expect(() => {
       new ByteReader(bytes).f64s(new Float64Array(1));
-    }).toThrow(/offset 0/);
+    }).toThrow(/\(at byte 0\)/);
     expect(() => {
       new ByteReader(bytes).ints(new Int32Array(1));
-    }).toThrow(/offset 0/);
-    expect(() => new ByteReader(bytes).bytes(4)).toThrow(/4 bytes at offset 0, 3 left/);
+    }).toThrow(/\(at byte 0\)/);
+    expect(() => new ByteReader(bytes).bytes(4)).toThrow(
+      /4 bytes needs 4 bytes, 3 left \(at byte 0\)/,
+    );
     // a failed read consumes nothing
     expect(s.offset).toBe(1);
     expect(s.u16()).toBe(2);
@@ -165,6 +167,6 @@ describe('ByteWriter / ByteReader', () => {
     r.u8();
     expect(() => {
       r.end();
-    }).toThrow(/2 unexpected trailing bytes at offset 1/);
+    }).toThrow(/2 unexpected trailing bytes \(at byte 1\)/);
   });
 });

@@ -4,7 +4,7 @@ import {
   FrameDriver,
   ManualClock,
   ManualScheduler,
-  Runner,
+  FrameStepper,
   timerScheduler,
   trackVisibility,
 } from 'fixedstep';
@@ -19,7 +19,7 @@ describe('drivers', () => {
     const scheduler = new ManualScheduler();
     const updates: number[] = [];
     const alphas: number[] = [];
-    const runner = new Runner({
+    const runner = new FrameStepper({
       loop: new FixedLoop({ step: 50 }),
       update: (dt) => updates.push(dt),
       render: (a) => alphas.push(a),

@@ -1,8 +1,14 @@
 import { describe, expect, it } from 'vitest';
 import fc from 'fast-check';
-import { DEFAULT_REPLAY_LIMITS, ReplayError, readReplay, verifyReplay } from 'fixedstep';
+import {
+  DEFAULT_REPLAY_LIMITS,
+  ReplayError,
+  deinterleave,
+  interleave,
+  readReplay,
+  verifyReplay,
+} from 'fixedstep';
 import type { ReadReplayOptions, ReplayErrorCode } from 'fixedstep';
-import { deinterleave, interleave } from '../src/replay/codec.js';
 import { arenaFactory, recordArena, reseal } from './replay-fixture.js';
 
 const run = recordArena({ ticks: 1000, seed: 8, checkpointEvery: 50, keyframeEvery: 200 });

@@ -207,67 +207,136 @@ export class ByteWriter {
   }
 }
 
-/** Reads what a {@link ByteWriter} wrote; every read is bounds-checked and throws a RangeError naming the offset. */
+/**
+ * Why a {@link ByteReader} refused its bytes:
+ * - `'truncated'` — a field needs more bytes than are left;
+ * - `'invalid'` — a field breaks a rule (a non-canonical or too large varint, bad UTF-8 …);
+ * - `'too-large'` — a count or length is above the bound the caller gave;
+ * - `'trailing'` — bytes are left over after the last field.
+ */
+export type ByteReadProblem = 'truncated' | 'invalid' | 'too-large' | 'trailing';
+
+/**
+ * Turns a refusal into the caller's own error type; must throw. `offset` is absolute (in the
+ * whole buffer), `message` names the field, e.g. `"seed needs 4 bytes, 2 left"`.
+ */
+export type ByteReadFailure = (problem: ByteReadProblem, message: string, offset: number) => never;
+
+/** Options of a {@link ByteReader}. */
+export interface ByteReaderOptions {
+  /** First byte to read. Default 0. */
+  start?: number;
+  /** One past the last byte that may be read. Default: the buffer's length. */
+  end?: number;
+  /** How a refusal is thrown. Default: a RangeError `ByteReader: <message> (at byte <offset>)`. */
+  fail?: ByteReadFailure;
+}
+
+const utf8Decoder = new TextDecoder('utf-8', { fatal: true, ignoreBOM: true });
+
+const defaultFailure: ByteReadFailure = (problem, message, offset) => {
+  throw new RangeError(
+    `ByteReader: ${problem === 'truncated' ? 'truncated input: ' : ''}${message} (at byte ${offset})`,
+  );
+};
+
+/**
+ * The one bounds-checked reader of canonical bytes — states (`Simulation.load`), replay files and
+ * network messages all read through it. Every read checks the bounds first and refuses through
+ * {@link ByteReaderOptions.fail} (a RangeError by default; the replay reader throws
+ * `ReplayError`s, the protocol `ProtocolError`s) naming the field and the byte offset, so no
+ * input can make it read out of bounds, allocate more than the bytes allow, or loop.
+ *
+ * Field names (`what`) are optional: they only make messages clearer.
+ */
 export class ByteReader {
+  /** The next byte to read (absolute offset in {@link buf}). May be moved by a caller that skips. */
+  pos: number;
+  /** One past the last readable byte (absolute offset in {@link buf}). */
+  readonly limit: number;
   private readonly view: DataView;
-  private pos = 0;
+  private readonly failure: ByteReadFailure;
 
-  constructor(private readonly buf: Uint8Array) {
+  constructor(
+    readonly buf: Uint8Array,
+    options: ByteReaderOptions = {},
+  ) {
     this.view = new DataView(buf.buffer, buf.byteOffset, buf.byteLength);
-  }
-
-  get offset(): number {
-    return this.pos;
-  }
-
-  get remaining(): number {
-    return this.buf.length - this.pos;
-  }
-
-  private need(n: number, what: string): void {
-    if (this.pos + n > this.buf.length) {
+    this.pos = options.start ?? 0;
+    this.limit = options.end ?? buf.length;
+    this.failure = options.fail ?? defaultFailure;
+    if (!(this.pos >= 0 && this.pos <= this.limit && this.limit <= buf.length)) {
       throw new RangeError(
-        `ByteReader: truncated input: ${what} needs ${n} bytes at offset ${this.pos}, ${this.remaining} left`,
+        `ByteReader: range ${this.pos}–${this.limit} is outside a buffer of ${buf.length} bytes`,
       );
     }
   }
 
-  u8(): number {
-    this.need(1, 'u8');
+  /** Bytes read so far, from the start of the buffer. */
+  get offset(): number {
+    return this.pos;
+  }
+
+  /** Bytes left before {@link limit}. */
+  get remaining(): number {
+    return this.limit - this.pos;
+  }
+
+  /** Refuse the input: throws through the reader's failure function. */
+  fail(problem: ByteReadProblem, message: string, at = this.pos): never {
+    return this.failure(problem, message, at);
+  }
+
+  /** Refuse unless `n` more bytes are left. */
+  need(n: number, what = 'field'): void {
+    if (n > this.limit - this.pos) {
+      this.fail('truncated', `${what} needs ${n} bytes, ${this.limit - this.pos} left`);
+    }
+  }
+
+  u8(what = 'u8'): number {
+    this.need(1, what);
     return this.buf[this.pos++]!;
   }
 
-  u16(): number {
-    this.need(2, 'u16');
+  u16(what = 'u16'): number {
+    this.need(2, what);
     const v = this.view.getUint16(this.pos, true);
     this.pos += 2;
     return v;
   }
 
-  u32(): number {
-    this.need(4, 'u32');
+  u32(what = 'u32'): number {
+    this.need(4, what);
     const v = this.view.getUint32(this.pos, true);
     this.pos += 4;
     return v;
   }
 
-  i32(): number {
-    this.need(4, 'i32');
+  i32(what = 'i32'): number {
+    this.need(4, what);
     const v = this.view.getInt32(this.pos, true);
     this.pos += 4;
     return v;
   }
 
-  f64(): number {
-    this.need(8, 'f64');
+  u64(what = 'u64'): bigint {
+    this.need(8, what);
+    const v = this.view.getBigUint64(this.pos, true);
+    this.pos += 8;
+    return v;
+  }
+
+  f64(what = 'f64'): number {
+    this.need(8, what);
     const v = this.view.getFloat64(this.pos, true);
     this.pos += 8;
     return v;
   }
 
   /** Fill `out` with float64s. */
-  f64s(out: Float64Array): void {
-    this.need(out.length * 8, `${out.length} f64`);
+  f64s(out: Float64Array, what = `${out.length} f64`): void {
+    this.need(out.length * 8, what);
     for (let i = 0; i < out.length; i++) {
       out[i] = this.view.getFloat64(this.pos, true);
       this.pos += 8;
@@ -275,9 +344,12 @@ export class ByteReader {
   }
 
   /** Fill an integer typed array, each element little-endian of its own width. */
-  ints(out: Int32Array | Uint32Array | Uint16Array | Uint8Array | Int8Array | Int16Array): void {
+  ints(
+    out: Int32Array | Uint32Array | Uint16Array | Uint8Array | Int8Array | Int16Array,
+    what = `${out.length} ints of ${out.BYTES_PER_ELEMENT} bytes`,
+  ): void {
     const w = out.BYTES_PER_ELEMENT;
-    this.need(out.length * w, `${out.length} ints of ${w} bytes`);
+    this.need(out.length * w, what);
     for (let i = 0; i < out.length; i++) {
       out[i] =
         w === 1
@@ -289,19 +361,58 @@ export class ByteReader {
     }
   }
 
-  bytes(n: number): Uint8Array {
-    this.need(n, `${n} bytes`);
+  /** The next `n` bytes, as a view into the buffer (copy it before keeping or changing it). */
+  bytes(n: number, what = `${n} bytes`): Uint8Array {
+    this.need(n, what);
     const b = this.buf.subarray(this.pos, this.pos + n);
     this.pos += n;
     return b;
   }
 
-  /** Throws unless every byte was read. */
+  /** A canonical unsigned LEB128 u32 (see {@link readVarint}). */
+  varint(what = 'varint'): number {
+    const at = this.pos;
+    const v = readVarint(this, this.buf, this.limit);
+    if (v === VARINT_TRUNCATED) this.fail('truncated', `${what}: ${varintProblem(v)}`, at);
+    return v < 0 ? this.fail('invalid', `${what}: ${varintProblem(v)}`, at) : v;
+  }
+
+  /** A varint from `min` to `max`: above `max` is `'too-large'`, below `min` `'invalid'`. */
+  count(what: string, max: number, min = 0): number {
+    const at = this.pos;
+    const n = this.varint(what);
+    if (n > max) this.fail('too-large', `${what} is ${n}, at most ${max}`, at);
+    if (n < min) this.fail('invalid', `${what} is ${n}, at least ${min}`, at);
+    return n;
+  }
+
+  /** A varint byte length (at most `max`), then that many bytes: a copy the caller may keep. */
+  field(what: string, max: number): Uint8Array {
+    const n = this.count(`${what} length`, max);
+    this.need(n, what);
+    const b = this.buf.slice(this.pos, this.pos + n);
+    this.pos += n;
+    return b;
+  }
+
+  /** A varint byte length (at most `maxBytes`), then that many bytes of valid UTF-8. */
+  str(what: string, maxBytes: number): string {
+    const at = this.pos;
+    const n = this.count(`${what} length`, maxBytes);
+    this.need(n, what);
+    try {
+      const s = utf8Decoder.decode(this.buf.subarray(this.pos, this.pos + n));
+      this.pos += n;
+      return s;
+    } catch {
+      return this.fail('invalid', `${what} is not valid UTF-8`, at);
+    }
+  }
+
+  /** Refuse (`'trailing'`) unless every byte up to {@link limit} was read. */
   end(): void {
-    if (this.pos !== this.buf.length) {
-      throw new RangeError(
-        `ByteReader: ${this.remaining} unexpected trailing bytes at offset ${this.pos}`,
-      );
+    if (this.pos !== this.limit) {
+      this.fail('trailing', `${this.limit - this.pos} unexpected trailing bytes`);
     }
   }
 }

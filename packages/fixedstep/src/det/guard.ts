@@ -10,8 +10,7 @@
  *
  * @module
  */
-
-import type { Simulation } from '../sim/simulation.js';
+import { FORBIDDEN_FUNCTIONS, type ForbiddenFunction } from './forbidden.js';
 
 /** Thrown by a trapped call made while a determinism guard is active. */
 export class DeterminismError extends Error {
@@ -38,89 +37,25 @@ interface Trap {
   readonly advice: string;
 }
 
-const RANDOM_ADVICE = 'use a seeded Random kept in the simulation state';
-const CLOCK_ADVICE = 'simulation code never reads a clock; time is tick × step';
-
-function mathAdvice(name: string): string {
-  const det: Record<string, string> = {
-    sin: 'dsin',
-    cos: 'dcos',
-    tan: 'dtan',
-    asin: 'dasin',
-    acos: 'dacos',
-    atan: 'datan',
-    atan2: 'datan2',
-    exp: 'dexp',
-    log: 'dlog',
-    hypot: 'dhypot',
-  };
-  const use = det[name];
-  return use === undefined
-    ? `engines differ in the last bit of Math.${name}; build it from + - * /, Math.sqrt and the fixedstep det helpers`
-    : `engines differ in the last bit of Math.${name}; use ${use} from fixedstep`;
-}
-
-// The same list as the ESLint rule for simulation code. Names are looked up dynamically: this
-// module replaces these functions, it never calls them.
-const MATH_NAMES = [
-  'sin',
-  'cos',
-  'tan',
-  'asin',
-  'acos',
-  'atan',
-  'atan2',
-  'exp',
-  'expm1',
-  'log',
-  'log1p',
-  'log2',
-  'log10',
-  'pow',
-  'hypot',
-  'sinh',
-  'cosh',
-  'tanh',
-  'cbrt',
-];
-
 const global = globalThis as unknown as Record<string, unknown>;
 
-function globalObject(name: string): () => object | undefined {
+/** The owner of a forbidden function, looked up at install time (`performance` or `crypto` may be missing). */
+function ownerOf(name: ForbiddenFunction['object']): () => object | undefined {
   return () => {
-    const value = global[name];
-    return typeof value === 'object' && value !== null ? value : undefined;
+    const value = name === 'Math' ? Math : name === 'Date' ? Date : global[name];
+    return (typeof value === 'object' || typeof value === 'function') && value !== null
+      ? value
+      : undefined;
   };
 }
 
-const TRAPS: readonly Trap[] = [
-  { owner: () => Math, key: 'random', label: 'Math.random', advice: RANDOM_ADVICE },
-  ...MATH_NAMES.map((key) => ({
-    owner: () => Math,
-    key,
-    label: `Math.${key}`,
-    advice: mathAdvice(key),
-  })),
-  { owner: () => Date, key: 'now', label: 'Date.now', advice: CLOCK_ADVICE },
-  {
-    owner: globalObject('performance'),
-    key: 'now',
-    label: 'performance.now',
-    advice: CLOCK_ADVICE,
-  },
-  {
-    owner: globalObject('crypto'),
-    key: 'getRandomValues',
-    label: 'crypto.getRandomValues',
-    advice: RANDOM_ADVICE,
-  },
-  {
-    owner: globalObject('crypto'),
-    key: 'randomUUID',
-    label: 'crypto.randomUUID',
-    advice: RANDOM_ADVICE,
-  },
-];
+// Names are looked up dynamically: this module replaces these functions, it never calls them.
+const TRAPS: readonly Trap[] = FORBIDDEN_FUNCTIONS.map((f) => ({
+  owner: ownerOf(f.object),
+  key: f.property,
+  label: `${f.object}.${f.property}`,
+  advice: f.advice,
+}));
 
 interface Saved {
   readonly owner: object;
@@ -212,41 +147,4 @@ export function withDeterminismGuard<T>(fn: () => T, tick?: number): T {
   }
   if (frame.violation !== undefined) throw frame.violation;
   return result;
-}
-
-/** Steps `sim` once with `inputs`, guarded, naming `sim.tick` in any error. */
-export function guardStep<I>(sim: Simulation<I>, inputs: readonly I[]): void {
-  const tick = sim.tick;
-  withDeterminismGuard(() => {
-    sim.step(inputs);
-  }, tick);
-}
-
-/**
- * A view of `sim` whose `step`, `save`, `load` and `hash` run under
- * {@link withDeterminismGuard} (naming the current tick); every other property reads through to
- * `sim`, with methods bound to it. Use it in development builds and tests; ship the bare `sim`.
- */
-export function guardSimulation<S extends Simulation<never>>(sim: S): S {
-  const guarded: Record<PropertyKey, unknown> = {
-    step: (inputs: readonly never[]) => {
-      guardStep(sim, inputs);
-    },
-    save: () => withDeterminismGuard(() => sim.save(), sim.tick),
-    load: (bytes: Uint8Array) => {
-      withDeterminismGuard(() => {
-        sim.load(bytes);
-      }, sim.tick);
-    },
-    hash: () => withDeterminismGuard(() => sim.hash(), sim.tick),
-  };
-  return new Proxy(sim, {
-    get(target, key) {
-      if (Object.hasOwn(guarded, key)) return guarded[key];
-      const value: unknown = Reflect.get(target, key, target);
-      return typeof value === 'function'
-        ? (value as (...a: unknown[]) => unknown).bind(target)
-        : value;
-    },
-  });
 }

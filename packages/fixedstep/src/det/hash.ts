@@ -45,3 +45,8 @@ export function fnv1a64Hex(bytes: Uint8Array): string {
 export function fnv1a64(bytes: Uint8Array): bigint {
   return new Fnv1a64().update(bytes).digest();
 }
+
+/** A 64-bit hash as 16 lowercase hex digits (what golden tests and logs print). */
+export function hex64(h: bigint): string {
+  return BigInt.asUintN(64, h).toString(16).padStart(16, '0');
+}

@@ -1,5 +1,5 @@
 export { Random } from './random.js';
-export { Fnv1a64, fnv1a64, fnv1a64Hex } from './hash.js';
+export { Fnv1a64, fnv1a64, fnv1a64Hex, hex64 } from './hash.js';
 export {
   ByteWriter,
   ByteReader,
@@ -25,10 +25,6 @@ export {
   wrapAngle,
 } from './math.js';
 export type { WritableNumbers } from './math.js';
-export {
-  withDeterminismGuard,
-  guardStep,
-  guardSimulation,
-  isGuardActive,
-  DeterminismError,
-} from './guard.js';
+export { withDeterminismGuard, isGuardActive, DeterminismError } from './guard.js';
+export { FORBIDDEN_FUNCTIONS } from './forbidden.js';
+export type { ForbiddenFunction, ForbiddenKind } from './forbidden.js';

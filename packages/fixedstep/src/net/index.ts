@@ -46,7 +46,7 @@ export type { Transport, LinkConditions, LinkStats, SimulatedLinkOptions } from 
 export { webSocketTransport, connectWebSocket, nodeWebSocketTransport } from './websocket.js';
 export type { WebSocketTransportOptions, NodeWebSocketLike } from './websocket.js';
 export { ClockSync } from './clock-sync.js';
-export { NetSession, LockstepSession, SpectatorSession, heldOnly } from './session.js';
+export { NetSession, LockstepSession, SpectatorSession } from './session.js';
 export type {
   NetPhase,
   NetEvent,

@@ -1,4 +1,4 @@
-import { hex64 } from '../testing/index.js';
+import { hex64 } from '../det/hash.js';
 import { Random } from '../det/random.js';
 import type { Simulation } from '../sim/simulation.js';
 import type { WelcomeMessage } from './protocol.js';

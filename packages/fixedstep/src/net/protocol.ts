@@ -10,8 +10,8 @@
  * {@link decodeMessage} checks every size against {@link ProtocolLimits} before it allocates, and
  * throws only {@link ProtocolError} — whatever the bytes.
  */
-import { ByteWriter, VARINT_TRUNCATED, readVarint, varintProblem } from '../det/bytes.js';
-import { deinterleave, interleave } from '../replay/codec.js';
+import { ByteReader, ByteWriter, type ByteReadProblem } from '../det/bytes.js';
+import { deinterleave, interleave } from '../sim/buttons.js';
 
 /** The protocol version this code writes and reads (byte 0 of every message). */
 export const PROTOCOL_VERSION = 1;
@@ -355,7 +355,6 @@ export class ProtocolError extends Error {
 // ------------------------------------------------------------------------------------ writer
 
 const encoder = new TextEncoder();
-const decoder = new TextDecoder('utf-8', { fatal: true, ignoreBOM: true });
 
 /** The shared canonical writer, with the protocol's two extra rules. */
 class Writer extends ByteWriter {
@@ -373,93 +372,46 @@ class Writer extends ByteWriter {
 
 // ------------------------------------------------------------------------------------ reader
 
-class Reader {
-  pos = 2;
-  private readonly view: DataView;
-  constructor(
-    readonly buf: Uint8Array,
-    readonly limits: ProtocolLimits,
-  ) {
-    this.view = new DataView(buf.buffer, buf.byteOffset, buf.byteLength);
+const FAILURE_CODES: Readonly<Record<ByteReadProblem, ProtocolErrorCode>> = {
+  truncated: 'TRUNCATED',
+  invalid: 'BAD_VALUE',
+  'too-large': 'TOO_LARGE',
+  trailing: 'TRAILING_BYTES',
+};
+
+function protocolFailure(problem: ByteReadProblem, message: string, offset: number): never {
+  throw new ProtocolError(FAILURE_CODES[problem], message, offset);
+}
+
+/** The shared {@link ByteReader}, failing with {@link ProtocolError}s, plus the protocol's own fields. */
+class Reader extends ByteReader {
+  constructor(buf: Uint8Array) {
+    super(buf, { start: 2, fail: protocolFailure });
   }
-  fail(code: ProtocolErrorCode, message: string, at = this.pos): never {
-    throw new ProtocolError(code, message, at);
-  }
-  need(n: number, what: string): void {
-    if (n > this.buf.length - this.pos) {
-      this.fail('TRUNCATED', `${what} needs ${n} bytes, ${this.buf.length - this.pos} left`);
-    }
-  }
-  u8(what: string): number {
-    this.need(1, what);
-    return this.buf[this.pos++]!;
-  }
-  varint(what: string): number {
+  /** A finite float64 (times). */
+  time(what: string): number {
     const at = this.pos;
-    const v = readVarint(this, this.buf, this.buf.length);
-    if (v === VARINT_TRUNCATED) this.fail('TRUNCATED', `${what}: ${varintProblem(v)}`);
-    return v < 0 ? this.fail('BAD_VALUE', `${what}: ${varintProblem(v)}`, at) : v;
-  }
-  /** A varint bounded by `max` (inclusive). */
-  count(what: string, max: number, min = 0): number {
-    const at = this.pos;
-    const n = this.varint(what);
-    if (n > max) this.fail('TOO_LARGE', `${what} is ${n}, at most ${max}`, at);
-    if (n < min) this.fail('BAD_VALUE', `${what} is ${n}, at least ${min}`, at);
-    return n;
-  }
-  u32(what: string): number {
-    this.need(4, what);
-    const v = this.view.getUint32(this.pos, true);
-    this.pos += 4;
+    const v = this.f64(what);
+    if (!Number.isFinite(v)) this.fail('invalid', `${what} is not a finite number`, at);
     return v;
   }
-  u64(what: string): bigint {
-    this.need(8, what);
-    const v = this.view.getBigUint64(this.pos, true);
-    this.pos += 8;
-    return v;
-  }
-  f64(what: string): number {
-    this.need(8, what);
-    const v = this.view.getFloat64(this.pos, true);
-    if (!Number.isFinite(v)) this.fail('BAD_VALUE', `${what} is not a finite number`);
-    this.pos += 8;
-    return v;
-  }
-  /** Length-prefixed bytes, at most `max`; a copy (the caller may keep it). */
-  bytes(what: string, max: number): Uint8Array {
-    const n = this.count(`${what} length`, max);
-    this.need(n, what);
-    const b = this.buf.slice(this.pos, this.pos + n);
-    this.pos += n;
-    return b;
-  }
-  str(what: string, maxBytes: number): string {
+  /** Text: valid UTF-8 without control characters. */
+  text(what: string, maxBytes: number): string {
     const at = this.pos;
-    const n = this.count(`${what} length`, maxBytes);
-    this.need(n, what);
-    let s: string;
-    try {
-      s = decoder.decode(this.buf.subarray(this.pos, this.pos + n));
-    } catch {
-      return this.fail('BAD_VALUE', `${what} is not valid UTF-8`, at);
-    }
-    this.pos += n;
+    const s = this.str(what, maxBytes);
     // eslint-disable-next-line no-control-regex
-    if (/[\u0000-\u001f\u007f]/.test(s))
-      this.fail('BAD_VALUE', `${what} has control characters`, at);
+    if (/[\u0000-\u001f\u007f]/.test(s)) this.fail('invalid', `${what} has control characters`, at);
     return s;
   }
   name(what: string): string {
     const at = this.pos;
-    const s = this.str(what, 32);
+    const s = this.text(what, 32);
     if (!NAME_PATTERN.test(s)) {
-      this.fail('BAD_VALUE', `${what} must be 1-32 of A-Z a-z 0-9 _ - .`, at);
+      this.fail('invalid', `${what} must be 1-32 of A-Z a-z 0-9 _ - .`, at);
     }
     return s;
   }
-  /** `n` XOR-delta, interleaved input words per lane, `lanes` words per row. */
+  /** `rows` rows of `lanes` input words, each XOR-delta coded against the row before. */
   inputs(what: string, rows: number, lanes: number): Uint32Array {
     // Each word takes at least one byte: check before allocating.
     this.need(rows * lanes, what);
@@ -472,11 +424,6 @@ class Reader {
       }
     }
     return out;
-  }
-  end(): void {
-    if (this.pos !== this.buf.length) {
-      this.fail('TRAILING_BYTES', `${this.buf.length - this.pos} bytes after the last field`);
-    }
   }
 }
 
@@ -715,7 +662,7 @@ function decodeUnchecked(bytes: Uint8Array, limits: Readonly<ProtocolLimits>): N
   if (kind === undefined) {
     throw new ProtocolError('BAD_TYPE', `unknown message type 0x${bytes[1]!.toString(16)}`, 1);
   }
-  const r = new Reader(bytes, limits);
+  const r = new Reader(bytes);
   const m = decodeBody(kind, r, limits);
   r.end();
   return m;
@@ -727,21 +674,19 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
       const room = r.name('room');
       const roleAt = r.pos;
       const role = r.u8('role');
-      if (role > 1) r.fail('BAD_VALUE', `role ${role}`, roleAt);
+      if (role > 1) r.fail('invalid', `role ${role}`, roleAt);
       const game = r.name('game');
       const gameVersion = r.varint('game version');
       const players = r.count('players', limits.maxPlayers);
       const flagsAt = r.pos;
       const flags = r.u8('flags');
-      if (flags > 3) r.fail('BAD_VALUE', `hello flags 0x${flags.toString(16)}`, flagsAt);
+      if (flags > 3) r.fail('invalid', `hello flags 0x${flags.toString(16)}`, flagsAt);
       const seed = flags & 1 ? r.u32('seed') : undefined;
       let token: Uint8Array | undefined;
       if (flags & 2) {
-        r.need(TOKEN_BYTES, 'token');
-        token = r.buf.slice(r.pos, r.pos + TOKEN_BYTES);
-        r.pos += TOKEN_BYTES;
+        token = r.bytes(TOKEN_BYTES, 'token').slice();
       }
-      const name = r.str('name', MAX_PLAYER_NAME_BYTES);
+      const name = r.text('name', MAX_PLAYER_NAME_BYTES);
       const m: HelloMessage = {
         type: 'hello',
         room,
@@ -761,21 +706,21 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
       const slotAt = r.pos;
       const slot = r.varint('slot') - 1;
       const players = r.count('players', limits.maxPlayers, 1);
-      if (slot >= players) r.fail('BAD_VALUE', `slot ${slot} of ${players} players`, slotAt);
+      if (slot >= players) r.fail('invalid', `slot ${slot} of ${players} players`, slotAt);
       const tickRate = r.count('tick rate', 10_000, 1);
       const hashEvery = r.count('hash interval', 1 << 20, 1);
       const deadlineMs = r.varint('deadline');
       const inputFrom = r.varint('input from');
       const startTick = r.varint('start tick');
-      const config = r.bytes('config', limits.maxConfigBytes);
+      const config = r.field('config', limits.maxConfigBytes);
       const tokenAt = r.pos;
-      const token = r.bytes('token', TOKEN_BYTES);
+      const token = r.field('token', TOKEN_BYTES);
       if (token.length !== 0 && token.length !== TOKEN_BYTES) {
-        r.fail('BAD_VALUE', `token of ${token.length} bytes`, tokenAt);
+        r.fail('invalid', `token of ${token.length} bytes`, tokenAt);
       }
       const flagsAt = r.pos;
       const flags = r.u8('flags');
-      if (flags > 3) r.fail('BAD_VALUE', `welcome flags 0x${flags.toString(16)}`, flagsAt);
+      if (flags > 3) r.fail('invalid', `welcome flags 0x${flags.toString(16)}`, flagsAt);
       const m: WelcomeMessage = {
         type: 'welcome',
         room,
@@ -790,19 +735,19 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
         config,
         token,
       };
-      if (flags & 1) m.startAt = r.f64('start time');
-      if (flags & 2) m.snapshot = r.bytes('snapshot', limits.maxSnapshotBytes);
+      if (flags & 1) m.startAt = r.time('start time');
+      if (flags & 2) m.snapshot = r.field('snapshot', limits.maxSnapshotBytes);
       return m;
     }
     case 'start':
-      return { type: 'start', room: r.varint('room'), startAt: r.f64('start time') };
+      return { type: 'start', room: r.varint('room'), startAt: r.time('start time') };
     case 'input': {
       const room = r.varint('room');
       const player = r.count('player', limits.maxPlayers - 1);
       const ack = r.varint('ack');
       const tick = r.varint('tick');
       const n = r.count('input count', limits.maxInputTicks, 1);
-      if (tick + n - 1 > 0xffffffff) r.fail('BAD_VALUE', 'tick range past 2^32');
+      if (tick + n - 1 > 0xffffffff) r.fail('invalid', 'tick range past 2^32');
       return { type: 'input', room, player, ack, tick, inputs: r.inputs('inputs', n, 1) };
     }
     case 'confirmed': {
@@ -811,7 +756,7 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
       const tick = r.varint('tick');
       const players = r.count('players', limits.maxPlayers, 1);
       const n = r.count('tick count', limits.maxConfirmedTicks);
-      if (tick + n > 0xffffffff) r.fail('BAD_VALUE', 'tick range past 2^32');
+      if (tick + n > 0xffffffff) r.fail('invalid', 'tick range past 2^32');
       return {
         type: 'confirmed',
         room,
@@ -830,12 +775,12 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
       const tick = r.varint('tick');
       const exactAt = r.pos;
       const exact = r.u8('exact');
-      if (exact > 1) r.fail('BAD_VALUE', `exact flag ${exact}`, exactAt);
+      if (exact > 1) r.fail('invalid', `exact flag ${exact}`, exactAt);
       const reportTick = r.varint('report tick');
       const majAt = r.pos;
       const majority = r.varint('majority') - 1;
       const n = r.count('group count', limits.maxGroups, 1);
-      if (majority >= n) r.fail('BAD_VALUE', `majority ${majority} of ${n} groups`, majAt);
+      if (majority >= n) r.fail('invalid', `majority ${majority} of ${n} groups`, majAt);
       r.need(n * 9, 'groups');
       const groups: { hash: bigint; peers: number[] }[] = [];
       let total = 0;
@@ -851,34 +796,34 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
       return { type: 'desync', room, tick, exact: exact === 1, reportTick, majority, groups };
     }
     case 'ping':
-      return { type: 'ping', id: r.varint('id'), time: r.f64('time') };
+      return { type: 'ping', id: r.varint('id'), time: r.time('time') };
     case 'pong':
       return {
         type: 'pong',
         id: r.varint('id'),
-        time: r.f64('time'),
-        serverTime: r.f64('server time'),
+        time: r.time('time'),
+        serverTime: r.time('server time'),
       };
     case 'leave': {
       const room = r.varint('room');
       const peer = r.varint('peer');
       const at = r.pos;
       const reason = LEAVE_REASONS[r.u8('reason')];
-      if (reason === undefined) r.fail('BAD_VALUE', 'unknown leave reason', at);
+      if (reason === undefined) r.fail('invalid', 'unknown leave reason', at);
       return { type: 'leave', room, peer, reason };
     }
     case 'error': {
       const at = r.pos;
       const code = ERROR_CODES[r.u8('code')];
-      if (code === undefined) r.fail('BAD_VALUE', 'unknown error code', at);
+      if (code === undefined) r.fail('invalid', 'unknown error code', at);
       const fatalAt = r.pos;
       const fatal = r.u8('fatal');
-      if (fatal > 1) r.fail('BAD_VALUE', `fatal flag ${fatal}`, fatalAt);
+      if (fatal > 1) r.fail('invalid', `fatal flag ${fatal}`, fatalAt);
       return {
         type: 'error',
         code,
         fatal: fatal === 1,
-        message: r.str('message', MAX_ERROR_TEXT_BYTES),
+        message: r.text('message', MAX_ERROR_TEXT_BYTES),
       };
     }
     case 'snapshot-request':
@@ -894,7 +839,7 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
         room: r.varint('room'),
         id: r.varint('id'),
         tick: r.varint('tick'),
-        bytes: r.bytes('snapshot', limits.maxSnapshotBytes),
+        bytes: r.field('snapshot', limits.maxSnapshotBytes),
       };
     case 'hashes-request':
       return {

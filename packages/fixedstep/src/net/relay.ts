@@ -14,7 +14,7 @@ import {
   type NetMessage,
   type ProtocolLimits,
 } from './protocol.js';
-import { heldOnly } from './session.js';
+import { heldOnly } from '../sim/buttons.js';
 import type { Transport } from './transport.js';
 
 /** What the relay needs to know of a game (it never runs one). */

@@ -1,5 +1,6 @@
 import { InputRing } from './history.js';
-import { heldOnly, NetSession, type NetSessionOptions } from './session.js';
+import { heldOnly } from '../sim/buttons.js';
+import { NetSession, type NetSessionOptions } from './session.js';
 import { diffSnapshots } from './forensics.js';
 
 /** What a rollback changed at the current tick: for the renderer's smoothing. */

@@ -17,15 +17,6 @@ import {
 } from './protocol.js';
 import type { Transport } from './transport.js';
 
-/**
- * What a tick's missing input becomes, on the server (after its deadline) and in a rollback
- * client's prediction: the player's last input with its "pressed" edges cleared — held buttons
- * stay held, no press is repeated (a {@link ButtonInput}'s bits 16–31 are edges).
- */
-export function heldOnly(last: number): number {
-  return (last & 0xffff) >>> 0;
-}
-
 /** Where a session is. */
 export type NetPhase = 'connecting' | 'waiting' | 'running' | 'closed';
 

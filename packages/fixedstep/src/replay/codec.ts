@@ -1,10 +1,10 @@
 /**
  * Low-level pieces of the replay format (see docs/replay-format.md): constants, a bounds-checked
- * cursor that throws {@link ReplayError}s, the bit interleave of input words. Bytes are written
+ * cursor that throws {@link ReplayError}s. Bytes are written
  * with det/bytes.ts's `ByteWriter` and its canonical LEB128 varints.
  * @internal
  */
-import { readVarint, varintProblem } from '../det/bytes.js';
+import { ByteReader } from '../det/bytes.js';
 import { ReplayError } from './errors.js';
 
 /** "FSREPLAY" in ASCII. */
@@ -51,7 +51,6 @@ export function sectionName(id: number): string {
 }
 
 const utf8Encoder = new TextEncoder();
-const utf8Decoder = new TextDecoder('utf-8', { fatal: true, ignoreBOM: true });
 
 /** UTF-8 length of a string, in bytes. */
 export function utf8Length(s: string): number {
@@ -59,123 +58,48 @@ export function utf8Length(s: string): number {
 }
 
 /**
- * A bounds-checked reader over `[start, end)` of a file. Every failure is a {@link ReplayError}
- * (`CORRUPT` by default: inside a checksummed file, running out of bytes means a wrong length
- * field, not a short file) naming the field and the absolute offset.
+ * The shared {@link ByteReader} over `[start, end)` of a file, failing with {@link ReplayError}s:
+ * `CORRUPT` for every problem (inside a checksummed file, running out of bytes means a wrong length
+ * field, not a short file), each message prefixed with what is being read (`where`) and carrying
+ * the absolute offset.
  */
-export class Cursor {
-  pos: number;
-  private readonly view: DataView;
-
+export class Cursor extends ByteReader {
   constructor(
-    readonly buf: Uint8Array,
+    buf: Uint8Array,
     start: number,
-    readonly end: number,
+    end: number,
     /** What is being read, e.g. "section INPUTS": prefixed to messages. */
     readonly where: string,
   ) {
-    this.pos = start;
-    this.view = new DataView(buf.buffer, buf.byteOffset, buf.byteLength);
+    super(buf, {
+      start,
+      end,
+      fail: (_problem, message, offset) => {
+        throw new ReplayError('CORRUPT', `${where}: ${message}`, offset);
+      },
+    });
   }
 
-  get remaining(): number {
-    return this.end - this.pos;
+  /** Refuse the file as `CORRUPT` with `message` at `at`. */
+  corrupt(message: string, at = this.pos): never {
+    return this.fail('invalid', message, at);
   }
 
-  fail(message: string, at = this.pos): never {
-    throw new ReplayError('CORRUPT', `${this.where}: ${message}`, at);
-  }
-
-  need(n: number, what: string): void {
-    if (n > this.end - this.pos) {
-      this.fail(`${what} needs ${n} bytes, ${this.end - this.pos} left`);
-    }
-  }
-
-  u8(what: string): number {
-    this.need(1, what);
-    return this.buf[this.pos++]!;
-  }
-
-  u32(what: string): number {
-    this.need(4, what);
-    const v = this.view.getUint32(this.pos, true);
-    this.pos += 4;
-    return v;
-  }
-
-  u64(what: string): bigint {
-    this.need(8, what);
-    const v = this.view.getBigUint64(this.pos, true);
-    this.pos += 8;
-    return v;
-  }
-
-  /** A canonical unsigned LEB128 u32: at most 5 bytes, value below 2^32, no redundant 0x00 tail. */
-  varint(what: string): number {
-    const at = this.pos;
-    const v = readVarint(this, this.buf, this.end);
-    return v < 0 ? this.fail(`${what}: ${varintProblem(v)}`, at) : v;
-  }
-
-  bytes(n: number, what: string): Uint8Array {
-    this.need(n, what);
-    const b = this.buf.subarray(this.pos, this.pos + n);
-    this.pos += n;
-    return b;
-  }
-
-  /** A varint byte length (at most `max`), then that many bytes of valid UTF-8. */
-  str(what: string, max = MAX_STRING_BYTES): string {
+  /** A varint byte length (at most `max`, the format's string limit by default), then valid UTF-8. */
+  string(what: string, max = MAX_STRING_BYTES): string {
     const at = this.pos;
     const n = this.varint(`${what} length`);
-    if (n > max) this.fail(`${what} is ${n} bytes, the format allows at most ${max}`, at);
-    const b = this.bytes(n, what);
-    try {
-      return utf8Decoder.decode(b);
-    } catch {
-      return this.fail(`${what} is not valid UTF-8`, at);
+    if (n > max) this.corrupt(`${what} is ${n} bytes, the format allows at most ${max}`, at);
+    this.pos = at;
+    return this.str(what, max);
+  }
+
+  /** Refuse unless every byte up to the cursor's end was read. */
+  done(): void {
+    if (this.pos !== this.limit) {
+      this.corrupt(`${this.limit - this.pos} unexpected bytes left over`);
     }
   }
-
-  /** Throws unless every byte up to `end` was read. */
-  done(): void {
-    if (this.pos !== this.end) this.fail(`${this.end - this.pos} unexpected bytes left over`);
-  }
-}
-
-// --------------------------------------------------------------------------- input bit interleave
-
-function spread16(v: number): number {
-  let x = v & 0xffff;
-  x = (x | (x << 8)) & 0x00ff00ff;
-  x = (x | (x << 4)) & 0x0f0f0f0f;
-  x = (x | (x << 2)) & 0x33333333;
-  x = (x | (x << 1)) & 0x55555555;
-  return x;
-}
-
-function compact16(v: number): number {
-  let x = v & 0x55555555;
-  x = (x | (x >>> 1)) & 0x33333333;
-  x = (x | (x >>> 2)) & 0x0f0f0f0f;
-  x = (x | (x >>> 4)) & 0x00ff00ff;
-  x = (x | (x >>> 8)) & 0x0000ffff;
-  return x;
-}
-
-/**
- * Bit b of the low half → bit 2b, bit b of the high half → bit 2b+1. For a ButtonInput this puts
- * each button's "down" and "pressed" bits side by side, so the low buttons of a game land in the
- * low bits and their changes fit one varint byte. A bijection on u32.
- */
-export function interleave(v: number): number {
-  return (spread16(v) | (spread16(v >>> 16) << 1)) >>> 0;
-}
-
-/** The inverse of {@link interleave}. */
-export function deinterleave(w: number): number {
-  return (compact16(w) | (compact16(w >>> 1) << 16)) >>> 0;
 }
 
 /** The low 32 bits of a 64-bit hash (what the per-tick hash section stores). */

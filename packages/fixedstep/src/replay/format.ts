@@ -1,6 +1,7 @@
 import { ByteWriter } from '../det/bytes.js';
 import { Fnv1a64 } from '../det/hash.js';
 import { Timestep } from '../time/timestep.js';
+import { deinterleave } from '../sim/buttons.js';
 import {
   CHECKSUM_BYTES,
   Cursor,
@@ -10,7 +11,6 @@ import {
   MAX_STRING_BYTES,
   SECTION_HEADER_BYTES,
   Section,
-  deinterleave,
   gcd,
   low32,
   sectionName,
@@ -394,23 +394,29 @@ class Parser {
     while (file.pos < this.end) {
       const at = file.pos;
       if (file.remaining < SECTION_HEADER_BYTES) {
-        file.fail(`${file.remaining} stray bytes where a section header (5 bytes) should start`);
+        file.corrupt(`${file.remaining} stray bytes where a section header (5 bytes) should start`);
       }
       const id = file.u8('section id');
       const length = file.u32('section length');
       const name = sectionName(id);
       if (length > file.remaining) {
-        file.fail(`section ${name} declares ${length} bytes, only ${file.remaining} left`, at + 1);
+        file.corrupt(
+          `section ${name} declares ${length} bytes, only ${file.remaining} left`,
+          at + 1,
+        );
       }
       if (id === 0 || (id > Section.TICK_HASHES && id < 0x80)) {
-        file.fail(`unknown critical section id 0x${id.toString(16)}`, at);
+        file.corrupt(`unknown critical section id 0x${id.toString(16)}`, at);
       }
       if (id <= last) {
-        file.fail(`section ${name} is out of order or repeated (after ${sectionName(last)})`, at);
+        file.corrupt(
+          `section ${name} is out of order or repeated (after ${sectionName(last)})`,
+          at,
+        );
       }
       // Sections 1–5 are required and come in order: jumping past one means it is missing.
       for (let missing = last + 1; missing < Math.min(id, Section.TICK_HASHES); missing++) {
-        file.fail(`section ${sectionName(missing)} is missing (found ${name})`, at);
+        file.corrupt(`section ${sectionName(missing)} is missing (found ${name})`, at);
       }
       last = id;
       this.sections.push({ id, name, offset: at, length });
@@ -419,7 +425,7 @@ class Parser {
       file.pos += length;
     }
     if (last < Section.KEYFRAMES) {
-      file.fail(`section ${sectionName(last + 1)} is missing (file ends)`);
+      file.corrupt(`section ${sectionName(last + 1)} is missing (file ends)`);
     }
     return new Replay(
       this.header!,
@@ -469,17 +475,17 @@ class Parser {
 
   private game(c: Cursor): void {
     const sectionAt = c.pos;
-    const gameId = c.str('game id');
-    if (gameId.length === 0) c.fail('game id is empty', sectionAt);
-    const gameVersion = c.str('game version');
+    const gameId = c.string('game id');
+    if (gameId.length === 0) c.corrupt('game id is empty', sectionAt);
+    const gameVersion = c.string('game version');
     const numAt = c.pos;
     const stepNumerator = c.varint('step numerator');
     const stepDenominator = c.varint('step denominator');
     if (stepNumerator === 0 || stepDenominator === 0) {
-      c.fail(`step ${stepNumerator}/${stepDenominator} s has a zero term`, numAt);
+      c.corrupt(`step ${stepNumerator}/${stepDenominator} s has a zero term`, numAt);
     }
     if (gcd(stepNumerator, stepDenominator) !== 1) {
-      c.fail(`step ${stepNumerator}/${stepDenominator} s is not in lowest terms`, numAt);
+      c.corrupt(`step ${stepNumerator}/${stepDenominator} s is not in lowest terms`, numAt);
     }
     const seedsAt = c.pos;
     const seedCount = c.varint('seed count');
@@ -497,13 +503,13 @@ class Parser {
     const config = c.bytes(configLength, 'config');
     const playersAt = c.pos;
     const playerCount = c.varint('player count');
-    if (playerCount === 0) c.fail('player count is 0', playersAt);
+    if (playerCount === 0) c.corrupt('player count is 0', playersAt);
     if (playerCount > this.limits.maxPlayers) {
       this.tooLarge('player count', playerCount, this.limits.maxPlayers, playersAt);
     }
     c.need(playerCount, `${playerCount} player names`);
     const players: string[] = [];
-    for (let p = 0; p < playerCount; p++) players.push(c.str(`name of player ${p}`));
+    for (let p = 0; p < playerCount; p++) players.push(c.string(`name of player ${p}`));
     this.header = Object.freeze({
       formatVersion: FORMAT_VERSION,
       gameId,
@@ -527,11 +533,11 @@ class Parser {
     this.finalHash = c.u64('final hash');
     const nAt = c.pos;
     this.checkpointEvery = c.varint('checkpoint interval');
-    if (this.checkpointEvery === 0) c.fail('checkpoint interval is 0', nAt);
+    if (this.checkpointEvery === 0) c.corrupt('checkpoint interval is 0', nAt);
     const mAt = c.pos;
     this.keyframeEvery = c.varint('keyframe interval');
     if (this.keyframeEvery % this.checkpointEvery !== 0) {
-      c.fail(
+      c.corrupt(
         `keyframe interval ${this.keyframeEvery} is not a multiple of the checkpoint interval ${this.checkpointEvery}`,
         mAt,
       );
@@ -545,7 +551,7 @@ class Parser {
       const lengthAt = c.pos;
       const length = c.varint(`input stream length of player ${p}`);
       if (length > c.remaining) {
-        c.fail(
+        c.corrupt(
           `input stream of player ${p} declares ${length} bytes, ${c.remaining} left`,
           lengthAt,
         );
@@ -560,13 +566,13 @@ class Parser {
       let prev = 0;
       let r = 0;
       while (t < ticks) {
-        if (s.pos >= s.end) s.fail(`stream ends at tick ${t} of ${ticks}`);
+        if (s.pos >= s.limit) s.corrupt(`stream ends at tick ${t} of ${ticks}`);
         const at = s.pos;
         const d = s.varint('run change');
-        if (d === 0 && r > 0) s.fail(`run ${r} repeats the previous value (non-canonical)`, at);
+        if (d === 0 && r > 0) s.corrupt(`run ${r} repeats the previous value (non-canonical)`, at);
         const n = s.varint('run length');
         if (n >= ticks - t) {
-          s.fail(`run ${r} of ${n + 1} ticks at tick ${t} overruns the ${ticks} ticks`, at);
+          s.corrupt(`run ${r} of ${n + 1} ticks at tick ${t} overruns the ${ticks} ticks`, at);
         }
         prev = (prev ^ d) >>> 0;
         starts[r] = t;
@@ -583,14 +589,14 @@ class Parser {
   private checkpointSection(c: Cursor): void {
     const count = Math.floor(this.tickCount / this.checkpointEvery) + 1;
     if (c.remaining !== count * 8) {
-      c.fail(
+      c.corrupt(
         `holds ${c.remaining} bytes, ${count} checkpoints (ticks 0 to ${this.tickCount} every ${this.checkpointEvery}) need ${count * 8}`,
       );
     }
     const cps = new BigUint64Array(count);
     for (let i = 0; i < count; i++) cps[i] = c.u64('checkpoint hash');
     if (this.tickCount % this.checkpointEvery === 0 && cps[count - 1] !== this.finalHash) {
-      c.fail(
+      c.corrupt(
         `the checkpoint at the last tick ${this.tickCount} differs from the final hash`,
         c.pos - 8,
       );
@@ -603,7 +609,7 @@ class Parser {
     const count = m === 0 ? 0 : Math.floor(this.tickCount / m);
     // Each keyframe takes at least its 1-byte length: check before allocating anything per keyframe.
     if (count > c.remaining) {
-      c.fail(`${count} keyframes expected but only ${c.remaining} bytes`);
+      c.corrupt(`${count} keyframes expected but only ${c.remaining} bytes`);
     }
     for (let i = 0; i < count; i++) {
       const at = c.pos;
@@ -620,7 +626,7 @@ class Parser {
   private tickHashSection(c: Cursor): void {
     const ticks = this.tickCount;
     if (c.remaining !== ticks * 4) {
-      c.fail(`holds ${c.remaining} bytes, ${ticks} tick hashes need ${ticks * 4}`);
+      c.corrupt(`holds ${c.remaining} bytes, ${ticks} tick hashes need ${ticks * 4}`);
     }
     const start = c.pos;
     const hashes = new Uint32Array(ticks);
@@ -628,11 +634,17 @@ class Parser {
     const n = this.checkpointEvery;
     for (let i = 1; i < this.checkpoints.length; i++) {
       if (hashes[i * n - 1] !== low32(this.checkpoints[i]!)) {
-        c.fail(`tick hash of tick ${i * n} disagrees with its checkpoint`, start + (i * n - 1) * 4);
+        c.corrupt(
+          `tick hash of tick ${i * n} disagrees with its checkpoint`,
+          start + (i * n - 1) * 4,
+        );
       }
     }
     if (ticks > 0 && hashes[ticks - 1] !== low32(this.finalHash)) {
-      c.fail(`tick hash of the last tick disagrees with the final hash`, start + (ticks - 1) * 4);
+      c.corrupt(
+        `tick hash of the last tick disagrees with the final hash`,
+        start + (ticks - 1) * 4,
+      );
     }
     this.tickHashes = hashes;
   }

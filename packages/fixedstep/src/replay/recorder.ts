@@ -1,7 +1,8 @@
 import type { Simulation } from '../sim/simulation.js';
 import { Timestep } from '../time/timestep.js';
 import { ByteWriter } from '../det/bytes.js';
-import { MAX_STRING_BYTES, gcd, interleave, low32, utf8Length } from './codec.js';
+import { interleave } from '../sim/buttons.js';
+import { MAX_STRING_BYTES, gcd, low32, utf8Length } from './codec.js';
 import { assembleReplay } from './format.js';
 import type { ReplayHeader } from './format.js';
 

@@ -1,4 +1,4 @@
-import { fnv1a64 } from '../det/hash.js';
+import { fnv1a64, hex64 } from '../det/hash.js';
 import type { Simulation } from '../sim/simulation.js';
 
 /**
@@ -6,10 +6,7 @@ import type { Simulation } from '../sim/simulation.js';
  * snapshot round trip. They return plain results and messages so they work with any test runner.
  */
 
-/** Hex of a 64-bit hash, 16 digits. */
-export function hex64(h: bigint): string {
-  return h.toString(16).padStart(16, '0');
-}
+export { hex64 };
 
 /**
  * Steps `sim` for `ticks` ticks with inputs from `inputs(tick)` and returns the final hash in

@@ -24,8 +24,11 @@ export type HiddenPolicy = 'pause' | 'clamp';
 export type DropReason = 'clamp' | 'overload' | 'hidden';
 
 export interface FixedLoopOptions {
-  /** The fixed step: a {@link Timestep}, or a tick rate in Hz. */
-  step: Timestep | number;
+  /**
+   * The fixed step: a {@link Timestep}, a tick rate in Hz, or a game definition (anything with a
+   * `tickRate`), so the rate is declared once, by the game.
+   */
+  step: Timestep | number | { readonly tickRate: number };
   /**
    * Upper bound of the accumulator, in milliseconds. Default 250.
    *
@@ -58,7 +61,18 @@ export interface FixedLoopOptions {
   timeScale?: number;
   /** Called whenever time is dropped, with the amount in milliseconds and the reason. */
   onDrop?: (ms: number, reason: DropReason) => void;
+  /**
+   * Where the loop reports a likely mistake in how it is fed, once per kind — clock readings that
+   * do not advance (a frame *delta* passed to {@link FixedLoop.frame}, which expects a
+   * *timestamp*), or input events timestamped on another time line than the frames (a key press
+   * would wait seconds for its tick). Default `console.warn`; `null` to stay silent (production).
+   * Reporting never changes what the loop does.
+   */
+  onWarning?: ((message: string) => void) | null;
 }
+
+/** What {@link FixedLoopOptions.onWarning} may report. */
+export type LoopWarning = 'delta-as-timestamp' | 'input-time-line';
 
 const POLICIES: readonly OverloadPolicy[] = ['catch-up', 'drop', 'reset'];
 const HIDDEN: readonly HiddenPolicy[] = ['pause', 'clamp'];
@@ -121,6 +135,10 @@ export class FixedLoop implements Loop {
   private pausedNs = 0;
   private invalid = 0;
   private backwards = 0;
+  /** Clock readings (after the first) that did not advance, for the delta-as-timestamp check. */
+  private stuckReadings = 0;
+  private readonly warn: ((message: string) => void) | null;
+  private readonly warned = new Set<LoopWarning>();
 
   constructor(options: FixedLoopOptions) {
     this.step = Timestep.from(options.step);
@@ -173,6 +191,12 @@ export class FixedLoop implements Loop {
     }
     this.hystUnits = Math.round(this.hysteresis * this.unitsPerStep);
     this.onDrop = options.onDrop;
+    this.warn =
+      options.onWarning === undefined
+        ? (m) => {
+            console.warn(m);
+          }
+        : options.onWarning;
     this.setTimeScale(options.timeScale ?? 1);
   }
 
@@ -202,15 +226,44 @@ export class FixedLoop implements Loop {
       this.backwards++;
       dt = 0;
     }
+    if (dt === 0 || this.frameCount < 1) this.checkReadings(nowMs);
     return this.accumulate(dt);
   }
 
   /**
-   * Feed one frame by its Δt in ms. Negative, NaN or infinite Δt counts as 0; a Δt is quantised
-   * to whole nanoseconds. Deltas above 2^53 ns (104 days) lose exactness in the counters.
+   * A frame delta passed where a timestamp belongs looks like a clock that stands still or runs
+   * back: readings of a few ms that never grow. Ten such frames among the first thirty is no
+   * real clock (a real one stands still only on a duplicate frame).
+   */
+  private checkReadings(nowMs: number): void {
+    if (this.frameCount >= 30 || this.warn === null) return;
+    if (this.frameCount >= 1 && nowMs < 1000) this.stuckReadings++;
+    if (this.stuckReadings >= 10) {
+      this.warnOnce(
+        'delta-as-timestamp',
+        `FixedLoop.frame(nowMs) expects a clock reading in ms (a requestAnimationFrame timestamp, performance.now()), but ${this.stuckReadings} of the first ${this.frameCount + 1} readings did not advance (last ${nowMs} ms): if your engine gives you a frame delta, call loop.advance(deltaMs, nowMs) instead.`,
+      );
+    }
+  }
+
+  private warnOnce(kind: LoopWarning, message: string): void {
+    if (this.warn === null || this.warned.has(kind)) return;
+    this.warned.add(kind);
+    this.warn(message);
+  }
+
+  /**
+   * Feed one frame by its Δt in ms — the entry point for engines that only give frame deltas,
+   * with the same exact integer time as {@link frame}. Negative, NaN or infinite Δt counts as 0;
+   * a Δt is quantised to whole nanoseconds. Deltas above 2^53 ns (104 days) lose exactness in the
+   * counters.
+   *
+   * The loop's time line — where input events are placed on ticks — is the sum of the deltas,
+   * unless `nowMs` gives this frame's clock reading: pass it whenever input events carry
+   * timestamps (`event.timeStamp` in a browser), or they land on the wrong ticks.
    * @returns how many steps to run now.
    */
-  advance(dtMs: number): number {
+  advance(dtMs: number, nowMs?: number): number {
     this.started = true;
     let dt = Math.round(dtMs * 1e6);
     if (!(dt >= 0) || dt === Infinity) {
@@ -218,7 +271,8 @@ export class FixedLoop implements Loop {
       else this.invalid++;
       dt = 0;
     }
-    this.nowNs += dt;
+    if (nowMs !== undefined && Number.isFinite(nowMs)) this.nowNs = Math.round(nowMs * 1e6);
+    else this.nowNs += dt;
     return this.accumulate(dt);
   }
 
@@ -431,6 +485,13 @@ export class FixedLoop implements Loop {
 
   isBeforeUpdateEnd(timeMs: number, j: number): boolean {
     const t = Math.round(timeMs * 1e6);
+    // An event more than 5 s ahead of the frames cannot be on their time line.
+    if (t - this.nowNs > 5e9 && this.warn !== null) {
+      this.warnOnce(
+        'input-time-line',
+        `FixedLoop: an input event at ${timeMs.toFixed(1)} ms is ${((t - this.nowNs) / 1e6).toFixed(0)} ms ahead of the loop's clock (${this.nowMs.toFixed(1)} ms): events and frames must share one time line (event.timeStamp and the requestAnimationFrame timestamp do). Driving the loop with advance(delta)? Pass the frame's clock reading too: advance(deltaMs, nowMs).`,
+      );
+    }
     if (this.frameWasPaused) return t <= this.nowNs;
     // Step j of this frame ends (accAtFrame − (j+1)·step) units before now, in scaled time.
     // With hysteresis a step may run up to h early, before its end has come; so every step's

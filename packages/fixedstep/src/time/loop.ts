@@ -17,10 +17,12 @@ export interface Loop {
    */
   frame(nowMs: number): number;
   /**
-   * Feed one display frame by the time elapsed since the previous one, in milliseconds.
+   * Feed one display frame by the time elapsed since the previous one, in milliseconds — for
+   * engines that only hand out frame deltas. `nowMs`, the frame's clock reading, puts the loop's
+   * time line where input events are timestamped (without it the time line is the sum of deltas).
    * @returns how many updates to run now, each with {@link Loop.dt}.
    */
-  advance(dtMs: number): number;
+  advance(dtMs: number, nowMs?: number): number;
   /** The Δt in seconds to pass to each update of the current frame. */
   readonly dt: number;
   /** Render interpolation factor between the previous and the current state, in [0, 1). */

@@ -60,9 +60,18 @@ export class Timestep {
     return new Timestep(ns, 1, ns / 1e9);
   }
 
-  /** Accepts a Timestep, or a number of ticks per second. */
-  static from(step: Timestep | number): Timestep {
-    return typeof step === 'number' ? Timestep.fromHz(step) : step;
+  /**
+   * Accepts a Timestep, a number of ticks per second, or anything with a `tickRate` — a game
+   * definition, so the tick rate is written in one place: `new FixedLoop({ step: game })`.
+   */
+  static from(step: Timestep | number | { readonly tickRate: number }): Timestep {
+    if (typeof step === 'number') return Timestep.fromHz(step);
+    if (step instanceof Timestep) return step;
+    const given: unknown = step; // JavaScript callers may pass anything
+    if (typeof given === 'object' && given !== null && 'tickRate' in given) {
+      return Timestep.fromHz((given as { tickRate: number }).tickRate);
+    }
+    throw new RangeError('Timestep.from: expects a Timestep, a tick rate in Hz, or { tickRate }');
   }
 
   /** Simulated time in seconds after `tick` steps: a product, never a running float sum. */
