@@ -232,13 +232,14 @@ export class FixedLoop implements Loop {
 
   /**
    * A frame delta passed where a timestamp belongs looks like a clock that stands still or runs
-   * back: readings of a few ms that never grow. Ten such frames among the first thirty is no
-   * real clock (a real one stands still only on a duplicate frame).
+   * back: readings of a few ms that never grow. Five such frames among the first thirty, all
+   * under a second, is no real clock (a real one repeats a reading only on a duplicate frame, and
+   * requestAnimationFrame never does).
    */
   private checkReadings(nowMs: number): void {
     if (this.frameCount >= 30 || this.warn === null) return;
     if (this.frameCount >= 1 && nowMs < 1000) this.stuckReadings++;
-    if (this.stuckReadings >= 10) {
+    if (this.stuckReadings >= 5) {
       this.warnOnce(
         'delta-as-timestamp',
         `FixedLoop.frame(nowMs) expects a clock reading in ms (a requestAnimationFrame timestamp, performance.now()), but ${this.stuckReadings} of the first ${this.frameCount + 1} readings did not advance (last ${nowMs} ms): if your engine gives you a frame delta, call loop.advance(deltaMs, nowMs) instead.`,
