@@ -58,7 +58,7 @@ describe('replay format validation', () => {
   it('starts with the magic, the version and the length; ends with the checksum', () => {
     expect(new TextDecoder().decode(good.subarray(0, 8))).toBe('FSREPLAY');
     const v = new DataView(good.buffer);
-    expect(v.getUint32(8, true)).toBe(1);
+    expect(v.getUint32(8, true)).toBe(2);
     expect(v.getUint32(12, true)).toBe(good.length);
     expect(sections.map((s) => [s.name, s.offset])[0]).toEqual(['GAME', 16]);
   });
@@ -72,9 +72,16 @@ describe('replay format validation', () => {
       expectError(good.subarray(0, n), 'TRUNCATED', new RegExp(`declares ${good.length}`), n);
     }
     expectError(splice(good, good.length, 0, [0]), 'TRAILING_DATA', /1 bytes after/, good.length);
-    const v2 = good.slice();
-    new DataView(v2.buffer).setUint32(8, 2, true);
-    expectError(v2, 'UNSUPPORTED_VERSION', /version 2/, 8);
+    for (const version of [0, 3]) {
+      const other = good.slice();
+      new DataView(other.buffer).setUint32(8, version, true);
+      expectError(
+        other,
+        'UNSUPPORTED_VERSION',
+        new RegExp(`version ${version}, this reader knows 1 to 2`),
+        8,
+      );
+    }
   });
 
   it('detects every single bit flip with the checksum', () => {

@@ -35,7 +35,7 @@ describe('replay round trip', () => {
   it('reads back the header, the inputs, the hashes and the keyframes', () => {
     const r = readReplay(run.bytes, { gameId: GAME_ID, gameVersion: GAME_VERSION });
     expect(r.header).toMatchObject({
-      formatVersion: 1,
+      formatVersion: 2,
       gameId: GAME_ID,
       gameVersion: GAME_VERSION,
       stepNumerator: 1,
@@ -282,5 +282,5 @@ describe('replay round trip', () => {
   });
 });
 
-/** FNV-1a 64 of the 600-tick golden replay file (format v1). */
-const GOLDEN_FILE_HASH = '8961805ef353bd65';
+/** FNV-1a 64 of the 600-tick golden replay file (format 2: format 1 plus the input schema descriptor). */
+const GOLDEN_FILE_HASH = 'c7ab59aad7c2590a';

@@ -11,6 +11,7 @@ import {
   hex64,
   runForHash,
   snapshotRoundTrip,
+  readReplay,
   verifyReplay,
   withDeterminismGuard,
   type ButtonInput,
@@ -292,8 +293,10 @@ export function expectEditCaught(match: RecordedMatch, t: number): void {
   const i = t * match.players;
   const edited = match.recorded.slice();
   edited[i] = match.recorded[i]! ^ 0b1111;
-  const result = verifyReplay(match.forge(edited), gameFromReplayHeader);
-  const next = Math.ceil((t + 1) / 60) * 60;
+  const forged = match.forge(edited);
+  const result = verifyReplay(forged, gameFromReplayHeader);
+  const every = readReplay(forged).checkpointEvery;
+  const next = Math.ceil((t + 1) / every) * every;
   expect(result).toMatchObject({ ok: false, kind: 'checkpoint', firstMismatchTick: next });
   expect(verifyReplay(match.forge(match.recorded), gameFromReplayHeader).ok).toBe(true);
 }

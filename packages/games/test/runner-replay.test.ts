@@ -110,8 +110,9 @@ describe('runner replays: a 10-minute bot game', () => {
     );
     expect(inputsPerMinute).toBeLessThan(400);
     expect(filePerMinute).toBeLessThan(1200);
-    // A checkpoint (8 bytes) every second, and one at tick 0.
-    expect(section('CHECKPOINTS')).toBe(8 * (TICKS / 60 + 1));
+    // A checkpoint (8 bytes) every 10 s (the default), and one at tick 0.
+    expect(replay.checkpointEvery).toBe(600);
+    expect(section('CHECKPOINTS')).toBe(8 * (TICKS / 600 + 1));
   });
 
   it('an edited input is caught at the next checkpoint, even in a well-formed file', () => {
@@ -123,9 +124,10 @@ describe('runner replays: a 10-minute bot game', () => {
     const forged = forge(run, { seed: SEED, players: 1 }, inputs);
     expect(readReplay(forged).tickCount).toBe(TICKS); // parses: checksum and structure are fine
     const result = verifyReplay(forged, gameFromReplayHeader);
-    const next = Math.ceil((t + 1) / 60) * 60;
+    const every = replay.checkpointEvery;
+    const next = Math.ceil((t + 1) / every) * every;
     expect(result).toMatchObject({ ok: false, kind: 'checkpoint', firstMismatchTick: next });
-    expect(result.lastGoodTick).toBe(next - 60);
+    expect(result.lastGoodTick).toBe(next - every);
     // The untouched original still verifies.
     expect(
       verifyReplay(forge(run, { seed: SEED, players: 1 }, run.inputs), gameFromReplayHeader).ok,

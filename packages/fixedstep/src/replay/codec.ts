@@ -9,8 +9,15 @@ import { ReplayError } from './errors.js';
 
 /** "FSREPLAY" in ASCII. */
 export const MAGIC = Uint8Array.of(0x46, 0x53, 0x52, 0x45, 0x50, 0x4c, 0x41, 0x59);
-/** The format version this code writes and reads. */
-export const FORMAT_VERSION = 1;
+/**
+ * The format version this code writes. It reads this one and every earlier one: version 1 (no
+ * input schema: one 32-bit button word per player per tick) reads as the `BUTTON_WORD` schema.
+ */
+export const FORMAT_VERSION = 2;
+/** The oldest format version this code reads. */
+export const OLDEST_FORMAT_VERSION = 1;
+/** Longest input schema descriptor, in bytes. */
+export const MAX_DESCRIPTOR_BYTES = 1024;
 /** Magic (8) + version (u32) + file length (u32). */
 export const FILE_HEADER_BYTES = 16;
 /** The FNV-1a 64 checksum at the end. */

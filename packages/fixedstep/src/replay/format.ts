@@ -2,12 +2,15 @@ import { ByteWriter } from '../det/bytes.js';
 import { Fnv1a64 } from '../det/hash.js';
 import { Timestep } from '../time/timestep.js';
 import { deinterleave } from '../sim/buttons.js';
+import { BUTTON_WORD, inputSchemaFromDescriptor, type InputSchema } from '../sim/input-schema.js';
 import {
   CHECKSUM_BYTES,
   Cursor,
   FILE_HEADER_BYTES,
   FORMAT_VERSION,
   MAGIC,
+  MAX_DESCRIPTOR_BYTES,
+  OLDEST_FORMAT_VERSION,
   MAX_STRING_BYTES,
   SECTION_HEADER_BYTES,
   Section,
@@ -22,7 +25,7 @@ import { ReplayError } from './errors.js';
  * seeds, which configuration. A replay's factory gets this and returns a fresh simulation at tick 0.
  */
 export interface ReplayHeader {
-  /** The replay format version of the file (1). */
+  /** The replay format version of the file (1 or 2). */
   readonly formatVersion: number;
   /** Which game (or scene) recorded this, e.g. `'ctf'`. 1–255 bytes of UTF-8. */
   readonly gameId: string;
@@ -38,6 +41,12 @@ export interface ReplayHeader {
   readonly config: Uint8Array;
   /** One name per player; the count is the number of inputs per tick. 0–255 bytes of UTF-8 each. */
   readonly players: readonly string[];
+  /**
+   * What each player's input is: the schema the recorder was given (format 2 stores its
+   * descriptor), or `BUTTON_WORD` for a format-1 file. Each tick holds `input.words` u32 words per
+   * player.
+   */
+  readonly input: InputSchema<unknown>;
 }
 
 /**
@@ -138,7 +147,15 @@ export class Replay {
     return this.header.players.length;
   }
 
-  /** The input of `player` at tick `tick` (the input of the step from tick `tick` to `tick + 1`). */
+  /** u32 words per player per tick (`header.input.words`). */
+  get words(): number {
+    return this.header.input.words;
+  }
+
+  /**
+   * The button word of `player` at tick `tick` (the input of the step from tick `tick` to
+   * `tick + 1`): the whole input for a schema without axes.
+   */
   input(tick: number, player: number): number {
     this.checkTick(tick);
     const starts = this.runStarts[player];
@@ -148,22 +165,33 @@ export class Replay {
         `Replay.input: player must be an integer from 0 to ${this.playerCount - 1}, got ${String(player)}`,
       );
     }
-    return values[findRun(starts, tick)]!;
+    return values[findRun(starts, tick) * this.words]!;
   }
 
-  /** Every player's input at tick `tick`, written into `out` (which is returned). */
+  /** Every player's button word at tick `tick`, written into `out` (which is returned). */
   inputsAt(tick: number, out: number[] = []): number[] {
     this.checkTick(tick);
     out.length = this.playerCount;
     for (let p = 0; p < this.playerCount; p++) {
-      out[p] = this.runValues[p]![findRun(this.runStarts[p]!, tick)]!;
+      out[p] = this.runValues[p]![findRun(this.runStarts[p]!, tick) * this.words]!;
+    }
+    return out;
+  }
+
+  /** Every player's whole input at tick `tick` as words (`playerCount × words`), into `out`. */
+  wordsAt(tick: number, out = new Uint32Array(this.playerCount * this.words)): Uint32Array {
+    this.checkTick(tick);
+    const w = this.words;
+    for (let p = 0; p < this.playerCount; p++) {
+      const r = findRun(this.runStarts[p]!, tick) * w;
+      for (let k = 0; k < w; k++) out[p * w + k] = this.runValues[p]![r + k]!;
     }
     return out;
   }
 
   /** A cursor that reads the inputs tick after tick in O(1) each. */
   inputCursor(): ReplayInputCursor {
-    return new ReplayInputCursor(this.runStarts, this.runValues, this.tickCount);
+    return new ReplayInputCursor(this.runStarts, this.runValues, this.tickCount, this.words);
   }
 
   /** Number of input runs (stretches of ticks with an unchanged input) of `player`. */
@@ -221,6 +249,8 @@ export class ReplayInputCursor {
     private readonly starts: readonly Uint32Array[],
     private readonly values: readonly Uint32Array[],
     private readonly tickCount: number,
+    /** u32 words per player per tick. */
+    readonly words: number,
   ) {
     this.runIndex = new Uint32Array(starts.length);
   }
@@ -243,18 +273,36 @@ export class ReplayInputCursor {
     }
   }
 
-  /** Write the inputs of the current tick into `out` and move to the next tick. */
+  /** Write each player's button word of the current tick into `out` and move to the next tick. */
   next(out: number[]): void {
     const t = this.t;
     if (t >= this.tickCount) throw new RangeError('ReplayInputCursor.next: past the last tick');
+    const w = this.words;
     for (let p = 0; p < this.starts.length; p++) {
-      const starts = this.starts[p]!;
-      let r = this.runIndex[p]!;
-      if (r + 1 < starts.length && starts[r + 1]! <= t) r++;
-      this.runIndex[p] = r;
-      out[p] = this.values[p]![r]!;
+      out[p] = this.values[p]![this.run(p, t) * w]!;
     }
     this.t = t + 1;
+  }
+
+  /** Write every player's words of the current tick into `out` (`players × words`) and move on. */
+  nextWords(out: Uint32Array): void {
+    const t = this.t;
+    if (t >= this.tickCount) throw new RangeError('ReplayInputCursor.next: past the last tick');
+    const w = this.words;
+    for (let p = 0; p < this.starts.length; p++) {
+      const r = this.run(p, t) * w;
+      const values = this.values[p]!;
+      for (let k = 0; k < w; k++) out[p * w + k] = values[r + k]!;
+    }
+    this.t = t + 1;
+  }
+
+  private run(p: number, t: number): number {
+    const starts = this.starts[p]!;
+    let r = this.runIndex[p]!;
+    if (r + 1 < starts.length && starts[r + 1]! <= t) r++;
+    this.runIndex[p] = r;
+    return r;
   }
 }
 
@@ -302,10 +350,10 @@ export function readReplay(bytes: Uint8Array, options: ReadReplayOptions = {}): 
   }
   const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
   const version = view.getUint32(8, true);
-  if (version !== FORMAT_VERSION) {
+  if (version < OLDEST_FORMAT_VERSION || version > FORMAT_VERSION) {
     throw new ReplayError(
       'UNSUPPORTED_VERSION',
-      `format version ${version}, this reader knows ${FORMAT_VERSION}`,
+      `format version ${version}, this reader knows ${OLDEST_FORMAT_VERSION} to ${FORMAT_VERSION}`,
       8,
     );
   }
@@ -340,7 +388,7 @@ export function readReplay(bytes: Uint8Array, options: ReadReplayOptions = {}): 
       end,
     );
   }
-  return new Parser(bytes, end, limits, options).parse();
+  return new Parser(bytes, end, limits, options, version).parse();
 }
 
 /** Throws `'WRONG_GAME'` unless the header is of the game id and version the caller expects. @internal */
@@ -386,6 +434,7 @@ class Parser {
     private readonly end: number,
     private readonly limits: ReplayLimits,
     private readonly options: ReadReplayOptions,
+    private readonly version: number,
   ) {}
 
   parse(): Replay {
@@ -510,8 +559,21 @@ class Parser {
     c.need(playerCount, `${playerCount} player names`);
     const players: string[] = [];
     for (let p = 0; p < playerCount; p++) players.push(c.string(`name of player ${p}`));
+    let input: InputSchema<unknown> = BUTTON_WORD;
+    if (this.version >= 2) {
+      const at = c.pos;
+      const descriptor = c.bytes(
+        c.count('input schema length', MAX_DESCRIPTOR_BYTES),
+        'input schema',
+      );
+      try {
+        input = inputSchemaFromDescriptor(descriptor);
+      } catch (e) {
+        c.corrupt((e as Error).message, at);
+      }
+    }
     this.header = Object.freeze({
-      formatVersion: FORMAT_VERSION,
+      formatVersion: this.version,
       gameId,
       gameVersion,
       stepNumerator,
@@ -519,6 +581,7 @@ class Parser {
       seeds: Object.freeze(seeds),
       config,
       players: Object.freeze(players),
+      input,
     });
 
     checkGame(this.header, this.options, sectionAt);
@@ -546,7 +609,10 @@ class Parser {
 
   private inputs(c: Cursor): void {
     const players = this.header!.players.length;
+    const words = this.header!.input.words;
+    const schema = this.header!.input;
     const ticks = this.tickCount;
+    const prev = new Uint32Array(words);
     for (let p = 0; p < players; p++) {
       const lengthAt = c.pos;
       const length = c.varint(`input stream length of player ${p}`);
@@ -558,31 +624,39 @@ class Parser {
       }
       const s = new Cursor(this.bytes, c.pos, c.pos + length, `section INPUTS, player ${p}`);
       c.pos += length;
-      // Every run takes at least 2 bytes: the arrays are bounded by the stream's length.
-      const cap = Math.min(Math.floor(length / 2), ticks);
+      // Every run takes at least words + 1 bytes: the arrays are bounded by the stream's length.
+      const cap = Math.min(Math.floor(length / (words + 1)), ticks);
       const starts = new Uint32Array(cap);
-      const values = new Uint32Array(cap);
+      const values = new Uint32Array(cap * words);
+      prev.fill(0);
       let t = 0;
-      let prev = 0;
       let r = 0;
       while (t < ticks) {
         if (s.pos >= s.limit) s.corrupt(`stream ends at tick ${t} of ${ticks}`);
         const at = s.pos;
-        const d = s.varint('run change');
-        if (d === 0 && r > 0) s.corrupt(`run ${r} repeats the previous value (non-canonical)`, at);
+        let changed = false;
+        for (let k = 0; k < words; k++) {
+          const d = s.varint(k === 0 ? 'run change' : `run change of word ${k}`);
+          if (d !== 0) changed = true;
+          // XOR deltas; word 0, the button word, is coded interleaved (see `interleave`).
+          prev[k] = (prev[k]! ^ d) >>> 0;
+        }
+        if (!changed && r > 0) s.corrupt(`run ${r} repeats the previous value (non-canonical)`, at);
         const n = s.varint('run length');
         if (n >= ticks - t) {
           s.corrupt(`run ${r} of ${n + 1} ticks at tick ${t} overruns the ${ticks} ticks`, at);
         }
-        prev = (prev ^ d) >>> 0;
         starts[r] = t;
-        values[r] = deinterleave(prev);
+        values[r * words] = deinterleave(prev[0]!);
+        for (let k = 1; k < words; k++) values[r * words + k] = prev[k]!;
+        const problem = schema.problem(values, r * words);
+        if (problem !== undefined) s.corrupt(`run ${r} at tick ${t}: ${problem}`, at);
         r++;
         t += n + 1;
       }
       s.done();
       this.runStarts.push(starts.slice(0, r));
-      this.runValues.push(values.slice(0, r));
+      this.runValues.push(values.slice(0, r * words));
     }
   }
 
@@ -683,6 +757,8 @@ export function assembleReplay(parts: ReplayParts): Uint8Array {
   game.bytes(h.config);
   game.varint(h.players.length);
   for (const name of h.players) game.str(name);
+  game.varint(h.input.descriptor.length);
+  game.bytes(h.input.descriptor);
 
   const ticks = new ByteWriter(32);
   ticks.u32(parts.tickCount);

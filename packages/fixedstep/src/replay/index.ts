@@ -25,4 +25,6 @@ export type { ReplayRecorderOptions, RecordableSimulation } from './recorder.js'
 export { ReplayPlayer } from './player.js';
 export type { ReplayFactory, ReplayMismatch, ReplayPlayerOptions } from './player.js';
 export { verifyReplay } from './verify.js';
+export { replayFactory, setupFromReplayHeader } from './games.js';
+export type { ReplaySource } from './games.js';
 export type { VerifyReplayOptions, VerifyResult } from './verify.js';

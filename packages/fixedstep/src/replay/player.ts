@@ -3,6 +3,7 @@ import { FixedLoop } from '../time/fixed-loop.js';
 import type { FixedLoopOptions } from '../time/fixed-loop.js';
 import { low32 } from './codec.js';
 import { ReplayError } from './errors.js';
+import { toFactory, type ReplaySource } from './games.js';
 import { replayTimestep } from './format.js';
 import type { Replay, ReplayHeader, ReplayInputCursor, ReplayKeyframe } from './format.js';
 
@@ -10,7 +11,7 @@ import type { Replay, ReplayHeader, ReplayInputCursor, ReplayKeyframe } from './
  * Builds a fresh simulation at tick 0 from a replay's header (seeds, config, players). It must
  * build exactly the start the recorder saw: the checkpoint at tick 0 checks that it does.
  */
-export type ReplayFactory = (header: ReplayHeader) => Simulation;
+export type ReplayFactory = (header: ReplayHeader) => Simulation<unknown>;
 
 /**
  * A stored hash that the re-simulation did not reproduce:
@@ -39,7 +40,7 @@ export interface ReplayPlayerOptions {
    * Called after every step the player takes, with the new tick. `resimulating` is true for the
    * steps a seek takes to reach its target (a renderer can skip those).
    */
-  onTick?: (tick: number, sim: Simulation, resimulating: boolean) => void;
+  onTick?: (tick: number, sim: Simulation<unknown>, resimulating: boolean) => void;
   /** Called when playback reaches the last tick (playback then pauses). */
   onEnd?: () => void;
   /** Compare the per-tick hashes too, when the file has them. Costs a `hash()` every tick. Default false. */
@@ -52,6 +53,13 @@ export interface ReplayPlayerOptions {
    * clamped away.
    */
   loop?: Omit<FixedLoopOptions, 'step' | 'timeScale'>;
+  /**
+   * Keep a snapshot every this many ticks of the states the player passes, so a seek restores the
+   * nearest one and re-simulates at most this many ticks. Default: 300, or more for long replays
+   * (at most ~200 snapshots are kept: `max(300, ceil(ticks / 200))`). 0 keeps none (seeks then
+   * re-simulate from tick 0, or from keyframes stored in the file). See {@link ReplayPlayer.buildKeyframes}.
+   */
+  keyframeEvery?: number;
 }
 
 /**
@@ -72,9 +80,13 @@ export class ReplayPlayer {
   readonly replay: Replay;
   private readonly factory: ReplayFactory;
   private readonly options: ReplayPlayerOptions;
-  private current: Simulation;
+  private current: Simulation<unknown>;
   private readonly cursor: ReplayInputCursor;
-  private readonly inputs: number[] = [];
+  private readonly inputs: unknown[] = [];
+  private readonly words: Uint32Array;
+  /** Snapshots the player took itself, by tick (multiples of {@link cacheEvery}). */
+  private readonly cache = new Map<number, Uint8Array>();
+  private readonly cacheEvery: number;
   private t = 0;
   private playing = false;
   private speedValue = 1;
@@ -83,19 +95,30 @@ export class ReplayPlayer {
   private readonly reported = new Set<string>();
   private first: ReplayMismatch | null = null;
 
-  /** Builds the simulation at tick 0 (and checks it against the checkpoint at tick 0). */
-  constructor(replay: Replay, factory: ReplayFactory, options: ReplayPlayerOptions = {}) {
+  /**
+   * Builds the simulation at tick 0 (and checks it against the checkpoint at tick 0). `game` is a
+   * factory, a game definition, or a list of them (the header says which).
+   */
+  constructor(replay: Replay, game: ReplaySource, options: ReplayPlayerOptions = {}) {
     this.replay = replay;
-    this.factory = factory;
+    this.factory = toFactory(game);
     this.options = options;
     this.cursor = replay.inputCursor();
     this.inputs.length = replay.playerCount;
+    this.words = new Uint32Array(replay.playerCount * replay.words);
+    const every = options.keyframeEvery ?? Math.max(300, Math.ceil(replay.tickCount / 200));
+    if (!Number.isInteger(every) || every < 0) {
+      throw new RangeError(
+        `ReplayPlayer: keyframeEvery must be a non-negative integer, got ${String(every)}`,
+      );
+    }
+    this.cacheEvery = every;
     this.setSpeed(options.speed ?? 1);
     this.current = this.fresh();
   }
 
   /** The simulation at the current tick (for rendering; do not step it yourself). */
-  get sim(): Simulation {
+  get sim(): Simulation<unknown> {
     return this.current;
   }
 
@@ -225,19 +248,74 @@ export class ReplayPlayer {
     }
     if (tick === this.t) return;
     let kf = this.usableKeyframe(tick);
-    if (!(tick > this.t && (kf?.tick ?? 0) <= this.t)) {
-      // Restore: the best keyframe that loads cleanly, else tick 0.
-      for (;;) {
-        if (kf === undefined) {
-          this.current = this.fresh();
-          break;
+    const cached = this.cachedAtOrBefore(tick);
+    const best = Math.max(kf?.tick ?? 0, cached);
+    if (!(tick > this.t && best <= this.t)) {
+      // Restore: the nearest snapshot of our own that loads, else the best stored keyframe that
+      // loads cleanly, else tick 0.
+      if (!(cached >= (kf?.tick ?? 0) && cached > 0 && this.restoreCached(cached))) {
+        for (;;) {
+          if (kf === undefined) {
+            this.current = this.fresh();
+            break;
+          }
+          if (this.restore(kf)) break;
+          kf = this.usableKeyframe(tick);
         }
-        if (this.restore(kf)) break;
-        kf = this.usableKeyframe(tick);
       }
     }
     while (this.t < tick) this.stepOnce(true);
     if (this.ended) this.reachEnd();
+  }
+
+  /**
+   * Re-simulate from the furthest state reached to the end once, keeping a snapshot every
+   * `keyframeEvery` ticks, so every later seek is short (a 10-minute replay at 60 Hz keeps 120
+   * snapshots; at a million ticks a second this takes a few tens of ms). Checks every stored hash
+   * on the way, like playback. Returns to the tick it started from. `onProgress(tick, total)` is
+   * called every 1 % or so.
+   */
+  buildKeyframes(onProgress?: (tick: number, total: number) => void): void {
+    const from = this.t;
+    const total = this.replay.tickCount;
+    const every = Math.max(1, Math.floor(total / 100));
+    const furthest = this.cachedAtOrBefore(total);
+    if (furthest > this.t) this.seek(furthest);
+    while (this.t < total) {
+      this.stepOnce(true);
+      if (this.t % every === 0) onProgress?.(this.t, total);
+    }
+    onProgress?.(total, total);
+    this.seek(from);
+  }
+
+  /** Snapshots the player keeps for seeking, and their bytes in all. */
+  get cachedKeyframes(): { count: number; bytes: number } {
+    let bytes = 0;
+    for (const b of this.cache.values()) bytes += b.length;
+    return { count: this.cache.size, bytes };
+  }
+
+  private cachedAtOrBefore(tick: number): number {
+    if (this.cacheEvery === 0) return 0;
+    for (let t = tick - (tick % this.cacheEvery); t > 0; t -= this.cacheEvery) {
+      if (this.cache.has(t)) return t;
+    }
+    return 0;
+  }
+
+  private restoreCached(tick: number): boolean {
+    try {
+      // A copy: a load() that keeps a view of its bytes must not write into the cache.
+      this.current.load(this.cache.get(tick)!.slice());
+      if (this.current.tick !== tick) throw new RangeError('load() left another tick');
+    } catch {
+      this.cache.delete(tick);
+      return false;
+    }
+    this.t = tick;
+    this.cursor.seek(tick);
+    return true;
   }
 
   private usableKeyframe(tick: number): ReplayKeyframe | undefined {
@@ -271,7 +349,7 @@ export class ReplayPlayer {
     return true;
   }
 
-  private fresh(): Simulation {
+  private fresh(): Simulation<unknown> {
     const sim = createSimulation(this.factory, this.replay.header);
     this.t = 0;
     this.cursor.seek(0);
@@ -283,7 +361,11 @@ export class ReplayPlayer {
 
   private stepOnce(resimulating: boolean): void {
     const sim = this.current;
-    this.cursor.next(this.inputs);
+    const r = this.replay;
+    this.cursor.nextWords(this.words);
+    const schema = r.header.input;
+    for (let p = 0; p < this.inputs.length; p++)
+      this.inputs[p] = schema.decode(this.words, p * r.words);
     const tick = this.t + 1;
     try {
       sim.step(this.inputs);
@@ -296,7 +378,9 @@ export class ReplayPlayer {
       );
     }
     this.t = tick;
-    const r = this.replay;
+    if (this.cacheEvery !== 0 && tick % this.cacheEvery === 0 && !this.cache.has(tick)) {
+      this.cache.set(tick, sim.save());
+    }
     const onCheckpoint = tick % r.checkpointEvery === 0;
     const last = tick === r.tickCount;
     const tickHashes = this.options.checkTickHashes === true ? r.tickHashes : null;
@@ -337,8 +421,11 @@ export class ReplayPlayer {
 }
 
 /** Calls a factory, turning its errors into `'GAME_REJECTED'` and checking it starts at tick 0. @internal */
-export function createSimulation(factory: ReplayFactory, header: ReplayHeader): Simulation {
-  let sim: Simulation;
+export function createSimulation(
+  factory: ReplayFactory,
+  header: ReplayHeader,
+): Simulation<unknown> {
+  let sim: Simulation<unknown>;
   try {
     sim = factory(header);
   } catch (e) {

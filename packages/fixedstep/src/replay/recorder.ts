@@ -1,13 +1,15 @@
 import type { Simulation } from '../sim/simulation.js';
 import { Timestep } from '../time/timestep.js';
 import { ByteWriter } from '../det/bytes.js';
-import { interleave } from '../sim/buttons.js';
-import { MAX_STRING_BYTES, gcd, low32, utf8Length } from './codec.js';
+import { interleave, type ButtonInput } from '../sim/buttons.js';
+import { BUTTON_WORD, type InputSchema } from '../sim/input-schema.js';
+import { gameSetup, type AnyGameDefinition, type GameSetup } from '../sim/game.js';
+import { FORMAT_VERSION, MAX_STRING_BYTES, gcd, low32, utf8Length } from './codec.js';
 import { assembleReplay } from './format.js';
 import type { ReplayHeader } from './format.js';
 
 /** What a {@link ReplayRecorder} needs to know before the first tick. */
-export interface ReplayRecorderOptions {
+export interface ReplayRecorderOptions<I = ButtonInput> {
   /** Which game or scene (1–255 bytes of UTF-8), checked by readers that expect one. */
   gameId: string;
   /** The game's version (0–255 bytes of UTF-8): a replay only replays on the same simulation code. */
@@ -23,11 +25,19 @@ export interface ReplayRecorderOptions {
   config?: Uint8Array;
   /** One name per player (0–255 bytes of UTF-8 each); the count is the inputs per tick. At least one. */
   players: readonly string[];
-  /** Store the state hash every this many ticks (a positive integer). Default 60. */
+  /** What each player's input is (its descriptor is stored in the header). Default `BUTTON_WORD`. */
+  input?: InputSchema<I>;
+  /**
+   * Store the state hash every this many ticks (a positive integer). Default: every 10 s of game
+   * time (600 ticks at 60 Hz) — 8 bytes each, so 48 bytes a minute. Verification names the first
+   * bad checkpoint; add `tickHashes` to name the exact first bad tick.
+   */
   checkpointEvery?: number;
   /**
-   * Store a `save()` snapshot every this many ticks, for seeking (a positive multiple of
-   * `checkpointEvery`, or 0 for none). Default 0. Every keyframe costs a `save()` and its bytes.
+   * Store a `save()` snapshot every this many ticks (a positive multiple of `checkpointEvery`, or
+   * 0 for none). Default 0: a replay is its inputs and seeds, and a player builds keyframes for
+   * seeking by re-simulation when it opens one. Stored keyframes only help a game too slow to
+   * re-simulate; each costs a `save()` and its bytes.
    */
   keyframeEvery?: number;
   /**
@@ -55,9 +65,11 @@ export type RecordableSimulation = Pick<Simulation, 'tick' | 'hash' | 'save'>;
  * simulation's own `hash()` and `save()` allocate at checkpoints and keyframes (and every tick with
  * `tickHashes`).
  */
-export class ReplayRecorder {
+export class ReplayRecorder<I = ButtonInput> {
   /** The header that will be written (and that a factory will get back). */
   readonly header: ReplayHeader;
+  /** The input schema. */
+  readonly input: InputSchema<I>;
   /** See {@link ReplayRecorderOptions.checkpointEvery}. */
   readonly checkpointEvery: number;
   /** See {@link ReplayRecorderOptions.keyframeEvery}. */
@@ -66,10 +78,16 @@ export class ReplayRecorder {
   readonly withTickHashes: boolean;
 
   private readonly streams: ByteWriter[] = [];
-  /** Per player: the interleaved value of the open run, of the run before it, and the open run's length. */
+  /**
+   * Per player, `words` words each: the coded value of the open run and of the run before it (the
+   * button word interleaved); and per player the open run's length.
+   */
   private readonly runValue: Uint32Array;
   private readonly prevValue: Uint32Array;
   private readonly runLength: Float64Array;
+  private readonly scratch: Uint32Array;
+  private readonly scratchRun = new Uint32Array(64);
+  private readonly words: number;
   private readonly checkpoints = new ByteWriter(256);
   private readonly keyframes = new ByteWriter(256);
   private readonly tickHashSink: ByteWriter | null;
@@ -78,7 +96,35 @@ export class ReplayRecorder {
   private initialHash = 0n;
   private last: RecordableSimulation | null = null;
 
-  constructor(options: ReplayRecorderOptions) {
+  /**
+   * A recorder for a run of `game` started with `setup` (or with `players` names and `seed`): game
+   * id, version, tick rate, input schema, seed and options all come from the definition.
+   */
+  static forGame<I>(
+    game: AnyGameDefinition & { readonly input: InputSchema<I> },
+    setup: GameSetup | { readonly seed: number },
+    players: readonly string[],
+    extra: Pick<ReplayRecorderOptions, 'checkpointEvery' | 'keyframeEvery' | 'tickHashes'> = {},
+  ): ReplayRecorder<I> {
+    const s = 'players' in setup ? setup : gameSetup(game, players.length, setup.seed);
+    if (s.players !== players.length) {
+      throw new RangeError(
+        `ReplayRecorder.forGame: ${players.length} player names for a setup of ${s.players} players`,
+      );
+    }
+    return new ReplayRecorder<I>({
+      gameId: game.id,
+      gameVersion: String(game.version),
+      tickRate: game.tickRate,
+      seeds: [s.seed],
+      config: s.options,
+      players,
+      input: game.input,
+      ...extra,
+    });
+  }
+
+  constructor(options: ReplayRecorderOptions<I>) {
     const { gameId, gameVersion, players } = options;
     checkString('gameId', gameId, 1);
     checkString('gameVersion', gameVersion, 0);
@@ -108,7 +154,7 @@ export class ReplayRecorder {
         `ReplayRecorder: a step of ${num / g}/${den / g} s does not fit the format`,
       );
     }
-    this.checkpointEvery = options.checkpointEvery ?? 60;
+    this.checkpointEvery = options.checkpointEvery ?? Math.max(1, Math.round(10 * step.hz));
     this.keyframeEvery = options.keyframeEvery ?? 0;
     if (!isInterval(this.checkpointEvery) || this.checkpointEvery < 1) {
       throw new RangeError(
@@ -121,8 +167,15 @@ export class ReplayRecorder {
       );
     }
     this.withTickHashes = options.tickHashes ?? false;
+    this.input = options.input ?? (BUTTON_WORD as unknown as InputSchema<I>);
+    if (typeof this.input !== 'object' || !(this.input.descriptor instanceof Uint8Array)) {
+      throw new RangeError(
+        'ReplayRecorder: input must be an input schema (defineInput or BUTTON_WORD)',
+      );
+    }
+    this.words = this.input.words;
     this.header = Object.freeze({
-      formatVersion: 1,
+      formatVersion: FORMAT_VERSION,
       gameId,
       gameVersion,
       stepNumerator: num / g,
@@ -130,12 +183,14 @@ export class ReplayRecorder {
       seeds: Object.freeze([...seeds]),
       config: config.slice(),
       players: Object.freeze([...players]),
+      input: this.input,
     });
     const n = players.length;
     for (let p = 0; p < n; p++) this.streams.push(new ByteWriter(64));
-    this.runValue = new Uint32Array(n);
-    this.prevValue = new Uint32Array(n);
+    this.runValue = new Uint32Array(n * this.words);
+    this.prevValue = new Uint32Array(n * this.words);
     this.runLength = new Float64Array(n);
+    this.scratch = new Uint32Array(n * this.words);
     this.tickHashSink = this.withTickHashes ? new ByteWriter(1024) : null;
   }
 
@@ -167,15 +222,41 @@ export class ReplayRecorder {
   }
 
   /**
-   * Record one tick: call right after `sim.step(inputs)`, with the same inputs (one u32 per
-   * player). Takes the hash at checkpoint ticks and the snapshot at keyframe ticks.
+   * Record one tick: call right after `sim.step(inputs)`, with the same inputs (one per player,
+   * of the recorder's schema). Takes the hash at checkpoint ticks (and the snapshot at keyframe
+   * ticks). Throws a RangeError, recording nothing, for an input the schema cannot hold.
    */
-  record(inputs: readonly number[], sim: RecordableSimulation): void {
-    if (!this.started)
-      throw new Error('ReplayRecorder.record: call start(sim) before the first step');
+  record(inputs: readonly I[], sim: RecordableSimulation): void {
     const n = this.streams.length;
     if (inputs.length !== n) {
       throw new RangeError(`ReplayRecorder.record: ${inputs.length} inputs for ${n} players`);
+    }
+    for (let p = 0; p < n; p++) {
+      try {
+        this.input.encode(inputs[p]!, this.scratch, p * this.words);
+      } catch (e) {
+        throw new RangeError(
+          `ReplayRecorder.record: input of player ${p}: ${(e as Error).message}`,
+          { cause: e },
+        );
+      }
+    }
+    this.recordWords(this.scratch, sim);
+  }
+
+  /**
+   * {@link record} with the inputs already encoded: `players × words` u32 words, player-major
+   * (what `InputSampler.sampleWords` and the network sessions hold).
+   */
+  recordWords(words: ArrayLike<number>, sim: RecordableSimulation): void {
+    if (!this.started)
+      throw new Error('ReplayRecorder.record: call start(sim) before the first step');
+    const n = this.streams.length;
+    const w = this.words;
+    if (words.length !== n * w) {
+      throw new RangeError(
+        `ReplayRecorder.recordWords: ${words.length} words for ${n} players of ${w} words`,
+      );
     }
     const tick = this.ticks + 1;
     if (sim.tick !== tick) {
@@ -184,27 +265,39 @@ export class ReplayRecorder {
       );
     }
     if (tick > 0xffffffff) throw new RangeError('ReplayRecorder.record: 2^32 - 1 ticks recorded');
-    for (let p = 0; p < n; p++) {
-      const v = inputs[p]!;
+    for (let i = 0; i < words.length; i++) {
+      const v = words[i]!;
       if (!Number.isInteger(v) || v < 0 || v > 0xffffffff) {
         throw new RangeError(
-          `ReplayRecorder.record: input of player ${p} is not a u32: ${String(v)}`,
+          `ReplayRecorder.record: input of player ${Math.floor(i / w)} is not a u32: ${String(v)}`,
         );
       }
     }
     for (let p = 0; p < n; p++) {
-      const w = interleave(inputs[p]!);
+      const problem = this.input.problem(words, p * w);
+      if (problem !== undefined) {
+        throw new RangeError(`ReplayRecorder.record: input of player ${p}: ${problem}`);
+      }
+    }
+    for (let p = 0; p < n; p++) {
+      const at = p * w;
+      let same = this.ticks > 0;
+      for (let k = 0; k < w; k++) {
+        const v = k === 0 ? interleave(words[at]!) : words[at + k]! >>> 0;
+        if (v !== this.runValue[at + k]) same = false;
+        this.scratchRun[k] = v;
+      }
       if (this.ticks === 0) {
-        this.runValue[p] = w;
+        for (let k = 0; k < w; k++) this.runValue[at + k] = this.scratchRun[k]!;
         this.runLength[p] = 1;
-      } else if (w === this.runValue[p]) {
+      } else if (same) {
         this.runLength[p]!++;
       } else {
-        const s = this.streams[p]!;
-        s.varint((this.runValue[p]! ^ this.prevValue[p]!) >>> 0);
-        s.varint(this.runLength[p]! - 1);
-        this.prevValue[p] = this.runValue[p]!;
-        this.runValue[p] = w;
+        this.closeRun(this.streams[p]!, p);
+        for (let k = 0; k < w; k++) {
+          this.prevValue[at + k] = this.runValue[at + k]!;
+          this.runValue[at + k] = this.scratchRun[k]!;
+        }
         this.runLength[p] = 1;
       }
     }
@@ -223,6 +316,15 @@ export class ReplayRecorder {
     }
   }
 
+  /** Write player `p`'s open run (its change against the run before, then its length) to `out`. */
+  private closeRun(out: ByteWriter, p: number): void {
+    const at = p * this.words;
+    for (let k = 0; k < this.words; k++) {
+      out.varint((this.runValue[at + k]! ^ this.prevValue[at + k]!) >>> 0);
+    }
+    out.varint(this.runLength[p]! - 1);
+  }
+
   /**
    * The replay file so far. The simulation last passed to {@link record} (or {@link start}) must
    * still be at the last recorded tick: its hash is the final hash. Recording may go on after.
@@ -239,10 +341,9 @@ export class ReplayRecorder {
     const streams = this.streams.map((s, p) => {
       if (this.ticks === 0) return new Uint8Array(0);
       // Close the open run on a copy, so recording can continue.
-      const out = new ByteWriter(s.length + 10);
+      const out = new ByteWriter(s.length + 5 * (this.words + 1));
       out.bytes(s.peek());
-      out.varint((this.runValue[p]! ^ this.prevValue[p]!) >>> 0);
-      out.varint(this.runLength[p]! - 1);
+      this.closeRun(out, p);
       return out.peek();
     });
     return assembleReplay({

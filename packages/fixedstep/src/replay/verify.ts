@@ -4,7 +4,8 @@ import { ReplayError } from './errors.js';
 import { Replay, checkGame, readReplay } from './format.js';
 import type { ReadReplayOptions } from './format.js';
 import { createSimulation } from './player.js';
-import type { ReplayFactory, ReplayMismatch } from './player.js';
+import type { ReplayMismatch } from './player.js';
+import { toFactory, type ReplaySource } from './games.js';
 
 /** Options of {@link verifyReplay}. */
 export interface VerifyReplayOptions extends ReadReplayOptions {
@@ -63,9 +64,10 @@ export interface VerifyResult {
  */
 export function verifyReplay(
   input: Uint8Array | Replay,
-  factory: ReplayFactory,
+  game: ReplaySource,
   options: VerifyReplayOptions = {},
 ): VerifyResult {
+  const factory = toFactory(game);
   let replay: Replay;
   if (input instanceof Replay) {
     replay = input;
@@ -110,9 +112,13 @@ export function verifyReplay(
   lastGood = 0;
 
   const cursor = replay.inputCursor();
-  const inputs: number[] = new Array<number>(replay.playerCount).fill(0);
+  const schema = replay.header.input;
+  const w = replay.words;
+  const words = new Uint32Array(replay.playerCount * w);
+  const inputs: unknown[] = new Array<unknown>(replay.playerCount).fill(0);
   for (let t = 1; t <= total; t++) {
-    cursor.next(inputs);
+    cursor.nextWords(words);
+    for (let p = 0; p < inputs.length; p++) inputs[p] = schema.decode(words, p * w);
     try {
       sim.step(inputs);
     } catch (e) {

@@ -1,4 +1,13 @@
-import type { ButtonInput, Simulation } from 'fixedstep';
+import {
+  defineGame,
+  defineInput,
+  type ButtonInput,
+  type GameDefinition as LibraryGameDefinition,
+  type GameSetup,
+  type InputSchema,
+  type Simulation,
+} from 'fixedstep';
+import { decodeGameConfig, encodeGameConfig } from './config.js';
 
 /**
  * What every game of the talk is: a deterministic {@link Simulation} over per-player
@@ -48,13 +57,70 @@ export interface GameConfig {
 /** A bot: given the game (read-only use) and its player index, the input for the next tick. */
 export type Bot = (game: Game, player: number) => ButtonInput;
 
-/** One entry of the game registry. */
-export interface GameDefinition {
+/**
+ * One entry of the game registry: a library {@link LibraryGameDefinition} (what replays, the
+ * relay, the server and the CLI take) plus the lab's {@link GameInfo}, a bot, and the config
+ * codec. Its option bytes are the canonical config (seed, players), as replay headers have
+ * always stored them.
+ */
+export interface GameDefinition extends LibraryGameDefinition<ButtonInput, Game> {
   readonly info: GameInfo;
-  create(config: GameConfig): Game;
+  readonly input: InputSchema;
+  create(config: GameConfig | GameSetup): Game;
   /** A bot that plays reasonably (deterministic: no clocks, no Math.random). */
   readonly bot: Bot;
   /** Canonical bytes of a config, for replay headers; and back. */
   encodeConfig(config: GameConfig): Uint8Array;
   decodeConfig(bytes: Uint8Array): GameConfig;
+}
+
+/**
+ * A talk game's registry entry: the library definition from `info` (id, version, tick rate,
+ * players), an input schema of the named buttons (`{ jump: 0, duck: 1 }`), the score rule (the
+ * HUD's `info.scoreKey`), and the config codec.
+ */
+export function talkGame(
+  info: GameInfo,
+  buttons: Readonly<Record<string, number>>,
+  create: (config: GameConfig) => Game,
+  bot: Bot,
+): GameDefinition {
+  const names = Object.entries(buttons)
+    .sort((a, b) => a[1] - b[1])
+    .map(([name, i], k) => {
+      if (i !== k) throw new RangeError(`${info.id}: buttons must be numbered 0, 1, 2 … in order`);
+      return name;
+    });
+  const scoreKey = info.scoreKey ?? 'score';
+  const decodeConfig = (bytes: Uint8Array) =>
+    decodeGameConfig(bytes, info.minPlayers, info.maxPlayers);
+  const definition: GameDefinition = {
+    id: info.id,
+    version: info.version,
+    title: info.title,
+    tickRate: info.tickRate,
+    minPlayers: info.minPlayers,
+    maxPlayers: info.maxPlayers,
+    input: defineInput({ buttons: names }),
+    info,
+    create: (setup) => {
+      // A setup from a replay or a room carries the config bytes: they must agree with it.
+      if ('options' in setup && setup.options.length > 0) {
+        const c = decodeConfig(setup.options);
+        if (c.seed !== setup.seed || c.players !== setup.players) {
+          throw new RangeError(
+            `${info.id}: config bytes say seed ${c.seed} and ${c.players} players`,
+          );
+        }
+      }
+      return create({ seed: setup.seed, players: setup.players });
+    },
+    options: (players, seed) => encodeGameConfig({ seed, players }),
+    score: (game) => game.hud()[scoreKey] ?? 0,
+    isOver: (game) => game.over,
+    bot,
+    encodeConfig: encodeGameConfig,
+    decodeConfig,
+  };
+  return defineGame(definition) as GameDefinition;
 }

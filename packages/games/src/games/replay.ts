@@ -1,4 +1,4 @@
-import type { ReplayHeader, ReplayRecorderOptions } from 'fixedstep';
+import { setupFromReplayHeader, type ReplayHeader, type ReplayRecorderOptions } from 'fixedstep';
 import type { Game, GameConfig, GameDefinition } from './game.js';
 import { findGame } from './registry.js';
 
@@ -21,6 +21,7 @@ export function replayOptionsFor(
     seeds: [config.seed],
     config: def.encodeConfig(config),
     players,
+    input: def.input,
     ...extra,
   };
 }
@@ -33,24 +34,14 @@ export function replayOptionsFor(
 export function gameFromReplayHeader(header: ReplayHeader): Game {
   const def = findGame(header.gameId);
   if (!def) throw new RangeError(`unknown game "${header.gameId}"`);
-  if (header.gameVersion !== String(def.info.version)) {
+  const setup = setupFromReplayHeader(def, header);
+  const config = def.decodeConfig(setup.options);
+  if (config.players !== setup.players) {
     throw new RangeError(
-      `${def.info.id} replay of version ${header.gameVersion}, this build plays version ${def.info.version}`,
+      `${def.info.id} replay names ${setup.players} players, its config says ${config.players}`,
     );
   }
-  if (header.stepNumerator * def.info.tickRate !== header.stepDenominator) {
-    throw new RangeError(
-      `${def.info.id} replay with a step of ${header.stepNumerator}/${header.stepDenominator} s; the game steps at ${def.info.tickRate} Hz`,
-    );
-  }
-  const config = def.decodeConfig(header.config);
-  if (config.players !== header.players.length) {
-    throw new RangeError(
-      `${def.info.id} replay names ${header.players.length} players, its config says ${config.players}`,
-    );
-  }
-  if (header.seeds.length !== 1 || header.seeds[0] !== config.seed) {
+  if (config.seed !== setup.seed)
     throw new RangeError(`${def.info.id} replay seeds do not match its config`);
-  }
-  return def.create(config);
+  return def.create(setup);
 }

@@ -6,8 +6,14 @@ import {
   isDown as isDown_,
   type ButtonInput,
 } from 'fixedstep';
-import type { Bot, Game, GameConfig, GameDefinition, GameInfo } from '../game.js';
-import { decodeGameConfig, encodeGameConfig } from '../config.js';
+import {
+  talkGame,
+  type Bot,
+  type Game,
+  type GameConfig,
+  type GameDefinition,
+  type GameInfo,
+} from '../game.js';
 import { Bullets } from './bullets.js';
 import {
   DIR_X as DIR_X_,
@@ -380,11 +386,5 @@ export function arenaDefinition(
   create: (config: GameConfig) => Game,
   bot: Bot,
 ): GameDefinition {
-  return Object.freeze<GameDefinition>({
-    info,
-    create,
-    bot,
-    encodeConfig: encodeGameConfig,
-    decodeConfig: (bytes) => decodeGameConfig(bytes, info.minPlayers, info.maxPlayers),
-  });
+  return talkGame(info, ShooterButtons, create, bot);
 }
