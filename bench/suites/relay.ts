@@ -16,6 +16,7 @@
  *    decode + encode of the same messages as the baseline.
  */
 import {
+  BUTTON_WORD,
   BaseTransport,
   ManualClock,
   Random,
@@ -90,7 +91,8 @@ const GAME: RelayGame = {
   tickRate: TICK_HZ,
   minPlayers: 1,
   maxPlayers: 16,
-  config: () => new Uint8Array(8),
+  input: BUTTON_WORD,
+  options: () => new Uint8Array(8),
 };
 const CATALOG: RelayCatalog = () => GAME;
 
@@ -306,6 +308,7 @@ export function recordTrace(o: TraceOptions): Trace {
         role: 'player',
         game: GAME.id,
         gameVersion: GAME.version,
+        input: GAME.input.id,
         players: o.players,
         seed: r + 1,
         name: `p${index}`,
@@ -380,6 +383,7 @@ export function recordTrace(o: TraceOptions): Trace {
         player: c.slot,
         ack: c.confirmedEnd,
         tick: from,
+        words: 1,
         inputs: c.issued.slice(from, c.issueNext),
       });
     }

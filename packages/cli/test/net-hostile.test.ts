@@ -38,6 +38,7 @@ class Raw {
       role,
       game: 'ctf',
       gameVersion: ctfGame.info.version,
+      input: ctfGame.input.id,
       players: 0,
       name: 'mallory',
       ...extra,
@@ -97,6 +98,7 @@ describe('hostile traffic is refused; the other rooms play on', () => {
         player: otherSlot,
         ack: 0,
         tick: 250,
+        words: 1,
         inputs: Uint32Array.of(0xffff),
       });
     });
@@ -110,6 +112,7 @@ describe('hostile traffic is refused; the other rooms play on', () => {
           player: flooder.welcome!.slot,
           ack: 0,
           tick: 100_000 + i,
+          words: 1,
           inputs: Uint32Array.of(1),
         });
       }
@@ -148,6 +151,7 @@ describe('hostile traffic is refused; the other rooms play on', () => {
         player: 0,
         ack: 0,
         tick: 300,
+        words: 1,
         inputs: Uint32Array.of(1),
       });
     });

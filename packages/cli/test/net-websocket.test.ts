@@ -51,6 +51,7 @@ describe('the relay over real WebSockets on 127.0.0.1', () => {
         room: 'ws-match',
         game: 'ctf',
         gameVersion: ctfGame.info.version,
+        input: ctfGame.input,
         players: 2,
         seed: 77,
         stopAt: ticks,

@@ -38,6 +38,9 @@ const message: fc.Arbitrary<NetMessage> = fc.oneof(
       role: fc.constantFrom('player' as const, 'spectator' as const),
       game: name,
       gameVersion: u32,
+      input: fc
+        .bigInt({ min: 0n, max: 2n ** 64n - 1n })
+        .map((b) => b.toString(16).padStart(16, '0')),
       players: fc.integer({ min: 0, max: 16 }),
       seed: fc.option(u32, { nil: undefined }),
       token: fc.option(token, { nil: undefined }),
@@ -54,6 +57,7 @@ const message: fc.Arbitrary<NetMessage> = fc.oneof(
       room: u32,
       peer: small,
       players: fc.integer({ min: 1, max: 16 }),
+      seed: u32,
       tickRate: fc.integer({ min: 1, max: 240 }),
       hashEvery: fc.integer({ min: 1, max: 600 }),
       deadlineMs: small,
@@ -78,22 +82,27 @@ const message: fc.Arbitrary<NetMessage> = fc.oneof(
       player: fc.integer({ min: 0, max: 15 }),
       ack: u32,
       tick: fc.integer({ min: 0, max: 1e9 }),
-      inputs: fc.array(u32, { minLength: 1, maxLength: 64 }),
+      words: fc.integer({ min: 1, max: 4 }),
+      inputs: fc.array(u32, { minLength: 4, maxLength: 256 }),
     })
-    .map((m): NetMessage => ({ type: 'input', ...m, inputs: Uint32Array.from(m.inputs) })),
+    .map((m): NetMessage => {
+      const ticks = Math.max(1, Math.min(64, Math.floor(m.inputs.length / m.words)));
+      return { type: 'input', ...m, inputs: Uint32Array.from(m.inputs.slice(0, ticks * m.words)) };
+    }),
   fc
     .record({
       room: u32,
       inputAck: u32,
       tick: fc.integer({ min: 0, max: 1e9 }),
       players: fc.integer({ min: 1, max: 16 }),
+      words: fc.integer({ min: 1, max: 3 }),
       ticks: fc.integer({ min: 0, max: 64 }),
-      seed: fc.array(u32, { minLength: 16 * 64, maxLength: 16 * 64 }),
+      seed: fc.array(u32, { minLength: 3 * 16 * 64, maxLength: 3 * 16 * 64 }),
     })
     .map(({ ticks, seed, ...m }): NetMessage => ({
       type: 'confirmed',
       ...m,
-      inputs: Uint32Array.from(seed.slice(0, ticks * m.players)),
+      inputs: Uint32Array.from(seed.slice(0, ticks * m.players * m.words)),
     })),
   fc.record({ room: u32, ack: u32 }).map((m): NetMessage => ({ type: 'ack', ...m })),
   fc.record({ room: u32, tick: u32, hash }).map((m): NetMessage => ({ type: 'hash', ...m })),
@@ -219,11 +228,12 @@ describe('protocol codec', () => {
   it('names what is wrong, with a code and an offset', () => {
     const err = (b: number[]) => decodeOrProtocolError(Uint8Array.from(b)) as ProtocolError;
     expect(err([]).code).toBe('TRUNCATED');
-    expect(err([2, 1]).code).toBe('BAD_VERSION');
-    expect(err([1, 0x7f]).code).toBe('BAD_TYPE');
-    expect(err([1, 0x7f]).offset).toBe(1);
+    expect(err([1, 1]).code).toBe('BAD_VERSION'); // protocol 1 (no input schema) is refused
+    expect(err([3, 1]).code).toBe('BAD_VERSION');
+    expect(err([2, 0x7f]).code).toBe('BAD_TYPE');
+    expect(err([2, 0x7f]).offset).toBe(1);
     // A varint with a redundant zero byte is not canonical.
-    expect(err([1, MessageType.ack, 0x80, 0x00, 0]).code).toBe('BAD_VALUE');
+    expect(err([2, MessageType.ack, 0x80, 0x00, 0]).code).toBe('BAD_VALUE');
     // Room names are 1-32 of A-Z a-z 0-9 _ - .
     const hello = encodeMessage({
       type: 'hello',
@@ -231,6 +241,7 @@ describe('protocol codec', () => {
       role: 'player',
       game: 'ctf',
       gameVersion: 1,
+      input: '0123456789abcdef',
       players: 2,
       name: '',
     });
@@ -240,22 +251,26 @@ describe('protocol codec', () => {
 
   it('checks sizes before allocating', () => {
     // A snapshot claiming 2^32 - 1 bytes in a 12-byte message: refused, nothing allocated.
-    const huge = Uint8Array.of(1, MessageType.snapshot, 1, 1, 1, 0xff, 0xff, 0xff, 0xff, 0x0f);
+    const huge = Uint8Array.of(2, MessageType.snapshot, 1, 1, 1, 0xff, 0xff, 0xff, 0xff, 0x0f);
     const e1 = decodeOrProtocolError(huge) as ProtocolError;
     expect(e1.code).toBe('TOO_LARGE');
-    // A confirmed message claiming 64 ticks × 16 players with no bytes behind it.
+    // A confirmed message claiming 64 ticks × 16 players × 16 words with no bytes behind it.
     const e2 = decodeOrProtocolError(
-      Uint8Array.of(1, MessageType.confirmed, 1, 0, 0, 16, 64),
+      Uint8Array.of(2, MessageType.confirmed, 1, 0, 0, 16, 16, 64),
     ) as ProtocolError;
     expect(e2.code).toBe('TRUNCATED');
-    // 65 ticks is over the limit whatever follows.
+    // 65 ticks is over the limit whatever follows; so are 17 words a tick.
     const e3 = decodeOrProtocolError(
-      Uint8Array.of(1, MessageType.input, 1, 0, 0, 0, 65),
+      Uint8Array.of(2, MessageType.input, 1, 0, 0, 0, 1, 65),
     ) as ProtocolError;
     expect(e3.code).toBe('TOO_LARGE');
+    const e4 = decodeOrProtocolError(
+      Uint8Array.of(2, MessageType.input, 1, 0, 0, 0, 17, 1),
+    ) as ProtocolError;
+    expect(e4.code).toBe('TOO_LARGE');
     // The whole message is checked first.
     const big = new Uint8Array(DEFAULT_PROTOCOL_LIMITS.maxMessageBytes + 1);
-    big.set([1, MessageType.snapshot]);
+    big.set([2, MessageType.snapshot]);
     expect((decodeOrProtocolError(big) as ProtocolError).code).toBe('TOO_LARGE');
     // Custom, tighter limits.
     const snap = encodeMessage({
@@ -277,9 +292,10 @@ describe('protocol codec', () => {
       player: 0,
       ack: 1000,
       tick: 1012,
+      words: 1,
       inputs: Uint32Array.of(0x00010001),
     });
-    expect(one.length).toBe(10);
+    expect(one.length).toBe(11);
     // 16 ticks × 4 players, everyone holding a button: a byte per player-tick after the first.
     const held = new Uint32Array(16 * 4).fill(0x0001);
     const confirmed = encodeMessage({
@@ -288,9 +304,23 @@ describe('protocol codec', () => {
       inputAck: 5000,
       tick: 5000,
       players: 4,
+      words: 1,
       inputs: held,
     });
-    expect(confirmed.length).toBe(2 + 1 + 2 + 2 + 1 + 1 + 64);
+    expect(confirmed.length).toBe(2 + 1 + 2 + 2 + 1 + 1 + 1 + 64);
+    // A schema with an axis: the axis word is XOR-delta coded too, a byte a tick while it holds.
+    const aimed = new Uint32Array(16 * 2);
+    for (let t = 0; t < 16; t++) aimed.set([0x0001, 700], t * 2);
+    const withAxis = encodeMessage({
+      type: 'input',
+      room: 1,
+      player: 0,
+      ack: 0,
+      tick: 0,
+      words: 2,
+      inputs: aimed,
+    });
+    expect(withAxis.length).toBe(2 + 1 + 1 + 1 + 1 + 1 + 1 + (1 + 2) + 15 * 2);
     const h = encodeMessage({ type: 'hash', room: 1, tick: 600, hash: 0xffffffffffffffffn });
     expect(h.length).toBe(2 + 1 + 2 + 8);
   });
@@ -303,6 +333,7 @@ describe('protocol codec', () => {
         player: 0,
         ack: 0,
         tick: 0,
+        words: 1,
         inputs: new Uint32Array(65),
       }),
     ).toThrow(RangeError);
@@ -313,6 +344,7 @@ describe('protocol codec', () => {
         role: 'player',
         game: 'ctf',
         gameVersion: 1,
+        input: '0123456789abcdef',
         players: 1,
         name: '',
       }),

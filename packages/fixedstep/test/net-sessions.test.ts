@@ -1,11 +1,13 @@
 import { describe, expect, it } from 'vitest';
 import {
+  BUTTON_WORD,
   ByteReader,
   ByteWriter,
   EventScheduler,
   LockstepSession,
   Random,
   Relay,
+  relayCatalog,
   RollbackSession,
   SimulatedLink,
   SpectatorSession,
@@ -60,19 +62,17 @@ class Toy implements Simulation {
   }
 }
 
-const toyCatalog: RelayCatalog = (id, version) =>
-  id !== 'toy'
-    ? { code: 'UNKNOWN_GAME', message: 'no such game' }
-    : version !== 1
-      ? { code: 'GAME_MISMATCH', message: 'wrong version' }
-      : {
-          id: 'toy',
-          version: 1,
-          tickRate: 60,
-          minPlayers: 1,
-          maxPlayers: 4,
-          config: (players, seed) => Uint8Array.of(players, seed & 0xff),
-        };
+const toyCatalog: RelayCatalog = relayCatalog([
+  {
+    id: 'toy',
+    version: 1,
+    tickRate: 60,
+    minPlayers: 1,
+    maxPlayers: 4,
+    input: BUTTON_WORD,
+    options: (players, seed) => Uint8Array.of(players, seed & 0xff),
+  },
+]);
 
 /** The input of a player at a tick: a function of both only, so a run can be replayed offline. */
 const scripted = (tick: number, slot: number) =>

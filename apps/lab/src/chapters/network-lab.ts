@@ -134,6 +134,7 @@ export class NetMatch {
         room: 'lab',
         game: def.info.id,
         gameVersion: def.info.version,
+        input: def.input,
         players: 2,
         seed: settings.seed,
         name: `player${slot + 1}`,

@@ -184,6 +184,7 @@ export class OnlinePanel {
           room,
           game: def.info.id,
           gameVersion: def.info.version,
+          input: def.input,
           players: 2,
           stopAt: this.stopAt,
           createSimulation: (w) => def.create(def.decodeConfig(w.config)),

@@ -3,7 +3,7 @@
  * lab's HTTP server at `/ws`, and a Node WebSocket client.
  * @module
  */
-export { gameCatalog, relayGame, createRelay } from './catalog.js';
+export { gameCatalog, createRelay } from './catalog.js';
 export { attachRelay } from './server.js';
 export type { RelayEndpoint, RelayEndpointOptions } from './server.js';
 export { connectNodeWebSocket } from './client.js';

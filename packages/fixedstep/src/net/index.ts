@@ -46,7 +46,7 @@ export type { Transport, LinkConditions, LinkStats, SimulatedLinkOptions } from 
 export { webSocketTransport, connectWebSocket, nodeWebSocketTransport } from './websocket.js';
 export type { WebSocketTransportOptions, NodeWebSocketLike } from './websocket.js';
 export { ClockSync } from './clock-sync.js';
-export { NetSession, LockstepSession, SpectatorSession } from './session.js';
+export { NetSession, LockstepSession, SpectatorSession, setupFromWelcome } from './session.js';
 export type {
   NetPhase,
   NetEvent,
@@ -60,7 +60,7 @@ export { SyncTestSession, SyncTestError } from './sync-test.js';
 export type { SyncTestOptions, SyncTestMismatch } from './sync-test.js';
 export { diffSnapshots } from './forensics.js';
 export type { SnapshotDiff } from './forensics.js';
-export { Relay } from './relay.js';
+export { Relay, relayCatalog } from './relay.js';
 export type {
   RelayGame,
   RelayCatalog,
@@ -74,7 +74,6 @@ export type {
 export { SimulatedMatch, relayGameOf } from './match.js';
 export type {
   MatchGame,
-  MatchGameConfig,
   MatchClientSpec,
   SimulatedMatchOptions,
   MatchClientResult,

@@ -1,9 +1,11 @@
 import { hex64 } from '../det/hash.js';
 import { Random } from '../det/random.js';
+import type { AnyGameDefinition } from '../sim/game.js';
 import type { Simulation } from '../sim/simulation.js';
 import type { WelcomeMessage } from './protocol.js';
 import {
   Relay,
+  relayCatalog,
   type RelayCatalog,
   type RelayGame,
   type RelayOptions,
@@ -21,41 +23,15 @@ import {
 } from './session.js';
 import { SimulatedLink, type LinkConditions, type LinkStats, type Transport } from './transport.js';
 
-/** A game configuration as the registry's games take it. */
-export interface MatchGameConfig {
-  seed: number;
-  players: number;
-}
-
 /**
- * What a {@link SimulatedMatch} needs of a game — a `GameDefinition` of `@fixedstep/games` fits:
- * its identity, how to build it from a config, the config's canonical bytes, and a bot.
+ * What a {@link SimulatedMatch} plays: a game definition. Its `bot`, if any, is every player's
+ * default input.
  */
-export interface MatchGame {
-  readonly info: {
-    readonly id: string;
-    readonly version: number;
-    readonly tickRate: number;
-    readonly minPlayers: number;
-    readonly maxPlayers: number;
-  };
-  create(config: MatchGameConfig): Simulation;
-  encodeConfig(config: MatchGameConfig): Uint8Array;
-  decodeConfig(bytes: Uint8Array): MatchGameConfig;
-  /** A deterministic bot: the input of `player` for the next tick, reading the game's state. */
-  readonly bot?: (game: never, player: number) => number;
-}
+export type MatchGame = AnyGameDefinition;
 
-/** The relay's view of a {@link MatchGame}. */
+/** The relay's view of a game definition (a definition already is one). */
 export function relayGameOf(game: MatchGame): RelayGame {
-  return {
-    id: game.info.id,
-    version: game.info.version,
-    tickRate: game.info.tickRate,
-    minPlayers: game.info.minPlayers,
-    maxPlayers: game.info.maxPlayers,
-    config: (players, seed) => game.encodeConfig({ seed, players }),
-  };
+  return game as RelayGame;
 }
 
 /** One client of a {@link SimulatedMatch}. */
@@ -77,12 +53,12 @@ export interface MatchClientSpec {
   /** Display refresh rate. Default 60. */
   displayHz?: number;
   /** Its local input (players). Default: the game's bot, decided every `botEvery` ticks and held. */
-  input?: (tick: number, sim: Simulation, slot: number) => number;
-  /** Builds its simulation (default: the game from the welcome's config). */
-  createSimulation?: (welcome: WelcomeMessage) => Simulation;
+  input?: (tick: number, sim: Simulation<unknown>, slot: number) => unknown;
+  /** Builds its simulation (default: the game from the welcome's setup). */
+  createSimulation?: (welcome: WelcomeMessage) => Simulation<unknown>;
   /** Extra session options (input delay, prediction window, forensics window …). */
   session?: Partial<
-    Omit<NetSessionOptions, 'transport' | 'clock' | 'room' | 'game' | 'gameVersion'>
+    Omit<NetSessionOptions<unknown>, 'transport' | 'clock' | 'room' | 'game' | 'gameVersion'>
   > &
     Record<string, unknown>;
 }
@@ -168,21 +144,13 @@ export class SimulatedMatch {
     this.roomName = options.room ?? 'match';
     const clock = this.scheduler.clock;
     const random = new Random(options.seed ^ 0x9e3779b9);
-    const game = relayGameOf(def);
     this.relay = new Relay({
       clock,
       randomU32: () => random.nextU32(),
       ...options.relay,
-      catalog:
-        options.catalog ??
-        ((id, version) =>
-          id !== game.id
-            ? { code: 'UNKNOWN_GAME', message: `no game "${id}" here` }
-            : version !== game.version
-              ? { code: 'GAME_MISMATCH', message: `${id} is version ${game.version} here` }
-              : game),
+      catalog: options.catalog ?? relayCatalog([def]),
     });
-    const tickMs = 1000 / def.info.tickRate;
+    const tickMs = 1000 / def.tickRate;
     this.scheduler.every(
       tickMs / 2,
       () => {
@@ -246,20 +214,18 @@ export class SimulatedMatch {
     const { transport, link } = this.connect(spec.link);
     client.link = link;
     const botEvery = this.options.botEvery ?? 6;
-    let held = 0;
-    const bot = def.bot as ((game: Simulation, player: number) => number) | undefined;
+    let held: unknown = def.input.neutral();
     const input =
       spec.input ??
-      ((tick: number, sim: Simulation, slot: number) => {
-        if (bot && tick % botEvery === 0) held = bot(sim, slot);
+      ((tick: number, sim: Simulation<unknown>, slot: number) => {
+        if (def.bot && tick % botEvery === 0) held = def.bot(sim, slot);
         return held;
       });
-    const base: NetSessionOptions = {
+    const base: NetSessionOptions<unknown> = {
       transport,
       clock: this.scheduler.clock,
       room: spec.room ?? this.roomName,
-      game: def.info.id,
-      gameVersion: def.info.version,
+      game: def,
       players:
         spec.players ??
         this.options.players ??
@@ -267,16 +233,17 @@ export class SimulatedMatch {
       seed: this.options.seed,
       name: `client${index}`,
       stopAt: this.options.ticks,
-      createSimulation: spec.createSimulation ?? ((w) => def.create(def.decodeConfig(w.config))),
+      ...(spec.createSimulation ? { createSimulation: spec.createSimulation } : {}),
       localInput: (tick, sim) => input(tick, sim, client.session?.welcome?.slot ?? 0),
       ...spec.session,
     };
-    client.session =
+    client.session = (
       spec.kind === 'rollback'
         ? new RollbackSession(base)
         : spec.kind === 'lockstep'
           ? new LockstepSession(base)
-          : new SpectatorSession(base);
+          : new SpectatorSession(base)
+    ) as NetSession;
     const session = client.session;
     const hz = spec.displayHz ?? 60;
     const period = 1000 / hz;

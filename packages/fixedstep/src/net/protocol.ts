@@ -13,8 +13,12 @@
 import { ByteReader, ByteWriter, type ByteReadProblem } from '../det/bytes.js';
 import { deinterleave, interleave } from '../sim/buttons.js';
 
-/** The protocol version this code writes and reads (byte 0 of every message). */
-export const PROTOCOL_VERSION = 1;
+/**
+ * The protocol version this code writes and reads (byte 0 of every message). Version 2 added the
+ * input schema: the hello names it, inputs carry `words` u32 words per player per tick, and the
+ * welcome carries the room's seed.
+ */
+export const PROTOCOL_VERSION = 2;
 
 /** Message type bytes (byte 1 of every message). */
 export const MessageType = {
@@ -58,6 +62,8 @@ export interface ProtocolLimits {
   maxPeers: number;
   /** Largest game configuration, in bytes. Default 256. */
   maxConfigBytes: number;
+  /** Most u32 words of one player's input for one tick (the input schema's `words`). Default 16. */
+  maxInputWords: number;
 }
 
 export const DEFAULT_PROTOCOL_LIMITS: Readonly<ProtocolLimits> = Object.freeze({
@@ -70,6 +76,7 @@ export const DEFAULT_PROTOCOL_LIMITS: Readonly<ProtocolLimits> = Object.freeze({
   maxGroups: 16,
   maxPeers: 256,
   maxConfigBytes: 256,
+  maxInputWords: 16,
 });
 
 /** Room names and game ids: 1–32 of `A–Z a–z 0–9 _ - .`. */
@@ -100,7 +107,8 @@ export type NetErrorCode =
   | 'SERVER_FULL'
   | 'UNEXPECTED'
   | 'INTERNAL'
-  | 'SHUTDOWN';
+  | 'SHUTDOWN'
+  | 'BAD_INPUT';
 
 const ERROR_CODES: readonly NetErrorCode[] = [
   'BAD_MESSAGE',
@@ -121,6 +129,7 @@ const ERROR_CODES: readonly NetErrorCode[] = [
   'UNEXPECTED',
   'INTERNAL',
   'SHUTDOWN',
+  'BAD_INPUT',
 ];
 
 /** Why a peer left (the `leave` message's reason). */
@@ -138,6 +147,11 @@ export interface HelloMessage {
   /** Game id and version: a room plays one game, and every member must run the same version. */
   game: string;
   gameVersion: number;
+  /**
+   * The id of the client's input schema (`InputSchema.id`, 16 hex digits): the room refuses a
+   * client whose inputs it would read differently.
+   */
+  input: string;
   /** Player slots of the room when this hello creates it (0: the game's minimum). */
   players: number;
   /** The game's seed when this hello creates it (absent: the server picks one). */
@@ -159,6 +173,8 @@ export interface WelcomeMessage {
   slot: number;
   /** Player slots (inputs per tick). */
   players: number;
+  /** The room's seed: with `players` and `config`, the game's setup. */
+  seed: number;
   /** Ticks per second. */
   tickRate: number;
   /** Report a state hash every this many ticks. */
@@ -186,7 +202,10 @@ export interface StartMessage {
   startAt: number;
 }
 
-/** Client → server: my inputs for ticks `tick … tick + inputs.length - 1` (a redundant window). */
+/**
+ * Client → server: my inputs for ticks `tick … tick + inputs.length / words - 1` (a redundant
+ * window), `words` u32 words a tick.
+ */
 export interface InputMessage {
   type: 'input';
   room: number;
@@ -194,6 +213,8 @@ export interface InputMessage {
   /** The next confirmed tick I need (I have every confirmed tick before it). */
   ack: number;
   tick: number;
+  /** u32 words per tick: the input schema's `words`. */
+  words: number;
   inputs: Uint32Array;
 }
 
@@ -205,7 +226,12 @@ export interface ConfirmedMessage {
   inputAck: number;
   tick: number;
   players: number;
-  /** `ticks × players` inputs: `inputs[k * players + p]` is player p's input for tick `tick + k`. */
+  /** u32 words per player per tick: the input schema's `words`. */
+  words: number;
+  /**
+   * `ticks × players × words` words: player p's input for tick `tick + k` starts at
+   * `inputs[(k * players + p) * words]`.
+   */
   inputs: Uint32Array;
 }
 
@@ -411,14 +437,18 @@ class Reader extends ByteReader {
     }
     return s;
   }
-  /** `rows` rows of `lanes` input words, each XOR-delta coded against the row before. */
-  inputs(what: string, rows: number, lanes: number): Uint32Array {
+  /**
+   * `rows` rows of `lanes` input words, each XOR-delta coded against the row before; every
+   * `words`-th lane (a button word) is interleaved.
+   */
+  inputs(what: string, rows: number, lanes: number, words: number): Uint32Array {
     // Each word takes at least one byte: check before allocating.
     this.need(rows * lanes, what);
     const out = new Uint32Array(rows * lanes);
     for (let k = 0; k < rows; k++) {
       for (let p = 0; p < lanes; p++) {
-        const d = deinterleave(this.varint(what));
+        const v = this.varint(what);
+        const d = p % words === 0 ? deinterleave(v) : v;
         const i = k * lanes + p;
         out[i] = k === 0 ? d : (out[i - lanes]! ^ d) >>> 0;
       }
@@ -427,10 +457,11 @@ class Reader extends ByteReader {
   }
 }
 
-function writeInputs(w: Writer, inputs: Uint32Array, lanes: number): void {
+function writeInputs(w: Writer, inputs: Uint32Array, lanes: number, words: number): void {
   for (let i = 0; i < inputs.length; i++) {
     const v = inputs[i]! >>> 0;
-    w.varint(interleave(i < lanes ? v : (v ^ inputs[i - lanes]!) >>> 0));
+    const d = i < lanes ? v : (v ^ inputs[i - lanes]!) >>> 0;
+    w.varint(i % lanes % words === 0 ? interleave(d) : d);
   }
 }
 
@@ -461,10 +492,12 @@ export function encodeMessage(m: NetMessage): Uint8Array {
       check(NAME_PATTERN.test(m.game), `game id "${m.game}"`);
       check(encoder.encode(m.name).length <= MAX_PLAYER_NAME_BYTES, 'name too long');
       check(m.token === undefined || m.token.length === TOKEN_BYTES, 'token length');
+      check(/^[0-9a-f]{16}$/.test(m.input), `input schema id "${m.input}"`);
       w.str(m.room);
       w.u8(m.role === 'player' ? 0 : 1);
       w.str(m.game);
       w.varint(m.gameVersion);
+      w.u64(BigInt(`0x${m.input}`));
       w.varint(m.players);
       w.u8((m.seed !== undefined ? 1 : 0) | (m.token !== undefined ? 2 : 0));
       if (m.seed !== undefined) w.u32(m.seed);
@@ -481,6 +514,7 @@ export function encodeMessage(m: NetMessage): Uint8Array {
       w.varint(m.peer);
       w.varint(m.slot + 1);
       w.varint(m.players);
+      w.u32(m.seed);
       w.varint(m.tickRate);
       w.varint(m.hashEvery);
       w.varint(m.deadlineMs);
@@ -500,25 +534,31 @@ export function encodeMessage(m: NetMessage): Uint8Array {
       w.varint(m.room);
       w.f64(m.startAt);
       break;
-    case 'input':
-      check(m.inputs.length >= 1 && m.inputs.length <= limits.maxInputTicks, 'input count');
+    case 'input': {
+      check(m.words >= 1 && m.words <= limits.maxInputWords, 'words');
+      const ticks = m.inputs.length / m.words;
+      check(Number.isInteger(ticks) && ticks >= 1 && ticks <= limits.maxInputTicks, 'input count');
       w.varint(m.room);
       w.varint(m.player);
       w.varint(m.ack);
       w.varint(m.tick);
-      w.varint(m.inputs.length);
-      writeInputs(w, m.inputs, 1);
+      w.varint(m.words);
+      w.varint(ticks);
+      writeInputs(w, m.inputs, m.words, m.words);
       break;
+    }
     case 'confirmed': {
       check(m.players >= 1 && m.players <= limits.maxPlayers, 'players');
-      const ticks = m.inputs.length / m.players;
+      check(m.words >= 1 && m.words <= limits.maxInputWords, 'words');
+      const ticks = m.inputs.length / (m.players * m.words);
       check(Number.isInteger(ticks) && ticks <= limits.maxConfirmedTicks, 'tick count');
       w.varint(m.room);
       w.varint(m.inputAck);
       w.varint(m.tick);
       w.varint(m.players);
+      w.varint(m.words);
       w.varint(ticks);
-      writeInputs(w, m.inputs, m.players);
+      writeInputs(w, m.inputs, m.players * m.words, m.words);
       break;
     }
     case 'ack':
@@ -677,6 +717,7 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
       if (role > 1) r.fail('invalid', `role ${role}`, roleAt);
       const game = r.name('game');
       const gameVersion = r.varint('game version');
+      const input = r.u64('input schema id').toString(16).padStart(16, '0');
       const players = r.count('players', limits.maxPlayers);
       const flagsAt = r.pos;
       const flags = r.u8('flags');
@@ -693,6 +734,7 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
         role: role === 0 ? 'player' : 'spectator',
         game,
         gameVersion,
+        input,
         players,
         name,
       };
@@ -707,6 +749,7 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
       const slot = r.varint('slot') - 1;
       const players = r.count('players', limits.maxPlayers, 1);
       if (slot >= players) r.fail('invalid', `slot ${slot} of ${players} players`, slotAt);
+      const seed = r.u32('seed');
       const tickRate = r.count('tick rate', 10_000, 1);
       const hashEvery = r.count('hash interval', 1 << 20, 1);
       const deadlineMs = r.varint('deadline');
@@ -727,6 +770,7 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
         peer,
         slot,
         players,
+        seed,
         tickRate,
         hashEvery,
         deadlineMs,
@@ -746,15 +790,18 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
       const player = r.count('player', limits.maxPlayers - 1);
       const ack = r.varint('ack');
       const tick = r.varint('tick');
+      const words = r.count('words', limits.maxInputWords, 1);
       const n = r.count('input count', limits.maxInputTicks, 1);
       if (tick + n - 1 > 0xffffffff) r.fail('invalid', 'tick range past 2^32');
-      return { type: 'input', room, player, ack, tick, inputs: r.inputs('inputs', n, 1) };
+      const inputs = r.inputs('inputs', n, words, words);
+      return { type: 'input', room, player, ack, tick, words, inputs };
     }
     case 'confirmed': {
       const room = r.varint('room');
       const inputAck = r.varint('input ack');
       const tick = r.varint('tick');
       const players = r.count('players', limits.maxPlayers, 1);
+      const words = r.count('words', limits.maxInputWords, 1);
       const n = r.count('tick count', limits.maxConfirmedTicks);
       if (tick + n > 0xffffffff) r.fail('invalid', 'tick range past 2^32');
       return {
@@ -763,7 +810,8 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
         inputAck,
         tick,
         players,
-        inputs: r.inputs('inputs', n, players),
+        words,
+        inputs: r.inputs('inputs', n, players * words, words),
       };
     }
     case 'ack':

@@ -14,18 +14,41 @@ import {
   type NetMessage,
   type ProtocolLimits,
 } from './protocol.js';
-import { heldOnly } from '../sim/buttons.js';
+import type { AnyGameDefinition } from '../sim/game.js';
+import type { InputSchema } from '../sim/input-schema.js';
 import type { Transport } from './transport.js';
 
-/** What the relay needs to know of a game (it never runs one). */
+/**
+ * What the relay needs to know of a game (it never runs one): a game definition fits. The relay
+ * checks every input against the schema, and builds each room's option bytes with `options`.
+ */
 export interface RelayGame {
-  id: string;
-  version: number;
-  tickRate: number;
-  minPlayers: number;
-  maxPlayers: number;
-  /** The canonical configuration bytes of a match: every client builds its game from them. */
-  config(players: number, seed: number): Uint8Array;
+  readonly id: string;
+  readonly version: number;
+  readonly tickRate: number;
+  readonly minPlayers: number;
+  readonly maxPlayers: number;
+  /** What a player's input is: the relay refuses inputs outside it. */
+  readonly input: InputSchema<unknown>;
+  /** The canonical option bytes of a room (sent to every client). Default: none. */
+  options?(players: number, seed: number): Uint8Array;
+}
+
+/** A catalog of the given games: unknown ids and other versions are refused with a reason. */
+export function relayCatalog(games: readonly (RelayGame | AnyGameDefinition)[]): RelayCatalog {
+  return (id, version) => {
+    const game = games.find((g) => g.id === id);
+    if (game === undefined) {
+      return { code: 'UNKNOWN_GAME', message: `no game "${id}" on this server` };
+    }
+    if (game.version !== version) {
+      return {
+        code: 'GAME_MISMATCH',
+        message: `this server plays ${id} version ${game.version}, not ${version}`,
+      };
+    }
+    return game as RelayGame;
+  };
 }
 
 /** Finds a game by id and version; a string is the reason it cannot be played. */
@@ -179,8 +202,8 @@ interface Bucket {
 interface Slot {
   conn: Conn | undefined;
   token: Uint8Array;
-  /** The slot's input of the newest closed tick. */
-  last: number;
+  /** The slot's input words of the newest closed tick. */
+  last: Uint32Array;
   pending: InputRing;
   /** Sent at least one input since it (re)joined: the relay waits for it until the deadline. */
   active: boolean;
@@ -252,6 +275,8 @@ class Room {
   joins: JoinRequest[] = [];
   emptySince: number | undefined;
   readonly tickMs: number;
+  /** u32 words per player per tick. */
+  readonly words: number;
 
   constructor(
     readonly name: string,
@@ -264,13 +289,14 @@ class Room {
     tokens: () => Uint8Array,
   ) {
     this.tickMs = 1000 / game.tickRate;
-    this.log = new InputRing(historyTicks, players);
+    this.words = game.input.words;
+    this.log = new InputRing(historyTicks, players * this.words);
     for (let s = 0; s < players; s++) {
       this.slots.push({
         conn: undefined,
         token: tokens(),
-        last: 0,
-        pending: new InputRing(1024, 1),
+        last: new Uint32Array(this.words),
+        pending: new InputRing(1024, this.words),
         active: false,
       });
     }
@@ -518,7 +544,7 @@ export class Relay {
     }
     switch (m.type) {
       case 'input':
-        this.onInput(conn, room, m.player, m.tick, m.inputs, now);
+        this.onInput(conn, room, m.player, m.tick, m.words, m.inputs, now);
         this.onAck(conn, room, m.ack, now);
         break;
       case 'ack':
@@ -553,6 +579,14 @@ export class Relay {
       return;
     }
     const game = found;
+    if (m.input !== game.input.id) {
+      this.drop(
+        conn,
+        'GAME_MISMATCH',
+        `${game.id} takes input schema ${game.input.id}, the client sends ${m.input}`,
+      );
+      return;
+    }
     let room = this.rooms.get(m.room);
     if (room === undefined) {
       if (this.rooms.size >= this.o.maxRooms) {
@@ -575,7 +609,7 @@ export class Relay {
         game,
         players,
         seed,
-        game.config(players, seed),
+        game.options ? game.options(players, seed) : new Uint8Array(0),
         this.o.historyTicks,
         () => this.token(),
       );
@@ -685,6 +719,7 @@ export class Relay {
       peer: conn.peer,
       slot: conn.slot,
       players: room.players,
+      seed: room.seed,
       tickRate: room.game.tickRate,
       hashEvery: this.o.hashEvery,
       deadlineMs: this.o.deadlineMs,
@@ -715,6 +750,7 @@ export class Relay {
     room: Room,
     player: number,
     tick: number,
+    words: number,
     inputs: Uint32Array,
     now: number,
   ): void {
@@ -726,7 +762,19 @@ export class Relay {
       this.drop(conn, 'SPOOFED_PLAYER', `inputs for player ${player} from player ${conn.slot}`);
       return;
     }
-    const last = tick + inputs.length - 1;
+    if (words !== room.words) {
+      this.drop(conn, 'BAD_INPUT', `inputs of ${words} words, ${room.game.id} takes ${room.words}`);
+      return;
+    }
+    const ticks = inputs.length / words;
+    for (let k = 0; k < ticks; k++) {
+      const problem = room.game.input.problem(inputs, k * words);
+      if (problem !== undefined) {
+        this.drop(conn, 'BAD_INPUT', `input of tick ${tick + k}: ${problem}`);
+        return;
+      }
+    }
+    const last = tick + ticks - 1;
     const clockTick =
       room.startAt === undefined ? 0 : Math.max(0, Math.floor((now - room.startAt) / room.tickMs));
     if (last > clockTick + this.o.maxAheadTicks) {
@@ -738,11 +786,11 @@ export class Relay {
       return;
     }
     const s = room.slots[conn.slot]!;
-    for (let k = 0; k < inputs.length; k++) {
+    for (let k = 0; k < ticks; k++) {
       const t = tick + k;
       if (t < room.closedEnd || t >= room.closedEnd + s.pending.capacity || s.pending.has(t))
         continue;
-      s.pending.set(t, inputs, k);
+      s.pending.set(t, inputs, k * words);
     }
     s.active = true;
     conn.started = true;
@@ -880,7 +928,8 @@ export class Relay {
 
   private closeTicks(room: Room, now: number): void {
     const startAt = room.startAt!;
-    const row = new Uint32Array(room.players);
+    const w = room.words;
+    const row = new Uint32Array(room.players * w);
     for (let guard = 0; guard < 4096 && room.closedEnd < this.o.maxMatchTicks; guard++) {
       const t = room.closedEnd;
       const tickStart = startAt + t * room.tickMs;
@@ -901,13 +950,16 @@ export class Relay {
       for (let p = 0; p < room.players; p++) {
         const s = room.slots[p]!;
         if (s.pending.has(t)) {
-          row[p] = s.pending.get(t, 0);
+          s.pending.copy(t, row, p * w);
           s.pending.clear(t);
+        } else if (s.conn) {
+          // The game's rule for a missing input: held buttons only, axes kept.
+          room.game.input.missing(s.last, 0, row, p * w);
+          if (s.conn.state === 'member' && s.active) filled = true;
         } else {
-          row[p] = s.conn ? heldOnly(s.last) : 0;
-          if (s.conn?.state === 'member' && s.active) filled = true;
+          row.fill(0, p * w, (p + 1) * w);
         }
-        s.last = row[p]!;
+        for (let k = 0; k < w; k++) s.last[k] = row[p * w + k]!;
       }
       if (filled) this.stats.filledInputs++;
       room.log.set(t, row);
@@ -934,16 +986,18 @@ export class Relay {
       let from = newest - c.ack <= maxTicks || rewind ? c.ack : c.sentUpTo;
       if (rewind) c.ackMovedAt = now;
       const inputAck = this.inputAck(room, c);
+      const lanes = room.players * room.words;
       for (let k = 0; k < 8 && from < newest; k++) {
         const n = Math.min(maxTicks, newest - from);
-        const inputs = new Uint32Array(n * room.players);
-        for (let i = 0; i < n; i++) room.log.copy(from + i, inputs, i * room.players);
+        const inputs = new Uint32Array(n * lanes);
+        for (let i = 0; i < n; i++) room.log.copy(from + i, inputs, i * lanes);
         this.send(c, {
           type: 'confirmed',
           room: room.number,
           inputAck,
           tick: from,
           players: room.players,
+          words: room.words,
           inputs,
         });
         from += n;
@@ -1168,7 +1222,7 @@ export class Relay {
       if (s.conn === conn) {
         s.conn = undefined;
         s.active = false;
-        s.last = 0;
+        s.last.fill(0);
         for (let t = room.closedEnd; t < room.closedEnd + s.pending.capacity; t++)
           s.pending.clear(t);
       }

@@ -1,5 +1,5 @@
 import { InputRing } from './history.js';
-import { heldOnly } from '../sim/buttons.js';
+import type { ButtonInput } from '../sim/buttons.js';
 import { NetSession, type NetSessionOptions } from './session.js';
 import { diffSnapshots } from './forensics.js';
 
@@ -17,7 +17,7 @@ export interface Correction {
 }
 
 /** Options of a {@link RollbackSession}. */
-export interface RollbackSessionOptions extends NetSessionOptions {
+export interface RollbackSessionOptions<I = ButtonInput> extends NetSessionOptions<I> {
   /** Local input delay in ticks (fewer, shallower rollbacks for a little lag). Default 1. */
   inputDelay?: number;
   /**
@@ -31,8 +31,11 @@ export interface RollbackSessionOptions extends NetSessionOptions {
    * delay; it moves by one tick at a time, every 250 ms.
    */
   lead?: number | 'auto';
-  /** Predicted input of a remote player from their last confirmed one. Default {@link heldOnly}. */
-  predict?: (last: number) => number;
+  /**
+   * Predicted input of a remote player from their last confirmed one. Default: the schema's
+   * `missing` rule — held buttons stay held, presses are not repeated, axes keep their value.
+   */
+  predict?: (last: I, player: number) => I;
   /** Called after every rollback with what it changed at the current tick. */
   onCorrection?: (correction: Correction) => void;
 }
@@ -47,21 +50,22 @@ export interface RollbackSessionOptions extends NetSessionOptions {
  * It reports rollbacks, their depth and the size of each correction; visual smoothing of a
  * correction is the renderer's job ({@link RollbackSessionOptions.onCorrection}).
  */
-export class RollbackSession extends NetSession {
+export class RollbackSession<I = ButtonInput> extends NetSession<I> {
   /** The last rollback's correction. */
   lastCorrection: Correction | undefined;
 
   private readonly inputDelay: number;
   private readonly maxPrediction: number;
   private readonly autoLead: boolean;
-  private readonly predict: (last: number) => number;
+  private readonly predict: ((last: I, player: number) => I) | undefined;
   private leadTicks = -1;
   private lastLeadMove = -Infinity;
   private used = new InputRing(1, 1);
   private pendingRollback = Infinity;
-  private row: number[] = [];
+  private row: I[] = [];
+  private rowWords = new Uint32Array(0);
 
-  constructor(options: RollbackSessionOptions) {
+  constructor(options: RollbackSessionOptions<I>) {
     super(options, 'player');
     this.inputDelay = options.inputDelay ?? 1;
     this.maxPrediction = options.maxPrediction ?? 30;
@@ -79,7 +83,7 @@ export class RollbackSession extends NetSession {
     }
     this.autoLead = options.lead === undefined || options.lead === 'auto';
     if (typeof options.lead === 'number') this.leadTicks = options.lead;
-    this.predict = options.predict ?? heldOnly;
+    this.predict = options.predict;
   }
 
   confirmedStateTick(): number {
@@ -103,15 +107,15 @@ export class RollbackSession extends NetSession {
 
   protected override onConfirmed(from: number, to: number): void {
     const sim = this.sim!;
-    if (this.used.capacity !== this.ring.capacity)
-      this.used = new InputRing(this.ring.capacity, this.players);
+    this.ensureRows();
     const end = Math.min(to, sim.tick);
+    const lanes = this.players * this.words;
     for (let t = from; t < end; t++) {
       if (!this.used.has(t)) {
         this.pendingRollback = Math.min(this.pendingRollback, t);
         return;
       }
-      for (let p = 0; p < this.players; p++) {
+      for (let p = 0; p < lanes; p++) {
         if (this.used.get(t, p) !== this.confirmed.get(t, p)) {
           this.pendingRollback = Math.min(this.pendingRollback, t);
           return;
@@ -126,9 +130,7 @@ export class RollbackSession extends NetSession {
 
   protected advance(serverTick: number, now: number): number {
     const sim = this.sim!;
-    if (this.used.capacity !== this.ring.capacity)
-      this.used = new InputRing(this.ring.capacity, this.players);
-    if (this.row.length !== this.players) this.row = new Array<number>(this.players).fill(0);
+    this.ensureRows();
     if (!Number.isFinite(serverTick)) return 0;
     this.adaptLead(now);
     const target = Math.min(Math.floor(serverTick) + this.leadTicks, this.stopAt);
@@ -144,24 +146,42 @@ export class RollbackSession extends NetSession {
     return n;
   }
 
+  private ensureRows(): void {
+    const lanes = this.players * this.words;
+    if (this.used.capacity !== this.ring.capacity || this.used.lanes !== lanes) {
+      this.used = new InputRing(this.ring.capacity, lanes);
+    }
+    if (this.rowWords.length !== lanes) {
+      this.rowWords = new Uint32Array(lanes);
+      this.row = new Array<I>(this.players);
+    }
+  }
+
   private stepOne(): void {
     const sim = this.sim!;
     const t = sim.tick;
-    this.inputsFor(t, this.row);
+    this.inputsFor(t, this.rowWords);
+    this.decodeRow(this.rowWords, this.row);
     sim.step(this.row);
-    this.used.set(t, this.row);
+    this.used.set(t, this.rowWords);
     this.ring.put(sim.tick, sim.save());
   }
 
-  /** The inputs of `tick`: confirmed, else this player's own, else predicted. */
-  private inputsFor(tick: number, row: number[]): void {
+  /** The words of `tick`: confirmed, else this player's own, else predicted. */
+  private inputsFor(tick: number, words: Uint32Array): void {
     if (tick < this.confirmedEnd) {
-      for (let p = 0; p < this.players; p++) row[p] = this.confirmed.get(tick, p);
+      this.confirmed.copy(tick, words);
       return;
     }
+    const w = this.words;
     for (let p = 0; p < this.players; p++) {
-      const mine = p === this.slot ? this.issuedInput(tick) : undefined;
-      row[p] = mine ?? this.predict(this.lastConfirmed[p]!) >>> 0;
+      if (p === this.slot && this.issuedInput(tick, words, p * w)) continue;
+      if (this.predict) {
+        const last = this.schema.decode(this.lastConfirmed, p * w);
+        this.schema.encode(this.predict(last, p), words, p * w);
+      } else {
+        this.schema.missing(this.lastConfirmed, p * w, words, p * w);
+      }
     }
   }
 
@@ -191,7 +211,7 @@ export class RollbackSession extends NetSession {
       after,
     };
     this.lastCorrection = correction;
-    (this.options as RollbackSessionOptions).onCorrection?.(correction);
+    (this.options as RollbackSessionOptions<I>).onCorrection?.(correction);
   }
 
   private adaptLead(now: number): void {

@@ -1,4 +1,7 @@
 import { fnv1a64 } from '../det/hash.js';
+import type { ButtonInput } from '../sim/buttons.js';
+import type { AnyGameDefinition, GameSetup } from '../sim/game.js';
+import { BUTTON_WORD, type InputSchema } from '../sim/input-schema.js';
 import type { Simulation } from '../sim/simulation.js';
 import type { Clock } from '../time/drivers.js';
 import { ClockSync } from './clock-sync.js';
@@ -29,8 +32,13 @@ export type NetEvent =
   | { type: 'leave'; peer: number; reason: LeaveReason }
   | { type: 'closed'; reason: string };
 
+/** The game setup a welcome describes: the room's seed, players and option bytes. */
+export function setupFromWelcome(welcome: WelcomeMessage): GameSetup {
+  return Object.freeze({ seed: welcome.seed, players: welcome.players, options: welcome.config });
+}
+
 /** Options every network session takes. */
-export interface NetSessionOptions {
+export interface NetSessionOptions<I = ButtonInput> {
   /** The pipe to the server. */
   transport: Transport;
   /**
@@ -40,9 +48,16 @@ export interface NetSessionOptions {
   clock: Clock;
   /** Room to join (created by the first hello). */
   room: string;
-  /** Game id and version; every member of a room must run the same. */
-  game: string;
-  gameVersion: number;
+  /**
+   * The game: a definition (id, version, input schema and how to build it all come from it), or
+   * its id — then give `gameVersion`, `createSimulation` and, unless it is `BUTTON_WORD`, `input`.
+   * Every member of a room must run the same game, version and input schema.
+   */
+  game: string | AnyGameDefinition;
+  /** The game's version, when `game` is an id. */
+  gameVersion?: number;
+  /** The input schema, when `game` is an id. Default `BUTTON_WORD`. */
+  input?: InputSchema<I>;
   /** Player slots, when this session creates the room (default: the game's minimum). */
   players?: number;
   /** The game's seed, when this session creates the room (default: the server picks). */
@@ -51,14 +66,17 @@ export interface NetSessionOptions {
   name?: string;
   /** Reconnect token from an earlier welcome: take back that slot. */
   token?: Uint8Array;
-  /** Builds the simulation from the welcome (its `config` bytes, `players`). */
-  createSimulation(welcome: WelcomeMessage): Simulation;
+  /**
+   * Builds the simulation from the welcome (its seed, `players` and `config` bytes). Default, with
+   * a game definition: `game.create(setupFromWelcome(welcome))`.
+   */
+  createSimulation?(welcome: WelcomeMessage): Simulation<I>;
   /**
    * The local player's input for `tick` — called exactly once per tick, in tick order, some
    * ticks before the tick is simulated (the input delay). `sim` is the current state (read it,
-   * never step it). Default: 0.
+   * never step it). Default: the schema's neutral input (nothing pressed).
    */
-  localInput?: (tick: number, sim: Simulation) => number;
+  localInput?: (tick: number, sim: Simulation<I>) => I;
   /**
    * The most ticks one {@link NetSession.frame} steps forward: the catch-up budget after a
    * background tab, a late join or a hitch. Default 32. Resimulation after a rollback is not
@@ -130,7 +148,7 @@ const ISSUED_CAPACITY = 512;
  * Call {@link frame} once per display frame; it steps as many ticks as are due (at most
  * `maxTicksPerFrame`) and sends what needs sending. Render {@link simulation} with {@link alpha}.
  */
-export abstract class NetSession {
+export abstract class NetSession<I = ButtonInput> {
   readonly stats: NetSessionStats = {
     frames: 0,
     ticks: 0,
@@ -160,13 +178,19 @@ export abstract class NetSession {
 
   protected readonly transport: Transport;
   protected readonly clock: Clock;
-  protected readonly options: NetSessionOptions;
+  protected readonly options: NetSessionOptions<I>;
+  /** The input schema, and its words per player per tick. */
+  readonly schema: InputSchema<I>;
+  protected readonly words: number;
+  private readonly build: (welcome: WelcomeMessage) => Simulation<I>;
+  /** One player's words (scratch). */
+  private readonly scratch: Uint32Array;
   protected readonly clockSync = new ClockSync();
   protected readonly maxTicksPerFrame: number;
   protected readonly forensicsWindow: number;
   protected readonly stopAt: number;
 
-  protected sim: Simulation | undefined;
+  protected sim: Simulation<I> | undefined;
   protected welcomeMsg: WelcomeMessage | undefined;
   protected tickMs = 1000 / 60;
   protected players = 0;
@@ -174,14 +198,14 @@ export abstract class NetSession {
   protected startAt: number | undefined;
   protected startTick = 0;
 
-  /** Confirmed inputs by tick; every tick before `confirmedEnd` is present. */
+  /** Confirmed inputs by tick (`players × words` lanes); every tick before `confirmedEnd` is present. */
   protected confirmed = new InputRing(1, 1);
   protected confirmedEnd = 0;
-  /** The confirmed inputs of tick `confirmedEnd - 1` (zeros before the first). */
+  /** The confirmed words of tick `confirmedEnd - 1` (zeros before the first). */
   protected lastConfirmed = new Uint32Array(0);
 
-  /** This player's inputs, issued for ticks `issueFrom … issueNext - 1`. */
-  protected issued = new InputRing(ISSUED_CAPACITY, 1);
+  /** This player's input words, issued for ticks `issueFrom … issueNext - 1`. */
+  protected issued: InputRing;
   protected issueFrom = 0;
   protected issueNext = 0;
   /** The next tick the server needs an input from us for. */
@@ -204,10 +228,34 @@ export abstract class NetSession {
   private hidden = false;
   private helloSentAt = -Infinity;
 
-  constructor(options: NetSessionOptions, role: 'player' | 'spectator') {
+  constructor(options: NetSessionOptions<I>, role: 'player' | 'spectator') {
     this.options = options;
     this.transport = options.transport;
     this.clock = options.clock;
+    const game = options.game;
+    let gameId: string;
+    let gameVersion: number;
+    if (typeof game === 'string') {
+      if (options.gameVersion === undefined || options.createSimulation === undefined) {
+        throw new RangeError(
+          'NetSession: with a game id, give gameVersion and createSimulation (or pass the game definition)',
+        );
+      }
+      gameId = game;
+      gameVersion = options.gameVersion;
+      this.schema = options.input ?? (BUTTON_WORD as unknown as InputSchema<I>);
+      this.build = options.createSimulation.bind(options);
+    } else {
+      gameId = game.id;
+      gameVersion = game.version;
+      this.schema = game.input as InputSchema<I>;
+      const create = options.createSimulation?.bind(options);
+      this.build =
+        create ?? ((w: WelcomeMessage) => game.create(setupFromWelcome(w)) as Simulation<I>);
+    }
+    this.words = this.schema.words;
+    this.scratch = new Uint32Array(this.words);
+    this.issued = new InputRing(ISSUED_CAPACITY, this.words);
     this.maxTicksPerFrame = options.maxTicksPerFrame ?? 32;
     if (!(Number.isInteger(this.maxTicksPerFrame) && this.maxTicksPerFrame >= 1)) {
       throw new RangeError(
@@ -226,8 +274,9 @@ export abstract class NetSession {
       type: 'hello',
       room: options.room,
       role,
-      game: options.game,
-      gameVersion: options.gameVersion,
+      game: gameId,
+      gameVersion,
+      input: this.schema.id,
       players: options.players ?? 0,
       name: options.name ?? '',
     };
@@ -246,7 +295,7 @@ export abstract class NetSession {
   }
 
   /** The simulation, once welcomed. */
-  get simulation(): Simulation | undefined {
+  get simulation(): Simulation<I> | undefined {
     return this.sim;
   }
 
@@ -387,18 +436,34 @@ export abstract class NetSession {
     const input = this.options.localInput;
     while (this.issueNext < end) {
       const t = this.issueNext;
-      const v = input ? input(t, this.sim) >>> 0 : 0;
-      this.issued.setLane(t, 0, v);
+      if (input) {
+        try {
+          this.schema.encode(input(t, this.sim), this.scratch, 0);
+        } catch (e) {
+          throw new RangeError(`localInput of tick ${t}: ${(e as Error).message}`, { cause: e });
+        }
+      } else {
+        this.scratch.fill(0);
+      }
+      this.issued.set(t, this.scratch);
       this.issueNext++;
       this.newInputs = true;
     }
   }
 
-  /** The input this player issued for `tick`, if it is still kept. */
-  protected issuedInput(tick: number): number | undefined {
-    return tick >= this.issueFrom && tick < this.issueNext && this.issued.has(tick)
-      ? this.issued.get(tick, 0)
-      : undefined;
+  /**
+   * Copy the words this player issued for `tick` into `out[at …]`, if they are still kept;
+   * returns whether they were.
+   */
+  protected issuedInput(tick: number, out: Uint32Array, at: number): boolean {
+    if (!(tick >= this.issueFrom && tick < this.issueNext && this.issued.has(tick))) return false;
+    this.issued.copy(tick, out, at);
+    return true;
+  }
+
+  /** Decode a row of `players × words` words into one input per player. */
+  protected decodeRow(words: Uint32Array, row: I[]): void {
+    for (let p = 0; p < this.players; p++) row[p] = this.schema.decode(words, p * this.words);
   }
 
   /** Save the state at the current tick into the ring (when kept) and return it. */
@@ -485,9 +550,9 @@ export abstract class NetSession {
     this.players = w.players;
     this.slot = w.slot;
     this.tickMs = 1000 / w.tickRate;
-    let sim: Simulation;
+    let sim: Simulation<I>;
     try {
-      sim = this.options.createSimulation(w);
+      sim = this.build(w);
       // The relay cannot check a snapshot (it does not run the game): a member may have sent a
       // broken one. Refuse it here; a wrong but loadable one shows up as a desync.
       if (w.snapshot) sim.load(w.snapshot);
@@ -501,9 +566,9 @@ export abstract class NetSession {
     }
     this.sim = sim;
     this.startTick = w.startTick;
-    this.confirmed = new InputRing(CONFIRMED_CAPACITY, w.players);
+    this.confirmed = new InputRing(CONFIRMED_CAPACITY, w.players * this.words);
     this.confirmedEnd = w.startTick;
-    this.lastConfirmed = new Uint32Array(w.players);
+    this.lastConfirmed = new Uint32Array(w.players * this.words);
     this.issueFrom = Math.max(w.inputFrom, w.startTick);
     this.issueNext = this.issueFrom;
     this.serverInputAck = this.issueFrom;
@@ -526,11 +591,19 @@ export abstract class NetSession {
 
   private onConfirmedMessage(m: ConfirmedMessage, now: number): void {
     const w = this.welcomeMsg;
-    if (m.room !== w?.room || m.players !== this.players || this.sim === undefined) return;
+    if (
+      m.room !== w?.room ||
+      m.players !== this.players ||
+      m.words !== this.words ||
+      this.sim === undefined
+    ) {
+      return;
+    }
     // Until the start time is known nothing is acked: the server sees that and repeats the start.
     if (this.phaseValue !== 'running') return;
     if (m.inputAck > this.serverInputAck) this.serverInputAck = m.inputAck;
-    const n = m.inputs.length / m.players;
+    const lanes = m.players * m.words;
+    const n = m.inputs.length / lanes;
     const keepFrom = this.keepInputsFrom();
     const before = this.confirmedEnd;
     for (let k = 0; k < n; k++) {
@@ -538,16 +611,21 @@ export abstract class NetSession {
       if (t < this.confirmedEnd || this.confirmed.has(t)) continue;
       // Never overwrite a tick still needed.
       if (t >= keepFrom + this.confirmed.capacity) break;
-      this.confirmed.set(t, m.inputs, k * m.players);
+      this.confirmed.set(t, m.inputs, k * lanes);
     }
     while (this.confirmed.has(this.confirmedEnd)) this.confirmedEnd++;
     if (this.confirmedEnd > before) {
       this.confirmed.copy(this.confirmedEnd - 1, this.lastConfirmed);
       if (this.slot >= 0) {
+        const at = this.slot * this.words;
         for (let t = before; t < this.confirmedEnd; t++) {
-          const mine = this.issuedInput(t);
-          if (mine !== undefined && mine !== this.confirmed.get(t, this.slot))
-            this.stats.replacedInputs++;
+          if (!this.issuedInput(t, this.scratch, 0)) continue;
+          for (let k = 0; k < this.words; k++) {
+            if (this.scratch[k] !== this.confirmed.get(t, at + k)) {
+              this.stats.replacedInputs++;
+              break;
+            }
+          }
         }
       }
       this.onConfirmed?.(before, this.confirmedEnd, now);
@@ -597,14 +675,16 @@ export abstract class NetSession {
     if (from >= this.issueNext) return;
     // New inputs go at once; unacknowledged ones are resent every 50 ms (they may have been lost).
     if (!this.newInputs && now - this.lastInputSendAt < 50) return;
-    const inputs = new Uint32Array(this.issueNext - from);
-    for (let t = from; t < this.issueNext; t++) inputs[t - from] = this.issued.get(t, 0);
+    const w = this.words;
+    const inputs = new Uint32Array((this.issueNext - from) * w);
+    for (let t = from; t < this.issueNext; t++) this.issued.copy(t, inputs, (t - from) * w);
     this.send({
       type: 'input',
       room: this.welcomeMsg.room,
       player: this.slot,
       ack: this.confirmedEnd,
       tick: from,
+      words: w,
       inputs,
     });
     this.newInputs = false;
@@ -649,7 +729,7 @@ export abstract class NetSession {
 // ------------------------------------------------------------------------------------ lockstep
 
 /** Options of a {@link LockstepSession}. */
-export interface LockstepSessionOptions extends NetSessionOptions {
+export interface LockstepSessionOptions<I = ButtonInput> extends NetSessionOptions<I> {
   /**
    * Input delay in ticks: the local input sampled now is for the tick this many ticks ahead of
    * the server clock. `'auto'` (the default) sizes it from the measured round trip — a high
@@ -689,7 +769,7 @@ class WindowMax {
  * confirmed ticks have actually arrived. A spectator is a lockstep session without inputs
  * ({@link SpectatorSession}).
  */
-export class LockstepSession extends NetSession {
+export class LockstepSession<I = ButtonInput> extends NetSession<I> {
   private delay: number;
   private readonly autoDelay: boolean;
   private readonly maxDelay: number;
@@ -697,9 +777,10 @@ export class LockstepSession extends NetSession {
   private playout = 0;
   private lastPlayoutDrop = 0;
   private readonly lateness = new WindowMax(600);
-  private row: number[] = [];
+  private row: I[] = [];
+  private rowWords = new Uint32Array(0);
 
-  constructor(options: LockstepSessionOptions, role: 'player' | 'spectator' = 'player') {
+  constructor(options: LockstepSessionOptions<I>, role: 'player' | 'spectator' = 'player') {
     super(options, role);
     this.autoDelay = options.inputDelay === undefined || options.inputDelay === 'auto';
     this.delay = typeof options.inputDelay === 'number' ? options.inputDelay : 4;
@@ -734,11 +815,15 @@ export class LockstepSession extends NetSession {
     this.issueUntil(clockTick + 1 + this.delay);
     const target = Math.min(clockTick - this.playout, this.stopAt);
     let n = 0;
-    if (this.row.length !== this.players) this.row = new Array<number>(this.players).fill(0);
+    if (this.rowWords.length !== this.players * this.words) {
+      this.rowWords = new Uint32Array(this.players * this.words);
+      this.row = new Array<I>(this.players);
+    }
     const row = this.row;
     while (sim.tick < target && sim.tick < this.confirmedEnd && n < this.maxTicksPerFrame) {
       const t = sim.tick;
-      for (let p = 0; p < this.players; p++) row[p] = this.confirmed.get(t, p);
+      this.confirmed.copy(t, this.rowWords);
+      this.decodeRow(this.rowWords, row);
       sim.step(row);
       this.remember();
       n++;
@@ -781,8 +866,8 @@ export class LockstepSession extends NetSession {
  * Watches a room: steps confirmed inputs only, sends none. Joins late at any time (from a
  * member's snapshot) and catches up at `maxTicksPerFrame` ticks a frame.
  */
-export class SpectatorSession extends LockstepSession {
-  constructor(options: Omit<LockstepSessionOptions, 'localInput' | 'inputDelay'>) {
+export class SpectatorSession<I = ButtonInput> extends LockstepSession<I> {
+  constructor(options: Omit<LockstepSessionOptions<I>, 'localInput' | 'inputDelay'>) {
     super(options, 'spectator');
   }
 }
