@@ -461,7 +461,7 @@ function writeInputs(w: Writer, inputs: Uint32Array, lanes: number, words: numbe
   for (let i = 0; i < inputs.length; i++) {
     const v = inputs[i]! >>> 0;
     const d = i < lanes ? v : (v ^ inputs[i - lanes]!) >>> 0;
-    w.varint(i % lanes % words === 0 ? interleave(d) : d);
+    w.varint((i % lanes) % words === 0 ? interleave(d) : d);
   }
 }
 

@@ -33,6 +33,7 @@ export class InterpolationBuffer {
   private blend: Uint8Array;
   private tick = 2; // storedAt 0 means never: tick − 1 must never be 0
   private angles: Uint8Array;
+  private readonly hasAngles: boolean;
   private highest = -1;
 
   constructor(options: {
@@ -62,6 +63,7 @@ export class InterpolationBuffer {
       }
       this.angles[f] = 1;
     }
+    this.hasAngles = this.angles.includes(1);
     this.prev = new Float64Array(capacity * fields);
     this.curr = new Float64Array(capacity * fields);
     this.output = new Float64Array(capacity * fields);
@@ -162,10 +164,30 @@ export class InterpolationBuffer {
     const curr = this.curr;
     const out = this.output;
     const angles = this.angles;
+    const storedAt = this.storedAt;
+    const blend = this.blend;
+    const tick = this.tick;
+    if (!this.hasAngles && fields === 2) {
+      // The common case (x, y), written out: no inner loop, no angle test.
+      for (let i = 0; i <= this.highest; i++) {
+        if (storedAt[i] !== tick) continue;
+        const k = 2 * i;
+        if (blend[i] === 0) {
+          out[k] = curr[k]!;
+          out[k + 1] = curr[k + 1]!;
+        } else {
+          const px = prev[k]!;
+          const py = prev[k + 1]!;
+          out[k] = px + (curr[k]! - px) * t;
+          out[k + 1] = py + (curr[k + 1]! - py) * t;
+        }
+      }
+      return out;
+    }
     for (let i = 0; i <= this.highest; i++) {
-      if (this.storedAt[i] !== this.tick) continue;
+      if (storedAt[i] !== tick) continue;
       const k = i * fields;
-      if (this.blend[i] === 0) {
+      if (blend[i] === 0) {
         for (let f = 0; f < fields; f++) out[k + f] = curr[k + f]!;
         continue;
       }
