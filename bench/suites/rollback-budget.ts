@@ -182,12 +182,16 @@ export function operations(
   };
 }
 
-/** Median ms of `reps` rollbacks (load + DEPTH × (step + save)) of a settled world of `n` bodies. */
+/**
+ * The fastest and the median of `reps` rollbacks (load + DEPTH × (step + save)) of a settled
+ * world of `n` bodies, ms. The work is the same every time, so whatever else the machine does only
+ * adds to it: on a shared machine the fastest is the best estimate of the cost.
+ */
 export function rollbackMs(
   make: (scene: PhysicsScene) => RollbackWorld,
   n: number,
   reps: number,
-): number {
+): { min: number; median: number } {
   const world = settled(make, n, 30);
   const op = operations(world).rollback;
   op.run(2); // warm-up
@@ -198,24 +202,24 @@ export function rollbackMs(
     times.push(Number(process.hrtime.bigint() - t0) / 1e6);
   }
   world.dispose();
-  return median(times);
+  return { min: Math.min(...times), median: median(times) };
 }
 
 /**
- * The largest N (to within 5 %) whose rollback takes at most `budgetMs`, by bisection between
- * N = 25 and `maxN`; `probes` lists every N tried with its time.
+ * The largest N (to within 5 %) whose fastest rollback takes at most `budgetMs`, by bisection
+ * between N = 25 and `maxN`; `probes` lists every N tried with its fastest and median time.
  */
 export function largestWithin(
   make: (scene: PhysicsScene) => RollbackWorld,
   budgetMs: number,
   maxN: number,
   reps: number,
-): { n: number; probes: [number, number][] } {
-  const probes: [number, number][] = [];
+): { n: number; probes: [n: number, min: number, median: number][] } {
+  const probes: [number, number, number][] = [];
   const fits = (n: number) => {
     const ms = rollbackMs(make, n, reps);
-    probes.push([n, ms]);
-    return ms <= budgetMs;
+    probes.push([n, ms.min, ms.median]);
+    return ms.min <= budgetMs;
   };
   let lo = 25;
   if (!fits(lo)) return { n: 0, probes };
@@ -308,12 +312,12 @@ async function run(ctx: SuiteContext): Promise<void> {
     ...largestWithin(make, BUDGET_MS, 16_000, reps),
   }));
   ctx.table(
-    `The largest N whose ${DEPTH}-tick rollback takes ≤ ${BUDGET_MS} ms (bisection to 5 %, median of ${reps} rollbacks per probe)`,
+    `The largest N whose ${DEPTH}-tick rollback takes ≤ ${BUDGET_MS} ms (bisection to 5 %; the fastest of ${reps} rollbacks per probe decides, the median in brackets)`,
     ['world', 'largest N', 'probes (N: ms)'],
     found.map((f) => [
       f.name,
       String(f.n),
-      f.probes.map(([n, ms]) => `${n}: ${ms.toFixed(2)}`).join(', '),
+      f.probes.map(([n, min, med]) => `${n}: ${min.toFixed(2)} (${med.toFixed(2)})`).join(', '),
     ]),
   );
 }
