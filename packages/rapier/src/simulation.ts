@@ -111,8 +111,8 @@ function nonFinitePath(value: unknown, depth: number): string | undefined {
  *
  * - `step(inputs)`: checks the inputs, `applyInputs`, one `world.step()` of `1 / tickRate` s,
  *   `afterStep`.
- * - `save()`: a header (scene id, version and fingerprint, tick, user state) and Rapier's
- *   snapshot (`world.takeSnapshot()`). Equal histories give equal bytes: Rapier's deterministic
+ * - `save()`: a header (scene id, version and fingerprint, tick, user state, checksum) and
+ *   Rapier's snapshot (`world.takeSnapshot()`). Equal histories give equal bytes: Rapier's deterministic
  *   build serialises its state in a defined order, and a restored world steps and saves exactly
  *   like the original (the package's tests and `SyncTestSession` check it every tick).
  * - `load(bytes)`: `World.restoreSnapshot()` into a new world; the old one is freed.
@@ -135,8 +135,9 @@ export class RapierSimulation<I = number, S = undefined> implements Simulation<I
   /** Players (inputs per step). */
   readonly players: number;
   /**
-   * FNV-1a 64 of the scene's id, version, tick rate and canonical state right after `build`:
-   * two simulations with the same fingerprint start from the same world. Written into `save()`.
+   * FNV-1a 64 of the scene's id, version, dt, gravity, solver iterations and canonical state right
+   * after `build`: two simulations with the same fingerprint start from the same world under the
+   * same settings. Written into `save()`; `load()` refuses another.
    */
   readonly fingerprint: bigint;
 
@@ -197,7 +198,12 @@ export class RapierSimulation<I = number, S = undefined> implements Simulation<I
       if (iterations !== undefined) world.numSolverIterations = iterations;
       this.scene = def.build(world, this.rapier);
       const f = new Fnv1a64();
-      f.update(new ByteWriter(64).str(def.id).u32(version).f64(this.dt).peek());
+      const head = new ByteWriter(64).str(def.id).u32(version).f64(this.dt);
+      head
+        .f64(gravity.x)
+        .f64(gravity.y)
+        .u32(iterations ?? 0);
+      f.update(head.peek());
       f.update(this.canonicalState());
       this.fingerprint = f.digest();
     } catch (e) {

@@ -268,6 +268,10 @@ describe('misuse is refused with a clear error', () => {
     expect(() => {
       fast.load(save);
     }).toThrow(/scene fingerprint [0-9a-f]+ is not this one's [0-9a-f]+/);
+    const lunar = new RapierSimulation({ ...towerScene(), gravity: { x: 0, y: -1.62 } });
+    expect(() => {
+      lunar.load(save);
+    }).toThrow(/was built differently/);
     const taller = new RapierSimulation(towerScene({ launchSpeed: 14, rows: 8, box: 0.6 }));
     expect(() => {
       taller.load(save);
@@ -302,7 +306,7 @@ describe('misuse is refused with a clear error', () => {
     }).toThrow(/Rapier could not read the snapshot/);
     // Every refusal left the simulation as it was.
     expect(tower.save()).toEqual(save);
-    for (const s of [tower, joints, v2, fast, taller]) s.dispose();
+    for (const s of [tower, joints, v2, fast, lunar, taller]) s.dispose();
   });
 
   it('a world whose dt was changed, a disposed simulation, and scene options out of range', () => {
