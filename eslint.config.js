@@ -77,6 +77,7 @@ export default tseslint.config(
     files: [
       'packages/fixedstep/src/{det,sim,physics,replay}/**/*.ts',
       'packages/games/src/**/*.ts',
+      'packages/rapier/src/**/*.ts',
     ],
     rules: {
       'no-restricted-properties': ['error', ...nonDeterministic],

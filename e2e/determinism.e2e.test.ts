@@ -103,7 +103,7 @@ const sessions: EngineSession[] = [];
 
 beforeAll(async () => {
   const t0 = performance.now();
-  scenes = determinismScenes();
+  scenes = await determinismScenes();
   const dist = await buildPage();
   server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
   const url = `http://127.0.0.1:${String(server.port)}/`;
@@ -266,12 +266,21 @@ function assertSame(id: EngineId): void {
 describe('determinism across engines and display rates', () => {
   it('the catalogue covers every kind of scene, and every game at every display rate', () => {
     const ids = scenes.map((s) => s.id);
-    for (const prefix of ['math/', 'random/', 'ball/', 'physics/', 'springs/', 'lab/']) {
+    for (const prefix of ['math/', 'random/', 'ball/', 'physics/', 'springs/', 'lab/', 'rapier/']) {
       expect(ids.find((id) => id.startsWith(prefix))).toBeDefined();
     }
     expect(ids.filter((id) => /^springs\/rope-[a-z0-9-]+$/.test(id))).toHaveLength(6);
     expect(ids.filter((id) => /^springs\/cloth-[a-z0-9-]+$/.test(id))).toHaveLength(6);
     for (const hz of TRACE_DISPLAY_RATES) expect(ids).toContain(`ball/loop-rig@${rateLabel(hz)}`);
+    // Rapier: the tower (with its snapshot round trip and every display), the joints, a pile.
+    for (const id of [
+      'rapier/tower',
+      'rapier/tower/reloaded',
+      'rapier/joints',
+      'rapier/circles-150',
+    ])
+      expect(ids).toContain(id);
+    for (const hz of TRACE_DISPLAY_RATES) expect(ids).toContain(`rapier/tower@${rateLabel(hz)}`);
     // Every registered game (none yet is fine): bot match, replay, reload, and every display.
     for (const game of GAMES) {
       const id = game.info.id;

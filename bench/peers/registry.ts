@@ -3,10 +3,18 @@ import type { PhysicsScene } from 'fixedstep';
 import { buildFixedstep } from './fixedstep.js';
 import { buildMatter } from './matter.js';
 import { buildPlanck } from './planck.js';
-import { buildRapier, initRapier } from './rapier.js';
+import { buildRapier, buildRapierDeterministic, initRapier } from './rapier.js';
 import type { PeerWorld } from './types.js';
 
-export const ENGINES = ['fixedstep', 'matter', 'planck', 'rapier', 'rapier-4'] as const;
+export const ENGINES = [
+  'fixedstep',
+  'matter',
+  'planck',
+  'rapier',
+  'rapier-rotating',
+  'rapier-deterministic',
+  'rapier-4',
+] as const;
 export type Engine = (typeof ENGINES)[number];
 
 export function isEngine(name: string): name is Engine {
@@ -25,8 +33,13 @@ export async function buildEngine(engine: Engine, scene: PhysicsScene): Promise<
     case 'rapier':
       await initRapier();
       return buildRapier(scene);
+    case 'rapier-rotating':
+      await initRapier();
+      return buildRapier(scene, { rotation: true });
+    case 'rapier-deterministic':
+      return buildRapierDeterministic(scene);
     case 'rapier-4':
       await initRapier();
-      return buildRapier(scene, 4);
+      return buildRapier(scene, { solverIterations: 4 });
   }
 }

@@ -4,7 +4,9 @@
  * fixedstep's seeded Random, the same walls, gravity, dt, friction and restitution, the same
  * solver iterations where the engine has such a setting). Sleeping is off everywhere, since a
  * sleeping pile costs nothing; rotation is locked in the peers, since fixedstep's bodies do not
- * rotate. See bench/peers/*.ts for each engine's settings.
+ * rotate — except in two Rapier rows that show what rotation costs: the same build with rotation
+ * unlocked, and Rapier's deterministic build under `@fixedstep/rapier` (rotating, as a game under
+ * fixedstep runs it). See bench/peers/*.ts for each engine's settings.
  *
  * Every engine runs in a node process of its own (bench/peers/peer-program.ts): a fresh V8 isolate
  * each, so no engine pays for another's garbage, JIT state or process-wide V8 state. The worlds
@@ -58,8 +60,10 @@ async function runSize(
   describe: boolean,
 ): Promise<void> {
   const scene = circlesInBoxScene(n, SEED);
-  // A quick run leaves out the second Rapier configuration and settles 60 steps less.
-  const engines = ctx.quick ? ENGINES.filter((e) => e !== 'rapier-4') : ENGINES;
+  // A quick run leaves out the 4-iteration and deterministic Rapier rows and settles 60 steps less.
+  const engines = ctx.quick
+    ? ENGINES.filter((e) => e !== 'rapier-4' && e !== 'rapier-deterministic')
+    : ENGINES;
   const peers = await Promise.all(engines.map((e) => PeerProcess.start(e, n, SEED, tsx)));
   try {
     if (describe) {
@@ -144,7 +148,8 @@ async function runSize(
 
 export default defineSuite({
   name: 'physics-circles',
-  description: 'N circles falling into a box: fixedstep vs matter-js, planck.js, Rapier (WASM)',
+  description:
+    'N circles falling into a box: fixedstep vs matter-js, planck.js, Rapier (WASM; rotation locked and unlocked)',
   async run(ctx) {
     const tsx = import.meta.resolve('tsx');
     const cpu = lastAllowedCpu();

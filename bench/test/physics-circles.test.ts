@@ -7,7 +7,7 @@ import { circlesInBoxScene, type PhysicsScene } from 'fixedstep';
 import { buildFixedstep } from '../peers/fixedstep.js';
 import { buildMatter } from '../peers/matter.js';
 import { buildPlanck } from '../peers/planck.js';
-import { buildRapier, initRapier } from '../peers/rapier.js';
+import { buildRapier, buildRapierDeterministic, initRapier } from '../peers/rapier.js';
 import { packageVersion, sceneCircles, type PeerBuilder, type PeerWorld } from '../peers/types.js';
 import { expectedPileHeight, sanity, settleSteps } from '../peers/checks.js';
 
@@ -18,7 +18,8 @@ const peers: { name: string; build: PeerBuilder; tolerance: number }[] = [
   { name: 'fixedstep', build: buildFixedstep, tolerance: 0 },
   { name: 'matter-js', build: buildMatter, tolerance: 1e-12 },
   { name: 'planck', build: buildPlanck, tolerance: 0 },
-  { name: 'rapier', build: buildRapier, tolerance: 1e-6 },
+  { name: 'rapier', build: (s) => buildRapier(s), tolerance: 1e-6 },
+  { name: 'rapier rotating', build: (s) => buildRapier(s, { rotation: true }), tolerance: 1e-6 },
 ];
 
 beforeAll(async () => {
@@ -132,7 +133,15 @@ describe('the scene helpers', () => {
 
 describe('the engine registry', () => {
   it('knows every engine by name and builds each', async () => {
-    expect(ENGINES).toEqual(['fixedstep', 'matter', 'planck', 'rapier', 'rapier-4']);
+    expect(ENGINES).toEqual([
+      'fixedstep',
+      'matter',
+      'planck',
+      'rapier',
+      'rapier-rotating',
+      'rapier-deterministic',
+      'rapier-4',
+    ]);
     expect(isEngine('planck')).toBe(true);
     expect(isEngine('box2d')).toBe(false);
     for (const engine of ENGINES) {
@@ -140,6 +149,26 @@ describe('the engine registry', () => {
       expect(world.count).toBe(60);
       world.dispose();
     }
+  });
+});
+
+describe('Rapier with rotation unlocked', () => {
+  it('is another simulation than the locked one: the same pile ends elsewhere', async () => {
+    const end = async (world: PeerWorld | Promise<PeerWorld>) => {
+      const w = await world;
+      for (let k = 0; k < 150; k++) w.step();
+      const { x } = read(w);
+      w.dispose();
+      return x;
+    };
+    const locked = await end(buildRapier(scene));
+    const rotating = await end(buildRapier(scene, { rotation: true }));
+    const deterministic = await end(buildRapierDeterministic(scene));
+    const moved = (a: Float64Array, b: Float64Array) =>
+      a.filter((v, i) => Math.abs(v - b[i]!) > 1e-3).length;
+    expect(moved(locked, rotating)).toBeGreaterThan(10);
+    // The deterministic build rotates too, and is a build of its own (not bit-identical to 0.21).
+    expect(moved(locked, deterministic)).toBeGreaterThan(10);
   });
 });
 

@@ -1,6 +1,6 @@
 /**
  * What the determinism suite traces: the library's trace catalogue (every scene and game of
- * `@fixedstep/games`), plus probes of the engines themselves. The browser page and Node import
+ * `@fixedstep/games`), the Rapier scenes (`./rapier.ts`), plus probes of the engines themselves. The browser page and Node import
  * this same module, so every engine runs the very same code.
  */
 import type { Random } from 'fixedstep';
@@ -12,6 +12,7 @@ import {
   type FunctionProbe,
   type TraceScene,
 } from '@fixedstep/games';
+import { rapierScenes } from './rapier.js';
 
 /** Samples per engine-Math probe: one per tick, so a differing tick is a differing input. */
 const MATH_PROBE_TICKS = 1024;
@@ -122,7 +123,15 @@ function integerPowerScene(): TraceScene {
   });
 }
 
-/** Every scene the suite traces, in a fixed order. */
-export function determinismScenes(): TraceScene[] {
-  return [...traceCatalogue(), integerPowerScene(), ...engineMathScenes()];
+/**
+ * Every scene the suite traces, in a fixed order: the catalogue of `@fixedstep/games`, the Rapier
+ * scenes of `@fixedstep/rapier` (async: Rapier's WebAssembly is loaded first), the engine probes.
+ */
+export async function determinismScenes(): Promise<TraceScene[]> {
+  return [
+    ...traceCatalogue(),
+    ...(await rapierScenes()),
+    integerPowerScene(),
+    ...engineMathScenes(),
+  ];
 }

@@ -11,7 +11,7 @@ declare global {
   }
 }
 
-const scenes = determinismScenes();
+const scenes = await determinismScenes();
 const status = document.getElementById('status');
 
 window.fixedstepDeterminism = {
