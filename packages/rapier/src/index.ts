@@ -22,5 +22,5 @@ export {
 export type { TowerOptions, Tower, Joints, PhysicsSceneOptions } from './scenes.js';
 /** Rapier's world, as `build`, `applyInputs` and `RapierSimulation.world` hand it over. */
 export type { World } from '@dimforge/rapier2d-deterministic-compat';
-export { rapierMatchGame } from './net.js';
-export type { RapierMatchGameOptions } from './net.js';
+export { rapierGame } from './net.js';
+export type { RapierGameOptions } from './net.js';

@@ -19,7 +19,7 @@ import {
   RapierSimulation,
   TowerButtons,
   loadRapier,
-  rapierMatchGame,
+  rapierGame,
   towerScene,
 } from '@fixedstep/rapier';
 
@@ -106,6 +106,7 @@ describe('replays', () => {
         tickRate: 60,
         players: ['ann'],
         tickHashes: true,
+        checkpointEvery: 60,
         keyframeEvery: 120,
       });
       rec.start(sim);
@@ -135,7 +136,7 @@ describe('replays', () => {
 const scripted = (tick: number, slot: number): number =>
   tick % 150 === 40 + 75 * slot ? packButtons(FIRE, FIRE) : 0;
 
-const tower = rapierMatchGame({
+const tower = rapierGame({
   id: 'rapier-tower',
   minPlayers: 1,
   maxPlayers: 4,
@@ -144,7 +145,7 @@ const tower = rapierMatchGame({
 
 /** The FNV-1a 64 of `save()` after `ticks` ticks of the script, stepped offline. */
 function offline(players: number, ticks: number): string {
-  const sim = tower.create({ seed: 1, players });
+  const sim = tower.create({ seed: 1, players, options: new Uint8Array(0) });
   const row = new Array<number>(players);
   for (let t = 0; t < ticks; t++) {
     for (let p = 0; p < players; p++) row[p] = scripted(t, p);
