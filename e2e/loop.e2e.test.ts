@@ -208,7 +208,12 @@ describe('chapter 1, the loop', () => {
       expect(await pressed('control-slow')).toBe(i === 3 ? 'true' : 'false');
       expect(await page.locator('#jitter').inputValue()).toBe('0');
       const hz = i === 0 || i === 4 ? 144 : 60;
-      expect(await page.locator(`#hz-${String(hz)}`).isChecked()).toBe(true);
+      expect(
+        await page
+          .getByTestId(`control-hz-${String(hz)}`)
+          .locator('input')
+          .isChecked(),
+      ).toBe(true);
       await claims[i]!();
     };
     for (const i of [0, 1, 2, 3, 4, 3, 2, 1, 0]) await check(i);

@@ -5,7 +5,7 @@ import {
   MAX_RECORDING_MS,
   RATES,
   defaultDebugSettings,
-} from '../src/chapters/debugging-lab.js';
+} from '../src/chapters/debugging/debugging-lab.js';
 
 describe('DebugLab', () => {
   it('replays the demo: fixed-step hashes agree at the common tick, variable ones do not', () => {

@@ -4,7 +4,7 @@ import {
   FinalLab,
   SPIRAL_LOOPS,
   defaultFinalSettings,
-} from '../src/chapters/final-fixes-lab.js';
+} from '../src/chapters/final-fixes/final-fixes-lab.js';
 
 function byId<T extends { spec: { id: string } }>(runs: T[], id: string): T {
   const r = runs.find((x) => x.spec.id === id);

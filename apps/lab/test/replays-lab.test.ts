@@ -6,8 +6,9 @@ import {
   replayOptionsFor,
   runnerGame,
 } from '@fixedstep/games';
-import { GameSession, gameDef, hashHex } from '../src/chapters/games-lab.js';
-import { ReplayLab, describeReplayError } from '../src/chapters/replays-lab.js';
+import { GameSession } from '../src/chapters/games/games-lab.js';
+import { gameDef, hashHex } from '../src/games-view/games.js';
+import { ReplayLab, describeReplayError } from '../src/chapters/replays/replays-lab.js';
 
 function botReplay(id: string, ms: number, seed = 5): { bytes: Uint8Array; session: GameSession } {
   const session = new GameSession({

@@ -29,11 +29,18 @@ import {
   type SliderSpec,
 } from './collisions-lab.js';
 import { CHART_COLORS, WallChart } from './collisions-chart.js';
-import { h, setAttr, setText } from '../ui/dom.js';
-import { ideaCards, type IdeaCard } from '../ui/cards.js';
-import { LabDriver } from '../ui/driver.js';
-import { TimeControls, button, setPressed, slider, toggle, type Slider } from '../ui/controls.js';
-import * as fmt from '../ui/format.js';
+import { h, setAttr, setText } from '../../ui/dom.js';
+import { ideaCards, type IdeaCard } from '../../ui/cards.js';
+import { LabDriver } from '../../shell/driver.js';
+import {
+  TimeControls,
+  button,
+  setPressed,
+  slider,
+  toggle,
+  type Slider,
+} from '../../ui/controls.js';
+import * as fmt from '../../ui/format.js';
 import './collisions.css';
 
 const COLORS: Readonly<Record<string, string>> = {

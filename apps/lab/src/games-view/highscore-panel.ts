@@ -2,24 +2,34 @@
  * The highscore panel of chapters 9 and 5: the table of a game (from `GET api/highscores`) and a
  * form that submits a replay with the score it claims (`POST api/highscores?score=N`). The server
  * re-simulates the replay; a claim the replay does not reach is refused, and the panel says why.
+ * What that proves is that these inputs reach this score with this seed on this version of the
+ * game — not that a person pressed them (a bot's replay verifies just as well).
  */
 import type { GameDefinition } from '@fixedstep/games';
 import { button } from '../ui/controls.js';
 import { h, setAttr, setText } from '../ui/dom.js';
 import * as fmt from '../ui/format.js';
+import { isRanked, scoreKeyOf } from './games.js';
+import { withPlayerName } from './replays.js';
 import {
   fetchHighscores,
-  isRanked,
-  scoreKeyOf,
   submitScore,
   type HighscoreRow,
   type SubmitResult,
-} from './games-lab.js';
+} from './highscores.js';
 
 export interface Submission {
   bytes: Uint8Array;
   /** The score the replay ends on (what an honest claim is). */
   score: number;
+}
+
+export interface HighscorePanelOptions {
+  /**
+   * The name to submit under, read when Submit is pressed (a name typed after the game counts):
+   * the replay is recorded again with it as its player. Default: the name in the replay.
+   */
+  name?: () => string;
 }
 
 export class HighscorePanel {
@@ -38,7 +48,7 @@ export class HighscorePanel {
   private loading = 0;
   private ranked = new Map<string, boolean>();
 
-  constructor() {
+  constructor(private readonly options: HighscorePanelOptions = {}) {
     this.title = h('h3', { id: 'highscores-title' }, 'Highscores');
     this.table = h('tbody', {});
     this.tableNote = h('p', { class: 'hs-note', 'data-testid': 'highscores-note' });
@@ -140,11 +150,14 @@ export class HighscorePanel {
         `${def.info.title} has no score for the server to rank (its HUD has no “${scoreKeyOf(def)}”), so it has no table yet.`,
       );
     } else if (!this.submission) {
-      setText(this.formNote, 'Finish a game under the fixed step to submit its replay.');
+      setText(
+        this.formNote,
+        'Finish a run under the fixed step (a crash, a game over, or End game) to submit its replay.',
+      );
     } else {
       setText(
         this.formNote,
-        'The server replays your inputs and accepts the score only if the replay reaches it. Change the number to try cheating.',
+        'The server re-simulates the replay and accepts the score only if these inputs reach it with this seed on this version of the game — it cannot tell who pressed them. Change the number to try cheating.',
       );
     }
   }
@@ -192,7 +205,9 @@ export class HighscorePanel {
     this.result.hidden = false;
     this.result.className = 'hs-result';
     setText(this.result, 'Sending the replay; the server is re-simulating it…');
-    const res = await submitScore(sub.bytes, Number.isFinite(claimed) ? Math.round(claimed) : 0);
+    const name = this.options.name?.();
+    const bytes = name === undefined ? sub.bytes : withPlayerName(sub.bytes, name);
+    const res = await submitScore(bytes, Number.isFinite(claimed) ? Math.round(claimed) : 0);
     this.showResult(res);
     this.submitBtn.disabled = false;
     if (res.kind === 'accepted') await this.load();
@@ -206,8 +221,8 @@ export class HighscorePanel {
       setText(
         this.result,
         res.rank > 0
-          ? `Accepted: ${fmt.count(res.entry.score)} points verified by re-simulation — rank ${res.rank}.`
-          : `Accepted and verified (${fmt.count(res.entry.score)} points), but not in the top of the table.`,
+          ? `Accepted: ${fmt.plural(res.entry.score, 'point')} for ${res.entry.name}, verified by re-simulation — rank ${res.rank}.`
+          : `Accepted and verified (${fmt.plural(res.entry.score, 'point')} for ${res.entry.name}), but not in the top of the table.`,
       );
     } else if (res.kind === 'refused') {
       setAttr(this.result, 'data-code', res.code);

@@ -18,7 +18,7 @@ import {
   type Simulation,
 } from 'fixedstep';
 import type { Game, GameDefinition } from '@fixedstep/games';
-import { gameDef } from './games-lab.js';
+import { gameDef } from '../../games-view/games.js';
 
 export type NetMode = 'lockstep' | 'rollback';
 export const NET_MODES: readonly NetMode[] = ['lockstep', 'rollback'];

@@ -18,12 +18,12 @@ import {
   type Track,
 } from './movement-lab.js';
 import type { MovementLoop } from '@fixedstep/games';
-import { SceneCanvas, View, clearScene } from '../ui/canvas.js';
-import { Chart } from '../ui/chart.js';
-import { TimeControls, button, group, slider, toggle, setPressed } from '../ui/controls.js';
-import { code, h, setText } from '../ui/dom.js';
-import { LabDriver } from '../ui/driver.js';
-import { Readout, rateColor } from '../ui/readout.js';
+import { SceneCanvas, View, clearScene } from '../../ui/canvas.js';
+import { Chart } from '../../ui/chart.js';
+import { TimeControls, button, group, slider, toggle, setPressed } from '../../ui/controls.js';
+import { code, h, setText } from '../../ui/dom.js';
+import { LabDriver } from '../../shell/driver.js';
+import { Readout, rateColor } from '../../ui/readout.js';
 
 const SKIP_MS = 5000;
 /** The world the canvases show, metres: the run-up, the jump, the landing strip under the floor. */

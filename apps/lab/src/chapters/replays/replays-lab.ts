@@ -18,14 +18,9 @@ import {
   type VerifyResult,
 } from 'fixedstep';
 import { findGame, gameFromReplayHeader, type Game, type GameDefinition } from '@fixedstep/games';
-import {
-  bytesPerMinute,
-  hashHex,
-  scoreKeyOf,
-  type DisplayRate,
-  type DisplaySpec,
-} from './games-lab.js';
-import { DisplayClock } from '../ui/display-clock.js';
+import { hashHex, scoreKeyOf, type DisplayRate, type DisplaySpec } from '../../games-view/games.js';
+import { replayContents, type ReplayContents } from '../../games-view/replays.js';
+import { DisplayClock } from '../../shell/display-clock.js';
 
 /** Where playback frames come from. */
 export type Source = DisplayRate | 'real';
@@ -49,12 +44,8 @@ export interface ReplayFacts {
   checkpointEvery: number;
   keyframeEvery: number;
   keyframes: number;
-  /** Bytes of the INPUTS section: the inputs of every tick, run-length coded. */
-  inputBytes: number;
-  /** Bytes of checkpoint (and per-tick) hashes. */
-  hashBytes: number;
-  /** Bytes of keyframe snapshots. */
-  keyframeBytes: number;
+  /** What the file holds, section by section (inputs, hashes, keyframes, header), bytes. */
+  contents: ReplayContents;
 }
 
 /** What verification found, with the score the replay ends on (what a server would rank). */
@@ -70,7 +61,7 @@ export interface Verification {
 
 /** A checkpoint tick and the hash each display (and the file) had there. */
 export interface Comparison {
-  /** The latest checkpoint tick every display that played has passed, or -1. */
+  /** The latest checkpoint tick two displays (or the only one) passed while playing, or -1. */
   tick: number;
   /** The hash stored in the file for that tick. */
   stored: string | undefined;
@@ -166,9 +157,8 @@ export class ReplayLab {
   facts(): ReplayFacts {
     const r = this.replay;
     const h = r.header;
-    const tickRate = h.stepDenominator / h.stepNumerator;
-    const section = (...names: string[]) =>
-      r.sections.filter((x) => names.includes(x.name)).reduce((n, x) => n + x.length, 0);
+    const contents = replayContents(r);
+    const tickRate = contents.tickRate;
     return {
       gameId: h.gameId,
       title: this.def?.info.title ?? h.gameId,
@@ -179,13 +169,11 @@ export class ReplayLab {
       tickRate,
       seconds: r.tickCount / tickRate,
       bytes: r.byteLength,
-      bytesPerMinute: bytesPerMinute(r.byteLength, r.tickCount, tickRate),
+      bytesPerMinute: contents.bytesPerMinute,
       checkpointEvery: r.checkpointEvery,
       keyframeEvery: r.keyframeEvery,
       keyframes: r.keyframes.length,
-      inputBytes: section('INPUTS'),
-      hashBytes: section('CHECKPOINTS', 'TICK_HASHES'),
-      keyframeBytes: section('KEYFRAMES'),
+      contents,
     };
   }
 
@@ -291,26 +279,26 @@ export class ReplayLab {
   }
 
   /**
-   * The latest checkpoint tick passed while playing on every display used so far, and the
-   * hash each had there (next to the one stored in the file).
+   * The latest checkpoint tick passed while playing on two or more displays (on the only one, if
+   * only one has played), and the hash each of those displays had there, next to the one stored
+   * in the file. A display that stopped early (the replay opened playing at 60 Hz, then paused)
+   * does not hold the comparison back.
    */
   compare(): Comparison {
     const sources = [...this.passes.keys()];
-    let tick = -1;
-    const first = sources[0] === undefined ? undefined : this.passes.get(sources[0]);
-    if (first) {
-      for (const t of first.keys()) {
-        if (t > tick && sources.every((s) => this.passes.get(s)!.has(t))) tick = t;
-      }
+    const need = Math.min(2, sources.length);
+    const counts = new Map<number, number>();
+    for (const s of sources) {
+      for (const t of this.passes.get(s)!.keys()) counts.set(t, (counts.get(t) ?? 0) + 1);
     }
+    let tick = -1;
+    for (const [t, n] of counts) if (n >= need && t > tick) tick = t;
     const stored = tick >= 0 ? this.storedHash(tick) : undefined;
-    const rows =
-      tick < 0
-        ? []
-        : sources.map((source) => ({
-            source,
-            hash: this.passes.get(source)!.get(tick)!,
-          }));
+    const rows: Comparison['rows'] = [];
+    for (const source of sources) {
+      const hash = this.passes.get(source)!.get(tick);
+      if (hash !== undefined) rows.push({ source, hash });
+    }
     return {
       tick,
       stored,

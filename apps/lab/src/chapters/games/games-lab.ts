@@ -3,107 +3,38 @@
  * page's real clock), fed by the keyboard through a {@link ButtonSampler} or by the game's bot,
  * stepped by a {@link FixedLoop} — or, with the "variable Δt" switch, by the talk's naive
  * {@link VariableLoop} calling `update(dt)`, so the breakage shows. Every fixed-step game is
- * recorded with a {@link ReplayRecorder}. Also the highscore client. No DOM here: the unit tests
- * drive it exactly as the page does.
+ * recorded with a {@link ReplayRecorder}, and the best run of the session is kept for the
+ * highscore table. No DOM here: the unit tests drive it exactly as the page does.
  */
 import {
   ButtonSampler,
   FixedLoop,
   ReplayRecorder,
   VariableLoop,
-  hex64,
   type ButtonInput,
   type Loop,
-  type Simulation,
 } from 'fixedstep';
 import {
   CtfGame,
-  GAMES,
   RUNNER_TUNING,
   RunnerGame,
   SurvivalGame,
-  replayOptionsFor,
   type Game,
   type GameDefinition,
-  type GameInfo,
 } from '@fixedstep/games';
-import { DisplayClock, type DisplaySpec as ClockDisplaySpec } from '../ui/display-clock.js';
-
-/** The games, in the order the chapter lists them. */
-export const GAME_IDS = ['runner', 'ctf', 'survival'] as const;
-export type GameId = (typeof GAME_IDS)[number];
-
-/** The simulated display rates on offer. */
-export const DISPLAY_RATES = [30, 60, 144, 240] as const;
-export type DisplayRate = (typeof DISPLAY_RATES)[number];
+import { DisplayClock } from '../../shell/display-clock.js';
+import {
+  GAME_IDS,
+  cleanName,
+  scoreOf,
+  type Breach,
+  type DisplaySpec,
+  type GameId,
+} from '../../games-view/games.js';
+import { labRecording } from '../../games-view/replays.js';
 
 /** Which loop runs the game: the production fixed step, or the talk's naive variable Δt. */
 export type LoopMode = 'fixed' | 'variable';
-
-/** A simulated display of one of the chapter's rates (see DisplayClock). */
-export interface DisplaySpec extends ClockDisplaySpec {
-  hz: DisplayRate;
-}
-
-/** Checkpoint hashes every second of play, keyframes (seek points) every five. */
-export const CHECKPOINT_SECONDS = 1;
-export const KEYFRAME_SECONDS = 5;
-
-/** How long a "went through a wall" marker stays on screen, ms of session time. */
-export const BREACH_MS = 1500;
-
-/** The registry entry of a game id. */
-export function gameDef(id: string): GameDefinition {
-  const def = GAMES.find((g) => g.info.id === id);
-  if (!def) throw new RangeError(`no game "${id}"`);
-  return def;
-}
-
-/** The `KeyboardEvent.code` → button map of a game, from its `info.buttons`. */
-export function keyMap(info: GameInfo): Record<string, number> {
-  const out: Record<string, number> = {};
-  for (const b of info.buttons) for (const k of b.keys) out[k] = b.button;
-  return out;
-}
-
-const KEY_NAMES: Readonly<Record<string, string>> = {
-  Space: 'Space',
-  ArrowUp: '↑',
-  ArrowDown: '↓',
-  ArrowLeft: '←',
-  ArrowRight: '→',
-  ShiftLeft: 'Shift',
-  ShiftRight: 'Shift',
-  Enter: 'Enter',
-};
-
-/** A key code as printed on the key: `KeyW` → `W`, `ArrowUp` → `↑`. */
-export function keyLabel(code: string): string {
-  if (KEY_NAMES[code]) return KEY_NAMES[code];
-  const m = /^(?:Key|Digit)(.)$/.exec(code);
-  return m ? m[1]! : code;
-}
-
-/** The game's own name for its score (`info.scoreKey`, default `score`). */
-export function scoreKeyOf(def: GameDefinition): string {
-  return def.info.scoreKey ?? 'score';
-}
-
-/** The game's score as the server will rank it, or undefined if its HUD has none. */
-export function scoreOf(def: GameDefinition, game: Game): number | undefined {
-  return game.hud()[scoreKeyOf(def)];
-}
-
-/** Whether the server can rank this game (its HUD has the score key). */
-export function isRanked(def: GameDefinition): boolean {
-  return scoreOf(def, def.create({ seed: 1, players: 1 })) !== undefined;
-}
-
-/** A simulation's hash as 16 hex digits. */
-export function hashHex(sim: Pick<Simulation, 'hash'>): string {
-  const h = sim.hash();
-  return hex64(BigInt.asUintN(64, typeof h === 'bigint' ? h : BigInt(h)));
-}
 
 /**
  * The apex of a runner jump taken on flat ground, m, when every update of the jump lasts `dt`
@@ -122,13 +53,17 @@ export function runnerApex(dt: number): number {
   }
 }
 
-/** A place where something went through a wall, and when (session ms). */
-export interface Breach {
-  x: number;
-  y: number;
-  atMs: number;
-  /** What went through. */
-  what: 'bullet' | 'player' | 'enemy';
+/**
+ * A recording the highscore server can rank: the replay up to the end of one run (a runner's crash,
+ * a game over, or the moment the player ended the game) and the score its last tick has.
+ */
+export interface RankedRun {
+  /** The score the replay ends on: what the server re-simulates and ranks. */
+  score: number;
+  /** Ticks recorded up to the end of the run. */
+  ticks: number;
+  /** The replay file. */
+  bytes: Uint8Array;
 }
 
 /** A runner jump, measured: its apex (m) and time in the air (s of simulated time). */
@@ -184,7 +119,10 @@ export class GameSession {
   private airApex = 0;
   private airStart = 0;
   private wasOnGround = true;
+  private wasOver = false;
   private simSeconds = 0;
+  /** The best run that has ended so far (the runner crashes and runs again: each crash ends one). */
+  private best: RankedRun | undefined;
 
   constructor(options: GameSessionOptions) {
     this.def = options.def;
@@ -197,13 +135,7 @@ export class GameSession {
     this.loop =
       this.mode === 'fixed' ? new FixedLoop({ step: this.def.info.tickRate }) : new VariableLoop();
     if (this.mode === 'fixed') {
-      const rate = this.def.info.tickRate;
-      this.recorder = new ReplayRecorder(
-        replayOptionsFor(this.def, config, [this.player], {
-          checkpointEvery: CHECKPOINT_SECONDS * rate,
-          keyframeEvery: KEYFRAME_SECONDS * rate,
-        }),
-      );
+      this.recorder = new ReplayRecorder(labRecording(this.def, config, this.player));
       this.recorder.start(this.game);
     }
     this.loop.frame(0);
@@ -315,6 +247,24 @@ export class GameSession {
     return this.recorder?.finish();
   }
 
+  /**
+   * The best run of this session, for the highscore table: the highest score among the runs that
+   * ended (each runner crash ends one) and, once the game has ended or is over, the run it ended
+   * in — each as the replay up to that run's last tick, so the server's re-simulation ends on
+   * exactly that score. Ties keep the earlier run. Undefined under a variable Δt (not recorded),
+   * for a game without a score, and while the first run is still going.
+   */
+  bestRun(): RankedRun | undefined {
+    const score = this.score;
+    const rec = this.recorder;
+    if (!rec || score === undefined) return undefined;
+    const now = this.ended || this.game.over;
+    if (now && (this.best === undefined || score > this.best.score)) {
+      return { score, ticks: rec.tickCount, bytes: rec.finish() };
+    }
+    return this.best;
+  }
+
   /** The score the server would rank, now. */
   get score(): number | undefined {
     return scoreOf(this.def, this.game);
@@ -347,8 +297,20 @@ export class GameSession {
     }
   }
 
+  /** A run just ended (a runner crash, a game over): keep its replay if it is the best yet. */
+  private runEnded(): void {
+    const score = this.score;
+    const rec = this.recorder;
+    if (!rec || score === undefined) return;
+    if (this.best === undefined || score > this.best.score) {
+      this.best = { score, ticks: rec.tickCount, bytes: rec.finish() };
+    }
+  }
+
   private afterUpdate(t: number): void {
     const game = this.game;
+    if (game.over && !this.wasOver) this.runEnded();
+    this.wasOver = game.over;
     if (game instanceof RunnerGame) {
       const ground = game.onGround;
       if (this.wasOnGround && !ground && !game.over) {
@@ -400,22 +362,6 @@ export class GameSession {
   }
 }
 
-/** A name as the replay header stores it: printable, trimmed, at most 32 characters. */
-export function cleanName(name: string): string {
-  const printable = Array.from(name)
-    .filter((ch) => ch >= ' ' && ch !== '\u007f')
-    .join('')
-    .trim();
-  return Array.from(printable).slice(0, 32).join('') || 'player';
-}
-
-/** A fresh random seed (u32). Seeds only pick the course: the game stays deterministic. */
-export function randomSeed(): number {
-  const a = new Uint32Array(1);
-  crypto.getRandomValues(a);
-  return a[0]!;
-}
-
 /** Options in the route: `#/games?game=ctf&seed=7&bot=1`. */
 export function routeOptions(hash: string): {
   game?: GameId;
@@ -435,121 +381,4 @@ export function routeOptions(hash: string): {
   const m = p.get('loop');
   if (m === 'fixed' || m === 'variable') out.mode = m;
   return out;
-}
-
-// ------------------------------------------------------------------ replays: size and names
-
-/** Bytes per minute of play of a replay of `bytes` bytes and `ticks` ticks at `tickRate` Hz. */
-export function bytesPerMinute(bytes: number, ticks: number, tickRate: number): number {
-  const minutes = ticks / tickRate / 60;
-  return minutes > 0 ? bytes / minutes : NaN;
-}
-
-/** A file name for a replay: `runner-seed-123-2024-05-01T10-20-30.fsr`. */
-export function replayFileName(gameId: string, seed: number, when: Date): string {
-  const stamp = when.toISOString().slice(0, 19).replace(/:/g, '-');
-  return `${gameId}-seed-${seed}-${stamp}.fsr`;
-}
-
-// ------------------------------------------------------------------ the highscore client
-
-/** A highscore entry as the server sends it. */
-export interface HighscoreRow {
-  game: string;
-  name: string;
-  score: number;
-  ticks: number;
-  seed: number;
-  finalHash: string;
-  replayId: string;
-  at: string;
-}
-
-export type SubmitResult =
-  | { kind: 'accepted'; rank: number; entry: HighscoreRow }
-  | { kind: 'refused'; status: number; code: string; error: string }
-  | { kind: 'unavailable'; reason: string };
-
-export type TableResult =
-  | { kind: 'ok'; entries: HighscoreRow[] }
-  | { kind: 'refused'; status: number; code: string; error: string }
-  | { kind: 'unavailable'; reason: string };
-
-/** The API's address, relative to the page (so a lab served under a prefix still finds it). */
-export const HIGHSCORE_PATH = 'api/highscores';
-
-type FetchLike = (url: string, init?: RequestInit) => Promise<Response>;
-
-const UNAVAILABLE =
-  'This copy of the lab has no highscore server (a static host?). Run `fixedstep serve` to rank scores.';
-
-async function jsonBody(res: Response): Promise<Record<string, unknown> | undefined> {
-  const type = res.headers.get('content-type') ?? '';
-  if (!type.includes('application/json')) return undefined;
-  try {
-    const body: unknown = await res.json();
-    return typeof body === 'object' && body !== null
-      ? (body as Record<string, unknown>)
-      : undefined;
-  } catch {
-    return undefined;
-  }
-}
-
-function refusal(status: number, body: Record<string, unknown>) {
-  return {
-    kind: 'refused' as const,
-    status,
-    code: typeof body.code === 'string' ? body.code : 'ERROR',
-    error: typeof body.error === 'string' ? body.error : `HTTP ${status}`,
-  };
-}
-
-/**
- * Submit a replay with the score it claims: `POST api/highscores?score=N`, the replay as the
- * body. The server re-simulates the replay and accepts the score only if the replay reaches it.
- */
-export async function submitScore(
-  bytes: Uint8Array,
-  score: number,
-  fetchFn: FetchLike = (u, i) => fetch(u, i),
-): Promise<SubmitResult> {
-  let res: Response;
-  try {
-    res = await fetchFn(`${HIGHSCORE_PATH}?score=${encodeURIComponent(String(score))}`, {
-      method: 'POST',
-      headers: { 'Content-Type': 'application/octet-stream' },
-      body: bytes as Uint8Array<ArrayBuffer>,
-    });
-  } catch (e) {
-    return { kind: 'unavailable', reason: `The highscore server cannot be reached: ${String(e)}` };
-  }
-  const body = await jsonBody(res);
-  if (!body) return { kind: 'unavailable', reason: UNAVAILABLE };
-  if (res.status === 201 && typeof body.rank === 'number' && typeof body.entry === 'object') {
-    return { kind: 'accepted', rank: body.rank, entry: body.entry as HighscoreRow };
-  }
-  return refusal(res.status, body);
-}
-
-/** The best `limit` scores of a game: `GET api/highscores?game=…&limit=…`. */
-export async function fetchHighscores(
-  game: string,
-  limit = 10,
-  fetchFn: FetchLike = (u, i) => fetch(u, i),
-): Promise<TableResult> {
-  let res: Response;
-  try {
-    res = await fetchFn(`${HIGHSCORE_PATH}?game=${encodeURIComponent(game)}&limit=${limit}`, {
-      headers: { Accept: 'application/json' },
-    });
-  } catch (e) {
-    return { kind: 'unavailable', reason: `The highscore server cannot be reached: ${String(e)}` };
-  }
-  const body = await jsonBody(res);
-  if (!body) return { kind: 'unavailable', reason: UNAVAILABLE };
-  if (res.ok && Array.isArray(body.entries)) {
-    return { kind: 'ok', entries: body.entries as HighscoreRow[] };
-  }
-  return refusal(res.status, body);
 }

@@ -23,12 +23,12 @@ import {
   type Stability,
 } from './physics-lab.js';
 import { EnergyChart } from './physics-chart.js';
-import { h, setAttr, setText } from '../ui/dom.js';
-import { ideaCards, type IdeaCard } from '../ui/cards.js';
+import { h, setAttr, setText } from '../../ui/dom.js';
+import { ideaCards, type IdeaCard } from '../../ui/cards.js';
 import { HitchSection } from './physics-hitch.js';
-import { LabDriver } from '../ui/driver.js';
-import { TimeControls, button, toggle } from '../ui/controls.js';
-import * as fmt from '../ui/format.js';
+import { LabDriver } from '../../shell/driver.js';
+import { TimeControls, button, toggle } from '../../ui/controls.js';
+import * as fmt from '../../ui/format.js';
 import './physics.css';
 
 const COLORS: Readonly<Record<IntegratorMethod, string>> = {

@@ -1,7 +1,8 @@
 /**
  * The hand-over between chapter 9 (a game just played) and chapter 5 (its replay): the last
  * replay's bytes, kept in memory and, when the browser allows, in the tab's session storage so a
- * reload does not lose it.
+ * reload does not lose it; and whether the reader asked to watch it ("Watch replay"), so chapter
+ * 5 opens it playing, in view.
  */
 
 export interface StoredReplay {
@@ -15,6 +16,19 @@ const KEY = 'fixedstep.lastReplay';
 const MAX_STORED = 1_500_000;
 
 let last: StoredReplay | undefined;
+let watch = false;
+
+/** Ask the replays chapter to open the last replay playing, in view (once). */
+export function requestWatch(): void {
+  watch = true;
+}
+
+/** Whether a watch was asked for since the last call (the request is used up). */
+export function takeWatchRequest(): boolean {
+  const w = watch;
+  watch = false;
+  return w;
+}
 
 export function setLastReplay(replay: StoredReplay): void {
   last = { bytes: replay.bytes.slice(), label: replay.label };

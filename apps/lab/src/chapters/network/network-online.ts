@@ -13,13 +13,13 @@ import {
   type Simulation,
 } from 'fixedstep';
 import type { Game } from '@fixedstep/games';
-import { SceneCanvas } from '../ui/canvas.js';
-import { button } from '../ui/controls.js';
-import { h, setAttr, setText } from '../ui/dom.js';
-import * as fmt from '../ui/format.js';
-import { Readout } from '../ui/readout.js';
-import { gameDef } from './games-lab.js';
-import { ASPECT, drawGame, drawMessage } from './games-render.js';
+import { SceneCanvas } from '../../ui/canvas.js';
+import { button } from '../../ui/controls.js';
+import { h, setAttr, setText } from '../../ui/dom.js';
+import * as fmt from '../../ui/format.js';
+import { Readout } from '../../ui/readout.js';
+import { gameDef } from '../../games-view/games.js';
+import { ASPECT, drawGame, drawMessage } from '../../games-view/render.js';
 import { BOT_EVERY, CHECKPOINT_TICKS } from './network-lab.js';
 
 /** A room name the relay accepts. */

@@ -1,5 +1,6 @@
 /**
- * Canvas renderers of the three games, shared by chapter 9 (live play) and chapter 5 (replays).
+ * Canvas renderers of the three games, shared by chapter 9 (live play), chapter 5 (replays) and
+ * chapter 6 (network).
  * They only read a game's state — positions interpolated at `alpha` between the state before
  * the last update and the current one — and never write it.
  */
@@ -18,7 +19,7 @@ import {
   SurvivalGame,
   type Game,
 } from '@fixedstep/games';
-import { BREACH_MS, type Breach } from './games-lab.js';
+import type { Breach } from './games.js';
 
 /** What a canvas to draw on looks like (the lab's SceneCanvas). */
 export interface Surface {
@@ -41,6 +42,9 @@ export interface RenderOptions {
   /** A line under the game-over title (e.g. "Space to run again"). */
   hint?: string;
 }
+
+/** How long a "went through a wall" marker stays on screen, ms of session time. */
+export const BREACH_MS = 1500;
 
 /** Width / height of each game's canvas. */
 export const ASPECT: Readonly<Record<string, number>> = {

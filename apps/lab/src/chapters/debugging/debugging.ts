@@ -23,13 +23,13 @@ import {
   type MovementLoop,
   type ScriptedInput,
 } from '@fixedstep/games';
-import { SceneCanvas, View, clearScene } from '../ui/canvas.js';
-import { Chart } from '../ui/chart.js';
-import { TimeControls, button, group, setPressed, slider, toggle } from '../ui/controls.js';
-import { code, h, setAttr, setText } from '../ui/dom.js';
-import { LabDriver } from '../ui/driver.js';
-import * as fmt from '../ui/format.js';
-import { Readout, rateColor } from '../ui/readout.js';
+import { SceneCanvas, View, clearScene } from '../../ui/canvas.js';
+import { Chart } from '../../ui/chart.js';
+import { TimeControls, button, group, setPressed, slider, toggle } from '../../ui/controls.js';
+import { code, h, setAttr, setText } from '../../ui/dom.js';
+import { LabDriver } from '../../shell/driver.js';
+import * as fmt from '../../ui/format.js';
+import { Readout, rateColor } from '../../ui/readout.js';
 
 const SKIP_MS = 5000;
 const LEVEL = { x0: 0, x1: 14, y0: -0.15, y1: 2.95 };

@@ -4,14 +4,14 @@
  * side, same game, same seed, same link. The numbers come from {@link NetworkLab}; this module
  * builds the page and draws. Everything runs on the lab's virtual clock, so the numbers repeat.
  */
-import { SceneCanvas } from '../ui/canvas.js';
-import { TimeControls, group, segmented, slider, toggle } from '../ui/controls.js';
-import { h, setAttr } from '../ui/dom.js';
-import { LabDriver } from '../ui/driver.js';
-import * as fmt from '../ui/format.js';
-import { Readout } from '../ui/readout.js';
-import { keyMap } from './games-lab.js';
-import { ASPECT, drawGame } from './games-render.js';
+import { SceneCanvas } from '../../ui/canvas.js';
+import { TimeControls, group, segmented, slider, toggle } from '../../ui/controls.js';
+import { h, setAttr } from '../../ui/dom.js';
+import { LabDriver } from '../../shell/driver.js';
+import * as fmt from '../../ui/format.js';
+import { Readout } from '../../ui/readout.js';
+import { keyMap } from '../../games-view/games.js';
+import { ASPECT, drawGame } from '../../games-view/render.js';
 import {
   NET_GAMES,
   NET_MODES,
@@ -21,7 +21,7 @@ import {
   type NetMode,
 } from './network-lab.js';
 import { OnlinePanel } from './network-online.js';
-import './games.css';
+import '../../games-view/game-stage.css';
 import './network.css';
 
 const SKIP_MS = 5000;

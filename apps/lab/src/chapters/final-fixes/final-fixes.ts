@@ -19,14 +19,14 @@ import {
 } from './final-fixes-lab.js';
 import type { BackwardsLoop, SpiralLoop } from '@fixedstep/games';
 import type { OverloadPolicy } from 'fixedstep';
-import { drawBall } from '../ui/ball-view.js';
-import { SceneCanvas } from '../ui/canvas.js';
-import { Chart, alignSeries } from '../ui/chart.js';
-import { TimeControls, button, group, segmented, setPressed, toggle } from '../ui/controls.js';
-import { code, h, setAttr, setText } from '../ui/dom.js';
-import { LabDriver } from '../ui/driver.js';
-import * as fmt from '../ui/format.js';
-import { Readout } from '../ui/readout.js';
+import { drawBall } from '../../ui/ball-view.js';
+import { SceneCanvas } from '../../ui/canvas.js';
+import { Chart, alignSeries } from '../../ui/chart.js';
+import { TimeControls, button, group, segmented, setPressed, toggle } from '../../ui/controls.js';
+import { code, h, setAttr, setText } from '../../ui/dom.js';
+import { LabDriver } from '../../shell/driver.js';
+import * as fmt from '../../ui/format.js';
+import { Readout } from '../../ui/readout.js';
 
 const SKIP_MS = 5000;
 const TRAIL_MS = 600;

@@ -3,10 +3,10 @@
  * and under a fixed step on one jittery 30 Hz display, x(t) drawn as a strip chart, and a button
  * that makes the display hitch. The model is {@link HitchLab} (physics-lab.ts).
  */
-import { h } from '../ui/dom.js';
-import { button } from '../ui/controls.js';
-import * as fmt from '../ui/format.js';
-import { Readout } from '../ui/readout.js';
+import { h } from '../../ui/dom.js';
+import { button } from '../../ui/controls.js';
+import * as fmt from '../../ui/format.js';
+import { Readout } from '../../ui/readout.js';
 import {
   HITCH_DISPLAY,
   HITCH_MS,
