@@ -37,10 +37,6 @@ describe('chapter 7, debugging', () => {
     await skip(page);
     const r = await readouts(page);
     await page.screenshot({ path: path.join(shots, 'debugging.png'), fullPage: true });
-    console.log(
-      `fixed @ tick ${r['readout-fixed-common-tick']}: ${hashes(r, 'fixed').join(' ')}\n` +
-        `variable now: ${hashes(r, 'variable').join(' ')}`,
-    );
     expect(r['readout-fixed-hashes-equal']).toBe('true');
     expect(r['readout-variable-hashes-equal']).toBe('false');
     const fixed = hashes(r, 'fixed');

@@ -27,8 +27,8 @@ export type MountChapter = (root: HTMLElement, head: ChapterHead) => () => void;
 /** What the shell drives: a chapter's model on its own time line (virtual ms from the start). */
 export interface TimeLine {
   readonly timeMs: number;
-  /** Simulated display: move virtual time forward by `ms`. */
-  advanceBy(ms: number): void;
+  /** Simulated display: move virtual time forward by `ms` (if it runs on one). */
+  advanceBy?(ms: number): void;
   /** Real clock: one display frame at `tMs` from the start of the real-clock run (if it runs on one). */
   realFrame?(tMs: number): void;
 }
@@ -96,7 +96,7 @@ export class ChapterShell {
     this.driver = new LabDriver(
       {
         advance: (ms) => {
-          o.timeline()?.advanceBy(ms);
+          o.timeline()?.advanceBy?.(ms);
         },
         realFrame: (t) => {
           o.timeline()?.realFrame?.(t);
@@ -116,7 +116,7 @@ export class ChapterShell {
             this.setPaused(!this.paused);
           },
           onSkip: () => {
-            o.timeline()?.advanceBy(skipMs);
+            o.timeline()?.advanceBy?.(skipMs);
           },
           onRestart: () => {
             o.restart?.();
@@ -266,6 +266,11 @@ export class ChapterShell {
     this.options.refresh?.();
   }
 
+  /** Bring the controls up to date and draw now, not on the next animation frame. */
+  redraw(): void {
+    this.settle();
+  }
+
   /** Start the animation frames (after the chapter has built its page). */
   start(): void {
     this.refresh();
@@ -294,6 +299,23 @@ export class ChapterShell {
     }
     o.render();
   }
+}
+
+/**
+ * The time line of a model that runs on the page's real frames only, read through `model` (a
+ * chapter's real-clock run, replaced at every restart): its `timeMs`, and `frameAt` for each frame.
+ */
+export function realTimeLine(
+  model: () => { readonly timeMs: number; frameAt(tMs: number): void } | undefined,
+): TimeLine {
+  return {
+    get timeMs() {
+      return model()?.timeMs ?? 0;
+    },
+    realFrame(tMs) {
+      model()?.frameAt(tMs);
+    },
+  };
 }
 
 /** Mounts a chapter class whose constructor takes `(root, head)` and keeps its shell in `shell`. */

@@ -21,6 +21,13 @@ export const CHART_COLORS = {
   some: '#e879f9',
 } as const;
 
+/**
+ * The scales reach a little past the sliders' ends, so a setting at 150 m/s or an 8 m wall is a
+ * whole dot, not half of one clipped at the plot's edge.
+ */
+const X_MAX = SPEED.max * 1.05;
+const Y_MAX = WALL.max * 1.05;
+
 const AXIS: uPlot.Axis = {
   stroke: '#a3b3cc',
   font: '11px system-ui, sans-serif',
@@ -49,7 +56,7 @@ export class WallChart {
     height: () => number,
   ) {
     this.height = height;
-    const xs = [0, RADIUS / STEP_S, SPEED.max];
+    const xs = [0, RADIUS / STEP_S, X_MAX];
     this.plot = new uPlot(
       {
         width: Math.max(200, width),
@@ -66,8 +73,8 @@ export class WallChart {
         },
         select: { show: false, left: 0, top: 0, width: 0, height: 0 },
         scales: {
-          x: { time: false, auto: false, range: [0, SPEED.max] },
-          y: { auto: false, range: [0, WALL.max] },
+          x: { time: false, auto: false, range: [0, X_MAX] },
+          y: { auto: false, range: [0, Y_MAX] },
         },
         axes: [
           {
@@ -75,11 +82,14 @@ export class WallChart {
             label: 'Speed, m/s',
             size: 34,
             labelSize: 16,
+            // Ticks inside the sliders' range only (the scale runs 5 % past it).
+            splits: () => [0, 25, 50, 75, 100, 125, 150].filter((v) => v <= SPEED.max),
             values: (_u, splits) => splits.map((v) => v.toFixed(0)),
           },
           {
             ...AXIS,
             label: 'Wall thickness, m',
+            splits: () => [0, 2, 4, 6, 8].filter((v) => v <= WALL.max),
             size: 34,
             labelSize: 18,
             values: (_u, splits) => splits.map((v) => v.toFixed(0)),
@@ -142,7 +152,7 @@ export class WallChart {
     if (key === this.lastKey) return;
     this.lastKey = key;
     this.state = state;
-    const xs = [0, RADIUS / STEP_S, SPEED.max];
+    const xs = [0, RADIUS / STEP_S, X_MAX];
     const dtv = state.variableMaxDt;
     this.plot.setData([
       xs,
@@ -310,8 +320,8 @@ function placeLabel(area: Area, lines: string[], fit: Fit): { x: number; y: numb
   const boxH = lines.length * lineH;
   if (boxW + 2 * pad > width || boxH + 2 * pad > height) return undefined;
   // Canvas px ↔ values: both scales are linear and fixed.
-  const speedAt = (x: number) => ((x - left) / width) * SPEED.max;
-  const yOf = (wall: number) => top + height - (wall / WALL.max) * height;
+  const speedAt = (x: number) => ((x - left) / width) * X_MAX;
+  const yOf = (wall: number) => top + height - (wall / Y_MAX) * height;
   const stepX = 4 * dpr;
   const stepY = 2 * dpr;
   const xs: number[] = [];

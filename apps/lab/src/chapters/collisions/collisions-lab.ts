@@ -241,10 +241,22 @@ export interface LoopResult {
   ccdResolved: number;
 }
 
+/** The display a result was measured on: the variable-Δt loop's steps are its frames. */
+export interface ResultDisplay {
+  /** The simulated display's rate, Hz, or the page's real frames. */
+  hz: number | 'real';
+  /** Frame jitter, a fraction of the period (0 on the real clock: it has its own). */
+  jitter: number;
+  /** Hitches the display had. */
+  hitches: number;
+}
+
 /** The result of a run at one setting, for the per-setting table and the chart's points. */
 export interface SettingResult {
   speed: number;
   wall: number;
+  /** The display it ran on (the fixed step does not depend on it; the variable Δt does). */
+  display: ResultDisplay;
   /** Virtual time the setting ran for, s. */
   seconds: number;
   variable: LoopResult;
@@ -303,7 +315,9 @@ export class CollisionsLab {
 
   /** The current setting's result so far. */
   result(): SettingResult {
-    return resultOf(this.current, this.time / 1000, this.panels, this.rule.theoryShare);
+    const s = this.current;
+    const display = { hz: s.hz, jitter: s.jitter, hitches: s.events.length };
+    return resultOf(s, display, this.time / 1000, this.panels, this.rule.theoryShare);
   }
 
   /** Change settings and replay from zero to the current virtual time. */
@@ -373,6 +387,7 @@ export class CollisionsLab {
 
 function resultOf(
   s: Pick<CollisionsSettings, 'speed' | 'wall'>,
+  display: ResultDisplay,
   seconds: number,
   panels: readonly RangePanel[],
   theoryShare: number,
@@ -389,6 +404,7 @@ function resultOf(
   return {
     speed: s.speed,
     wall: s.wall,
+    display,
     seconds,
     variable: of('variable'),
     fixed: of('fixed'),
@@ -418,7 +434,8 @@ export class ClockRanges {
   }
 
   result(): SettingResult {
-    return resultOf(this.settings, this.time / 1000, this.runs, this.rule.theoryShare);
+    const display = { hz: 'real' as const, jitter: 0, hitches: 0 };
+    return resultOf(this.settings, display, this.time / 1000, this.runs, this.rule.theoryShare);
   }
 
   /** One real display frame at `tMs` from the start of this mode. */

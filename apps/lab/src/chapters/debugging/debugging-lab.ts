@@ -155,6 +155,12 @@ export interface DebugReadouts {
   equal: boolean;
   /** The largest distance between two runs' runners at the latest sample, metres. */
   divergence: number;
+  /** The largest distance between two runs' runners at any sample since the start, metres. */
+  maxDivergence: number;
+  /** When that was, ms of virtual time (NaN before any sample). */
+  maxDivergenceAtMs: number;
+  /** Whether any run's state has left its start (a runner moved, a coin was taken). */
+  moved: boolean;
 }
 
 /** The largest distance between any two points. */
@@ -183,6 +189,8 @@ export class DebugLab {
   /** Divergence samples: time (ms), variable (m), fixed (m). */
   readonly samples: number[] = [];
   private nextSample = 0;
+  /** The largest divergence sampled since the start, per loop: metres, and when (ms). */
+  private readonly widest = new Map<MovementLoop, { metres: number; atMs: number }>();
   /** Whether the recording being replayed is the built-in demo. */
   demo = true;
 
@@ -323,11 +331,15 @@ export class DebugLab {
     }));
     const first = rows[0]?.hash;
     const n = this.samples.length;
+    const widest = this.widest.get(loop);
     return {
       commonTick,
       rows,
       equal: first !== undefined && rows.every((r) => r.hash === first),
       divergence: n >= 3 ? this.samples[n - (fixed ? 1 : 2)]! : NaN,
+      maxDivergence: widest?.metres ?? 0,
+      maxDivergenceAtMs: widest?.atMs ?? NaN,
+      moved: tracks.some((t) => t.scene.hash() !== t.initialHash),
     };
   }
 
@@ -342,10 +354,17 @@ export class DebugLab {
       const v = maxDistance(this.tracks('variable').map((t) => t.positionAt(ts)));
       const f = maxDistance(this.tracks('fixed').map((t) => t.positionAt(ts)));
       this.samples.push(ts, v, f);
+      this.widen('variable', v, ts);
+      this.widen('fixed', f, ts);
       this.nextSample += SAMPLE_MS;
     }
     const keep = (CHART_WINDOW_MS / SAMPLE_MS) * 3;
     if (this.samples.length > keep * 2) this.samples.splice(0, this.samples.length - keep);
+  }
+
+  private widen(loop: MovementLoop, metres: number, atMs: number): void {
+    const w = this.widest.get(loop);
+    if (w === undefined || metres > w.metres) this.widest.set(loop, { metres, atMs });
   }
 
   private build(): void {
@@ -361,6 +380,7 @@ export class DebugLab {
       for (const t of this.real.values()) t.rig.frameAt(0); // the real time line starts here
     }
     this.samples.length = 0;
+    this.widest.clear();
     this.nextSample = 0;
     for (const list of this.sim.values()) for (const t of list) t.rig.advanceTo(this.time);
     this.sample();

@@ -404,6 +404,36 @@ export class FinalLab {
   }
 }
 
+/** What the slides' accumulator (no clamp) does after a hitch on a machine: the text's numbers. */
+export interface SpiralOutlook {
+  /** The hitch: when, and how long, ms. */
+  hitchAtMs: number;
+  hitchMs: number;
+  /** What one update costs, ms. */
+  costMs: number;
+  /** Steps asked for by the first frames after the hitch (at most five). */
+  steps: number[];
+  /** Whether a frame after the hitch had more work than a page can do ({@link STALL_WORK_MS}). */
+  stalls: boolean;
+}
+
+/**
+ * Runs the no-clamp rig of the spiral bench headless with `costMs` and the hitch `hitch` and
+ * reads the steps its first frames after the hitch ask for — the same rig the bench draws, so
+ * the text says what the panel will show.
+ */
+export function spiralOutlook(costMs: number, hitch: DisplayEvent): SpiralOutlook {
+  const rig = spiralRig({ loop: 'noclamp', updateCostMs: costMs, events: [hitch] });
+  const end = hitch.atMs + hitch.durationMs;
+  const steps: number[] = [];
+  for (let t = end; steps.length < 5 && !rig.stalled && t < end + 120_000; t += 250) {
+    rig.advanceTo(t, () => {
+      if (rig.realMs >= end && steps.length < 5) steps.push(rig.lastSteps);
+    });
+  }
+  return { hitchAtMs: hitch.atMs, hitchMs: hitch.durationMs, costMs, steps, stalls: rig.stalled };
+}
+
 function cloneSettings(s: FinalSettings): FinalSettings {
   return {
     costMs: s.costMs,

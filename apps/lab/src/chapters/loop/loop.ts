@@ -34,8 +34,8 @@ import { drawPanel, stepsWindow } from './loop-draw.js';
 import {
   ChapterShell,
   mountChapter,
+  realTimeLine,
   type ChapterHead,
-  type TimeLine,
 } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { ideaCards, tryCards } from '../../ui/cards.js';
@@ -90,21 +90,9 @@ class LoopChapter {
   private readonly eventsOut: HTMLElement;
   private readonly panelGrid: HTMLElement;
   /** The real clock's run as the shell's time line. */
-  private readonly realLine: TimeLine;
+  private readonly realLine = realTimeLine(() => this.clock);
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    const clockOf = () => this.clock;
-    this.realLine = {
-      get timeMs() {
-        return clockOf()?.timeMs ?? 0;
-      },
-      advanceBy() {
-        // The real clock runs on the page's frames only.
-      },
-      realFrame: (t) => {
-        this.clock?.frameAt(t);
-      },
-    };
     this.shell = new ChapterShell(root, {
       head,
       className: 'loop-chapter',

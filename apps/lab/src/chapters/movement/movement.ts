@@ -1,46 +1,44 @@
 /**
  * Chapter 2 — Movement. The same run-and-jump on four displays (30, 60, 144 and 240 Hz, with
  * jitter), once under a variable Δt and once under a fixed step, each loop's four trajectories
- * traced over each other. The numbers come from {@link MovementLab}; this module builds the page
- * and draws.
+ * traced over each other. The numbers come from {@link MovementLab}; the words from
+ * movement-text.ts; the drawing from movement-draw.ts.
  */
 import {
   DEFAULT_JITTER,
   LOOPS,
   MovementLab,
   RATES,
-  STEP_MS,
-  SWEEP_RATES,
   sweep,
   type LoopInfo,
   type LoopReadouts,
   type Source,
-  type Track,
 } from './movement-lab.js';
+import { drawJumps } from './movement-draw.js';
+import {
+  BENCH_INTRO,
+  LEDE,
+  SWEEP_INTRO,
+  SWEEP_TITLE,
+  how,
+  legend,
+  verdictText,
+  why,
+} from './movement-text.js';
 import type { MovementLoop } from '@fixedstep/games';
-import { SceneCanvas, View, clearScene } from '../../ui/canvas.js';
+import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
+import type { SceneCanvas } from '../../ui/canvas.js';
 import { Chart } from '../../ui/chart.js';
-import { TimeControls, button, group, slider, toggle, setPressed } from '../../ui/controls.js';
-import { code, h, setText } from '../../ui/dom.js';
-import { LabDriver } from '../../shell/driver.js';
+import { button, group, slider } from '../../ui/controls.js';
+import { h, setText } from '../../ui/dom.js';
 import { Readout, rateColor } from '../../ui/readout.js';
 
-const SKIP_MS = 5000;
-/** The world the canvases show, metres: the run-up, the jump, the landing strip under the floor. */
-const VIEW = { x0: 0, x1: 8.4, y0: -0.56, y1: 2.05 };
-/** Line widths (CSS px) per display, widest first, so coinciding lines show as nested stripes. */
-const WIDTHS: Readonly<Record<string, number>> = { 30: 8, 60: 5.5, 144: 3.4, 240: 1.6, real: 1 };
 const LOOP_COLORS: Readonly<Record<MovementLoop, string>> = {
   variable: '#f87171',
   fixed: '#38bdf8',
 };
 
-export function mount(root: HTMLElement): () => void {
-  const chapter = new MovementChapter(root);
-  return () => {
-    chapter.destroy();
-  };
-}
+export const mount = mountChapter((root, head) => new MovementChapter(root, head));
 
 function sourceLabel(s: Source, hz = 0): string {
   return s === 'real' ? (hz > 0 ? `yours ≈ ${hz} Hz` : 'yours') : `${s} Hz`;
@@ -50,7 +48,8 @@ function metres(v: number | undefined): string {
   return v === undefined || !Number.isFinite(v) ? '—' : `${v.toFixed(3)} m`;
 }
 
-function spreadText(v: number): string {
+/** A spread in words: "0 — identical", "1.5 cm", "0.300 mm". */
+export function spreadText(v: number): string {
   if (!Number.isFinite(v)) return '—';
   if (v === 0) return '0 — identical';
   const cm = v * 100;
@@ -76,37 +75,46 @@ interface LoopView {
 }
 
 class MovementChapter {
+  readonly shell: ChapterShell;
   private lab = new MovementLab();
-  private interpolate = true;
-  private readonly driver: LabDriver;
   private readonly views: LoopView[] = [];
-  private readonly time: TimeControls;
-  private readonly jitter: ReturnType<typeof slider>;
-  private readonly interpBtn: HTMLButtonElement;
-  private readonly clockBtn: HTMLButtonElement;
-  private readonly jumpBtn: HTMLButtonElement;
+  private readonly jitter;
   private readonly apexChart: Chart;
   private readonly landingChart: Chart;
-  private readonly duo: HTMLElement;
   private sweepJitter = NaN;
 
-  constructor(private readonly root: HTMLElement) {
-    this.driver = new LabDriver(
-      {
-        advance: (ms) => {
-          this.lab.advanceBy(ms);
-        },
-        realFrame: (t) => {
-          this.lab.realFrame(t);
-        },
-        render: () => {
-          this.render();
+  constructor(root: HTMLElement, head: ChapterHead) {
+    this.shell = new ChapterShell(root, {
+      head,
+      className: 'movement-chapter',
+      lede: LEDE,
+      timeline: () => this.lab,
+      render: () => {
+        this.render();
+      },
+      restart: () => {
+        if (this.lab.realClock) this.lab = this.fresh(true);
+        else this.lab.restart();
+      },
+      mode: () =>
+        this.shell.display(
+          `simulated displays · jitter ±${Math.round(this.lab.settings.jitter * 100)} %`,
+        ),
+      refresh: () => {
+        this.refreshControls();
+      },
+      realClock: {
+        title: 'Add a fifth run per loop, fed this page’s own animation frames',
+        onChange: (on) => {
+          this.lab = this.fresh(on);
         },
       },
-      { maxRealGapMs: 200 },
-    );
-
-    // ------------------------------------------------------------ controls
+      interpolation: {
+        title: 'Draw the fixed-step runners between their last two states, at alpha',
+      },
+      driver: { maxRealGapMs: 200 },
+    });
+    const shell = this.shell;
     this.jitter = slider({
       id: 'movement-jitter',
       label: 'Jitter',
@@ -121,60 +129,55 @@ class MovementChapter {
       },
     });
     this.jitter.input.title = 'How much each frame’s length varies, as a share of the period';
-    this.interpBtn = toggle('Interpolation', 'control-interp', true, (on) => {
-      this.interpolate = on;
-    });
-    this.interpBtn.title = 'Draw the fixed-step runners between their last two states, at alpha';
-    this.clockBtn = toggle('Real clock', 'control-real-clock', false, (on) => {
-      this.setRealClock(on);
-    });
-    this.clockBtn.title = 'Add a fifth run per loop, fed this page’s own animation frames';
-    this.time = new TimeControls({
-      skipMs: SKIP_MS,
-      onPause: () => {
-        this.driver.setPaused(!this.driver.isPaused);
-      },
-      onSkip: () => {
-        this.lab.advanceBy(SKIP_MS);
-      },
-      onRestart: () => {
-        if (this.lab.realClock) this.setRealClock(true);
-        else this.lab.restart();
-      },
-    });
-    this.jumpBtn = button('Jump', 'control-jump', () => {
+    const jumpBtn = button('Jump', 'control-jump', () => {
       this.lab.addJump();
     });
-    this.jumpBtn.title = 'Press jump now, on every display at the same moment';
-
-    const controls = h(
-      'div',
-      { class: 'controls', role: 'group', 'aria-label': 'Displays and time' },
-      group(
-        'Displays',
-        h(
-          'span',
-          { class: 'rate-chips' },
-          RATES.map((hz) => chip(hz)),
+    jumpBtn.title = 'Press jump now, on every display at the same moment';
+    const charts = this.sweepCharts();
+    this.apexChart = charts[0];
+    this.landingChart = charts[1];
+    shell.append(
+      h(
+        'section',
+        { class: 'bench', 'aria-labelledby': 'movement-bench-title' },
+        h('h2', { id: 'movement-bench-title' }, 'One jump, four displays'),
+        h('p', { class: 'section-intro' }, BENCH_INTRO),
+        shell.controls(
+          'Displays and time',
+          group('Displays', h('span', { class: 'rate-chips' }, RATES.map(chip))),
+          this.jitter.el,
+          shell.drawGroup(),
+          shell.timeGroup(jumpBtn),
+          shell.status(),
         ),
+        h(
+          'div',
+          { class: 'duo' },
+          LOOPS.map((info) => this.buildPanel(info)),
+        ),
+        legend(),
       ),
-      this.jitter.el,
-      group('Draw', this.interpBtn, this.clockBtn),
-      group('Time', ...this.time.buttons, this.jumpBtn),
-      h('div', { class: 'status', 'aria-live': 'off' }, ...this.time.status),
+      h(
+        'section',
+        { class: 'sweep', 'aria-labelledby': 'sweep-title' },
+        h('h2', { id: 'sweep-title' }, SWEEP_TITLE),
+        h('p', { class: 'section-intro' }, SWEEP_INTRO),
+        h('div', { class: 'chart-pair' }, this.apexChart.el, this.landingChart.el),
+      ),
+      why(),
+      how(),
     );
-    const settle = () => {
-      this.refreshControls();
-      this.render();
-    };
-    controls.addEventListener('click', settle);
-    controls.addEventListener('change', settle);
+    shell.start();
+  }
 
-    // ------------------------------------------------------------ panels
-    this.duo = h('div', { class: 'duo' });
-    for (const info of LOOPS) this.duo.append(this.buildPanel(info));
+  /** A new run of the current jitter: on the real clock (a fifth run per loop) or not. */
+  private fresh(real: boolean): MovementLab {
+    return new MovementLab({ jitter: this.lab.settings.jitter, jumps: [] }, real);
+  }
 
-    // ------------------------------------------------------------ charts
+  // ---------------------------------------------------------------- building
+
+  private sweepCharts(): [Chart, Chart] {
     const axisY = (label: string) => ({
       label,
       format: (v: number) => v.toFixed(2),
@@ -197,82 +200,21 @@ class MovementChapter {
       points: 2.5,
       width: l.fixed ? 2.25 : 1.5,
     }));
-    this.apexChart = new Chart({
-      height: 200,
-      label: 'Apex height of the first jump against display rate, variable Δt and fixed step',
-      x: axisX,
-      y: axisY('apex, m'),
-      series,
-    });
-    this.landingChart = new Chart({
-      height: 200,
-      label: 'Landing distance of the first jump against display rate, variable Δt and fixed step',
-      x: axisX,
-      y: axisY('landing distance, m'),
-      series,
-    });
-
-    root.append(
-      h(
-        'article',
-        { class: 'chapter movement-chapter' },
-        h(
-          'header',
-          { class: 'chapter-head' },
-          h('p', { class: 'eyebrow' }, 'Chapter 2'),
-          h('h1', {}, 'Movement'),
-          h(
-            'p',
-            { class: 'lede' },
-            'A jump is a few lines of Euler integration: add gravity to the velocity, add the velocity to the position. Hand those lines a different Δt and they trace a different arc. With a variable Δt, every display rate — and every hiccup of the frame clock — gets its own jump. With a fixed step, everyone gets the designer’s jump.',
-          ),
-        ),
-        h(
-          'section',
-          { class: 'bench', 'aria-labelledby': 'movement-bench-title' },
-          h('h2', { id: 'movement-bench-title' }, 'One jump, four displays'),
-          h(
-            'p',
-            { class: 'section-intro' },
-            'A runner starts, jumps (holding the button for 0.18 s), lands and brakes; every 2.5 s it starts again. The same timestamped button presses reach four simulated displays — 30, 60, 144 and 240 Hz, each with its own frame jitter. Each loop traces its four runs over each other, widest line for 30 Hz, thinnest for 240 Hz: where they coincide you see one striped line.',
-          ),
-          controls,
-          this.duo,
-          legend(),
-        ),
-        h(
-          'section',
-          { class: 'sweep', 'aria-labelledby': 'sweep-title' },
-          h('h2', { id: 'sweep-title' }, 'The same jump at nineteen display rates'),
-          h(
-            'p',
-            { class: 'section-intro' },
-            `The first jump of the script, run headless at every rate from ${SWEEP_RATES[0]} to ${SWEEP_RATES[SWEEP_RATES.length - 1]} Hz with the jitter above. Under a variable Δt the result depends on the display; under a fixed step it is one number.`,
-          ),
-          h('div', { class: 'chart-pair' }, this.apexChart.el, this.landingChart.el),
-        ),
-        why(),
-        how(),
-      ),
-    );
-
-    this.refreshSweep();
-    this.refreshControls();
-    this.driver.start();
+    const chart = (what: string, label: string) =>
+      this.shell.own(
+        new Chart({
+          height: 200,
+          label: `${what} of the first jump against display rate, variable Δt and fixed step`,
+          x: axisX,
+          y: axisY(label),
+          series,
+        }),
+      );
+    return [chart('Apex height', 'apex, m'), chart('Landing distance', 'landing distance, m')];
   }
-
-  destroy(): void {
-    this.driver.destroy();
-    for (const v of this.views) v.scene.destroy();
-    this.apexChart.destroy();
-    this.landingChart.destroy();
-    this.root.replaceChildren();
-  }
-
-  // ---------------------------------------------------------------- building
 
   private buildPanel(info: LoopInfo): HTMLElement {
-    const scene = new SceneCanvas({
+    const scene = this.shell.canvas({
       class: 'scene jump-scene',
       label: `The four runs of the jump under ${info.title}, traced over each other`,
       testId: `canvas-${info.id}`,
@@ -306,32 +248,27 @@ class MovementChapter {
         return row;
       }),
     );
-    const apexSpread = new Readout('td', `${info.id}-apex-spread`, { className: 'spread' });
-    const landingSpread = new Readout('td', `${info.id}-landing-spread`, { className: 'spread' });
-    const jump = new Readout('span', `${info.id}-jump`);
-    const verdict = h('p', { class: 'verdict', 'data-testid': `verdict-${info.id}` });
-    const legendReal = h(
-      'span',
-      { class: 'legend-item', style: `--chip: ${rateColor('real')}`, hidden: true },
-      h('span', { class: 'legend-chip' }),
-      'yours',
-    );
-    this.views.push({
+    const view: LoopView = {
       info,
       scene,
       rows,
-      apexSpread,
-      landingSpread,
-      jump,
-      verdict,
-      legendReal,
-    });
-    const color = LOOP_COLORS[info.id];
+      apexSpread: new Readout('td', `${info.id}-apex-spread`, { className: 'spread' }),
+      landingSpread: new Readout('td', `${info.id}-landing-spread`, { className: 'spread' }),
+      jump: new Readout('span', `${info.id}-jump`),
+      verdict: h('p', { class: 'verdict', 'data-testid': `verdict-${info.id}` }),
+      legendReal: h(
+        'span',
+        { class: 'legend-item', style: `--chip: ${rateColor('real')}`, hidden: true },
+        h('span', { class: 'legend-chip' }),
+        'yours',
+      ),
+    };
+    this.views.push(view);
     return h(
       'section',
       {
         class: 'panel track-panel',
-        style: `--accent: ${color}`,
+        style: `--accent: ${LOOP_COLORS[info.id]}`,
         'data-panel': info.id,
         'aria-labelledby': `panel-${info.id}`,
       },
@@ -345,20 +282,13 @@ class MovementChapter {
       h(
         'div',
         { class: 'chart-legend scene-legend', 'aria-hidden': 'true' },
-        RATES.map((hz) =>
-          h(
-            'span',
-            { class: 'legend-item', style: `--chip: ${rateColor(hz)}` },
-            h('span', { class: 'legend-chip' }),
-            `${hz} Hz`,
-          ),
-        ),
-        legendReal,
+        RATES.map(chip),
+        view.legendReal,
       ),
       h(
         'table',
         { class: 'jump-table' },
-        h('caption', {}, 'Jump ', jump.el, ', as each display’s simulation computed it'),
+        h('caption', {}, 'Jump ', view.jump.el, ', as each display’s simulation computed it'),
         h(
           'thead',
           {},
@@ -378,28 +308,19 @@ class MovementChapter {
             'tr',
             {},
             h('th', { scope: 'row', title: 'max − min over the displays' }, 'Spread'),
-            apexSpread.el,
-            landingSpread.el,
+            view.apexSpread.el,
+            view.landingSpread.el,
           ),
         ),
       ),
-      verdict,
+      view.verdict,
     );
   }
 
   // ---------------------------------------------------------------- state
 
-  private setRealClock(on: boolean): void {
-    const settings = this.lab.settings;
-    this.lab = new MovementLab({ jitter: settings.jitter, jumps: [] }, on);
-    this.driver.setReal(on);
-    setPressed(this.clockBtn, on);
-    this.refreshControls();
-  }
-
   private refreshControls(): void {
     const real = this.lab.realClock;
-    this.time.refresh(this.driver.isPaused, !real);
     this.jitter.input.disabled = real;
     this.jitter.set(Math.round(this.lab.settings.jitter * 100));
     for (const v of this.views) {
@@ -407,10 +328,6 @@ class MovementChapter {
       if (row) row.row.hidden = !real;
       v.legendReal.hidden = !real;
     }
-    this.refreshSweep();
-  }
-
-  private refreshSweep(): void {
     const jitter = this.lab.settings.jitter;
     if (jitter === this.sweepJitter) return;
     this.sweepJitter = jitter;
@@ -423,18 +340,17 @@ class MovementChapter {
 
   private render(): void {
     const lab = this.lab;
-    const real = lab.realClock;
-    const hz = this.driver.measuredHz;
-    this.time.show(
-      lab.timeMs,
-      real
-        ? `real clock · your display ≈ ${hz} Hz${this.driver.isPaused ? ' · paused' : ''}`
-        : `simulated displays · jitter ±${Math.round(lab.settings.jitter * 100)} %${this.driver.isPaused ? ' · paused' : ''}`,
-    );
+    const hz = this.shell.measuredHz;
     for (const v of this.views) {
       const r = lab.readouts(v.info.id);
       this.writeReadouts(v, r, hz);
-      this.drawScene(v, lab.tracks(v.info.id), r.jumpIndex, lab.drawTimeMs(v.info));
+      drawJumps(
+        v.scene,
+        lab.tracks(v.info.id),
+        r.jumpIndex,
+        lab.drawTimeMs(v.info),
+        this.shell.interpolate,
+      );
     }
   }
 
@@ -455,106 +371,9 @@ class MovementChapter {
       s.good(same);
       s.warn(ok && !same);
     }
-    const n = r.rows.length;
-    const text = !ok
-      ? 'Waiting for the first landing…'
-      : same
-        ? `${n} displays, one jump — identical to the last bit.`
-        : `${n} displays, ${n} different jumps: the apex varies by ${spreadText(r.apexSpread)}, the landing by ${spreadText(r.landingSpread)}.`;
-    setText(v.verdict, text);
+    setText(v.verdict, verdictText(r, spreadText));
     v.verdict.classList.toggle('good', same);
     v.verdict.classList.toggle('bad', ok && !same);
-  }
-
-  private drawScene(v: LoopView, tracks: Track[], jumpIndex: number, atMs: number): void {
-    const sc = v.scene;
-    if (!sc.fit()) return;
-    const { ctx, dpr } = sc;
-    clearScene(sc);
-    const view = new View(sc.w, sc.h, VIEW.x0, VIEW.y0, VIEW.x1, VIEW.y1);
-    const px = (x: number) => view.px(x);
-    const py = (y: number) => view.py(y);
-    view.grid(ctx, 0.5);
-    // Ground and the landing strip under it.
-    ctx.fillStyle = 'rgba(141, 160, 189, 0.06)';
-    ctx.fillRect(px(VIEW.x0), py(0), px(VIEW.x1) - px(VIEW.x0), py(VIEW.y0) - py(0));
-    ctx.strokeStyle = 'rgba(141, 160, 189, 0.55)';
-    ctx.lineWidth = Math.max(1, dpr);
-    ctx.beginPath();
-    ctx.moveTo(px(VIEW.x0), Math.round(py(0)) + 0.5);
-    ctx.lineTo(px(VIEW.x1), Math.round(py(0)) + 0.5);
-    ctx.stroke();
-    ctx.fillStyle = 'rgba(163, 179, 204, 0.75)';
-    ctx.font = `${Math.round(10 * dpr)}px system-ui, sans-serif`;
-    ctx.textBaseline = 'middle';
-    ctx.fillText('landings', px(VIEW.x0) + 6 * dpr, py(-0.25));
-    // Scale bar: 1 m.
-    const sx = px(VIEW.x1) - 10 * dpr - view.scale;
-    const sy = py(VIEW.y1) + 12 * dpr;
-    ctx.strokeStyle = 'rgba(163, 179, 204, 0.7)';
-    ctx.beginPath();
-    ctx.moveTo(sx, sy);
-    ctx.lineTo(sx + view.scale, sy);
-    ctx.moveTo(sx, sy - 3 * dpr);
-    ctx.lineTo(sx, sy + 3 * dpr);
-    ctx.moveTo(sx + view.scale, sy - 3 * dpr);
-    ctx.lineTo(sx + view.scale, sy + 3 * dpr);
-    ctx.stroke();
-    ctx.textAlign = 'center';
-    ctx.fillText('1 m', sx + view.scale / 2, sy + 10 * dpr);
-    ctx.textAlign = 'start';
-
-    ctx.lineJoin = 'round';
-    ctx.lineCap = 'round';
-    const rowH = 0.095;
-    const runners = tracks.map((t) => t.runnerAt(atMs, this.interpolate));
-    tracks.forEach((t, i) => {
-      const color = rateColor(t.source);
-      const width = (WIDTHS[String(t.source)] ?? 1) * dpr;
-      const runner = runners[i]!;
-      // The path of this round, up to where the runner is drawn.
-      const p = t.path;
-      ctx.strokeStyle = color;
-      ctx.globalAlpha = 0.92;
-      ctx.lineWidth = width;
-      ctx.beginPath();
-      if (runner.points > 0) {
-        ctx.moveTo(px(p[1]!), py(p[2]!));
-        for (let k = 1; k < runner.points; k++) ctx.lineTo(px(p[3 * k + 1]!), py(p[3 * k + 2]!));
-        ctx.lineTo(px(runner.x), py(runner.y));
-      }
-      ctx.stroke();
-      ctx.globalAlpha = 1;
-      // Apex and landing of the jump shown in the table.
-      const j = jumpIndex >= 0 ? t.jump(jumpIndex) : undefined;
-      if (j) {
-        ctx.lineWidth = width;
-        ctx.beginPath();
-        ctx.moveTo(px(j.apexX) - 7 * dpr, py(j.apex));
-        ctx.lineTo(px(j.apexX) + 7 * dpr, py(j.apex));
-        ctx.stroke();
-        const y = -0.05 - i * rowH;
-        ctx.lineWidth = Math.max(2, 3 * dpr);
-        ctx.lineCap = 'butt';
-        ctx.beginPath();
-        ctx.moveTo(px(j.landingX), py(y));
-        ctx.lineTo(px(j.landingX), py(y - rowH * 0.8));
-        ctx.stroke();
-        ctx.lineCap = 'round';
-      }
-    });
-    // The runners on top, as nested discs: where they coincide they look like a target.
-    tracks.forEach((t, i) => {
-      const r = runners[i]!;
-      const radius = ((WIDTHS[String(t.source)] ?? 1) + 3.5) * dpr;
-      ctx.fillStyle = rateColor(t.source);
-      ctx.strokeStyle = '#0a1122';
-      ctx.lineWidth = Math.max(1, dpr);
-      ctx.beginPath();
-      ctx.arc(px(r.x), py(r.y), radius, 0, 2 * Math.PI);
-      ctx.fill();
-      ctx.stroke();
-    });
   }
 }
 
@@ -564,105 +383,5 @@ function chip(hz: number): HTMLElement {
     { class: 'legend-item', style: `--chip: ${rateColor(hz)}` },
     h('span', { class: 'legend-chip', 'aria-hidden': 'true' }),
     `${hz} Hz`,
-  );
-}
-
-function legend(): HTMLElement {
-  return h(
-    'details',
-    { class: 'legend' },
-    h('summary', {}, 'How to read the panels'),
-    h(
-      'dl',
-      {},
-      h('dt', {}, 'Lines'),
-      h(
-        'dd',
-        {},
-        'Every position the simulation computed in this round, one line per display. Coinciding lines look like one striped line.',
-      ),
-      h('dt', {}, 'Runners'),
-      h(
-        'dd',
-        {},
-        `Each as its own display last drew it. A 30 Hz display shows an older frame than a 240 Hz one, so moving runners can be a frame apart even when their paths are identical. The fixed-step runners are drawn between their last two ${STEP_MS} ms steps (interpolation).`,
-      ),
-      h('dt', {}, 'Ticks'),
-      h(
-        'dd',
-        {},
-        'The short bar at the top of each arc is the apex; the marks under the floor are the landings, one row per display.',
-      ),
-      h('dt', {}, 'Apex, landing distance'),
-      h(
-        'dd',
-        {},
-        'The highest point of the jump above the floor, and the distance from take-off to landing, as each simulation computed them. Spread is the largest minus the smallest.',
-      ),
-    ),
-  );
-}
-
-function why(): HTMLElement {
-  return h(
-    'section',
-    { class: 'why', 'aria-labelledby': 'why-title' },
-    h('h2', { id: 'why-title' }, 'Why the variable-Δt jumps differ'),
-    h(
-      'div',
-      { class: 'why-grid' },
-      h(
-        'div',
-        { class: 'why-card' },
-        h('h3', {}, 'Euler depends on Δt'),
-        h(
-          'p',
-          {},
-          'Each update moves the runner by its velocity times Δt, then gravity bends the velocity. Big steps overshoot the curve differently from small ones, so the apex and the airtime change with the frame rate — by centimetres here, by whole platforms in a real level.',
-        ),
-        code('vy -= gravity * dt\ny  += vy * dt   // the arc depends on dt'),
-      ),
-      h(
-        'div',
-        { class: 'why-card' },
-        h('h3', {}, 'Inputs land on frames'),
-        h(
-          'p',
-          {},
-          'With one update per frame, a button press takes effect on the next frame — up to 33 ms late at 30 Hz, 4 ms at 240 Hz — and so does letting go of the jump button, which decides how high the jump goes. A fixed step gives each press to the step whose time span contains it, whatever the display.',
-        ),
-        code(
-          '// fixed step: same ticks, same inputs\nwhile (acc >= STEP) { update(STEP, input(tick)); acc -= STEP }',
-        ),
-      ),
-      h(
-        'div',
-        { class: 'why-card' },
-        h('h3', {}, 'Jitter makes it worse'),
-        h(
-          'p',
-          {},
-          'Real frames are never exactly 1/60 s. Under a variable Δt the same display gives a slightly different jump each time; drag the jitter slider to 0 and the variable runs still disagree, because the rates differ. Under a fixed step neither matters.',
-        ),
-      ),
-    ),
-  );
-}
-
-function how(): HTMLElement {
-  return h(
-    'section',
-    { class: 'how', 'aria-labelledby': 'movement-how-title' },
-    h('h2', { id: 'movement-how-title' }, 'How this page works'),
-    h(
-      'p',
-      {},
-      'The four displays are simulated: their frame times are computed from the rate and a seeded jitter, so the numbers repeat on every machine. The page moves a virtual clock forward at real speed and runs the frames due; “Skip +5 s” moves it at once. Changing the jitter or pressing Jump replays every run from zero to the current moment, which lands exactly where a live run would be.',
-    ),
-    h(
-      'p',
-      {},
-      '“Real clock” adds a fifth run to each loop, driven by this page’s own animation frames. Under the fixed step it still traces the very same jump, to the last bit.',
-    ),
   );
 }

@@ -1,17 +1,10 @@
 /**
  * Chapter 6 — Network. Two players in one page, each on a machine of its own, talking to the real
  * relay core through simulated links with latency, jitter and loss: lockstep and rollback side by
- * side, same game, same seed, same link. The numbers come from {@link NetworkLab}; this module
- * builds the page and draws. Everything runs on the lab's virtual clock, so the numbers repeat.
+ * side, same game, same seed, same link; and online play through the server (network-online.ts).
+ * The numbers come from {@link NetworkLab}; the words from network-text.ts. Everything but the
+ * online panel runs on the lab's virtual clock, so the numbers repeat.
  */
-import { SceneCanvas } from '../../ui/canvas.js';
-import { TimeControls, group, segmented, slider, toggle } from '../../ui/controls.js';
-import { h, setAttr } from '../../ui/dom.js';
-import { LabDriver } from '../../shell/driver.js';
-import * as fmt from '../../ui/format.js';
-import { Readout } from '../../ui/readout.js';
-import { keyMap } from '../../games-view/games.js';
-import { ASPECT, drawGame } from '../../games-view/render.js';
 import {
   NET_GAMES,
   NET_MODES,
@@ -21,28 +14,20 @@ import {
   type NetMode,
 } from './network-lab.js';
 import { OnlinePanel } from './network-online.js';
+import { ABOUT, BENCH_INTRO, GUARANTEE, LEDE, verdictText } from './network-text.js';
+import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
+import type { SceneCanvas } from '../../ui/canvas.js';
+import { clearScene } from '../../ui/canvas.js';
+import { group, segmented, slider, toggle } from '../../ui/controls.js';
+import { h, setAttr, setText } from '../../ui/dom.js';
+import * as fmt from '../../ui/format.js';
+import { Readout } from '../../ui/readout.js';
+import { keyMap } from '../../games-view/games.js';
+import { ASPECT, drawGame } from '../../games-view/render.js';
 import '../../games-view/game-stage.css';
 import './network.css';
 
-const SKIP_MS = 5000;
-
-export function mount(root: HTMLElement): () => void {
-  const chapter = new NetworkChapter(root);
-  return () => {
-    chapter.destroy();
-  };
-}
-
-const ABOUT: Readonly<Record<NetMode, { title: string; text: string }>> = {
-  lockstep: {
-    title: 'Lockstep',
-    text: 'A machine steps tick t only once the relay has every player’s input for it. Nothing is guessed, nothing is undone; the price is an input delay of about one round trip.',
-  },
-  rollback: {
-    title: 'Rollback',
-    text: 'A machine runs ahead, guessing that the other player keeps holding the same buttons. When the real input differs it loads the saved state of that tick and steps again to now.',
-  },
-};
+export const mount = mountChapter((root, head) => new NetworkChapter(root, head));
 
 interface PanelView {
   canvases: [SceneCanvas, SceneCanvas];
@@ -51,156 +36,56 @@ interface PanelView {
 }
 
 class NetworkChapter {
+  readonly shell: ChapterShell;
   private readonly lab = new NetworkLab();
-  private readonly driver: LabDriver;
-  private readonly time: TimeControls;
   private readonly panels = {} as Record<NetMode, PanelView>;
-  private readonly cleanups: (() => void)[] = [];
-  private readonly online: OnlinePanel;
+  private keys = 0;
 
-  constructor(root: HTMLElement) {
-    this.driver = new LabDriver({
-      advance: (ms) => {
-        this.lab.advanceBy(ms);
-      },
-      realFrame: (t) => {
-        this.lab.realFrame(t);
-      },
+  constructor(root: HTMLElement, head: ChapterHead) {
+    this.shell = new ChapterShell(root, {
+      head,
+      className: 'network-chapter',
+      lede: LEDE,
+      timeline: () => this.lab,
       render: () => {
         this.render();
       },
-    });
-
-    const latency = slider({
-      id: 'net-latency',
-      label: 'Latency',
-      testId: 'control-latency',
-      min: 0,
-      max: 250,
-      step: 5,
-      value: this.lab.settings.latencyMs,
-      text: (v) => `${v} ms`,
-      onChange: (v) => {
-        this.lab.setLink({ latencyMs: v });
-      },
-    });
-    const jitter = slider({
-      id: 'net-jitter',
-      label: 'Jitter',
-      testId: 'control-jitter',
-      min: 0,
-      max: 100,
-      step: 5,
-      value: this.lab.settings.jitterMs,
-      text: (v) => `± ${v} ms`,
-      onChange: (v) => {
-        this.lab.setLink({ jitterMs: v });
-      },
-    });
-    const loss = slider({
-      id: 'net-loss',
-      label: 'Loss',
-      testId: 'control-loss',
-      min: 0,
-      max: 20,
-      step: 1,
-      value: Math.round(this.lab.settings.loss * 100),
-      text: (v) => `${v} %`,
-      onChange: (v) => {
-        this.lab.setLink({ loss: v / 100 });
-      },
-    });
-    const game = segmented<NetGameId>({
-      name: 'net-game',
-      label: 'Game',
-      testPrefix: 'control-game',
-      values: NET_GAMES,
-      selected: this.lab.settings.game,
-      text: (g) => (g === 'ctf' ? 'Capture the flag' : 'Survival'),
-      onChange: (g) => {
-        this.lab.reset({ game: g });
-        this.applyAspect();
-      },
-    });
-    const keyboard = toggle('Play player 1', 'control-keyboard', false, (on) => {
-      this.lab.reset({ keyboard: on });
-    });
-    keyboard.title = 'Drive player 1 with the keyboard (WASD or arrows, Space to shoot)';
-    this.clockBtn = toggle('Real clock', 'control-real-clock', false, (on) => {
-      this.lab.setRealClock(on);
-      this.driver.setReal(on);
-    });
-    this.clockBtn.title =
-      'Both machines draw on this page’s own animation frames instead of simulated 60 Hz displays (the links stay simulated)';
-    this.time = new TimeControls({
-      skipMs: SKIP_MS,
-      onPause: () => {
-        this.driver.setPaused(!this.driver.isPaused);
-      },
-      onSkip: () => {
-        this.lab.advanceBy(SKIP_MS);
-      },
-      onRestart: () => {
+      restart: () => {
         this.lab.restart();
-        if (this.lab.realClock) this.driver.restartReal();
+      },
+      mode: () =>
+        `simulated network · ${this.shell.real ? `real clock, your display ≈ ${this.shell.measuredHz} Hz` : 'simulated 60 Hz displays'}`,
+      realClock: {
+        title:
+          'Both machines draw on this page’s own animation frames instead of simulated 60 Hz displays (the links stay simulated)',
+        onChange: (on) => {
+          this.lab.setRealClock(on);
+        },
       },
     });
-    const controls = h(
-      'div',
-      { class: 'controls', role: 'group', 'aria-label': 'Link, game and time' },
-      latency.el,
-      jitter.el,
-      loss.el,
-      group('Game', game.el, keyboard),
-      group('Time', ...this.time.buttons, this.clockBtn),
-      h('div', { class: 'status', 'aria-live': 'off' }, ...this.time.status),
-    );
-    controls.addEventListener('click', () => {
-      this.render();
-    });
-
-    const duo = h('div', { class: 'duo net-duo' });
-    for (const mode of NET_MODES) duo.append(this.buildPanel(mode));
-
-    this.online = new OnlinePanel();
-
-    root.append(
+    const shell = this.shell;
+    const online = shell.own(new OnlinePanel());
+    shell.append(
       h(
-        'article',
-        { class: 'chapter network-chapter' },
-        h(
-          'header',
-          { class: 'chapter-head' },
-          h('p', { class: 'eyebrow' }, 'Chapter 6'),
-          h('h1', {}, 'Network'),
-          h(
-            'p',
-            { class: 'lede' },
-            'When every machine steps the same world the same way, players only need to agree on the inputs and the clock — never send the state itself.',
-          ),
-        ),
-        h(
-          'p',
-          { class: 'guarantee', 'data-testid': 'guarantee' },
-          h('strong', {}, 'Inputs, never state: '),
-          'each machine sends the relay its player’s buttons for upcoming ticks; the relay puts every player’s input for a tick in one order and sends that order to everyone. Each machine then computes the whole world itself, step by step, and because a fixed step is deterministic every machine computes the same world. To prove it they send a hash of their state now and then — 8 bytes — and the relay compares them.',
-        ),
-        h(
-          'section',
-          { class: 'bench', 'aria-labelledby': 'net-bench-title' },
-          h('h2', { id: 'net-bench-title' }, 'Two players, one page, a bad network'),
-          h(
-            'p',
-            { class: 'section-intro' },
-            'Two bots play the same game over the same simulated network, once with lockstep sessions and once with rollback sessions. Each panel shows both players’ machines. Move the sliders and watch input delay, rollbacks and stalls change — and the hashes stay equal.',
-          ),
-          controls,
-          duo,
-        ),
-        this.online.el,
+        'p',
+        { class: 'guarantee', 'data-testid': 'guarantee' },
+        h('strong', {}, 'Inputs, never state: '),
+        GUARANTEE,
       ),
+      h(
+        'section',
+        { class: 'bench', 'aria-labelledby': 'net-bench-title' },
+        h('h2', { id: 'net-bench-title' }, 'Two players, one page, a bad network'),
+        h('p', { class: 'section-intro' }, BENCH_INTRO),
+        this.controls(),
+        h(
+          'div',
+          { class: 'duo net-duo' },
+          NET_MODES.map((mode) => this.buildPanel(mode)),
+        ),
+      ),
+      online.el,
     );
-
     const onKey = (down: boolean) => (e: KeyboardEvent) => {
       if (!this.lab.settings.keyboard) return;
       const target = e.target as HTMLElement | null;
@@ -211,30 +96,81 @@ class NetworkChapter {
       this.keys = down ? this.keys | (1 << b) : this.keys & ~(1 << b);
       this.lab.setKeys(this.keys);
     };
-    const kd = onKey(true);
-    const ku = onKey(false);
-    window.addEventListener('keydown', kd);
-    window.addEventListener('keyup', ku);
-    this.cleanups.push(() => {
-      window.removeEventListener('keydown', kd);
-      window.removeEventListener('keyup', ku);
-    });
-
+    shell.listen(window, 'keydown', onKey(true));
+    shell.listen(window, 'keyup', onKey(false));
     this.applyAspect();
-    this.driver.start();
+    shell.start();
   }
 
-  private keys = 0;
-  private readonly clockBtn: HTMLButtonElement;
+  private controls(): HTMLElement {
+    const s = this.lab.settings;
+    const link = (
+      key: 'latencyMs' | 'jitterMs',
+      id: string,
+      label: string,
+      max: number,
+      text: (v: number) => string,
+    ) =>
+      slider({
+        id: `net-${id}`,
+        label,
+        testId: `control-${id}`,
+        min: 0,
+        max,
+        step: 5,
+        value: s[key],
+        text,
+        onChange: (v) => {
+          this.lab.setLink({ [key]: v });
+        },
+      });
+    const loss = slider({
+      id: 'net-loss',
+      label: 'Loss',
+      testId: 'control-loss',
+      min: 0,
+      max: 20,
+      step: 1,
+      value: Math.round(s.loss * 100),
+      text: (v) => `${v} %`,
+      onChange: (v) => {
+        this.lab.setLink({ loss: v / 100 });
+      },
+    });
+    const game = segmented<NetGameId>({
+      name: 'net-game',
+      label: 'Game',
+      testPrefix: 'control-game',
+      values: NET_GAMES,
+      selected: s.game,
+      text: (g) => (g === 'ctf' ? 'Capture the flag' : 'Survival'),
+      onChange: (g) => {
+        this.lab.reset({ game: g });
+        this.applyAspect();
+      },
+    });
+    const keyboard = toggle('Play player 1', 'control-keyboard', false, (on) => {
+      this.lab.reset({ keyboard: on });
+    });
+    keyboard.title = 'Drive player 1 with the keyboard (WASD or arrows, Space to shoot)';
+    return this.shell.controls(
+      'Link, game and time',
+      link('latencyMs', 'latency', 'Latency', 250, (v) => `${v} ms`).el,
+      link('jitterMs', 'jitter', 'Jitter', 100, (v) => `± ${v} ms`).el,
+      loss.el,
+      group('Game', game.el, keyboard),
+      this.shell.timeGroup(this.shell.clockBtn!),
+      this.shell.status(),
+    );
+  }
 
   private buildPanel(mode: NetMode): HTMLElement {
-    const canvases: [SceneCanvas, SceneCanvas] = [0, 1].map(
-      (i) =>
-        new SceneCanvas({
-          class: 'scene net-scene',
-          label: `${ABOUT[mode].title}: player ${i + 1}’s machine`,
-          testId: `canvas-${mode}-${i + 1}`,
-        }),
+    const canvases = [0, 1].map((i) =>
+      this.shell.canvas({
+        class: 'scene net-scene',
+        label: `${ABOUT[mode].title}: player ${i + 1}’s machine`,
+        testId: `canvas-${mode}-${i + 1}`,
+      }),
     ) as [SceneCanvas, SceneCanvas];
     const out: Record<string, Readout> = {};
     const row = (label: string, id: string, hash = false) => {
@@ -288,12 +224,6 @@ class NetworkChapter {
   }
 
   private render(): void {
-    const real = this.lab.realClock;
-    this.time.refresh(this.driver.isPaused, !real);
-    this.time.show(
-      this.lab.timeMs,
-      `simulated network · ${real ? `real clock, your display ≈ ${this.driver.measuredHz} Hz` : 'simulated 60 Hz displays'}${this.driver.isPaused ? ' · paused' : ''}`,
-    );
     const all = this.lab.readouts();
     for (const mode of NET_MODES) this.renderPanel(mode, all[mode]);
   }
@@ -311,11 +241,7 @@ class NetworkChapter {
           nowMs: match.nowMs,
           badge: { text: `tick ${r.ticks[i]}`, tone: 'info' },
         });
-      } else {
-        c.ctx.setTransform(1, 0, 0, 1, 0, 0);
-        c.ctx.fillStyle = '#0a1122';
-        c.ctx.fillRect(0, 0, c.w, c.h);
-      }
+      } else clearScene(c);
     }
     const o = p.out;
     o['input-delay']?.set(fmt.count(r.inputDelay), r.inputDelay);
@@ -332,20 +258,7 @@ class NetworkChapter {
     o['hashes-equal']?.good(started && r.equal);
     o['hashes-equal']?.warn(started && !r.equal);
     setAttr(p.verdict, 'data-value', String(started && r.equal));
-    p.verdict.textContent = !started
-      ? 'Connecting and syncing clocks…'
-      : r.equal
-        ? `Both machines computed the same world at tick ${r.checkpoint}.`
-        : r.desyncs > 0
-          ? 'The relay saw the machines disagree: a desync.'
-          : 'Waiting for both machines to reach the checkpoint…';
+    setText(p.verdict, verdictText(r));
     p.verdict.classList.toggle('bad', started && r.desyncs > 0);
-  }
-
-  destroy(): void {
-    this.driver.destroy();
-    this.online.destroy();
-    for (const c of this.cleanups) c();
-    for (const mode of NET_MODES) for (const c of this.panels[mode].canvases) c.destroy();
   }
 }
