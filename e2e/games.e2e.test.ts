@@ -139,7 +139,7 @@ describe('chapter 9, games', () => {
               document.querySelector('[data-testid="readout-enemies"]')?.getAttribute('data-value'),
             ) >= 6,
           undefined,
-          { timeout: 15_000 },
+          { timeout: 60_000 },
         );
         await pause(page);
       }

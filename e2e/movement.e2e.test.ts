@@ -67,7 +67,7 @@ describe('chapter 2, movement', () => {
         async () =>
           (await page.getByTestId('readout-fixed-real-apex').getAttribute('data-value')) ?? '',
         {
-          timeout: 15_000,
+          timeout: 60_000,
         },
       )
       .not.toBe('');

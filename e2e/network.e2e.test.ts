@@ -122,7 +122,7 @@ describe('chapter 6, play online', () => {
       pages.map(async (p) => {
         await expect
           .poll(() => p.getByTestId('readout-online-final-hash').getAttribute('data-value'), {
-            timeout: 30_000,
+            timeout: 60_000,
           })
           .toMatch(/^[0-9a-f]{16}$/);
         return readouts(p);
