@@ -48,7 +48,16 @@ import {
 } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { tryCards } from '../../ui/cards.js';
-import { button, group, segmented, setPressed, slider, toggle } from '../../ui/controls.js';
+import {
+  button,
+  group,
+  segmented,
+  setPressed,
+  slider,
+  toggle,
+  type Segmented,
+  type Slider,
+} from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -60,6 +69,17 @@ const COLORS: Readonly<Record<string, string>> = {
 };
 
 export const mount = mountChapter((root, head) => new CollisionsChapter(root, head));
+
+/** The settings box and the controls the chapter sets later. */
+interface Controls {
+  readonly box: HTMLElement;
+  readonly speed: Slider;
+  readonly wall: Slider;
+  readonly jitter: Slider;
+  readonly rates: Segmented<DisplayRate>;
+  readonly hitch: HTMLButtonElement;
+  readonly ccd: HTMLButtonElement;
+}
 
 interface PanelView {
   readonly spec: RangePanelSpec;
@@ -79,12 +99,7 @@ class CollisionsChapter {
   private ccd = false;
   private readonly panels: PanelView[] = [];
   private chart: WallChart | undefined;
-  private readonly speed;
-  private readonly wall;
-  private readonly jitter;
-  private readonly rates;
-  private readonly hitchBtn: HTMLButtonElement;
-  private readonly ccdBtn: HTMLButtonElement;
+  private readonly ctl: Controls;
   private readonly eventsOut = h('ul', { class: 'event-list', 'aria-label': 'Hitches so far' });
   private readonly panelGrid: HTMLElement;
   private readonly chartHost: HTMLElement;
@@ -126,77 +141,7 @@ class CollisionsChapter {
       driver: { maxFrameMs: MAX_REAL_FRAME_MS },
     });
     const shell = this.shell;
-    const s = this.lab.settings;
-    const rangeSlider = (
-      id: string,
-      label: string,
-      spec: SliderSpec,
-      value: number,
-      text: (v: number) => string,
-      onChange: (v: number) => void,
-    ) =>
-      slider({
-        id: `col-${id}`,
-        label,
-        testId: `control-${id}`,
-        min: spec.min,
-        max: spec.max,
-        step: spec.step,
-        value,
-        text,
-        onChange,
-      });
-    this.speed = rangeSlider(
-      'speed',
-      'Speed',
-      SPEED,
-      s.speed,
-      (v) => `${v.toFixed(0)} m/s`,
-      (v) => {
-        this.changeSetting({ speed: v });
-      },
-    );
-    this.wall = rangeSlider(
-      'wall',
-      'Wall',
-      WALL,
-      s.wall,
-      (v) => `${v.toFixed(1)} m`,
-      (v) => {
-        this.changeSetting({ wall: v });
-      },
-    );
-    this.jitter = rangeSlider(
-      'jitter',
-      'Jitter',
-      JITTER,
-      s.jitter * 100,
-      (v) => `±${v.toFixed(0)} %`,
-      (v) => {
-        this.lab.update({ jitter: v / 100 });
-      },
-    );
-    this.rates = segmented<DisplayRate>({
-      name: 'collisions-hz',
-      label: 'Simulated display refresh rate',
-      testPrefix: 'control-hz',
-      values: DISPLAY_RATES,
-      selected: s.hz,
-      text: (hz) => `${hz} Hz`,
-      onChange: (hz) => {
-        this.lab.update({ hz });
-      },
-    });
-    this.hitchBtn = button(`${HITCH_MS} ms hitch`, 'control-hitch', () => {
-      this.lab.addHitch();
-    });
-    this.hitchBtn.title = `No display frame for ${HITCH_MS} ms: the variable loop's next step is at least that long`;
-    this.jitter.el.append(this.hitchBtn);
-    this.ccdBtn = toggle('CCD twins', 'control-ccd', false, (on) => {
-      this.ccd = on;
-    });
-    this.ccdBtn.title =
-      'Draw the twin ranges that use continuous collision detection instead of the discrete ones (both always run)';
+    this.ctl = this.buildControls();
     this.panelGrid = h(
       'div',
       { class: 'panels range-panels' },
@@ -209,17 +154,6 @@ class CollisionsChapter {
         'Wall thickness against speed for the fixed step: the talk’s rule, the correct-bounce bound, the current setting and the settings tried',
       'data-testid': 'chart-walls',
     });
-    const controls = shell.controls(
-      'The range and its display',
-      this.speed.el,
-      this.wall.el,
-      group('Display', this.rates.el),
-      this.jitter.el,
-      group('Draw', this.ccdBtn, shell.interpBtn ?? null),
-      group('Clock', shell.clockBtn ?? null),
-      shell.timeGroup(),
-      shell.status(this.eventsOut),
-    );
     shell.append(
       ideas(),
       h(
@@ -227,7 +161,7 @@ class CollisionsChapter {
         { class: 'bench', 'aria-labelledby': 'range-title' },
         h('h2', { id: 'range-title' }, 'The firing range'),
         h('p', { class: 'section-intro' }, RANGE_INTRO),
-        controls,
+        this.ctl.box,
         this.panelGrid,
         this.totalsList(),
         legend(),
@@ -258,12 +192,99 @@ class CollisionsChapter {
       this.fitChart();
     });
     // Anything above the chart that changes height moves it: uPlot must measure it again.
-    shell.observe(controls, () => this.chart?.syncRect());
+    shell.observe(this.ctl.box, () => this.chart?.syncRect());
     shell.observe(this.panelGrid, () => this.chart?.syncRect());
     shell.start();
   }
 
   // ---------------------------------------------------------------- building
+
+  /** The range's settings: speed, wall, display, jitter and a hitch, what to draw, the clock, time. */
+  private buildControls(): Controls {
+    const s = this.lab.settings;
+    const rangeSlider = (
+      id: string,
+      label: string,
+      spec: SliderSpec,
+      value: number,
+      text: (v: number) => string,
+      onChange: (v: number) => void,
+    ) =>
+      slider({
+        id: `col-${id}`,
+        label,
+        testId: `control-${id}`,
+        min: spec.min,
+        max: spec.max,
+        step: spec.step,
+        value,
+        text,
+        onChange,
+      });
+    const speed = rangeSlider(
+      'speed',
+      'Speed',
+      SPEED,
+      s.speed,
+      (v) => `${v.toFixed(0)} m/s`,
+      (v) => {
+        this.changeSetting({ speed: v });
+      },
+    );
+    const wall = rangeSlider(
+      'wall',
+      'Wall',
+      WALL,
+      s.wall,
+      (v) => `${v.toFixed(1)} m`,
+      (v) => {
+        this.changeSetting({ wall: v });
+      },
+    );
+    const jitter = rangeSlider(
+      'jitter',
+      'Jitter',
+      JITTER,
+      s.jitter * 100,
+      (v) => `±${v.toFixed(0)} %`,
+      (v) => {
+        this.lab.update({ jitter: v / 100 });
+      },
+    );
+    const rates = segmented<DisplayRate>({
+      name: 'collisions-hz',
+      label: 'Simulated display refresh rate',
+      testPrefix: 'control-hz',
+      values: DISPLAY_RATES,
+      selected: s.hz,
+      text: (hz) => `${hz} Hz`,
+      onChange: (hz) => {
+        this.lab.update({ hz });
+      },
+    });
+    const hitchBtn = button(`${HITCH_MS} ms hitch`, 'control-hitch', () => {
+      this.lab.addHitch();
+    });
+    hitchBtn.title = `No display frame for ${HITCH_MS} ms: the variable loop's next step is at least that long`;
+    jitter.el.append(hitchBtn);
+    const ccdBtn = toggle('CCD twins', 'control-ccd', false, (on) => {
+      this.ccd = on;
+    });
+    ccdBtn.title =
+      'Draw the twin ranges that use continuous collision detection instead of the discrete ones (both always run)';
+    const box = this.shell.controls(
+      'The range and its display',
+      speed.el,
+      wall.el,
+      group('Display', rates.el),
+      jitter.el,
+      group('Draw', ccdBtn, this.shell.interpBtn ?? null),
+      group('Clock', this.shell.clockBtn ?? null),
+      this.shell.timeGroup(),
+      this.shell.status(this.eventsOut),
+    );
+    return { box, speed, wall, jitter, rates, hitch: hitchBtn, ccd: ccdBtn };
+  }
 
   private buildPanel(spec: RangePanelSpec): HTMLElement {
     const color = COLORS[spec.id] ?? '#38bdf8';
@@ -395,12 +416,12 @@ class CollisionsChapter {
     if (this.clock) this.shell.setReal(false);
     const s = item.settings;
     this.lab.startOver(s);
-    this.speed.set(s.speed);
-    this.wall.set(s.wall);
-    this.jitter.set(Math.round(s.jitter * 100));
-    this.rates.select(s.hz);
+    this.ctl.speed.set(s.speed);
+    this.ctl.wall.set(s.wall);
+    this.ctl.jitter.set(Math.round(s.jitter * 100));
+    this.ctl.rates.select(s.hz);
     this.ccd = item.ccd;
-    setPressed(this.ccdBtn, item.ccd);
+    setPressed(this.ctl.ccd, item.ccd);
     this.shell.setPaused(false);
   }
 
@@ -409,8 +430,8 @@ class CollisionsChapter {
   private changeSetting(change: { speed?: number; wall?: number }): void {
     const speed = snap(change.speed ?? this.lab.settings.speed, SPEED);
     const wall = snap(change.wall ?? this.lab.settings.wall, WALL);
-    this.speed.set(speed);
-    this.wall.set(wall);
+    this.ctl.speed.set(speed);
+    this.ctl.wall.set(wall);
     if (this.clock) {
       // A new setting starts a new real-clock run.
       this.lab.remember(this.clock.result());
@@ -424,11 +445,11 @@ class CollisionsChapter {
 
   private refreshControls(): void {
     const sim = this.clock === undefined;
-    this.rates.setDisabled(!sim);
-    this.jitter.input.disabled = !sim;
-    this.hitchBtn.disabled = !sim;
+    this.ctl.rates.setDisabled(!sim);
+    this.ctl.jitter.input.disabled = !sim;
+    this.ctl.hitch.disabled = !sim;
     const s = this.lab.settings;
-    this.jitter.set(Math.round(s.jitter * 100));
+    this.ctl.jitter.set(Math.round(s.jitter * 100));
     // Radios are not set here: this runs inside their own click, and would undo it.
     this.eventsOut.replaceChildren(
       ...(sim

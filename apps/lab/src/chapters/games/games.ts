@@ -50,6 +50,17 @@ const NAME_KEY = 'fixedstep.player';
 
 export const mount = mountChapter((root, head) => new GamesChapter(root, head));
 
+/** The settings box and the controls the chapter reads or updates later. */
+interface Controls {
+  readonly box: HTMLElement;
+  readonly rate: Segmented<DisplayRate>;
+  readonly speed: Segmented<Speed>;
+  readonly step: HTMLButtonElement;
+  readonly jitter: Slider;
+  readonly bot: HTMLButtonElement;
+  readonly name: HTMLInputElement;
+}
+
 class GamesChapter {
   readonly shell: ChapterShell;
   private session: GameSession;
@@ -60,18 +71,16 @@ class GamesChapter {
   private speed: Speed = 1;
   private started = false;
   private wasOver = false;
+  private readonly ctl: Controls;
   private readonly scene: SceneCanvas;
   private readonly frame: HTMLElement;
-  private readonly loopSeg: Segmented<LoopMode>;
-  private readonly rateSeg: Segmented<DisplayRate>;
-  private readonly speedSeg: Segmented<Speed>;
-  private readonly stepBtn: HTMLButtonElement;
-  private readonly jitterSlider: Slider;
-  private readonly botBtn: HTMLButtonElement;
-  private readonly nameInput: HTMLInputElement;
   private readonly startOverlay: HTMLElement;
-  private readonly startHint: HTMLElement;
-  private readonly focusHint: HTMLElement;
+  private readonly startHint = h('p', { class: 'start-hint' });
+  private readonly focusHint = h(
+    'p',
+    { class: 'focus-hint', 'aria-hidden': 'true' },
+    'Click the game to control it with the keyboard',
+  );
   private readonly readoutList = h('dl', { class: 'readouts game-readouts' });
   private readouts = new Map<string, Readout>();
   private readonly keysList = h('dl', { class: 'keys' });
@@ -82,8 +91,13 @@ class GamesChapter {
   private readonly after: HTMLElement;
   private readonly afterTitle = h('h3', { id: 'after-title' });
   private readonly afterText = h('p', { class: 'after-text', 'data-testid': 'after-text' });
-  private readonly watchBtn: HTMLButtonElement;
-  private readonly downloadBtn: HTMLButtonElement;
+  private readonly watchBtn = button('Watch replay', 'control-watch-replay', () => {
+    this.watchReplay();
+  });
+  private readonly downloadBtn = button('Download replay (.fsr)', 'control-download', () => {
+    const bytes = this.session.replay();
+    if (bytes) download(bytes, replayFileName(this.gameId, this.session.seed, new Date()));
+  });
   private readonly announce = h('p', { class: 'sr-only', role: 'status', 'aria-live': 'polite' });
   private readonly highscores: HighscorePanel;
   private detachInput: (() => void) | undefined;
@@ -118,103 +132,18 @@ class GamesChapter {
       driver: { maxRealGapMs: 250 },
     });
     const shell = this.shell;
-    this.nameInput = h('input', {
-      type: 'text',
-      id: 'player-name',
-      class: 'name-input',
-      maxlength: 32,
-      autocomplete: 'nickname',
-      placeholder: 'your name',
-      value: storedName(),
-      'data-testid': 'control-name',
-    });
-    this.nameInput.addEventListener('change', () => {
-      try {
-        localStorage.setItem(NAME_KEY, this.nameInput.value);
-      } catch {
-        // No storage: the name still goes with the next submission.
-      }
-    });
-    this.highscores = new HighscorePanel({ name: () => this.nameInput.value });
-    this.loopSeg = segmented<LoopMode>({
-      name: 'game-loop',
-      label: 'Loop',
-      testPrefix: 'control-loop',
-      values: ['fixed', 'variable'],
-      selected: this.mode,
-      text: (m) => (m === 'fixed' ? 'Fixed step' : 'Variable Δt'),
-      onChange: (m) => {
-        this.mode = m;
-        this.newSession(this.session.seed);
-      },
-    });
-    this.loopSeg.el.title = 'Switching the loop starts the game again with the same seed';
-    this.rateSeg = segmented<DisplayRate>({
-      name: 'game-hz',
-      label: 'Display refresh rate',
-      testPrefix: 'control-hz',
-      values: DISPLAY_RATES,
-      selected: this.hz,
-      text: (hz) => `${hz} Hz`,
-      onChange: (hz) => {
-        this.hz = hz;
-        this.session.setDisplay({ hz, jitter: this.jitter });
-      },
-    });
-    this.speedSeg = segmented<Speed>({
-      name: 'game-speed',
-      label: 'Speed of simulated time',
-      testPrefix: 'control-speed',
-      values: SPEEDS,
-      selected: this.speed,
-      text: (v) => (v === 0.25 ? '¼×' : v === 0.5 ? '½×' : `${v}×`),
-      onChange: (v) => {
-        this.speed = v;
-        this.session.setSpeed(v);
-      },
-    });
-    this.speedSeg.el.title =
-      'FixedLoop’s time scale: fewer or more ticks per second, each the same size — slow motion that plays back as the same game';
-    this.stepBtn = button('Step 1 tick', 'control-step-tick', () => {
-      this.markStarted();
-      shell.setPaused(true);
-      this.session.stepTick();
-    });
-    this.stepBtn.title = 'Pause and run exactly one tick (FixedLoop’s single step)';
-    this.jitterSlider = slider({
-      id: 'game-jitter',
-      label: 'Jitter',
-      testId: 'control-jitter',
-      min: 0,
-      max: 30,
-      step: 1,
-      value: 0,
-      text: (v) => `±${v} %`,
-      onChange: (v) => {
-        this.jitter = v / 100;
-        if (!shell.real) this.session.setDisplay({ hz: this.hz, jitter: this.jitter });
-      },
-    });
-    this.botBtn = toggle('Let the bot play', 'control-bot', opts.bot ?? false, (on) => {
-      this.session.bot = on;
-      if (on) this.start();
-    });
-    this.botBtn.title = 'The game’s own bot plays you; its inputs are recorded like yours';
+    this.ctl = this.buildControls(opts.bot ?? false);
+    this.highscores = new HighscorePanel({ name: () => this.ctl.name.value });
     this.scene = shell.canvas({ class: 'game-canvas', label: 'The game', testId: 'canvas-game' });
-    this.startHint = h('p', { class: 'start-hint' });
+    const play = button('▶ Play', 'control-start', () => {
+      this.start();
+    });
+    play.classList.add('start-btn');
     this.startOverlay = h(
       'div',
       { class: 'start-overlay', 'data-testid': 'start-overlay' },
-      button('▶ Play', 'control-start', () => {
-        this.start();
-      }),
+      play,
       this.startHint,
-    );
-    this.startOverlay.querySelector('button')?.classList.add('start-btn');
-    this.focusHint = h(
-      'p',
-      { class: 'focus-hint', 'aria-hidden': 'true' },
-      'Click the game to control it with the keyboard',
     );
     this.frame = h(
       'div',
@@ -224,14 +153,22 @@ class GamesChapter {
       this.focusHint,
     );
     this.wireCanvas();
-    this.watchBtn = button('Watch replay', 'control-watch-replay', () => {
-      this.watchReplay();
+    this.after = this.buildAfter();
+    shell.append(...this.sections());
+    shell.listen(document, 'visibilitychange', () => {
+      if (document.hidden && this.started && !this.session.bot) shell.setPaused(true);
     });
-    this.downloadBtn = button('Download replay (.fsr)', 'control-download', () => {
-      const bytes = this.session.replay();
-      if (bytes) download(bytes, replayFileName(this.gameId, this.session.seed, new Date()));
-    });
-    this.after = h(
+    this.session = this.makeSession(opts.seed ?? randomSeed());
+    this.afterNewSession();
+    if (opts.bot) this.start();
+    shell.start();
+  }
+
+  // ---------------------------------------------------------------- building
+
+  /** What the panel under the game says and offers after a game (a crash, a game over, End game). */
+  private buildAfter(): HTMLElement {
+    return h(
       'section',
       {
         class: 'after-game',
@@ -251,11 +188,15 @@ class GamesChapter {
         }),
       ),
     );
-    shell.append(
+  }
+
+  /** The chapter's sections: play (settings, game, numbers, after-game), highscores, the why. */
+  private sections(): HTMLElement[] {
+    return [
       h(
         'section',
         { class: 'play', 'aria-label': 'Play' },
-        this.controls(),
+        this.ctl.box,
         this.frame,
         h(
           'aside',
@@ -282,32 +223,118 @@ class GamesChapter {
         ),
       ),
       howItWorks(),
-    );
-    shell.listen(document, 'visibilitychange', () => {
-      if (document.hidden && this.started && !this.session.bot) shell.setPaused(true);
-    });
-    this.session = this.makeSession(opts.seed ?? randomSeed());
-    this.afterNewSession();
-    if (opts.bot) this.start();
-    shell.start();
+    ];
   }
 
-  // ---------------------------------------------------------------- building
-
-  private controls(): HTMLElement {
+  /** The settings: game, loop, display, player, time, speed — and the seed in the status line. */
+  private buildControls(bot: boolean): Controls {
     const shell = this.shell;
-    const gameSeg = segmented<GameId>({
-      name: 'game',
-      label: 'Game',
-      testPrefix: 'control-game',
-      values: GAME_IDS,
-      selected: this.gameId,
-      text: (id) => gameDef(id).info.title,
-      onChange: (id) => {
+    const name = h('input', {
+      type: 'text',
+      id: 'player-name',
+      class: 'name-input',
+      maxlength: 32,
+      autocomplete: 'nickname',
+      placeholder: 'your name',
+      value: storedName(),
+      'data-testid': 'control-name',
+    });
+    name.addEventListener('change', () => {
+      try {
+        localStorage.setItem(NAME_KEY, name.value);
+      } catch {
+        // No storage: the name still goes with the next submission.
+      }
+    });
+    const seg = <T extends string | number>(
+      id: string,
+      label: string,
+      values: readonly T[],
+      selected: T,
+      text: (v: T) => string,
+      onChange: (v: T) => void,
+    ) =>
+      segmented<T>({
+        name: id,
+        label,
+        testPrefix: `control-${id.replace('game-', '')}`,
+        values,
+        selected,
+        text,
+        onChange,
+      });
+    const gameSeg = seg<GameId>(
+      'game',
+      'Game',
+      GAME_IDS,
+      this.gameId,
+      (id) => gameDef(id).info.title,
+      (id) => {
         this.gameId = id;
         this.newSession(randomSeed());
       },
+    );
+    const loop = seg<LoopMode>(
+      'game-loop',
+      'Loop',
+      ['fixed', 'variable'],
+      this.mode,
+      (m) => (m === 'fixed' ? 'Fixed step' : 'Variable Δt'),
+      (m) => {
+        this.mode = m;
+        this.newSession(this.session.seed);
+      },
+    );
+    loop.el.title = 'Switching the loop starts the game again with the same seed';
+    const rate = seg<DisplayRate>(
+      'game-hz',
+      'Display refresh rate',
+      DISPLAY_RATES,
+      this.hz,
+      (hz) => `${hz} Hz`,
+      (hz) => {
+        this.hz = hz;
+        this.session.setDisplay({ hz, jitter: this.jitter });
+      },
+    );
+    const speed = seg<Speed>(
+      'game-speed',
+      'Speed of simulated time',
+      SPEEDS,
+      this.speed,
+      (v) => (v === 0.25 ? '¼×' : v === 0.5 ? '½×' : `${v}×`),
+      (v) => {
+        this.speed = v;
+        this.session.setSpeed(v);
+      },
+    );
+    speed.el.title =
+      'FixedLoop’s time scale: fewer or more ticks per second, each the same size — slow motion that plays back as the same game';
+    const step = button('Step 1 tick', 'control-step-tick', () => {
+      this.markStarted();
+      shell.setPaused(true);
+      this.session.stepTick();
     });
+    step.title = 'Pause and run exactly one tick (FixedLoop’s single step)';
+    const jitter = slider({
+      id: 'game-jitter',
+      label: 'Jitter',
+      testId: 'control-jitter',
+      min: 0,
+      max: 30,
+      step: 1,
+      value: 0,
+      text: (v) => `±${v} %`,
+      onChange: (v) => {
+        this.jitter = v / 100;
+        if (!shell.real) this.session.setDisplay({ hz: this.hz, jitter: this.jitter });
+      },
+    });
+    const botBtn = toggle('Let the bot play', 'control-bot', bot, (on) => {
+      this.session.bot = on;
+      if (on) this.start();
+    });
+    botBtn.title = 'The game’s own bot plays you; its inputs are recorded like yours';
     if (shell.time) shell.time.restartBtn.title = 'The same game again: same seed, same course';
     const newBtn = button('New game', 'control-new-game', () => {
       this.newSession(randomSeed());
@@ -320,21 +347,21 @@ class GamesChapter {
     const box = shell.controls(
       'Game settings',
       group('Game', gameSeg.el),
-      group('Loop', this.loopSeg.el),
-      group('Display', this.rateSeg.el, shell.clockBtn ?? null),
-      this.jitterSlider.el,
+      group('Loop', loop.el),
+      group('Display', rate.el, shell.clockBtn ?? null),
+      jitter.el,
       group(
         'Player',
-        this.botBtn,
+        botBtn,
         h('label', { for: 'player-name', class: 'sr-only' }, 'Your name (for the highscores)'),
-        this.nameInput,
+        name,
       ),
       shell.timeGroup(newBtn, endBtn),
-      group('Speed', this.speedSeg.el, this.stepBtn),
+      group('Speed', speed.el, step),
       shell.status(this.seedOut),
     );
     box.classList.add('game-controls');
-    return box;
+    return { box, rate, speed, step, jitter, bot: botBtn, name };
   }
 
   private wireCanvas(): void {
@@ -360,9 +387,9 @@ class GamesChapter {
       def: gameDef(this.gameId),
       seed,
       mode: this.mode,
-      player: this.nameInput.value,
+      player: this.ctl.name.value,
       display: this.shell.real ? 'real' : { hz: this.hz, jitter: this.jitter },
-      bot: this.botBtn.getAttribute('aria-pressed') === 'true',
+      bot: this.ctl.bot.getAttribute('aria-pressed') === 'true',
     });
     session.setSpeed(this.speed);
     return session;
@@ -492,12 +519,12 @@ class GamesChapter {
   private refreshControls(): void {
     const shell = this.shell;
     if (!shell.paused && !this.started) this.markStarted();
-    this.rateSeg.setDisabled(shell.real);
+    this.ctl.rate.setDisabled(shell.real);
     const fixed = this.session.mode === 'fixed';
-    this.speedSeg.setDisabled(!fixed);
-    this.stepBtn.disabled = !fixed || this.session.ended;
-    this.jitterSlider.input.disabled = shell.real;
-    setPressed(this.botBtn, this.session.bot);
+    this.ctl.speed.setDisabled(!fixed);
+    this.ctl.step.disabled = !fixed || this.session.ended;
+    this.ctl.jitter.input.disabled = shell.real;
+    setPressed(this.ctl.bot, this.session.bot);
     this.startOverlay.hidden = this.started;
     this.focusHint.hidden =
       !this.started || this.session.bot || document.activeElement === this.scene.canvas;
