@@ -1,6 +1,14 @@
 import { describe, expect, it } from 'vitest';
 import { ReplayError, readReplay, verifyReplay } from 'fixedstep';
-import { RunnerButtons, gameFromReplayHeader, type Game } from '@fixedstep/games';
+import {
+  CTF,
+  CTF_WALLS,
+  RunnerButtons,
+  SURVIVAL,
+  SURVIVAL_WALLS,
+  gameFromReplayHeader,
+  type Game,
+} from '@fixedstep/games';
 import {
   GameSession,
   routeOptions,
@@ -20,7 +28,7 @@ import {
 } from '../src/games-view/games.js';
 import { fetchHighscores, submitScore } from '../src/games-view/highscores.js';
 import { recordBotGame, replayContents, withPlayerName } from '../src/games-view/replays.js';
-import { afterGameText } from '../src/chapters/games/games-text.js';
+import { ABOUT, afterGameText } from '../src/chapters/games/games-text.js';
 import { count } from '../src/ui/format.js';
 
 const REFERENCE_APEX = runnerApex(1 / 60);
@@ -268,6 +276,17 @@ describe('what the page says after a game', () => {
     expect(text).toContain(`the inputs of ${n(1800)} ticks in ${n(c.inputs)} B`);
     expect(text).toContain(`6 keyframes for seeking in ${n(c.keyframes)} B`);
     expect(text).not.toContain('only the inputs');
+  });
+
+  it('states each game’s numbers from the game’s own constants', () => {
+    expect(ABOUT.ctf.breaks).toContain(`at 30 Hz that is ${CTF.bulletSpeed / 30} units`);
+    expect(ABOUT.ctf.fixed).toContain(`${CTF_WALLS.thinnest}-unit walls`);
+    expect(ABOUT.survival.fixed).toContain(`walls ${SURVIVAL_WALLS.thinnest} thick`);
+    // Running at full speed and shoved by the others: the most an enemy moves in one step.
+    const most = SURVIVAL.maxEnemySpeed / 60 + SURVIVAL.maxShove;
+    expect(ABOUT.survival.fixed).toContain(`at most ${Number(most.toFixed(2))} units a step`);
+    expect(most).toBeLessThan(SURVIVAL_WALLS.thinnest);
+    expect(ABOUT.survival.lede).toContain(`${SURVIVAL.lives} lives`);
   });
 
   it('names the best run when the form offers another than the last', () => {

@@ -3,6 +3,7 @@
  * "How this page works". The after-game words are computed from the session and the replay file's
  * own sections (a pure function, tested), so they say what is true of this game.
  */
+import { CTF, CTF_WALLS, SURVIVAL, SURVIVAL_WALLS } from '@fixedstep/games';
 import { h, code } from '../../ui/dom.js';
 import * as fmt from '../../ui/format.js';
 import { KEYFRAME_SECONDS, hudLabel, type GameId } from '../../games-view/games.js';
@@ -15,7 +16,15 @@ export const REFERENCE_APEX = runnerApex(1 / 60);
 export const LEDE =
   'The talk’s three games — the runner (“SCORE 0 / HIGHSCORE 35730”), capture the flag (“Kills: 1, Flags captured: 0”) and survival (“Kills: 0, Lives: 15”). Play them with the keyboard on any display, then flip the loop to a variable Δt and watch them break.';
 
-/** What each game says about itself on the page. */
+/** Units per fixed step (1/60 s) of a speed in units per second, as the page writes it. */
+function perStep(unitsPerSecond: number): string {
+  return String(Number((unitsPerSecond / 60).toFixed(2)));
+}
+
+/**
+ * What each game says about itself on the page; its numbers are the games' own constants (speeds,
+ * the thinnest wall, lives), so the text follows the games.
+ */
 export const ABOUT: Readonly<Record<GameId, { lede: string; breaks: string; fixed: string }>> = {
   runner: {
     lede: 'Run, jump over the red blocks, duck under the birds. The speed grows; the highscore stays.',
@@ -25,17 +34,14 @@ export const ABOUT: Readonly<Record<GameId, { lede: string; breaks: string; fixe
   },
   ctf: {
     lede: 'You are the red player with the white ring. Take the blue flag from the right and bring it home while yours is on its stand. Bots fill both teams.',
-    breaks:
-      'Under a variable Δt a bullet moves 900 units/s × Δt at once and is only checked where it lands: at 30 Hz that is 30 units, and the 4-unit walls stop almost nothing. Red rings mark each pass.',
-    fixed:
-      'Under the fixed step bullets are swept (continuous collision detection) and players move 2.67 units a step against 4-unit walls: nothing goes through.',
+    breaks: `Under a variable Δt a bullet moves ${CTF.bulletSpeed} units/s × Δt at once and is only checked where it lands: at 30 Hz that is ${CTF.bulletSpeed / 30} units, and the ${CTF_WALLS.thinnest}-unit walls stop almost nothing. Red rings mark each pass.`,
+    fixed: `Under the fixed step bullets are swept (continuous collision detection) and players move ${perStep(CTF.playerSpeed)} units a step against ${CTF_WALLS.thinnest}-unit walls: nothing goes through.`,
   },
   survival: {
-    lede: 'Waves of enemies run at you. Keep moving, shoot them down, use the walls. Fifteen lives.',
+    lede: `Waves of enemies run at you. Keep moving, shoot them down, use the walls. ${SURVIVAL.lives} lives.`,
     breaks:
       'Under a variable Δt an enemy pressing on a wall during a long frame jumps past its middle and is pushed out on your side. Red rings mark each pass.',
-    fixed:
-      'Under the fixed step an enemy moves at most 7 units a step against walls 10 thick (minWallSize = maxSpeed × step): it slides along the wall and comes round its end.',
+    fixed: `Under the fixed step an enemy moves at most ${perStep(SURVIVAL.maxEnemySpeed + 60 * SURVIVAL.maxShove)} units a step (running, and shoved by the others) against walls ${SURVIVAL_WALLS.thinnest} thick (minWallSize = maxSpeed × step): it slides along the wall and comes round its end.`,
   },
 };
 
