@@ -82,6 +82,27 @@ describe('ReplayLab', () => {
     expect(c.equal).toBe(true);
   });
 
+  it('compares the latest tick two displays passed, however briefly another one played', () => {
+    const { bytes } = botReplay('ctf', 15_000);
+    // The page opens a replay playing at 60 Hz; the reader pauses it early…
+    const lab = new ReplayLab(bytes, 'a test', { hz: 60, jitter: 0 });
+    lab.play();
+    lab.advanceBy(1100);
+    lab.pause();
+    // …then plays it from the start at 30 Hz and at 144 Hz.
+    for (const hz of [30, 144] as const) {
+      lab.seek(0);
+      lab.setDisplay({ hz, jitter: 0.1 });
+      lab.play();
+      lab.advanceBy(5500);
+      lab.pause();
+    }
+    const c = lab.compare();
+    expect(c.tick).toBe(300);
+    expect(c.rows.map((r) => r.source)).toEqual([30, 144]);
+    expect(c.equal).toBe(true);
+  });
+
   it('fast-forwards by running more ticks per frame, never longer ones', () => {
     const { bytes } = botReplay('runner', 20_000);
     const lab = new ReplayLab(bytes, 'a test', { hz: 60, jitter: 0 });
