@@ -153,6 +153,7 @@ class GamesChapter {
       this.focusHint,
     );
     this.wireCanvas();
+    shell.own({ destroy: () => this.detachInput?.() });
     this.after = this.buildAfter();
     shell.append(...this.sections());
     shell.listen(document, 'visibilitychange', () => {
