@@ -23,7 +23,7 @@ export function catalogueSize(): { scenes: number; ticks: number } {
 /** The guarantee, with the catalogue's own numbers. */
 export function guarantee(size: { scenes: number; ticks: number }): string {
   const rates = TRACE_DISPLAY_RATES.map((hz) => String(hz));
-  return `the same start and the same recorded inputs give the same state bits, tick for tick — at every display rate, under any frame jitter, and in every JavaScript engine. The browser tests check it (e2e/determinism): Node, Chromium (V8), Firefox ESR (SpiderMonkey) and WebKitGTK (JavaScriptCore), when installed, compute the determinism catalogue — ${fmt.count(size.scenes)} scenes and games, ${fmt.count(size.ticks)} ticks — and must agree on the state hash after every tick, and so must displays at ${rates.slice(0, -1).join(', ')} and ${rates[rates.length - 1]!} Hz. Only the inputs and the random seed need recording; the hash proves the replay is the game.`;
+  return `the same start and the same recorded inputs give the same state bits, tick for tick — at every display rate, under any frame jitter, and in every JavaScript engine. The browser tests check it (e2e/determinism): Node, Chromium (V8), Firefox ESR (SpiderMonkey) and WebKitGTK (JavaScriptCore), when installed, compute the determinism catalogue of @fixedstep/games — ${fmt.count(size.scenes)} scenes and games, ${fmt.count(size.ticks)} ticks; the suite adds probes of the engines’ own arithmetic — and must agree on the state hash after every tick, and so must displays at ${rates.slice(0, -1).join(', ')} and ${rates[rates.length - 1]!} Hz. Only the inputs and the random seed need recording; the hash proves the replay is the game.`;
 }
 
 /** A panel's verdict: what its hashes (and the runs' paths so far) say. */
