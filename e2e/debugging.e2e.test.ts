@@ -37,10 +37,6 @@ describe('chapter 7, debugging', () => {
     await skip(page);
     const r = await readouts(page);
     await page.screenshot({ path: path.join(shots, 'debugging.png'), fullPage: true });
-    console.log(
-      `fixed @ tick ${r['readout-fixed-common-tick']}: ${hashes(r, 'fixed').join(' ')}\n` +
-        `variable now: ${hashes(r, 'variable').join(' ')}`,
-    );
     expect(r['readout-fixed-hashes-equal']).toBe('true');
     expect(r['readout-variable-hashes-equal']).toBe('false');
     const fixed = hashes(r, 'fixed');
@@ -63,7 +59,7 @@ describe('chapter 7, debugging', () => {
     await page.getByTestId('control-real-clock').click();
     await page.getByTestId('control-pause').click(); // play
     await expect
-      .poll(async () => num(await readouts(page), 'fixed-common-tick'), { timeout: 15_000 })
+      .poll(async () => num(await readouts(page), 'fixed-common-tick'), { timeout: 60_000 })
       .toBeGreaterThanOrEqual(40);
     await page.getByTestId('control-pause').click();
     const real = await readouts(page);
@@ -87,15 +83,22 @@ describe('chapter 7, debugging', () => {
       .poll(() => page.getByTestId('control-record').getAttribute('aria-pressed'))
       .toBe('true');
     expect(await page.getByTestId('control-jump').isEnabled()).toBe(true);
+    // Between presses, wait for the chapter's clock to move on (state, not a sleep).
+    const after = async (ms: number) => {
+      const t0 = num(await readouts(page), 'clock');
+      await expect
+        .poll(async () => num(await readouts(page), 'clock'), { timeout: 60_000 })
+        .toBeGreaterThanOrEqual(t0 + ms);
+    };
     await page.keyboard.down('ArrowRight');
-    await page.waitForTimeout(400);
+    await after(400);
     await page.keyboard.press('Space');
-    await page.waitForTimeout(500);
+    await after(500);
     await page.keyboard.up('ArrowRight');
     await page.keyboard.down('ArrowLeft');
-    await page.waitForTimeout(300);
+    await after(300);
     await page.keyboard.up('ArrowLeft');
-    await page.waitForTimeout(200);
+    await after(200);
     await page.getByTestId('control-record').click(); // stop and replay
     await expect
       .poll(() => page.getByTestId('control-record').getAttribute('aria-pressed'))

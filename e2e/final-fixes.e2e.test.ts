@@ -31,14 +31,6 @@ describe('chapter 8, final fixes', () => {
     await skip(page, 3); // t = 15 s
     const r = await readouts(page);
     await page.screenshot({ path: path.join(shots, 'final-fixes.png'), fullPage: true });
-    console.log(
-      ['noclamp', 'clamp', 'fixed']
-        .map(
-          (id) =>
-            `${id}: max steps ${r[`readout-${id}-max-steps`]}, longest frame ${num(r, `${id}-longest-frame`).toFixed(0)} ms, stalled ${r[`readout-${id}-stalled`]}, owed ${r[`readout-${id}-owed`]}`,
-        )
-        .join('\n'),
-    );
 
     // The slides' loop: each frame owes more than the last, until a frame would hang the page.
     expect(num(r, 'noclamp-max-steps')).toBeGreaterThan(num(r, 'clamp-max-steps'));

@@ -120,7 +120,6 @@ describe('chapter 9, games', () => {
       await skip(page, 3);
       await pause(page);
       const r = await readouts(page);
-      console.log(`${id}, bot, 15+ s at 60 Hz: ${JSON.stringify(r)}`);
       expect(num(r, 'tick')).toBeGreaterThanOrEqual(900);
       expect(r['readout-hash']).toMatch(/^[0-9a-f]{16}$/);
       expect(r['readout-hash']).not.toBe(start['readout-hash']);
@@ -140,7 +139,7 @@ describe('chapter 9, games', () => {
               document.querySelector('[data-testid="readout-enemies"]')?.getAttribute('data-value'),
             ) >= 6,
           undefined,
-          { timeout: 15_000 },
+          { timeout: 60_000 },
         );
         await pause(page);
       }
@@ -163,7 +162,6 @@ describe('chapter 9, games', () => {
     const naive = await readouts(page);
     await showGame(page);
     await page.screenshot({ path: path.join(shots, 'games-ctf-variable.png') });
-    console.log(`ctf at 30 Hz ±30 %, variable Δt: ${num(naive, 'through-walls')} through walls`);
     expect(num(naive, 'through-walls')).toBeGreaterThan(0);
     expect(num(naive, 'max-dt')).toBeGreaterThan(34);
 
@@ -173,7 +171,6 @@ describe('chapter 9, games', () => {
     await skip(page, 2);
     await pause(page);
     const fixed = await readouts(page);
-    console.log(`ctf at 30 Hz ±30 %, fixed step: ${num(fixed, 'through-walls')} through walls`);
     expect(num(fixed, 'tick')).toBeGreaterThanOrEqual(600);
     expect(num(fixed, 'through-walls')).toBe(0);
     expect(problems).toEqual([]);
@@ -189,7 +186,6 @@ describe('chapter 9, games', () => {
     await skip(page, 2);
     await pause(page);
     const r = await readouts(page);
-    console.log(`runner, variable Δt at 30 Hz: last jump apex ${r['readout-jump-apex']} m`);
     expect(num(r, 'jumps')).toBeGreaterThan(0);
     expect(num(r, 'jump-apex')).toBeLessThan(1.9333 - 0.05);
     expect(await page.getByTestId('readout-jump-apex').getAttribute('class')).toContain('warn');
@@ -236,16 +232,24 @@ describe('chapter 9, games', () => {
     const canvas = page.getByTestId('canvas-game');
     await showGame(page);
     await page.screenshot({ path: path.join(shots, 'games-start.png') });
+    // The clock stands still except when Skip moves it: key presses land on exact ticks, however
+    // fast this machine is. A quarter speed makes one Skip 75 ticks (1.25 s of the game).
+    await page.getByTestId('control-speed-0.25').click();
+    await page.getByTestId('control-step-tick').click(); // starts the game, paused, at tick 1
+    await expect.poll(async () => num(await readouts(page), 'tick')).toBe(1);
     await canvas.focus();
-    await page.keyboard.press('Space'); // starts the game, and jumps
-    await page.waitForTimeout(900);
+    await page.keyboard.press('Space');
+    await skip(page, 1);
+    const first = await readouts(page);
+    expect(num(first, 'tick')).toBeGreaterThanOrEqual(74);
+    expect(num(first, 'jumps')).toBe(1);
+    await canvas.focus();
     await page.keyboard.press('ArrowUp');
-    await page.waitForTimeout(900);
-    await pause(page);
+    await skip(page, 1);
     await canvas.focus();
     const r = await readouts(page);
+    expect(num(r, 'tick')).toBeGreaterThanOrEqual(148);
     expect(num(r, 'jumps')).toBe(2);
-    expect(num(r, 'tick')).toBeGreaterThan(60);
     expect(Math.abs(num(r, 'jump-apex') - 1.9333)).toBeLessThan(0.001);
     const outline = await canvas.evaluate((el) => getComputedStyle(el).outlineStyle);
     expect(outline).toBe('solid');
@@ -255,57 +259,78 @@ describe('chapter 9, games', () => {
     await page.close();
   });
 
-  it('submits the score (accepted with a rank), refuses a faked one, and replays the same states', async () => {
+  it('starts the game with its first key', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const problems = watch(page);
+    await openGame(page, 'game=runner&seed=3');
+    expect(await page.getByTestId('start-overlay').isVisible()).toBe(true);
+    await page.getByTestId('canvas-game').focus();
+    await page.keyboard.press('Space');
+    await expect.poll(async () => num(await readouts(page), 'tick')).toBeGreaterThan(0);
+    expect(await page.getByTestId('start-overlay').isHidden()).toBe(true);
+    await pause(page);
+    expect(problems).toEqual([]);
+    await page.close();
+  });
+
+  it('submits the best run under the name typed after the game, refuses a faked score, and replays the same states', async () => {
     const page = await lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
     const problems = watch(page);
     await openGame(page, 'game=runner&seed=11');
-    await page.getByTestId('control-name').fill('e2e');
-    await page.getByTestId('control-name').dispatchEvent('change');
-    await page.getByTestId('control-restart').click(); // the name goes into the next game
     await page.getByTestId('control-bot').click();
     await skip(page, 2);
     await pause(page);
     const live = await readouts(page);
     const tick = num(live, 'tick');
     const hash = live['readout-hash']!;
-    const score = num(live, 'score');
-    console.log(`live runner: tick ${tick}, hash ${hash}, score ${score}`);
+    // The best run of the session: the highscore of the runs that crashed, or this one if better.
+    const best = Math.max(num(live, 'score'), num(live, 'highscore'));
 
     await page.getByTestId('control-end').click();
     await page.getByTestId('after-game').waitFor();
-    expect(await page.getByTestId('control-claimed-score').inputValue()).toBe(String(score));
+    expect(await page.getByTestId('control-claimed-score').inputValue()).toBe(String(best));
+    expect(await page.getByTestId('after-text').textContent()).toMatch(
+      /The replay is [\d\u202f]+ bytes: the inputs of [\d\u202f]+ ticks in [\d\u202f]+ B/,
+    );
+    // The name is typed after the game: it still goes to the table.
+    await page.getByTestId('control-name').fill('e2e after');
+    await page.getByTestId('control-name').dispatchEvent('change');
 
     // A faked score first: the server re-simulates and refuses it.
-    await page.getByTestId('control-claimed-score').fill(String(score + 5000));
+    await page.getByTestId('control-claimed-score').fill(String(best + 5000));
     await page.getByTestId('control-submit-score').click();
     const result = page.getByTestId('submit-result');
     await expect.poll(() => result.getAttribute('data-value')).toBe('refused');
     expect(await result.getAttribute('data-code')).toBe('SCORE_MISMATCH');
     expect(await result.textContent()).toContain(
-      `claimed ${score + 5000}, the replay scores ${score}`,
+      `claimed ${best + 5000}, the replay scores ${best}`,
     );
 
     // The honest one.
-    await page.getByTestId('control-claimed-score').fill(String(score));
+    await page.getByTestId('control-claimed-score').fill(String(best));
     await page.getByTestId('control-submit-score').click();
     await expect.poll(() => result.getAttribute('data-value')).toBe('accepted');
     expect(await result.getAttribute('data-rank')).toBe('1');
     await expect
       .poll(() => page.locator('.hs-table tbody tr').first().textContent())
-      .toContain('e2e');
+      .toContain('e2e after');
     await page.screenshot({ path: path.join(shots, 'games-after.png'), fullPage: true });
 
-    // The replay, at the live game's tick, has the live game's hash.
+    // The replay of the whole game, at the live game's tick, has the live game's hash.
     await page.getByTestId('control-watch-replay').click();
     await expect.poll(() => page.title()).toBe('5. Replays — fixedstep lab');
     await expect.poll(() => value(page, 'replay-verified')).toBe('ok');
     expect(num(await readouts(page), 'replay-ticks')).toBe(tick);
+    await expect
+      .poll(() => page.getByTestId('control-play').getAttribute('aria-pressed'))
+      .toBe('true');
+    await page.getByTestId('control-play').click(); // it opened playing: pause it
     await setRange(page, 'replay-timeline', tick - 100);
     await expect.poll(async () => num(await readouts(page), 'replay-tick')).toBe(tick - 100);
     await setRange(page, 'replay-timeline', tick);
     await expect.poll(async () => num(await readouts(page), 'replay-tick')).toBe(tick);
     expect(await value(page, 'readout-replay-hash')).toBe(hash);
-    expect(num(await readouts(page), 'replay-hud-score')).toBe(score);
+    expect(num(await readouts(page), 'replay-hud-score')).toBe(num(live, 'score'));
     // The browser logs the refused submission's 422 itself; nothing else may appear.
     expect(problems).toEqual([
       'console.error: Failed to load resource: the server responded with a status of 422 (Unprocessable Entity)',
@@ -320,10 +345,11 @@ describe('chapter 9, games', () => {
     await page.getByTestId('control-real-clock').click();
     await page.getByTestId('control-bot').click();
     expect(await page.getByTestId('control-skip').isDisabled()).toBe(true);
-    await page.waitForTimeout(1500);
+    await expect
+      .poll(async () => num(await readouts(page), 'tick'), { timeout: 60_000 })
+      .toBeGreaterThan(30);
     await pause(page);
     const r = await readouts(page);
-    expect(num(r, 'tick')).toBeGreaterThan(30);
     expect(num(r, 'through-walls')).toBe(0);
     expect(await page.locator('.play .status .mode').textContent()).toContain('real clock');
     expect(problems).toEqual([]);

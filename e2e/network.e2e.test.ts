@@ -39,12 +39,6 @@ describe('chapter 6, network', () => {
     await page.getByTestId('control-loss').fill('5');
     await skip(page, 2);
     const r = await readouts(page);
-    console.log(
-      `lockstep: delay ${r['readout-lockstep-input-delay']}, stalls ${r['readout-lockstep-stalls']}, ` +
-        `@${r['readout-lockstep-checkpoint']} ${r['readout-lockstep-hash-1']} ${r['readout-lockstep-hash-2']}\n` +
-        `rollback: ${r['readout-rollback-rollbacks']} rollbacks, depth ${r['readout-rollback-max-depth']}, ` +
-        `@${r['readout-rollback-checkpoint']} ${r['readout-rollback-hash-1']} ${r['readout-rollback-hash-2']}`,
-    );
     for (const mode of ['lockstep', 'rollback']) {
       expect(r[`readout-${mode}-hashes-equal`]).toBe('true');
       expect(r[`readout-${mode}-hash-1`]).toMatch(/^[0-9a-f]{16}$/);
@@ -128,19 +122,11 @@ describe('chapter 6, play online', () => {
       pages.map(async (p) => {
         await expect
           .poll(() => p.getByTestId('readout-online-final-hash').getAttribute('data-value'), {
-            timeout: 30_000,
+            timeout: 60_000,
           })
           .toMatch(/^[0-9a-f]{16}$/);
         return readouts(p);
       }),
-    );
-    console.log(
-      finals
-        .map(
-          (r) =>
-            `slot ${r['readout-online-slot']}: ${r['readout-online-final-hash']} rtt ${r['readout-online-rtt']}`,
-        )
-        .join('\n'),
     );
     expect(finals[0]!['readout-online-final-hash']).toBe(finals[1]!['readout-online-final-hash']);
     expect(new Set(finals.map((r) => r['readout-online-slot']))).toEqual(new Set(['1', '2']));

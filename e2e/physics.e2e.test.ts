@@ -41,9 +41,6 @@ describe('chapter 4, physics', () => {
     await open(page);
     await skip(page, 2);
     const r = await readouts(page);
-    console.log(
-      `10 s at dt 0.03, k 20 N/m: ${['explicit-euler', 'semi-implicit-euler', 'backward-euler', 'position-verlet', 'velocity-verlet', 'rk4'].map((m) => `${m} ${num(r, `${m}-energy-ratio`).toPrecision(6)}`).join(', ')}`,
-    );
     expect(r['readout-clock']).toBe('10000');
     expect(num(r, 'ticks')).toBe(333);
     expect(num(r, 'omega-dt')).toBeCloseTo(0.13416, 5);
@@ -162,9 +159,6 @@ describe('chapter 4, physics', () => {
     await expect.poll(async () => num(await readouts(page), 'hitch-count')).toBe(1);
     await skip(page);
     r = await readouts(page);
-    console.log(
-      `hitch at 5 s: variable ω·Δt ${r['readout-hitch-variable-omega-dt']}, largest E/E0 ${r['readout-hitch-variable-max-energy']}; fixed ${r['readout-hitch-fixed-omega-dt']}, ${r['readout-hitch-fixed-max-energy']}`,
-    );
     expect(num(r, 'hitch-variable-omega-dt')).toBeGreaterThan(2);
     expect(num(r, 'hitch-variable-max-dt')).toBeGreaterThan(250);
     expect(num(r, 'hitch-fixed-omega-dt')).toBeCloseTo(0.3, 9);

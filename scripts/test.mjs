@@ -41,6 +41,7 @@ const stages = [
       `--outputFile.json=${join(results, 'e2e.json')}`,
     ],
   ],
+  ['browser tests, busy cores', 'node', ['scripts/busy-check.mjs']],
   ['benchmarks (smoke)', 'npm', ['run', 'bench', '--', '--quick']],
 ];
 

@@ -98,7 +98,7 @@ async function show(): Promise<void> {
   document.title = `${chapter.number}. ${chapter.title} — fixedstep lab`;
   const module = await chapter.load();
   if (gen !== generation) return;
-  unmount = module.mount(main);
+  unmount = module.mount(main, chapter);
 }
 
 window.addEventListener('hashchange', () => {

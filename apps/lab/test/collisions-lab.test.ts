@@ -9,7 +9,7 @@ import {
   defaultSettings,
   type CollisionsSettings,
   type RangeReadouts,
-} from '../src/chapters/collisions-lab.js';
+} from '../src/chapters/collisions/collisions-lab.js';
 
 function readouts(lab: CollisionsLab): Record<string, RangeReadouts> {
   return Object.fromEntries(lab.runs.map((r) => [r.spec.id, r.readouts()]));

@@ -1,11 +1,14 @@
 import { describe, expect, it } from 'vitest';
-import { JumperButtons, demoRecording } from '@fixedstep/games';
+import { JumperButtons, demoRecording, traceCatalogue } from '@fixedstep/games';
 import {
   DebugLab,
+  LOOPS,
   MAX_RECORDING_MS,
   RATES,
   defaultDebugSettings,
-} from '../src/chapters/debugging-lab.js';
+} from '../src/chapters/debugging/debugging-lab.js';
+import { catalogueSize, guarantee, verdictText } from '../src/chapters/debugging/debugging-text.js';
+import { count } from '../src/ui/format.js';
 
 describe('DebugLab', () => {
   it('replays the demo: fixed-step hashes agree at the common tick, variable ones do not', () => {
@@ -104,5 +107,52 @@ describe('DebugLab', () => {
     expect(f.rows.map((r) => r.source)).toEqual([...RATES, 'real']);
     expect(f.equal).toBe(true);
     expect(lab.readouts('variable').equal).toBe(false);
+  });
+});
+
+describe('what the debugging chapter says', () => {
+  const variable = LOOPS.find((l) => !l.fixed)!;
+  const fixed = LOOPS.find((l) => l.fixed)!;
+  const cm = (m: number) => `${(m * 100).toFixed(1)} cm`;
+
+  it('does not say "nothing has moved" of runs that moved and met again', () => {
+    // Run left into the level's wall and jump: the four variable-Δt runs come to rest in the
+    // same place, so their hashes agree again — after paths that did not.
+    const L = JumperButtons.left;
+    const J = JumperButtons.jump;
+    const lab = new DebugLab({
+      jitter: 0.2,
+      recording: [
+        { timeMs: 100, button: L, down: true },
+        { timeMs: 600, button: J, down: true },
+        { timeMs: 800, button: J, down: false },
+        { timeMs: 3000, button: L, down: false },
+      ],
+    });
+    lab.advanceTo(5000);
+    const r = lab.readouts('variable');
+    expect(r.equal).toBe(true);
+    expect(r.moved).toBe(true);
+    expect(r.maxDivergence).toBeGreaterThan(0.3);
+    const text = verdictText(variable, r, cm);
+    expect(text).not.toContain('nothing has moved');
+    expect(text).toContain(`up to ${cm(r.maxDivergence)} apart`);
+    expect(text).toContain(`at ${(r.maxDivergenceAtMs / 1000).toFixed(1)} s`);
+    // Before anything happens, it says so; the fixed step's verdict is about its hashes.
+    const start = new DebugLab();
+    expect(verdictText(variable, start.readouts('variable'), cm)).toContain(
+      'nothing has moved yet',
+    );
+    expect(verdictText(fixed, lab.readouts('fixed'), cm)).toContain('one hash at every tick');
+  });
+
+  it('states the determinism catalogue’s own size, not a number typed in', () => {
+    const compared = traceCatalogue().filter((s) => s.informational !== true);
+    const size = catalogueSize();
+    expect(size.scenes).toBe(compared.length);
+    expect(size.ticks).toBe(compared.reduce((n, s) => n + s.ticks, 0));
+    const text = guarantee(size);
+    expect(text).toContain(`${count(size.scenes)} scenes and games, ${count(size.ticks)} ticks`);
+    expect(text).toContain('30, 59.94, 60, 144 and 240 Hz');
   });
 });

@@ -4,7 +4,9 @@ import {
   FinalLab,
   SPIRAL_LOOPS,
   defaultFinalSettings,
-} from '../src/chapters/final-fixes-lab.js';
+  spiralOutlook,
+} from '../src/chapters/final-fixes/final-fixes-lab.js';
+import { backwardsIntro, spiralIntro } from '../src/chapters/final-fixes/final-fixes-text.js';
 
 function byId<T extends { spec: { id: string } }>(runs: T[], id: string): T {
   const r = runs.find((x) => x.spec.id === id);
@@ -90,5 +92,43 @@ describe('FinalLab', () => {
     expect(lab.spiralReadouts(byId(lab.spiral, 'fixed')).maxSteps).toBe(8);
     expect(lab.backwardsReadouts(byId(lab.backwards, 'variable')).reversed).toBe(true);
     expect(lab.backwardsReadouts(byId(lab.backwards, 'fixed')).reversed).toBe(false);
+  });
+});
+
+describe('what the final-fixes chapter says', () => {
+  it('sets the clock back by the amount selected, at the time it happens', () => {
+    const s = { ...defaultFinalSettings(), backMs: 5000 };
+    const text = backwardsIntro(s);
+    expect(text).toContain('At t = 3.000 s the clock is set back by 5.000 s');
+    expect(text).not.toContain('1.5');
+    expect(backwardsIntro({ backJumps: [3000, 7250], backMs: 500 })).toContain(
+      'At t = 3.000 s (and again at 7.250 s) the clock is set back by 0.500 s',
+    );
+  });
+
+  it('states the spiral the no-clamp panel will show, read from its own rig', () => {
+    const hitch = defaultFinalSettings().hitches[0]!;
+    for (const costMs of [10, 25, 40]) {
+      const o = spiralOutlook(costMs, hitch);
+      // The panel's rig, run to the end of the hitch and a few frames past it.
+      const lab = new FinalLab({ ...defaultFinalSettings(), costMs });
+      const noclamp = byId(lab.spiral, 'noclamp');
+      const steps: number[] = [];
+      const end = hitch.atMs + hitch.durationMs;
+      for (let t = end; steps.length < 5 && !noclamp.rig.stalled; t += 250) {
+        lab.advanceTo(t);
+        const f = noclamp.frames;
+        steps.length = 0;
+        for (let k = 0; k < f.length && steps.length < 5; k += 4)
+          if (f[k]! >= end) steps.push(f[k + 1]!);
+      }
+      expect(o.steps, `cost ${costMs} ms`).toEqual(steps.slice(0, o.steps.length));
+      const text = spiralIntro(o);
+      expect(text).toContain(`owes ${o.steps[0]} steps`);
+      expect(text).toContain(`one update costs ${costMs} ms`);
+      expect(text.includes('each frame owes more than the last')).toBe(costMs > 30);
+    }
+    expect(spiralOutlook(40, hitch).steps).toEqual([40, 54, 72, 96, 128]);
+    expect(spiralOutlook(10, hitch).steps).toEqual([33, 11, 4, 1, 1]);
   });
 });

@@ -1,5 +1,6 @@
 import { describe, expect, it } from 'vitest';
-import { count, exact, hashHue, millis, ratio, sci, seconds } from '../src/ui/format.js';
+import { count, exact, hashHue, millis, plural, ratio, sci, seconds } from '../src/ui/format.js';
+import { integerTicks } from '../src/ui/steps-chart.js';
 import { routeOf } from '../src/chapters.js';
 
 describe('format', () => {
@@ -22,6 +23,18 @@ describe('format', () => {
     expect(exact(NaN)).toBe('NaN');
     expect(exact(undefined)).toBe('');
     expect(hashHue('0acdb8691efc01d0')).toBe(0x0acdb8 % 360);
+    expect(plural(1, 'point')).toBe('1 point');
+    expect(plural(0, 'point')).toBe('0 points');
+    expect(plural(1200, 'step')).toBe('1\u202f200 steps');
+  });
+
+  it('gives a steps-per-frame chart whole-step ticks above 0, at most four intervals', () => {
+    expect(integerTicks(2)).toEqual([0, 1, 2]);
+    expect(integerTicks(3)).toEqual([0, 1, 2, 3]);
+    expect(integerTicks(9)).toEqual([0, 5]);
+    expect(integerTicks(10)).toEqual([0, 5, 10]);
+    expect(integerTicks(150)).toEqual([0, 50, 100, 150]);
+    expect(integerTicks(0)).toEqual([0]);
   });
 });
 

@@ -1,23 +1,35 @@
 import { describe, expect, it } from 'vitest';
-import { readReplay, verifyReplay } from 'fixedstep';
-import { RunnerButtons, gameFromReplayHeader } from '@fixedstep/games';
+import { ReplayError, readReplay, verifyReplay } from 'fixedstep';
+import {
+  CTF,
+  CTF_WALLS,
+  RunnerButtons,
+  SURVIVAL,
+  SURVIVAL_WALLS,
+  gameFromReplayHeader,
+  type Game,
+} from '@fixedstep/games';
+import {
+  GameSession,
+  routeOptions,
+  runnerApex,
+  type LoopMode,
+} from '../src/chapters/games/games-lab.js';
 import {
   DISPLAY_RATES,
-  GameSession,
   bytesPerMinute,
   cleanName,
-  fetchHighscores,
   gameDef,
   isRanked,
   keyLabel,
   keyMap,
   replayFileName,
-  routeOptions,
-  runnerApex,
-  submitScore,
   type DisplayRate,
-  type LoopMode,
-} from '../src/chapters/games-lab.js';
+} from '../src/games-view/games.js';
+import { fetchHighscores, submitScore } from '../src/games-view/highscores.js';
+import { recordBotGame, replayContents, withPlayerName } from '../src/games-view/replays.js';
+import { ABOUT, afterGameText } from '../src/chapters/games/games-text.js';
+import { count } from '../src/ui/format.js';
 
 const REFERENCE_APEX = runnerApex(1 / 60);
 
@@ -83,9 +95,6 @@ describe('GameSession, the runner by hand', () => {
   it('under a variable Δt the jump follows the frame rate', () => {
     const a30 = handRunner('variable', 30).lastJump!.apex;
     const a144 = handRunner('variable', 144).lastJump!.apex;
-    console.log(
-      `runner apex: fixed ${REFERENCE_APEX.toFixed(4)} m, variable 30 Hz ${a30.toFixed(4)} m, 144 Hz ${a144.toFixed(4)} m`,
-    );
     expect(a30).not.toBe(a144);
     expect(Math.abs(a30 - REFERENCE_APEX)).toBeGreaterThan(0.01);
     expect(handRunner('variable', 30).recorder).toBeUndefined();
@@ -135,13 +144,168 @@ describe('GameSession, the runner by hand', () => {
   });
 });
 
+describe('the best run of the session, for the highscore table', () => {
+  /** Advance `s` in small steps until its runner has crashed; returns the session time. */
+  function untilCrash(s: GameSession, from: number): number {
+    let t = from;
+    while (!s.game.over) {
+      t += 50;
+      s.advanceTo(t);
+      if (t > from + 120_000) throw new Error('the runner never crashed');
+    }
+    return t;
+  }
+
+  it('keeps the replay up to the end of the best run, not the last one', () => {
+    const s = new GameSession({
+      def: gameDef('runner'),
+      seed: 9,
+      mode: 'fixed',
+      player: 'ann',
+      display: { hz: 60, jitter: 0.1 },
+      bot: true,
+    });
+    expect(s.bestRun()).toBeUndefined();
+    // The bot runs 20 s, then the player lets go: the runner crashes on the next obstacle.
+    s.advanceTo(20_000);
+    s.bot = false;
+    const crash1 = untilCrash(s, 20_000);
+    const first = s.score!;
+    expect(first).toBeGreaterThan(1000);
+    // A second run, nobody jumping: it crashes at the first obstacle, far below the first run.
+    s.advanceTo(crash1 + 700);
+    s.press(crash1 + 700, RunnerButtons.jump, true);
+    s.advanceTo(crash1 + 800);
+    s.press(crash1 + 800, RunnerButtons.jump, false);
+    s.advanceTo(crash1 + 1000);
+    expect(s.game.over).toBe(false);
+    untilCrash(s, crash1 + 1000);
+    const second = s.score!;
+    expect(second).toBeLessThan(first);
+    expect(s.game.hud().highscore).toBe(first);
+
+    const best = s.bestRun()!;
+    expect(best.score).toBe(first);
+    expect(best.ticks).toBeLessThan(s.game.tick);
+    // What the server does: re-simulate the file and read the score its last tick has.
+    let game: Game | undefined;
+    const v = verifyReplay(best.bytes, (h) => (game = gameFromReplayHeader(h)));
+    expect(v.ok).toBe(true);
+    expect(v.ticks).toBe(best.ticks);
+    expect(game!.hud().score).toBe(first);
+    // The whole recording goes on to the second crash.
+    expect(readReplay(s.replay()!).tickCount).toBe(s.game.tick);
+  });
+
+  it('offers the run the game ended in when it is the best', () => {
+    const s = new GameSession({
+      def: gameDef('ctf'),
+      seed: 4,
+      mode: 'fixed',
+      player: 'ann',
+      display: { hz: 60, jitter: 0 },
+      bot: true,
+    });
+    s.advanceTo(30_000);
+    expect(s.bestRun()).toBeUndefined();
+    s.end();
+    const best = s.bestRun()!;
+    expect(best.score).toBe(s.score);
+    expect(best.ticks).toBe(s.game.tick);
+    expect(verifyReplay(best.bytes, gameFromReplayHeader).ok).toBe(true);
+    // Under a variable Δt nothing is recorded, so nothing can be ranked.
+    const naive = botSession('runner', 'variable', 60, 0, 5000);
+    naive.end();
+    expect(naive.bestRun()).toBeUndefined();
+  });
+
+  it('submits under a name typed after the game: the same replay, another player', () => {
+    const bytes = recordBotGame(gameDef('runner'), 6, 900, 'player');
+    expect(withPlayerName(bytes, 'player')).toBe(bytes);
+    const renamed = withPlayerName(bytes, '  Ann \u0007');
+    const a = readReplay(bytes);
+    const b = readReplay(renamed);
+    expect(b.header.players).toEqual(['Ann']);
+    expect(b.tickCount).toBe(a.tickCount);
+    expect(b.finalHash).toBe(a.finalHash);
+    expect([...b.checkpoints]).toEqual([...a.checkpoints]);
+    expect(b.keyframes.length).toBe(a.keyframes.length);
+    expect(verifyReplay(renamed, gameFromReplayHeader).ok).toBe(true);
+    expect(() => withPlayerName(new Uint8Array(10), 'x')).toThrow(ReplayError);
+  });
+
+  it('records a bot game the same way every time', () => {
+    const def = gameDef('survival');
+    const a = recordBotGame(def, 11, 1200);
+    expect(recordBotGame(def, 11, 1200)).toEqual(a);
+    const r = readReplay(a);
+    expect(r.tickCount).toBe(1200);
+    expect(r.header.players).toEqual(['bot']);
+    expect(verifyReplay(a, gameFromReplayHeader).ok).toBe(true);
+    expect(() => recordBotGame(def, 11, -1)).toThrow(/ticks must be an integer/);
+  });
+});
+
+describe('what the page says after a game', () => {
+  const base = {
+    title: 'Runner',
+    gameId: 'runner',
+    fixed: true,
+    runnerCrash: false,
+    over: false,
+    ticks: 900,
+    hud: { score: 1, highscore: 1 },
+    best: undefined,
+    contents: undefined,
+  };
+
+  it('counts points in words: 1 point, 2 points', () => {
+    expect(afterGameText({ ...base, score: 1 }).summary).toBe('Runner: 1 point');
+    expect(afterGameText({ ...base, score: 2 }).summary).toBe('Runner: 2 points');
+    expect(afterGameText({ ...base, score: 12_345 }).summary).toBe('Runner: 12\u202f345 points');
+  });
+
+  it('sizes the replay from its own sections', () => {
+    const bytes = recordBotGame(gameDef('runner'), 3, 1800);
+    const c = replayContents(readReplay(bytes));
+    expect(c.inputs + c.hashes + c.keyframes + c.header).toBe(bytes.length);
+    expect(c.keyframeCount).toBe(6);
+    const text = afterGameText({ ...base, score: 10, ticks: 1800, contents: c }).text;
+    const n = (x: number) => count(x);
+    expect(text).toContain(`The replay is ${n(bytes.length)} bytes`);
+    expect(text).toContain(`the inputs of ${n(1800)} ticks in ${n(c.inputs)} B`);
+    expect(text).toContain(`6 keyframes for seeking in ${n(c.keyframes)} B`);
+    expect(text).not.toContain('only the inputs');
+  });
+
+  it('states each game’s numbers from the game’s own constants', () => {
+    expect(ABOUT.ctf.breaks).toContain(`at 30 Hz that is ${CTF.bulletSpeed / 30} units`);
+    expect(ABOUT.ctf.fixed).toContain(`${CTF_WALLS.thinnest}-unit walls`);
+    expect(ABOUT.survival.fixed).toContain(`walls ${SURVIVAL_WALLS.thinnest} thick`);
+    // Running at full speed and shoved by the others: the most an enemy moves in one step.
+    const most = SURVIVAL.maxEnemySpeed / 60 + SURVIVAL.maxShove;
+    expect(ABOUT.survival.fixed).toContain(`at most ${Number(most.toFixed(2))} units a step`);
+    expect(most).toBeLessThan(SURVIVAL_WALLS.thinnest);
+    expect(ABOUT.survival.lede).toContain(`${SURVIVAL.lives} lives`);
+  });
+
+  it('names the best run when the form offers another than the last', () => {
+    const best = { score: 607, ticks: 500, bytes: new Uint8Array(0) };
+    const crashed = afterGameText({ ...base, runnerCrash: true, over: true, score: 174, best });
+    expect(crashed.heading).toBe('Crashed');
+    expect(crashed.text).toContain('The best run of this game scored 607 points');
+    expect(crashed.text).toContain('Press Space to run again');
+    const same = afterGameText({ ...base, score: 607, ticks: 500, best });
+    expect(same.text).toContain('Submit this run below');
+    const naive = afterGameText({ ...base, fixed: false, score: 3 });
+    expect(naive.text).toContain('it was not recorded');
+  });
+});
+
 describe('GameSession, the shooters with their bots', () => {
   it('capture the flag: bullets through walls under a variable Δt at 30 Hz, none under the step', () => {
     const naive = botSession('ctf', 'variable', 30, 0.3, 20_000);
     const fixed = botSession('ctf', 'fixed', 30, 0.3, 20_000);
-    console.log(
-      `ctf 20 s at 30 Hz ±30 %: variable ${naive.throughWalls} through walls (${naive.breaches.length} markers), fixed ${fixed.throughWalls}`,
-    );
     expect(naive.throughWalls).toBeGreaterThan(10);
     expect(naive.breaches.length).toBeGreaterThan(0);
     expect(fixed.throughWalls).toBe(0);
@@ -152,9 +316,6 @@ describe('GameSession, the shooters with their bots', () => {
   it('survival: enemies through walls under a variable Δt at 30 Hz, none under the step', () => {
     const naive = botSession('survival', 'variable', 30, 0.3, 60_000);
     const fixed = botSession('survival', 'fixed', 30, 0.3, 60_000);
-    console.log(
-      `survival 60 s at 30 Hz ±30 %: variable ${naive.throughWalls} through walls, fixed ${fixed.throughWalls}`,
-    );
     expect(naive.throughWalls).toBeGreaterThan(0);
     expect(fixed.throughWalls).toBe(0);
     expect(fixed.breaches).toEqual([]);
@@ -174,7 +335,6 @@ describe('GameSession, the shooters with their bots', () => {
     expect(v.ok).toBe(true);
     expect(s.score).toBe(s.game.hud().score);
     const bpm = bytesPerMinute(bytes.length, r.tickCount, 60);
-    console.log(`runner bot, 30 s: ${bytes.length} bytes, ${Math.round(bpm)} bytes per minute`);
     expect(bpm).toBeGreaterThan(0);
   });
 

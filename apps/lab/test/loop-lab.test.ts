@@ -12,7 +12,7 @@ import {
   labScript,
   type LoopLabSettings,
   type PanelReadouts,
-} from '../src/chapters/loop-lab.js';
+} from '../src/chapters/loop/loop-lab.js';
 
 function readouts(lab: { runs: { spec: { id: string }; readouts(): PanelReadouts }[] }) {
   return Object.fromEntries(lab.runs.map((r) => [r.spec.id, r.readouts()]));

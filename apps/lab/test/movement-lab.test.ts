@@ -8,7 +8,7 @@ import {
   defaultMovementSettings,
   spread,
   sweep,
-} from '../src/chapters/movement-lab.js';
+} from '../src/chapters/movement/movement-lab.js';
 
 function at(ms: number, jitter = 0.2): MovementLab {
   const lab = new MovementLab({ ...defaultMovementSettings(), jitter });

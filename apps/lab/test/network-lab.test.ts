@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest';
-import { NetworkLab } from '../src/chapters/network-lab.js';
-import { onlineOptions, roomLink } from '../src/chapters/network-online.js';
+import { NetworkLab } from '../src/chapters/network/network-lab.js';
+import { onlineOptions, roomLink } from '../src/chapters/network/network-online.js';
 
 describe('NetworkLab', () => {
   it('20 s at 100 ± 30 ms and 5 % loss: both machines agree, lockstep and rollback', () => {

@@ -9,7 +9,7 @@ import {
   defaultSettings,
   ropeOmegaDt,
   stabilityOf,
-} from '../src/chapters/physics-lab.js';
+} from '../src/chapters/physics/physics-lab.js';
 import { OscillatorRace } from '@fixedstep/games';
 
 describe('PhysicsLab', () => {

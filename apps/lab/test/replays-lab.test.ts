@@ -6,8 +6,9 @@ import {
   replayOptionsFor,
   runnerGame,
 } from '@fixedstep/games';
-import { GameSession, gameDef, hashHex } from '../src/chapters/games-lab.js';
-import { ReplayLab, describeReplayError } from '../src/chapters/replays-lab.js';
+import { GameSession } from '../src/chapters/games/games-lab.js';
+import { gameDef, hashHex } from '../src/games-view/games.js';
+import { ReplayLab, describeReplayError } from '../src/chapters/replays/replays-lab.js';
 
 function botReplay(id: string, ms: number, seed = 5): { bytes: Uint8Array; session: GameSession } {
   const session = new GameSession({
@@ -78,6 +79,27 @@ describe('ReplayLab', () => {
     expect(c.rows.map((r) => r.source)).toEqual([30, 144]);
     expect(c.rows[0]!.hash).toBe(c.rows[1]!.hash);
     expect(c.stored).toBe(c.rows[0]!.hash);
+    expect(c.equal).toBe(true);
+  });
+
+  it('compares the latest tick two displays passed, however briefly another one played', () => {
+    const { bytes } = botReplay('ctf', 15_000);
+    // The page opens a replay playing at 60 Hz; the reader pauses it early…
+    const lab = new ReplayLab(bytes, 'a test', { hz: 60, jitter: 0 });
+    lab.play();
+    lab.advanceBy(1100);
+    lab.pause();
+    // …then plays it from the start at 30 Hz and at 144 Hz.
+    for (const hz of [30, 144] as const) {
+      lab.seek(0);
+      lab.setDisplay({ hz, jitter: 0.1 });
+      lab.play();
+      lab.advanceBy(5500);
+      lab.pause();
+    }
+    const c = lab.compare();
+    expect(c.tick).toBe(300);
+    expect(c.rows.map((r) => r.source)).toEqual([30, 144]);
     expect(c.equal).toBe(true);
   });
 

@@ -61,7 +61,9 @@ describe('WallRange: the firing range at a fixed step', () => {
   it('golden hashes after 300 steps (print the actual value to re-bless)', () => {
     const discrete = runForHash(new WallRange({ speed: 100, wall: 1 }), 300, none);
     const ccd = runForHash(new WallRange({ speed: 100, wall: 1, ccd: true }), 300, none);
-    console.log(`wall range golden: discrete ${discrete}, ccd ${ccd}`);
+    if (discrete !== 'b622fca18862b893' || ccd !== 'c0786021fde2e23f') {
+      console.log(`wall range golden is now: discrete ${discrete}, ccd ${ccd}`);
+    }
     expect(discrete).toBe('b622fca18862b893');
     expect(ccd).toBe('c0786021fde2e23f');
   });
@@ -128,9 +130,6 @@ describe('WallRangeRig: variable Δt against a fixed step on one simulated displ
   it('the talk’s contrast: a wall safe for the fixed step lets variable-Δt bodies through; CCD none', () => {
     const variable = rig('variable');
     const fixed = rig('fixed');
-    console.log(
-      `60 m/s, 3.5 m wall, 30 Hz ±30 %, 10 s: variable ${variable.discrete.through}/${variable.discrete.fired}, fixed ${fixed.discrete.through}/${fixed.discrete.fired}`,
-    );
     expect(variable.discrete.fired).toBeGreaterThanOrEqual(100);
     expect(variable.discrete.through).toBeGreaterThan(3);
     expect(variable.maxDt).toBeGreaterThan(0.04);

@@ -37,11 +37,6 @@ describe('the demo recording replayed at 30, 60, 144 and 240 Hz with ±20 % jitt
   it('variable Δt: a different final state on every display — even a different score', () => {
     const runs = RATES.map((hz) => runRecording({ loop: 'variable', hz }));
     const hashes = runs.map((r) => r.rig.scene.hash());
-    console.log(
-      runs
-        .map((r) => `${r.rig.display.hz} Hz: ${r.rig.scene.hash()} score ${r.rig.scene.score}`)
-        .join('\n'),
-    );
     expect(new Set(hashes).size).toBe(4);
     // At rest at the end, so the difference is not a matter of timing: 30 Hz scored 8, not 11.
     for (const r of runs) expect(r.rig.scene.vx).toBe(0);

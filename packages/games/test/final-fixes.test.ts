@@ -21,7 +21,6 @@ function spiral(loop: SpiralLoop, costMs: number, ms = 20_000) {
 describe('a 1 s hitch on a machine where an update costs 40 ms (more than the 30 ms step)', () => {
   it('no clamp: the steps per frame climb until the page would stall', () => {
     const { rig, steps } = spiral('noclamp', 40);
-    console.log(`no clamp, steps per frame: ${steps.filter((s) => s > 8).join(' → ')}`);
     // After the hitch: 40, 54, 72, 96, 128, 170 — each frame owes a third more than the last.
     const after = steps.filter((s) => s >= 33);
     for (let i = 1; i < after.length; i++) expect(after[i]!).toBeGreaterThan(after[i - 1]!);

@@ -43,11 +43,6 @@ describe('the movement scene: one run-and-jump at 30, 60, 144 and 240 Hz with ±
 
   it('variable Δt: every display jumps its own jump', () => {
     const jumps = firstJumps('variable');
-    console.log(
-      jumps
-        .map((j) => `${j.hz} Hz: apex ${j.apex.toFixed(4)} m, distance ${j.distance.toFixed(4)} m`)
-        .join('\n'),
-    );
     // 30 Hz: 1.5093 m / 3.1832 m … 240 Hz: 1.6027 m / 3.2976 m.
     expect(jumps[0]!.apex).toBeCloseTo(1.50925, 4);
     expect(jumps[3]!.apex).toBeCloseTo(1.60273, 4);

@@ -85,7 +85,7 @@ describe('OscillatorRace: one spring, six integrators in lockstep', () => {
 
   it('golden hash after 10 s, and a snapshot round trip', () => {
     const h = runForHash(new OscillatorRace({ omega: Math.sqrt(20), dt: 0.03 }), 333, none);
-    console.log(`oscillator race golden: ${h}`);
+    if (h !== 'b5ab567bfc7745cc') console.log(`oscillator race golden is now ${h}`);
     expect(h).toBe('b5ab567bfc7745cc');
     const rt = snapshotRoundTrip(
       () => new OscillatorRace({ omega: 30, dt: 0.03, explodeAt: 1e6 }),
@@ -170,7 +170,9 @@ describe('Rope: beads on springs between two pins', () => {
         runForHash(new Rope({ dt: 0.03, integrator: m }), 300, poke),
       ]),
     );
-    console.log('rope golden:', JSON.stringify(actual));
+    if (JSON.stringify(actual) !== JSON.stringify(golden)) {
+      console.log('rope golden is now', JSON.stringify(actual));
+    }
     expect(actual).toEqual(golden);
   });
 
@@ -222,9 +224,6 @@ describe('TalkSpring: the talk’s spring code under a fixed step and under a va
   it('one 250 ms hitch is one update of ω·dt ≈ 2.8 for the variable loop: its energy jumps; the fixed step does not notice', () => {
     const v = rig('variable', [2000]);
     const f = rig('fixed', [2000]);
-    console.log(
-      `TalkSpring ω 10, 30 Hz ±30 %, hitch at 2 s: variable max E/E0 ${v.maxRatio.toFixed(2)} (longest Δt ${v.maxDt.toFixed(3)} s), fixed ${f.maxRatio.toFixed(4)}`,
-    );
     expect(v.maxDt).toBeGreaterThan(0.25);
     expect(v.omega * v.maxDt).toBeGreaterThan(2);
     expect(v.maxRatio).toBeGreaterThan(10);

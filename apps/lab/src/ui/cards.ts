@@ -1,7 +1,8 @@
 /**
- * A numbered row of idea cards — "how the loop evolved", "why bodies go through walls" — each with
- * a title, a sentence or two and a code snippet, in the card's accent colour. Styled by
- * styles.css (`.evolution`).
+ * The cards chapters are made of: a numbered row of idea cards — "how the loop evolved", "why
+ * bodies go through walls" — each with a title, a sentence or two and a code snippet in the card's
+ * accent colour (`.evolution`); and the "Things to try" cards, each with a button that sets up
+ * what its text says (`.experiments`). Styled by styles.css.
  */
 import { code, h } from './dom.js';
 
@@ -37,6 +38,40 @@ export function ideaCards(options: {
           code(c.snippet),
         ),
       ),
+    ),
+  );
+}
+
+/** One "Things to try" card: what to try, what it shows, and the button that sets it up. */
+export interface TryCard {
+  readonly title: string;
+  readonly text: string;
+  /** The button's label. */
+  readonly action: string;
+  /** The button's test id, if a test clicks it by id. */
+  readonly testId?: string;
+  /** Set up everything the text assumes. */
+  readonly run: () => void;
+}
+
+/** The "Things to try" section (heading id `id`), its cards in one row on a laptop. */
+export function tryCards(id: string, cards: readonly TryCard[]): HTMLElement {
+  return h(
+    'section',
+    { class: 'experiments', 'aria-labelledby': id },
+    h('h2', { id }, 'Things to try'),
+    h(
+      'ol',
+      { class: 'experiment-list' },
+      cards.map((c) => {
+        const btn = h(
+          'button',
+          { type: 'button', class: 'btn btn-small', 'data-testid': c.testId },
+          c.action,
+        );
+        btn.addEventListener('click', c.run);
+        return h('li', {}, h('h3', {}, c.title), h('p', {}, c.text), btn);
+      }),
     ),
   );
 }

@@ -210,3 +210,49 @@ export class TimeControls {
     setText(this.modeOut, mode);
   }
 }
+
+/**
+ * A slider that walks a ladder of values (stiffness 5, 10, 20, 50 … N/m): the range input holds
+ * the rung, the output and `aria-valuetext` the value with its unit. `onChange` fires when let go.
+ */
+export function ladderSlider(options: {
+  id: string;
+  label: string;
+  testId: string;
+  values: readonly number[];
+  value: number;
+  unit: string;
+  onChange: (value: number) => void;
+}): Slider {
+  const { values, unit } = options;
+  const valueAt = (rung: number) =>
+    values[Math.min(values.length - 1, Math.max(0, Math.round(rung)))] ?? values[0]!;
+  const s = slider({
+    id: options.id,
+    label: options.label,
+    testId: options.testId,
+    min: 0,
+    max: values.length - 1,
+    step: 1,
+    value: Math.max(0, values.indexOf(options.value)),
+    text: (rung) => `${valueAt(rung)} ${unit}`,
+    onChange: (rung) => {
+      options.onChange(valueAt(rung));
+    },
+  });
+  const show = (value: number) => {
+    setAttr(s.input, 'aria-valuetext', `${value} ${unit}`);
+  };
+  show(options.value);
+  s.input.addEventListener('input', () => {
+    show(valueAt(Number(s.input.value)));
+  });
+  return {
+    ...s,
+    set(value) {
+      const i = values.indexOf(value);
+      if (i >= 0) s.set(i);
+      show(value);
+    },
+  };
+}

@@ -53,3 +53,8 @@ export function sci(x: number, digits = 2): string {
     .join('')}`;
   return mantissa === '1' ? `10${sup}` : `${mantissa} × 10${sup}`;
 }
+
+/** A count with its noun, singular for exactly one: plural(1, 'point') = "1 point", "2 points". */
+export function plural(n: number, noun: string, nouns = `${noun}s`): string {
+  return `${count(n)} ${Math.round(n) === 1 ? noun : nouns}`;
+}

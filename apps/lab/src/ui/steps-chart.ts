@@ -2,6 +2,22 @@ import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
 
 /**
+ * Whole-number ticks from 0 to `max`: every integer up to 4, else steps of 1, 2 or 5 × 10ⁿ so
+ * there are at most four intervals.
+ */
+export function integerTicks(max: number): number[] {
+  if (!(max > 0)) return [0];
+  let step = 1;
+  for (const k of [1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000]) {
+    step = k;
+    if (max / k <= 4) break;
+  }
+  const out: number[] = [];
+  for (let v = 0; v <= max + 1e-9; v += step) out.push(v);
+  return out;
+}
+
+/**
  * A small stepped chart of updates per display frame over a sliding window of virtual time.
  * The x range is set by the caller, so every panel shows the same window.
  */
@@ -34,7 +50,13 @@ export class StepsChart {
         },
         axes: [
           { ...axis, values: (_u, splits) => splits.map((v) => `${v.toFixed(0)} s`) },
-          { ...axis, size: 30, values: (_u, splits) => splits.map((v) => v.toFixed(0)) },
+          {
+            ...axis,
+            size: 30,
+            // Whole steps only, from 0 up to the top of the scale, so every chart has a y scale.
+            splits: (_u, _axis, _min, max) => integerTicks(max),
+            values: (_u, splits) => splits.map((v) => v.toFixed(0)),
+          },
         ],
         series: [
           {},

@@ -1,0 +1,387 @@
+/**
+ * Chapter 2 — Movement. The same run-and-jump on four displays (30, 60, 144 and 240 Hz, with
+ * jitter), once under a variable Δt and once under a fixed step, each loop's four trajectories
+ * traced over each other. The numbers come from {@link MovementLab}; the words from
+ * movement-text.ts; the drawing from movement-draw.ts.
+ */
+import {
+  DEFAULT_JITTER,
+  LOOPS,
+  MovementLab,
+  RATES,
+  sweep,
+  type LoopInfo,
+  type LoopReadouts,
+  type Source,
+} from './movement-lab.js';
+import { drawJumps } from './movement-draw.js';
+import {
+  BENCH_INTRO,
+  LEDE,
+  SWEEP_INTRO,
+  SWEEP_TITLE,
+  how,
+  legend,
+  verdictText,
+  why,
+} from './movement-text.js';
+import type { MovementLoop } from '@fixedstep/games';
+import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
+import type { SceneCanvas } from '../../ui/canvas.js';
+import { Chart } from '../../ui/chart.js';
+import { button, group, slider } from '../../ui/controls.js';
+import { h, setText } from '../../ui/dom.js';
+import { Readout, rateColor } from '../../ui/readout.js';
+
+const LOOP_COLORS: Readonly<Record<MovementLoop, string>> = {
+  variable: '#f87171',
+  fixed: '#38bdf8',
+};
+
+export const mount = mountChapter((root, head) => new MovementChapter(root, head));
+
+function sourceLabel(s: Source, hz = 0): string {
+  return s === 'real' ? (hz > 0 ? `yours ≈ ${hz} Hz` : 'yours') : `${s} Hz`;
+}
+
+function metres(v: number | undefined): string {
+  return v === undefined || !Number.isFinite(v) ? '—' : `${v.toFixed(3)} m`;
+}
+
+/** A spread in words: "0 — identical", "1.5 cm", "0.300 mm". */
+export function spreadText(v: number): string {
+  if (!Number.isFinite(v)) return '—';
+  if (v === 0) return '0 — identical';
+  const cm = v * 100;
+  return cm < 0.1 ? `${(cm * 10).toFixed(3)} mm` : `${cm.toFixed(1)} cm`;
+}
+
+interface RowView {
+  readonly row: HTMLTableRowElement;
+  readonly label: HTMLElement;
+  readonly apex: Readout;
+  readonly landing: Readout;
+}
+
+interface LoopView {
+  readonly info: LoopInfo;
+  readonly scene: SceneCanvas;
+  readonly rows: Map<Source, RowView>;
+  readonly apexSpread: Readout;
+  readonly landingSpread: Readout;
+  readonly jump: Readout;
+  readonly verdict: HTMLElement;
+  readonly legendReal: HTMLElement;
+}
+
+class MovementChapter {
+  readonly shell: ChapterShell;
+  private lab = new MovementLab();
+  private readonly views: LoopView[] = [];
+  private readonly jitter;
+  private readonly apexChart: Chart;
+  private readonly landingChart: Chart;
+  private sweepJitter = NaN;
+
+  constructor(root: HTMLElement, head: ChapterHead) {
+    this.shell = new ChapterShell(root, {
+      head,
+      className: 'movement-chapter',
+      lede: LEDE,
+      timeline: () => this.lab,
+      render: () => {
+        this.render();
+      },
+      restart: () => {
+        if (this.lab.realClock) this.lab = this.fresh(true);
+        else this.lab.restart();
+      },
+      mode: () =>
+        this.shell.display(
+          `simulated displays · jitter ±${Math.round(this.lab.settings.jitter * 100)} %`,
+        ),
+      refresh: () => {
+        this.refreshControls();
+      },
+      realClock: {
+        title: 'Add a fifth run per loop, fed this page’s own animation frames',
+        onChange: (on) => {
+          this.lab = this.fresh(on);
+        },
+      },
+      interpolation: {
+        title: 'Draw the fixed-step runners between their last two states, at alpha',
+      },
+      driver: { maxRealGapMs: 200 },
+    });
+    const shell = this.shell;
+    this.jitter = slider({
+      id: 'movement-jitter',
+      label: 'Jitter',
+      testId: 'control-jitter',
+      min: 0,
+      max: 30,
+      step: 1,
+      value: Math.round(DEFAULT_JITTER * 100),
+      text: (v) => `±${v} %`,
+      onChange: (v) => {
+        this.lab.update({ jitter: v / 100 });
+      },
+    });
+    this.jitter.input.title = 'How much each frame’s length varies, as a share of the period';
+    const jumpBtn = button('Jump', 'control-jump', () => {
+      this.lab.addJump();
+    });
+    jumpBtn.title = 'Press jump now, on every display at the same moment';
+    const charts = this.sweepCharts();
+    this.apexChart = charts[0];
+    this.landingChart = charts[1];
+    shell.append(
+      h(
+        'section',
+        { class: 'bench', 'aria-labelledby': 'movement-bench-title' },
+        h('h2', { id: 'movement-bench-title' }, 'One jump, four displays'),
+        h('p', { class: 'section-intro' }, BENCH_INTRO),
+        shell.controls(
+          'Displays and time',
+          group('Displays', h('span', { class: 'rate-chips' }, RATES.map(chip))),
+          this.jitter.el,
+          shell.drawGroup(),
+          shell.timeGroup(jumpBtn),
+          shell.status(),
+        ),
+        h(
+          'div',
+          { class: 'duo' },
+          LOOPS.map((info) => this.buildPanel(info)),
+        ),
+        legend(),
+      ),
+      h(
+        'section',
+        { class: 'sweep', 'aria-labelledby': 'sweep-title' },
+        h('h2', { id: 'sweep-title' }, SWEEP_TITLE),
+        h('p', { class: 'section-intro' }, SWEEP_INTRO),
+        h('div', { class: 'chart-pair' }, this.apexChart.el, this.landingChart.el),
+      ),
+      why(),
+      how(),
+    );
+    shell.start();
+  }
+
+  /** A new run of the current jitter: on the real clock (a fifth run per loop) or not. */
+  private fresh(real: boolean): MovementLab {
+    return new MovementLab({ jitter: this.lab.settings.jitter, jumps: [] }, real);
+  }
+
+  // ---------------------------------------------------------------- building
+
+  private sweepCharts(): [Chart, Chart] {
+    const axisY = (label: string) => ({
+      label,
+      format: (v: number) => v.toFixed(2),
+      size: 40,
+      range: (min: number, max: number): [number, number] => {
+        const pad = Math.max(0.02, (max - min) * 0.25);
+        return [min - pad, max + pad];
+      },
+    });
+    const axisX = {
+      scale: 'log' as const,
+      label: 'display rate, Hz',
+      format: (v: number) => String(Math.round(v)),
+      range: [22, 400] as [number, number],
+      splits: [24, 30, 60, 144, 240, 360],
+    };
+    const series = LOOPS.map((l) => ({
+      label: l.title,
+      color: LOOP_COLORS[l.id],
+      points: 2.5,
+      width: l.fixed ? 2.25 : 1.5,
+    }));
+    const chart = (what: string, label: string) =>
+      this.shell.own(
+        new Chart({
+          height: 200,
+          label: `${what} of the first jump against display rate, variable Δt and fixed step`,
+          x: axisX,
+          y: axisY(label),
+          series,
+        }),
+      );
+    return [chart('Apex height', 'apex, m'), chart('Landing distance', 'landing distance, m')];
+  }
+
+  private buildPanel(info: LoopInfo): HTMLElement {
+    const scene = this.shell.canvas({
+      class: 'scene jump-scene',
+      label: `The four runs of the jump under ${info.title}, traced over each other`,
+      testId: `canvas-${info.id}`,
+    });
+    const rows = new Map<Source, RowView>();
+    const sources: Source[] = [...RATES, 'real'];
+    const body = h(
+      'tbody',
+      {},
+      sources.map((src) => {
+        const label = h('span', {}, sourceLabel(src));
+        const apex = new Readout('td', `${info.id}-${src}-apex`);
+        const landing = new Readout('td', `${info.id}-${src}-landing`);
+        const row = h(
+          'tr',
+          { hidden: src === 'real' },
+          h(
+            'th',
+            { scope: 'row' },
+            h(
+              'span',
+              { class: 'row-label' },
+              h('span', { class: 'rate-dot', style: `--chip: ${rateColor(src)}` }),
+              label,
+            ),
+          ),
+          apex.el,
+          landing.el,
+        );
+        rows.set(src, { row, label, apex, landing });
+        return row;
+      }),
+    );
+    const view: LoopView = {
+      info,
+      scene,
+      rows,
+      apexSpread: new Readout('td', `${info.id}-apex-spread`, { className: 'spread' }),
+      landingSpread: new Readout('td', `${info.id}-landing-spread`, { className: 'spread' }),
+      jump: new Readout('span', `${info.id}-jump`),
+      verdict: h('p', { class: 'verdict', 'data-testid': `verdict-${info.id}` }),
+      legendReal: h(
+        'span',
+        { class: 'legend-item', style: `--chip: ${rateColor('real')}`, hidden: true },
+        h('span', { class: 'legend-chip' }),
+        'yours',
+      ),
+    };
+    this.views.push(view);
+    return h(
+      'section',
+      {
+        class: 'panel track-panel',
+        style: `--accent: ${LOOP_COLORS[info.id]}`,
+        'data-panel': info.id,
+        'aria-labelledby': `panel-${info.id}`,
+      },
+      h(
+        'header',
+        { class: 'panel-head' },
+        h('h3', { id: `panel-${info.id}` }, info.title),
+        h('p', {}, info.tagline),
+      ),
+      h('div', { class: 'scene-wrap' }, scene.canvas),
+      h(
+        'div',
+        { class: 'chart-legend scene-legend', 'aria-hidden': 'true' },
+        RATES.map(chip),
+        view.legendReal,
+      ),
+      h(
+        'table',
+        { class: 'jump-table' },
+        h('caption', {}, 'Jump ', view.jump.el, ', as each display’s simulation computed it'),
+        h(
+          'thead',
+          {},
+          h(
+            'tr',
+            {},
+            h('th', { scope: 'col' }, 'Display'),
+            h('th', { scope: 'col' }, 'Apex'),
+            h('th', { scope: 'col' }, 'Landing distance'),
+          ),
+        ),
+        body,
+        h(
+          'tfoot',
+          {},
+          h(
+            'tr',
+            {},
+            h('th', { scope: 'row', title: 'max − min over the displays' }, 'Spread'),
+            view.apexSpread.el,
+            view.landingSpread.el,
+          ),
+        ),
+      ),
+      view.verdict,
+    );
+  }
+
+  // ---------------------------------------------------------------- state
+
+  private refreshControls(): void {
+    const real = this.lab.realClock;
+    this.jitter.input.disabled = real;
+    this.jitter.set(Math.round(this.lab.settings.jitter * 100));
+    for (const v of this.views) {
+      const row = v.rows.get('real');
+      if (row) row.row.hidden = !real;
+      v.legendReal.hidden = !real;
+    }
+    const jitter = this.lab.settings.jitter;
+    if (jitter === this.sweepJitter) return;
+    this.sweepJitter = jitter;
+    const s = sweep(jitter);
+    this.apexChart.set([s.hz, s.apex.variable, s.apex.fixed]);
+    this.landingChart.set([s.hz, s.landing.variable, s.landing.fixed]);
+  }
+
+  // ---------------------------------------------------------------- drawing
+
+  private render(): void {
+    const lab = this.lab;
+    const hz = this.shell.measuredHz;
+    for (const v of this.views) {
+      const r = lab.readouts(v.info.id);
+      this.writeReadouts(v, r, hz);
+      drawJumps(
+        v.scene,
+        lab.tracks(v.info.id),
+        r.jumpIndex,
+        lab.drawTimeMs(v.info),
+        this.shell.interpolate,
+      );
+    }
+  }
+
+  private writeReadouts(v: LoopView, r: LoopReadouts, hz: number): void {
+    for (const row of r.rows) {
+      const view = v.rows.get(row.source);
+      if (!view) continue;
+      setText(view.label, sourceLabel(row.source, hz));
+      view.apex.set(metres(row.jump?.apex), row.jump?.apex);
+      view.landing.set(metres(row.jump?.distance), row.jump?.distance);
+    }
+    const ok = r.jumpIndex >= 0;
+    v.jump.set(ok ? `#${r.jumpIndex + 1}` : '—', ok ? r.jumpIndex + 1 : undefined);
+    v.apexSpread.set(spreadText(r.apexSpread), ok ? r.apexSpread : undefined);
+    v.landingSpread.set(spreadText(r.landingSpread), ok ? r.landingSpread : undefined);
+    const same = ok && r.apexSpread === 0 && r.landingSpread === 0;
+    for (const s of [v.apexSpread, v.landingSpread]) {
+      s.good(same);
+      s.warn(ok && !same);
+    }
+    setText(v.verdict, verdictText(r, spreadText));
+    v.verdict.classList.toggle('good', same);
+    v.verdict.classList.toggle('bad', ok && !same);
+  }
+}
+
+function chip(hz: number): HTMLElement {
+  return h(
+    'span',
+    { class: 'legend-item', style: `--chip: ${rateColor(hz)}` },
+    h('span', { class: 'legend-chip', 'aria-hidden': 'true' }),
+    `${hz} Hz`,
+  );
+}

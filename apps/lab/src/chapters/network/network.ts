@@ -1,0 +1,264 @@
+/**
+ * Chapter 6 — Network. Two players in one page, each on a machine of its own, talking to the real
+ * relay core through simulated links with latency, jitter and loss: lockstep and rollback side by
+ * side, same game, same seed, same link; and online play through the server (network-online.ts).
+ * The numbers come from {@link NetworkLab}; the words from network-text.ts. Everything but the
+ * online panel runs on the lab's virtual clock, so the numbers repeat.
+ */
+import {
+  NET_GAMES,
+  NET_MODES,
+  NetworkLab,
+  type MatchReadouts,
+  type NetGameId,
+  type NetMode,
+} from './network-lab.js';
+import { OnlinePanel } from './network-online.js';
+import { ABOUT, BENCH_INTRO, GUARANTEE, LEDE, verdictText } from './network-text.js';
+import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
+import type { SceneCanvas } from '../../ui/canvas.js';
+import { clearScene } from '../../ui/canvas.js';
+import { group, segmented, slider, toggle } from '../../ui/controls.js';
+import { h, setAttr, setText } from '../../ui/dom.js';
+import * as fmt from '../../ui/format.js';
+import { Readout } from '../../ui/readout.js';
+import { keyMap } from '../../games-view/games.js';
+import { ASPECT, drawGame } from '../../games-view/render.js';
+import '../../games-view/game-stage.css';
+import './network.css';
+
+export const mount = mountChapter((root, head) => new NetworkChapter(root, head));
+
+interface PanelView {
+  canvases: [SceneCanvas, SceneCanvas];
+  out: Record<string, Readout>;
+  verdict: HTMLElement;
+}
+
+class NetworkChapter {
+  readonly shell: ChapterShell;
+  private readonly lab = new NetworkLab();
+  private readonly panels = {} as Record<NetMode, PanelView>;
+  private keys = 0;
+
+  constructor(root: HTMLElement, head: ChapterHead) {
+    this.shell = new ChapterShell(root, {
+      head,
+      className: 'network-chapter',
+      lede: LEDE,
+      timeline: () => this.lab,
+      render: () => {
+        this.render();
+      },
+      restart: () => {
+        this.lab.restart();
+      },
+      mode: () =>
+        `simulated network · ${this.shell.real ? `real clock, your display ≈ ${this.shell.measuredHz} Hz` : 'simulated 60 Hz displays'}`,
+      realClock: {
+        title:
+          'Both machines draw on this page’s own animation frames instead of simulated 60 Hz displays (the links stay simulated)',
+        onChange: (on) => {
+          this.lab.setRealClock(on);
+        },
+      },
+    });
+    const shell = this.shell;
+    const online = shell.own(new OnlinePanel());
+    shell.append(
+      h(
+        'p',
+        { class: 'guarantee', 'data-testid': 'guarantee' },
+        h('strong', {}, 'Inputs, never state: '),
+        GUARANTEE,
+      ),
+      h(
+        'section',
+        { class: 'bench', 'aria-labelledby': 'net-bench-title' },
+        h('h2', { id: 'net-bench-title' }, 'Two players, one page, a bad network'),
+        h('p', { class: 'section-intro' }, BENCH_INTRO),
+        this.controls(),
+        h(
+          'div',
+          { class: 'duo net-duo' },
+          NET_MODES.map((mode) => this.buildPanel(mode)),
+        ),
+      ),
+      online.el,
+    );
+    const onKey = (down: boolean) => (e: KeyboardEvent) => {
+      if (!this.lab.settings.keyboard) return;
+      const target = e.target as HTMLElement | null;
+      if (target && /^(INPUT|TEXTAREA|SELECT)$/.test(target.tagName)) return;
+      const b = keyMap(this.lab.matches.lockstep.def.info)[e.code];
+      if (b === undefined) return;
+      e.preventDefault();
+      this.keys = down ? this.keys | (1 << b) : this.keys & ~(1 << b);
+      this.lab.setKeys(this.keys);
+    };
+    shell.listen(window, 'keydown', onKey(true));
+    shell.listen(window, 'keyup', onKey(false));
+    this.applyAspect();
+    shell.start();
+  }
+
+  private controls(): HTMLElement {
+    const s = this.lab.settings;
+    const link = (
+      key: 'latencyMs' | 'jitterMs',
+      id: string,
+      label: string,
+      max: number,
+      text: (v: number) => string,
+    ) =>
+      slider({
+        id: `net-${id}`,
+        label,
+        testId: `control-${id}`,
+        min: 0,
+        max,
+        step: 5,
+        value: s[key],
+        text,
+        onChange: (v) => {
+          this.lab.setLink({ [key]: v });
+        },
+      });
+    const loss = slider({
+      id: 'net-loss',
+      label: 'Loss',
+      testId: 'control-loss',
+      min: 0,
+      max: 20,
+      step: 1,
+      value: Math.round(s.loss * 100),
+      text: (v) => `${v} %`,
+      onChange: (v) => {
+        this.lab.setLink({ loss: v / 100 });
+      },
+    });
+    const game = segmented<NetGameId>({
+      name: 'net-game',
+      label: 'Game',
+      testPrefix: 'control-game',
+      values: NET_GAMES,
+      selected: s.game,
+      text: (g) => (g === 'ctf' ? 'Capture the flag' : 'Survival'),
+      onChange: (g) => {
+        this.lab.reset({ game: g });
+        this.applyAspect();
+      },
+    });
+    const keyboard = toggle('Play player 1', 'control-keyboard', false, (on) => {
+      this.lab.reset({ keyboard: on });
+    });
+    keyboard.title = 'Drive player 1 with the keyboard (WASD or arrows, Space to shoot)';
+    return this.shell.controls(
+      'Link, game and time',
+      link('latencyMs', 'latency', 'Latency', 250, (v) => `${v} ms`).el,
+      link('jitterMs', 'jitter', 'Jitter', 100, (v) => `± ${v} ms`).el,
+      loss.el,
+      group('Game', game.el, keyboard),
+      this.shell.timeGroup(this.shell.clockBtn!),
+      this.shell.status(),
+    );
+  }
+
+  private buildPanel(mode: NetMode): HTMLElement {
+    const canvases = [0, 1].map((i) =>
+      this.shell.canvas({
+        class: 'scene net-scene',
+        label: `${ABOUT[mode].title}: player ${i + 1}’s machine`,
+        testId: `canvas-${mode}-${i + 1}`,
+      }),
+    ) as [SceneCanvas, SceneCanvas];
+    const out: Record<string, Readout> = {};
+    const row = (label: string, id: string, hash = false) => {
+      const r = new Readout('dd', `${mode}-${id}`, { hash });
+      out[id] = r;
+      return [h('dt', {}, label), r.el];
+    };
+    const specific =
+      mode === 'lockstep'
+        ? [row('Input delay, ticks', 'input-delay')]
+        : [row('Rollbacks', 'rollbacks'), row('Deepest rollback, ticks', 'max-depth')];
+    const verdict = h('p', { class: 'net-verdict', 'data-testid': `verdict-${mode}` });
+    this.panels[mode] = { canvases, out, verdict };
+    return h(
+      'div',
+      { class: `panel net-panel net-${mode}` },
+      h(
+        'div',
+        { class: 'panel-head' },
+        h('h3', {}, ABOUT[mode].title),
+        h('p', {}, ABOUT[mode].text),
+      ),
+      h(
+        'div',
+        { class: 'net-machines' },
+        canvases.map((c, i) =>
+          h('figure', { class: 'net-machine' }, c.canvas, h('figcaption', {}, `Player ${i + 1}`)),
+        ),
+      ),
+      verdict,
+      h(
+        'dl',
+        { class: 'readouts' },
+        ...specific.flat(),
+        ...row('Stalls', 'stalls'),
+        ...row('Round trip', 'rtt'),
+        ...row('Messages lost', 'lost'),
+        ...row('Checkpoint tick', 'checkpoint'),
+        ...row('Player 1 hash', 'hash-1', true),
+        ...row('Player 2 hash', 'hash-2', true),
+        ...row('Hashes equal', 'hashes-equal'),
+      ),
+    );
+  }
+
+  private applyAspect(): void {
+    const a = ASPECT[this.lab.settings.game] ?? 1.5;
+    for (const mode of NET_MODES) {
+      for (const c of this.panels[mode].canvases) c.canvas.style.setProperty('--aspect', String(a));
+    }
+  }
+
+  private render(): void {
+    const all = this.lab.readouts();
+    for (const mode of NET_MODES) this.renderPanel(mode, all[mode]);
+  }
+
+  private renderPanel(mode: NetMode, r: MatchReadouts): void {
+    const p = this.panels[mode];
+    const match = this.lab.matches[mode];
+    for (const i of [0, 1] as const) {
+      const c = p.canvases[i];
+      if (!c.fit()) continue;
+      const g = match.game(i);
+      if (g) {
+        drawGame(c, g, {
+          alpha: match.sessions[i].alpha,
+          nowMs: match.nowMs,
+          badge: { text: `tick ${r.ticks[i]}`, tone: 'info' },
+        });
+      } else clearScene(c);
+    }
+    const o = p.out;
+    o['input-delay']?.set(fmt.count(r.inputDelay), r.inputDelay);
+    o.rollbacks?.set(fmt.count(r.rollbacks), r.rollbacks);
+    o['max-depth']?.set(fmt.count(r.maxDepth), r.maxDepth);
+    o.stalls?.set(fmt.count(r.stalls), r.stalls);
+    o.rtt?.set(fmt.millis(r.rttMs), r.rttMs);
+    o.lost?.set(`${fmt.count(r.lost)} of ${fmt.count(r.sent)}`, r.lost);
+    o.checkpoint?.set(r.checkpoint < 0 ? '—' : fmt.count(r.checkpoint), r.checkpoint);
+    o['hash-1']?.set(r.hashes[0] || '—', r.hashes[0]);
+    o['hash-2']?.set(r.hashes[1] || '—', r.hashes[1]);
+    const started = r.checkpoint >= 0;
+    o['hashes-equal']?.set(started ? (r.equal ? 'yes' : 'NO') : '—', started ? r.equal : '');
+    o['hashes-equal']?.good(started && r.equal);
+    o['hashes-equal']?.warn(started && !r.equal);
+    setAttr(p.verdict, 'data-value', String(started && r.equal));
+    setText(p.verdict, verdictText(r));
+    p.verdict.classList.toggle('bad', started && r.desyncs > 0);
+  }
+}

@@ -1,0 +1,41 @@
+// `npm test`'s busy-core check: the browser tests that play games and take keyboard input run
+// again while every core of the machine (at least two) is kept busy by a child process spinning
+// in a loop — a fresh clone's `npm test` on a loaded two-core machine. Those tests drive the lab's
+// simulated clock or wait on its state, never on real-time sleeps, so they must still pass.
+// Needs a built lab (`npm run build`) and Chromium ($CHROMIUM_PATH or /usr/bin/chromium).
+//
+//   node scripts/busy-check.mjs            # exit code: the browser tests' own
+import { spawn } from 'node:child_process';
+import { availableParallelism } from 'node:os';
+import { run } from './setup.mjs';
+
+/** The browser tests that play: games by keyboard and bot, replays, recording, network play. */
+const FILES = [
+  'e2e/games.e2e.test.ts',
+  'e2e/replays.e2e.test.ts',
+  'e2e/debugging.e2e.test.ts',
+  'e2e/network.e2e.test.ts',
+];
+
+const cores = Math.max(2, availableParallelism());
+const spinners = Array.from({ length: cores }, () =>
+  spawn(process.execPath, ['-e', 'for (;;) {}'], { stdio: 'ignore' }),
+);
+let stopped = false;
+function stop() {
+  if (stopped) return;
+  stopped = true;
+  for (const s of spinners) s.kill('SIGKILL');
+}
+process.on('exit', stop);
+for (const signal of ['SIGINT', 'SIGTERM']) {
+  process.on(signal, () => {
+    stop();
+    process.exit(130);
+  });
+}
+
+console.log(`busy-check: ${cores} spinning processes keep every core busy`);
+const code = run('npx', ['vitest', 'run', '--config', 'e2e/vitest.config.ts', ...FILES]);
+stop();
+process.exit(code);
