@@ -74,14 +74,17 @@ export function withPlayerName(bytes: Uint8Array, name: string): Uint8Array {
     checkpointEvery: replay.checkpointEvery,
     keyframeEvery: replay.keyframeEvery,
     tickHashes: replay.tickHashes !== null,
+    input: header.input,
   });
   recorder.start(game);
   const cursor = replay.inputCursor();
+  const words = new Uint32Array(replay.playerCount * replay.words);
   const inputs: number[] = [];
   for (let t = 0; t < replay.tickCount; t++) {
-    cursor.next(inputs);
+    cursor.nextWords(words);
+    for (let p = 0; p < replay.playerCount; p++) inputs[p] = words[p * replay.words]!;
     game.step(inputs);
-    recorder.record(inputs, game);
+    recorder.recordWords(words, game);
   }
   return recorder.finish();
 }
