@@ -24,15 +24,72 @@ function fail(message) {
   process.exit(1);
 }
 
-/** Install the exact dependencies of package-lock.json, unless node_modules already has them. */
-export function ensureDependencies() {
-  const lock = join(root, 'package-lock.json');
-  const stamp = join(root, 'node_modules', '.fixedstep-lock-hash');
-  const want = createHash('sha256').update(readFileSync(lock)).digest('hex');
-  if (existsSync(stamp) && readFileSync(stamp, 'utf8') === want) return;
-  if (run('npm', ['ci', '--no-audit', '--no-fund']) !== 0)
-    fail('npm ci failed: see the output above.');
-  writeFileSync(stamp, want);
+/** Time since `t0` (a performance.now() reading), for progress lines: `14 ms`, `3.4 s`, `21 s`. */
+export function seconds(t0) {
+  const ms = performance.now() - t0;
+  if (ms < 1000) return `${Math.round(ms)} ms`;
+  return ms < 10_000 ? `${(ms / 1000).toFixed(1)} s` : `${Math.round(ms / 1000)} s`;
+}
+
+/**
+ * What `npm start` needs installed: the server's and the lab's dependencies (ws, uplot, Vite and
+ * its esbuild), not the test and benchmark tools. `npm ci` with these workspace filters installs
+ * 23 packages instead of ~300.
+ */
+const SERVE_WORKSPACES = ['packages/cli', 'apps/lab'];
+
+/**
+ * Whether node_modules holds every package of package-lock.json at its locked version, by npm's
+ * own record of what it installed (node_modules/.package-lock.json): a full `npm ci` or
+ * `npm install` someone ran by hand. Optional packages (other platforms' binaries) and the
+ * workspace links are not required.
+ */
+function fullInstallMatches(lock) {
+  const hidden = join(root, 'node_modules', '.package-lock.json');
+  if (!existsSync(hidden)) return false;
+  let installed;
+  try {
+    installed = JSON.parse(readFileSync(hidden, 'utf8')).packages ?? {};
+  } catch {
+    return false;
+  }
+  for (const [key, entry] of Object.entries(lock.packages ?? {})) {
+    if (!key.startsWith('node_modules/') && !key.includes('/node_modules/')) continue;
+    if (entry.optional || entry.link) continue;
+    if (installed[key]?.version !== entry.version) return false;
+  }
+  return true;
+}
+
+/**
+ * Installs the exact dependencies of package-lock.json with `npm ci`, unless node_modules already
+ * has them. `scope` is `'all'` (`npm test`: every workspace and tool) or `'serve'` (`npm start`:
+ * only what building and serving the lab needs; a full install satisfies it too). What was
+ * installed, for which lock file, is kept in node_modules/.fixedstep-install. `before(command)`
+ * is called with the npm command line just before it runs. Returns true when it ran `npm ci`,
+ * false when node_modules was already right.
+ */
+export function ensureDependencies(scope = 'all', before = () => undefined) {
+  const lockText = readFileSync(join(root, 'package-lock.json'));
+  const want = createHash('sha256').update(lockText).digest('hex');
+  const stampFile = join(root, 'node_modules', '.fixedstep-install');
+  let have;
+  try {
+    have = JSON.parse(readFileSync(stampFile, 'utf8'));
+  } catch {
+    have = undefined;
+  }
+  if (have?.lock === want && (have.scope === 'all' || scope === 'serve')) return false;
+  if (fullInstallMatches(JSON.parse(lockText.toString('utf8')))) {
+    writeFileSync(stampFile, JSON.stringify({ lock: want, scope: 'all' }));
+    return false;
+  }
+  const filters = scope === 'serve' ? SERVE_WORKSPACES.flatMap((w) => ['--workspace', w]) : [];
+  const args = ['ci', '--no-audit', '--no-fund', ...filters];
+  before(`npm ${args.join(' ')}`);
+  if (run('npm', args) !== 0) fail('npm ci failed: see the output above.');
+  writeFileSync(stampFile, JSON.stringify({ lock: want, scope }));
+  return true;
 }
 
 function isExecutable(path) {
@@ -73,9 +130,4 @@ export function ensureChromium() {
       '  On Debian/Ubuntu: sudo apt-get install chromium\n' +
       '  Or point at any Chromium/Chrome binary: CHROMIUM_PATH=/path/to/chromium npm test',
   );
-}
-
-/** Build the library, the CLI and the lab. */
-export function build() {
-  if (run('npm', ['run', 'build']) !== 0) fail('the build failed: see the output above.');
 }

@@ -1,9 +1,10 @@
 // `npm test`: every test. Installs what the tests need (dependencies; Debian's chromium, and
-// firefox-esr, webkit2gtk-driver and xvfb for the determinism suite, when absent and we are root), then: format, lint, typecheck, unit tests, build, browser tests, and a
-// smoke run of the benchmarks. Runs every stage even when one fails, then prints a summary.
+// firefox-esr, webkit2gtk-driver and xvfb for the determinism suite, when absent and we are
+// root), then: format, lint, typecheck, unit tests, build, the e2e tests (browser, packed
+// packages, API reference), and a smoke run of the benchmarks. Runs every stage even when one fails, then prints a summary.
 import { existsSync, mkdirSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { ensureChromium, ensureDependencies, root, run } from './setup.mjs';
+import { ensureChromium, ensureDependencies, root, run, seconds } from './setup.mjs';
 
 ensureDependencies();
 const chromium = ensureChromium();
@@ -29,7 +30,7 @@ const stages = [
   ],
   ['build', 'npm', ['run', 'build']],
   [
-    'browser tests',
+    'browser, package and API reference tests',
     'npx',
     [
       'vitest',
@@ -47,12 +48,18 @@ const stages = [
 
 const env = { ...process.env, CHROMIUM_PATH: chromium };
 const failed = [];
-for (const [name, cmd, args] of stages) {
-  if (name === 'browser tests' && failed.includes('build')) {
+for (const [i, [name, cmd, args]] of stages.entries()) {
+  const n = `${i + 1}/${stages.length}`;
+  if (name === 'browser, package and API reference tests' && failed.includes('build')) {
+    console.log(`\n✗ ${n} ${name}: not run (the build failed)`);
     failed.push(name);
     continue;
   }
-  if (run(cmd, args, { env }) !== 0) failed.push(name);
+  const t0 = performance.now();
+  console.log(`\n▸ ${n} ${name}`);
+  const ok = run(cmd, args, { env }) === 0;
+  console.log(`${ok ? '✓' : '✗'} ${n} ${name}: ${ok ? 'passed' : 'FAILED'} in ${seconds(t0)}`);
+  if (!ok) failed.push(name);
 }
 
 let passed = 0;

@@ -56,6 +56,7 @@ app.append(
       {},
       'Based on the talk “Fixed-Step Simulation”. Everything here is deterministic: the same settings give the same numbers, on any machine.',
     ),
+    h('p', {}, 'The library: ', h('a', { href: './docs/' }, 'API reference'), '.'),
   ),
 );
 

@@ -50,6 +50,11 @@ export function defaultLabRoot(): string {
   return fileURLToPath(new URL('../../../apps/lab/dist', import.meta.url));
 }
 
+/** Where `npm run docs` puts the API reference, served at `/docs/` (same layout as the lab's). */
+export function defaultDocsRoot(): string {
+  return fileURLToPath(new URL('../../../artifacts/api', import.meta.url));
+}
+
 function version(): string {
   try {
     const pkg = JSON.parse(
@@ -444,13 +449,19 @@ export async function run(
         const { store, recovered } = await HighscoreStore.open(table);
         if (recovered) io.err(`fixedstep: ${recovered}\n`);
         const api = highscoreApi({ store });
-        server = await startServer({ port: command.port, host: command.host, root, api });
+        server = await startServer({
+          port: command.port,
+          host: command.host,
+          root,
+          api,
+          docs: defaultDocsRoot(),
+        });
         relay = attachRelay(server.server);
       } catch (error) {
         io.err(`fixedstep: ${error instanceof Error ? error.message : String(error)}\n`);
         return EXIT_FAILURE;
       }
-      io.out(`fixedstep lab: ${server.url}\n`);
+      io.out(`fixedstep lab: ${server.url} (press Ctrl-C to stop)\n`);
       io.out(
         `highscores kept in ${path.resolve(command.data ?? 'fixedstep-data', 'highscores.json')}\n`,
       );

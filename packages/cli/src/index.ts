@@ -2,7 +2,7 @@
  * @fixedstep/cli — the `fixedstep` command and its server.
  * @packageDocumentation
  */
-export { startServer, mimeType, resolveRequestPath, displayHost } from './serve.js';
+export { startServer, mimeType, resolveRequestPath, displayHost, DOCS_NOT_BUILT } from './serve.js';
 export type { ServeOptions, RunningServer } from './serve.js';
 export {
   run,

@@ -14,6 +14,13 @@ export interface ServeOptions {
   root: string;
   /** Answers API requests first (e.g. the highscore API); resolves true when it answered. */
   api?: (req: http.IncomingMessage, res: http.ServerResponse) => Promise<boolean>;
+  /**
+   * Directory of the built API reference (`npm run docs` writes `artifacts/api`), served at
+   * `/docs/` in place of `root`'s own `docs/`. It is looked up on every request, so a reference
+   * built while the server runs shows on the next reload; until then `/docs/` answers 404 with
+   * the command that builds it. Not set: `/docs/` is served from `root` like any other path.
+   */
+  docs?: string;
 }
 
 /** A running server, from {@link startServer}. */
@@ -120,10 +127,11 @@ export async function startServer(options: ServeOptions): Promise<RunningServer>
     throw new Error(`cannot serve ${options.root}: not a directory`);
   }
 
+  const docs = options.docs === undefined ? undefined : path.resolve(options.docs);
   const server = http.createServer((req, res) => {
     const api = options.api;
     (api ? api(req, res) : Promise.resolve(false))
-      .then((answered) => (answered ? undefined : handle(root, req, res)))
+      .then((answered) => (answered ? undefined : route(root, docs, req, res)))
       .catch((error: unknown) => {
         if (!res.headersSent) send(res, 500, 'Internal Server Error');
         else res.destroy();
@@ -177,8 +185,14 @@ export function displayHost(host: string): string {
   return host.includes(':') ? `[${host}]` : host;
 }
 
-async function handle(
+/** What `/docs/` answers while the API reference is not built. */
+export const DOCS_NOT_BUILT =
+  'The API reference is not built yet. Build it with `npm run docs` (in the fixedstep repository), then reload this page.';
+
+/** Sends `/docs/…` to the API reference when `docs` is set, everything else to the lab. */
+async function route(
   root: string,
+  docs: string | undefined,
   req: http.IncomingMessage,
   res: http.ServerResponse,
 ): Promise<void> {
@@ -188,6 +202,34 @@ async function handle(
     return;
   }
   const rawPath = (req.url ?? '/').split('?')[0]!.split('#')[0]!;
+  if (docs === undefined || (rawPath !== '/docs' && !rawPath.startsWith('/docs/'))) {
+    await handle(root, rawPath, req, res, true);
+    return;
+  }
+  if (rawPath === '/docs') {
+    res.setHeader('Location', '/docs/');
+    send(res, 301, 'Moved Permanently');
+    return;
+  }
+  let docsRoot: string;
+  try {
+    docsRoot = await realpath(docs);
+    await stat(path.join(docsRoot, 'index.html'));
+  } catch {
+    send(res, 404, DOCS_NOT_BUILT);
+    return;
+  }
+  // TypeDoc's assets/ are not content-hashed: everything under /docs/ is revalidated.
+  await handle(docsRoot, rawPath.slice('/docs'.length), req, res, false);
+}
+
+async function handle(
+  root: string,
+  rawPath: string,
+  req: http.IncomingMessage,
+  res: http.ServerResponse,
+  hashedAssets: boolean,
+): Promise<void> {
   const file = resolveRequestPath(root, rawPath);
   if (file === undefined) {
     send(
@@ -217,7 +259,7 @@ async function handle(
   const etag = `W/"${info.size.toString(16)}-${Math.floor(info.mtimeMs).toString(16)}"`;
   const rel = path.relative(root, real).split(path.sep).join('/');
   res.setHeader('Content-Type', mimeType(real));
-  res.setHeader('Cache-Control', cacheControl(rel));
+  res.setHeader('Cache-Control', hashedAssets ? cacheControl(rel) : 'no-cache');
   res.setHeader('ETag', etag);
   res.setHeader('Last-Modified', info.mtime.toUTCString());
   for (const [k, v] of Object.entries(SECURITY_HEADERS)) res.setHeader(k, v);

@@ -133,7 +133,7 @@ describe('run', () => {
       await expect
         .poll(() => io.stdout)
         .toMatch(
-          /^fixedstep lab: http:\/\/localhost:\d+\/\nhighscores kept in .*highscores\.json\n$/,
+          /^fixedstep lab: http:\/\/localhost:\d+\/ \(press Ctrl-C to stop\)\nhighscores kept in .*highscores\.json\n$/,
         );
       const url = /http:\/\/localhost:\d+\//.exec(io.stdout)![0].replace('localhost', '127.0.0.1');
       expect(await (await fetch(url)).text()).toBe('hello');

@@ -3,7 +3,13 @@ import http from 'node:http';
 import os from 'node:os';
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { mimeType, resolveRequestPath, startServer, type RunningServer } from '@fixedstep/cli';
+import {
+  DOCS_NOT_BUILT,
+  mimeType,
+  resolveRequestPath,
+  startServer,
+  type RunningServer,
+} from '@fixedstep/cli';
 
 /** A raw GET: the path goes on the wire exactly as given (fetch would normalise `..`). */
 function get(
@@ -142,6 +148,63 @@ describe('startServer', () => {
     await expect(startServer({ port: 0, root: path.join(dir, 'missing') })).rejects.toThrow(
       /no such directory/,
     );
+  });
+});
+
+describe('startServer with the API reference at /docs/', () => {
+  let api: string;
+  let docsServer: RunningServer;
+
+  beforeAll(async () => {
+    api = path.join(dir, 'api');
+    docsServer = await startServer({ port: 0, host: '127.0.0.1', root, docs: api });
+  });
+
+  afterAll(async () => {
+    await docsServer.close();
+  });
+
+  it('says how to build the reference while it is not built, then serves it once it is', async () => {
+    const missing = await get(docsServer.port, '/docs/');
+    expect(missing.status).toBe(404);
+    expect(missing.body).toBe(`404 ${DOCS_NOT_BUILT}\n`);
+    expect(missing.body).toContain('npm run docs');
+    // The lab's own docs/ folder is not what /docs/ serves when a reference directory is given.
+    expect(missing.body).not.toBe('docs');
+
+    // Built while the server runs: the next request finds it.
+    await mkdir(path.join(api, 'assets'), { recursive: true });
+    await writeFile(path.join(api, 'index.html'), '<title>api</title>');
+    await writeFile(path.join(api, 'assets', 'main.js'), 'let a;');
+    const index = await get(docsServer.port, '/docs/');
+    expect(index.status).toBe(200);
+    expect(index.body).toBe('<title>api</title>');
+    expect(index.headers['content-type']).toBe('text/html; charset=utf-8');
+    const js = await get(docsServer.port, '/docs/assets/main.js');
+    expect(js.status).toBe(200);
+    expect(js.body).toBe('let a;');
+    // TypeDoc's asset names carry no content hash: revalidate, never cache for a year.
+    expect(js.headers['cache-control']).toBe('no-cache');
+    expect((await get(docsServer.port, '/docs/nothing.html')).status).toBe(404);
+  });
+
+  it('redirects /docs to /docs/ and keeps the lab everywhere else', async () => {
+    const res = await get(docsServer.port, '/docs');
+    expect(res.status).toBe(301);
+    expect(res.headers.location).toBe('/docs/');
+    expect((await get(docsServer.port, '/')).body).toBe('<!doctype html><title>lab</title>');
+    expect((await get(docsServer.port, '/docsy')).status).toBe(404);
+  });
+
+  it.each([
+    '/docs/../secret.txt',
+    '/docs/%2e%2e/secret.txt',
+    '/docs/..%2fsecret.txt',
+    '/docs/.env',
+  ])('never serves a file outside the reference: %s', async (rawPath) => {
+    const res = await get(docsServer.port, rawPath);
+    expect([400, 404]).toContain(res.status);
+    expect(res.body).not.toContain('outside the root');
   });
 });
 

@@ -1,6 +1,7 @@
 /**
  * fixedstep — fixed-step, deterministic simulation.
  * @packageDocumentation
+ * @module fixedstep
  */
 export { Timestep } from './time/timestep.js';
 export type { Loop, LoopKind } from './time/loop.js';

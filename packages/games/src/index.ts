@@ -1,6 +1,7 @@
 /**
  * @fixedstep/games — the talk's demo scenes and games, each a deterministic simulation.
  * @packageDocumentation
+ * @module @fixedstep/games
  */
 export { BallScene, BallButtons, defaultBallConfig } from './scenes/ball.js';
 export type { BallConfig } from './scenes/ball.js';

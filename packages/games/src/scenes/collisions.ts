@@ -118,7 +118,7 @@ const FORMAT = 0x57524731; // "WRG1"
  * lane is used in turn and neighbouring shots are far apart), from `x = −RANGE_HALF_WIDTH − u·speed·step` with u uniform in
  * [0, 1) from a seeded {@link Random}. A body is **through** once its centre is past the wall's
  * middle (x > 0), **bounced** once it moves back on its own side; bounced bodies are removed
- * {@link BOUNCED_LIFETIME} s later, through bodies when they leave the arena.
+ * `BOUNCED_LIFETIME` (0.35 s) later, through bodies when they leave the arena.
  *
  * State ({@link save}): the world, the random generator, simulated time, the counters and what
  * each body slot holds. The positions before the last step ({@link prevX}, {@link prevY}) are for

@@ -401,9 +401,9 @@ export class SpringModel implements ImplicitModel {
   }
 
   /**
-   * A zeroed array of {@link size} numbers. For a 2D model of at least {@link WASM_MIN_SPRINGS}
+   * A zeroed array of `size` numbers. For a 2D model of at least {@link WASM_MIN_SPRINGS}
    * springs, a view of the memory of the model's WebAssembly kernel (up to
-   * {@link WASM_ARRAYS} of them; plain arrays after that, or where WebAssembly cannot run):
+   * `WASM_ARRAYS` (12) of them; plain arrays after that, or where WebAssembly cannot run):
    * {@link accelerations} on three such arrays runs the kernel, on any others the JavaScript one,
    * with the same bits either way. SpringSystem and the integrators take their arrays from here.
    */

@@ -9,7 +9,11 @@ import { SPRING_KERNELS_WASM } from './kernels-wasm.js';
 
 /** An instance of the kernels over one memory. Offsets are bytes into that memory. */
 export interface SpringKernels {
-  readonly memory: WebAssembly.Memory;
+  /**
+   * The kernels' `WebAssembly.Memory`, typed by the one member read from it so the published
+   * declarations name no `WebAssembly` type (a Node-only project with `lib: ["ES2022"]` has none).
+   */
+  readonly memory: { readonly buffer: ArrayBuffer };
   accelerations2(
     springs: number,
     size: number,

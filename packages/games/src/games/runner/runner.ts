@@ -315,7 +315,7 @@ export class RunnerGame implements Game {
 
   // ------------------------------------------------------------------ reading
 
-  /** Points of the current run: metres run × {@link RUNNER_TUNING.scorePerMetre}, floored. */
+  /** Points of the current run: metres run × `scorePerMetre` of {@link RUNNER_TUNING}, floored. */
   get score(): number {
     return Math.floor(this.f[DIST]! * SCORE_PER_METRE);
   }

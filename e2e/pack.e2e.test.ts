@@ -1,0 +1,387 @@
+/**
+ * The packages as a user gets them: `npm pack` the built workspaces, install the tarballs into a
+ * scratch project outside the repository (no workspace links: the package comes from its
+ * tarball), then run the READMEs' examples from Node, type-check a strict consumer under every
+ * module set-up the README promises, bundle the example with Vite, and lint the tarballs with
+ * publint and Are the Types Wrong. Needs the build (`npm run build`): it packs what dist/ holds.
+ * The tarball's file list lands in artifacts/pack/.
+ */
+import { execFile } from 'node:child_process';
+import { existsSync } from 'node:fs';
+import { mkdir, mkdtemp, readFile, rm, stat, writeFile } from 'node:fs/promises';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import ts from 'typescript';
+import { build } from 'vite';
+import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+
+const repo = fileURLToPath(new URL('..', import.meta.url));
+const tscJs = path.join(repo, 'node_modules/typescript/bin/tsc');
+const publintJs = path.join(repo, 'node_modules/publint/src/cli.js');
+const attwJs = path.join(repo, 'node_modules/@arethetypeswrong/cli/dist/index.js');
+const typeRoots = [path.join(repo, 'node_modules/@types')];
+
+interface Ran {
+  code: number;
+  stdout: string;
+  stderr: string;
+}
+
+/** Runs a program to its end (never through a shell); resolves with its exit code and output. */
+function run(file: string, args: readonly string[], cwd: string): Promise<Ran> {
+  return new Promise((resolve) => {
+    execFile(
+      file,
+      args,
+      { cwd, maxBuffer: 64 << 20, env: { ...process.env, NO_COLOR: '1' } },
+      (error, stdout, stderr) => {
+        const code = error === null ? 0 : typeof error.code === 'number' ? error.code : 1;
+        resolve({ code, stdout, stderr });
+      },
+    );
+  });
+}
+
+/** The first ```ts block after the `<!-- readme-example` marker of a README. */
+function readmeExample(readme: string): string {
+  const marker = readme.indexOf('<!-- readme-example');
+  if (marker < 0) throw new Error('README has no <!-- readme-example --> marker');
+  const match = /```ts\n([\s\S]*?)```/.exec(readme.slice(marker));
+  if (!match?.[1]) throw new Error('README has no ```ts block after its readme-example marker');
+  return match[1];
+}
+
+/** TypeScript → JavaScript with the workspace's own compiler (Node 20 runs no TypeScript). */
+function toJs(source: string): string {
+  return ts.transpileModule(source, {
+    compilerOptions: { module: ts.ModuleKind.ESNext, target: ts.ScriptTarget.ES2022 },
+  }).outputText;
+}
+
+interface PackedFile {
+  path: string;
+  size: number;
+}
+interface Packed {
+  name: string;
+  filename: string;
+  size: number;
+  unpackedSize: number;
+  files: PackedFile[];
+}
+
+let scratch: string;
+let project: string;
+let example: string;
+const packed = new Map<string, Packed & { tarball: string }>();
+
+beforeAll(async () => {
+  if (!existsSync(path.join(repo, 'packages/fixedstep/dist/index.d.ts'))) {
+    throw new Error('packages/fixedstep/dist is not built: run `npm run build` first.');
+  }
+  scratch = await mkdtemp(path.join(os.tmpdir(), 'fixedstep-pack-'));
+  const tarballs = path.join(scratch, 'tarballs');
+  project = path.join(scratch, 'consumer');
+  await mkdir(tarballs);
+  await mkdir(project);
+  // --ignore-scripts: the build stage has built dist/; the pack must not rebuild it.
+  const pack = await run(
+    'npm',
+    ['pack', '--json', '--ignore-scripts', '--pack-destination', tarballs].concat([
+      '-w',
+      'packages/fixedstep',
+      '-w',
+      'packages/games',
+      '-w',
+      'packages/cli',
+    ]),
+    repo,
+  );
+  if (pack.code !== 0) throw new Error(`npm pack failed:\n${pack.stderr}`);
+  for (const p of JSON.parse(pack.stdout) as Packed[]) {
+    packed.set(p.name, { ...p, tarball: path.join(tarballs, p.filename) });
+  }
+  await writeFile(
+    path.join(project, 'package.json'),
+    JSON.stringify({ name: 'consumer', private: true, type: 'module' }),
+  );
+  // Everything offline: fixedstep has no dependencies, games only fixedstep.
+  const install = await run(
+    'npm',
+    ['install', '--no-audit', '--no-fund', '--offline', '--no-package-lock'].concat([
+      packed.get('fixedstep')!.tarball,
+      packed.get('@fixedstep/games')!.tarball,
+    ]),
+    project,
+  );
+  if (install.code !== 0) throw new Error(`npm install of the tarballs failed:\n${install.stderr}`);
+  // The example as shipped in the tarball's README, as TypeScript and as JavaScript for Node.
+  example = readmeExample(
+    await readFile(path.join(project, 'node_modules/fixedstep/README.md'), 'utf8'),
+  );
+  await writeFile(path.join(project, 'example.ts'), example);
+  await writeFile(path.join(project, 'example.mjs'), toJs(example));
+}, 180_000);
+
+afterAll(async () => {
+  await rm(scratch, { recursive: true, force: true });
+});
+
+describe('the fixedstep tarball', () => {
+  it('holds dist (JavaScript, declarations, both maps), the sources they map to, README, LICENSE', async () => {
+    const p = packed.get('fixedstep')!;
+    const files = p.files.map((f) => f.path).sort();
+    const list = p.files
+      .slice()
+      .sort((a, b) => a.path.localeCompare(b.path))
+      .map((f) => `${String(f.size).padStart(8)}  ${f.path}`);
+    await mkdir(path.join(repo, 'artifacts/pack'), { recursive: true });
+    await writeFile(
+      path.join(repo, 'artifacts/pack/fixedstep-files.txt'),
+      `${p.filename}: ${p.size} bytes packed, ${p.unpackedSize} unpacked, ${files.length} files\n${list.join('\n')}\n`,
+    );
+    console.log(
+      `${p.filename}: ${p.size} B packed, ${p.unpackedSize} B unpacked, ${files.length} files`,
+    );
+
+    const unexpected = files.filter(
+      (f) =>
+        !/^(package\.json|README\.md|LICENSE|dist\/.+\.(js|js\.map|d\.ts|d\.ts\.map)|src\/.+\.(ts|wat))$/.test(
+          f,
+        ),
+    );
+    expect(unexpected, 'files the tarball should not hold').toEqual([]);
+    for (const f of [
+      'LICENSE',
+      'README.md',
+      'dist/index.js',
+      'dist/index.d.ts',
+      'dist/index.d.ts.map',
+    ]) {
+      expect(files).toContain(f);
+    }
+    // Every compiled module has its declarations, both maps and the source they point at; a
+    // module whose source is gone is a stale build (rm -rf packages/fixedstep/dist, rebuild).
+    const modules = files.filter((f) => f.startsWith('dist/') && f.endsWith('.js'));
+    expect(modules.length).toBeGreaterThan(40);
+    const missing: string[] = [];
+    for (const js of modules) {
+      const base = js.slice('dist/'.length, -'.js'.length);
+      for (const f of [
+        `dist/${base}.d.ts`,
+        `dist/${base}.d.ts.map`,
+        `dist/${base}.js.map`,
+        `src/${base}.ts`,
+      ]) {
+        if (!files.includes(f)) missing.push(f);
+      }
+    }
+    expect(missing, 'files each compiled module needs beside it').toEqual([]);
+
+    const license = await readFile(path.join(project, 'node_modules/fixedstep/LICENSE'), 'utf8');
+    expect(license).toContain('MIT License');
+    expect(license).toContain('Copyright (c) 2026 fixedstep contributors');
+    // The installed copy is a real directory from the tarball, not a link into the workspace.
+    expect((await stat(path.join(project, 'node_modules/fixedstep'))).isSymbolicLink()).toBe(false);
+    const installed = JSON.parse(
+      await readFile(path.join(project, 'node_modules/fixedstep/package.json'), 'utf8'),
+    ) as { license: string; repository: unknown; engines: unknown; sideEffects: unknown };
+    expect(installed.license).toBe('MIT');
+    expect(installed.sideEffects).toBe(false);
+    expect(installed.engines).toEqual({ node: '>=20.19' });
+  });
+
+  it('runs the README example it ships from Node ESM, printing what the README says', async () => {
+    // The repository's README shows the same example (tested from source by readme.test.ts).
+    expect(readmeExample(await readFile(path.join(repo, 'README.md'), 'utf8'))).toBe(example);
+    const out = await run(process.execPath, ['example.mjs'], project);
+    expect(out.stderr).toBe('');
+    expect(out.code).toBe(0);
+    expect(out.stdout).toBe('60 0.013250\n');
+    expect(example).toContain(`// ${out.stdout.trim()} `);
+  });
+
+  it('runs the @fixedstep/games README example: a bot match, the same twice', async () => {
+    const readme = await readFile(
+      path.join(project, 'node_modules/@fixedstep/games/README.md'),
+      'utf8',
+    );
+    await writeFile(path.join(project, 'games.ts'), readmeExample(readme));
+    await writeFile(path.join(project, 'games.mjs'), toJs(readmeExample(readme)));
+    const out = await run(process.execPath, ['games.mjs'], project);
+    expect(out.stderr).toBe('');
+    expect(out.code).toBe(0);
+    const lines = out.stdout.trim().split('\n');
+    expect(lines.at(-1)).toBe('true');
+    expect(readmeExample(readme)).toContain('// true');
+  });
+});
+
+/** A strict consumer's compiler options: nothing skipped, no DOM, Node's types only. */
+const STRICT = {
+  strict: true,
+  noUncheckedIndexedAccess: true,
+  exactOptionalPropertyTypes: true,
+  noImplicitOverride: true,
+  target: 'ES2022',
+  lib: ['ES2022'],
+  types: ['node'],
+  typeRoots,
+  skipLibCheck: false,
+};
+
+/** What a CommonJS consumer does: one loop, 100 ms of frames (6 ticks at 60 Hz), printed. */
+const CJS_BODY = `
+  const loop = new FixedLoop({ step: 60 });
+  const clock = new ManualClock();
+  loop.frame(clock.now());
+  const steps: number = loop.frame(clock.advance(100));
+  console.log(steps, loop.tick);
+`;
+
+/** The consumer's files besides example.ts (the README's example); cjs/ is a CommonJS package. */
+const CONSUMER_FILES: Record<string, string> = {
+  // Every export, so every declaration file is read and checked.
+  'all.ts': `import * as fixedstep from 'fixedstep';\nexport const names: readonly string[] = Object.keys(fixedstep);\n`,
+  'cjs/package.json': JSON.stringify({ type: 'commonjs' }),
+  'cjs/import.cts': `import type { FixedLoop as Loop } from 'fixedstep' with { 'resolution-mode': 'import' };
+async function main(): Promise<void> {
+  const { FixedLoop, ManualClock } = await import('fixedstep');
+  ${CJS_BODY}
+  const typed: Loop = loop;
+  console.log(typed.tick);
+}
+void main();
+`,
+  'cjs/require.cts': `import { FixedLoop, ManualClock } from 'fixedstep';\n${CJS_BODY}`,
+  'cjs/node10.ts': `import { FixedLoop, ManualClock } from 'fixedstep';\n${CJS_BODY}`,
+};
+
+interface Setup {
+  name: string;
+  options: Record<string, unknown>;
+  files: string[];
+  /** Emitted CommonJS files to run with Node (each must print `6 6` first). */
+  runs: string[];
+}
+
+/**
+ * Every module set-up the README promises. Set-ups that share compiler options share one program
+ * (a file's module format comes from its extension and package.json, not the program).
+ */
+const SETUPS: Setup[] = [
+  {
+    name: 'node16: ESM, and a .cts file through await import()',
+    options: { module: 'node16', moduleResolution: 'node16', outDir: 'out-node16' },
+    files: ['example.ts', 'cjs/import.cts'],
+    runs: ['out-node16/cjs/import.cjs'],
+  },
+  {
+    name: 'nodenext: ESM, every export, and a .cts file through require() (Node 20.19+)',
+    options: { module: 'nodenext', moduleResolution: 'nodenext', outDir: 'out-nodenext' },
+    files: ['example.ts', 'all.ts', 'cjs/require.cts'],
+    runs: ['out-nodenext/cjs/require.cjs'],
+  },
+  {
+    name: 'bundler',
+    options: { module: 'preserve', moduleResolution: 'bundler', noEmit: true },
+    files: ['example.ts', 'all.ts'],
+    runs: [],
+  },
+  {
+    name: 'node10: the top-level types field, CommonJS output run by Node 20.19+',
+    options: {
+      module: 'commonjs',
+      moduleResolution: 'node10',
+      rootDir: 'cjs',
+      outDir: 'cjs/out-node10',
+    },
+    files: ['cjs/node10.ts'],
+    runs: ['cjs/out-node10/node10.js'],
+  },
+];
+
+describe('TypeScript consumers of the tarball (strict, lib ES2022 without DOM, types node, skipLibCheck false)', () => {
+  /** Each set-up's tsc run, started together (they take seconds each) and awaited by its test. */
+  const checks = new Map<string, Promise<Ran>>();
+
+  beforeAll(async () => {
+    for (const [name, text] of Object.entries(CONSUMER_FILES)) {
+      await mkdir(path.dirname(path.join(project, name)), { recursive: true });
+      await writeFile(path.join(project, name), text);
+    }
+    for (const setup of SETUPS) {
+      const config = path.join(
+        project,
+        `tsconfig.${setup.options.moduleResolution as string}.json`,
+      );
+      await writeFile(
+        config,
+        JSON.stringify({ compilerOptions: { ...STRICT, ...setup.options }, files: setup.files }),
+      );
+      checks.set(setup.name, run(process.execPath, [tscJs, '-p', config], project));
+    }
+  });
+
+  it.each(SETUPS)('$name', async (setup) => {
+    const checked = await checks.get(setup.name)!;
+    expect(checked.stdout + checked.stderr).toBe('');
+    expect(checked.code).toBe(0);
+    for (const file of setup.runs) {
+      const out = await run(process.execPath, [file], project);
+      expect({ code: out.code, stderr: out.stderr }).toMatchObject({ code: 0 });
+      expect(out.stdout.split('\n')[0]).toBe('6 6');
+    }
+  });
+});
+
+describe('bundling the tarball', () => {
+  it('Vite bundles the README example from dist (tree-shaken: the loop, not the library)', async () => {
+    const outDir = path.join(project, 'vite-out');
+    await build({
+      root: project,
+      configFile: false,
+      logLevel: 'silent',
+      publicDir: false,
+      build: {
+        outDir,
+        emptyOutDir: true,
+        target: 'es2022',
+        minify: 'esbuild',
+        lib: { entry: path.join(project, 'example.ts'), formats: ['es'], fileName: 'bundle' },
+      },
+    });
+    const bundle = path.join(outDir, 'bundle.js');
+    const size = (await stat(bundle)).size;
+    console.log(`Vite bundle of the README example: ${size} B`);
+    const out = await run(process.execPath, [bundle], project);
+    expect({ code: out.code, stderr: out.stderr }).toEqual({ code: 0, stderr: '' });
+    expect(out.stdout).toBe('60 0.013250\n');
+    // The whole library is ~430 KB of JavaScript; sideEffects: false lets the bundler keep the
+    // loop and the clock only.
+    const whole = packed
+      .get('fixedstep')!
+      .files.filter((f) => f.path.startsWith('dist/') && f.path.endsWith('.js'))
+      .reduce((sum, f) => sum + f.size, 0);
+    expect(size).toBeLessThan(whole / 10);
+  });
+});
+
+describe('publint and Are the Types Wrong', () => {
+  it.each(['fixedstep', '@fixedstep/games', '@fixedstep/cli'])('%s passes both', async (name) => {
+    const tarball = packed.get(name)!.tarball;
+    const lint = await run(process.execPath, [publintJs, 'run', tarball, '--strict'], repo);
+    expect(lint.stdout + lint.stderr).toContain('All good!');
+    expect(lint.code).toBe(0);
+    // ESM only, by choice: a CommonJS `require` resolving to ESM is what the README documents
+    // (Node 20.19+ require(esm), or `await import()`), so that one rule is not an error here.
+    const attw = await run(
+      process.execPath,
+      [attwJs, tarball, '--ignore-rules', 'cjs-resolves-to-esm', '--format', 'ascii', '--no-color'],
+      repo,
+    );
+    expect(attw.stdout + attw.stderr).toContain('No problems found');
+    expect(attw.code).toBe(0);
+  });
+});
