@@ -95,6 +95,8 @@ beforeAll(async () => {
       'packages/games',
       '-w',
       'packages/cli',
+      '-w',
+      'packages/rapier',
     ]),
     repo,
   );
@@ -369,19 +371,30 @@ describe('bundling the tarball', () => {
 });
 
 describe('publint and Are the Types Wrong', () => {
-  it.each(['fixedstep', '@fixedstep/games', '@fixedstep/cli'])('%s passes both', async (name) => {
-    const tarball = packed.get(name)!.tarball;
-    const lint = await run(process.execPath, [publintJs, 'run', tarball, '--strict'], repo);
-    expect(lint.stdout + lint.stderr).toContain('All good!');
-    expect(lint.code).toBe(0);
-    // ESM only, by choice: a CommonJS `require` resolving to ESM is what the README documents
-    // (Node 20.19+ require(esm), or `await import()`), so that one rule is not an error here.
-    const attw = await run(
-      process.execPath,
-      [attwJs, tarball, '--ignore-rules', 'cjs-resolves-to-esm', '--format', 'ascii', '--no-color'],
-      repo,
-    );
-    expect(attw.stdout + attw.stderr).toContain('No problems found');
-    expect(attw.code).toBe(0);
-  });
+  it.each(['fixedstep', '@fixedstep/games', '@fixedstep/cli', '@fixedstep/rapier'])(
+    '%s passes both',
+    async (name) => {
+      const tarball = packed.get(name)!.tarball;
+      const lint = await run(process.execPath, [publintJs, 'run', tarball, '--strict'], repo);
+      expect(lint.stdout + lint.stderr).toContain('All good!');
+      expect(lint.code).toBe(0);
+      // ESM only, by choice: a CommonJS `require` resolving to ESM is what the README documents
+      // (Node 20.19+ require(esm), or `await import()`), so that one rule is not an error here.
+      const attw = await run(
+        process.execPath,
+        [
+          attwJs,
+          tarball,
+          '--ignore-rules',
+          'cjs-resolves-to-esm',
+          '--format',
+          'ascii',
+          '--no-color',
+        ],
+        repo,
+      );
+      expect(attw.stdout + attw.stderr).toContain('No problems found');
+      expect(attw.code).toBe(0);
+    },
+  );
 });

@@ -10,6 +10,7 @@ export {
   VARINT_TOO_LARGE,
   VARINT_NOT_CANONICAL,
 } from './bytes.js';
+export type { ByteReaderOptions, ByteReadFailure, ByteReadProblem } from './bytes.js';
 export {
   dsin,
   dcos,
