@@ -64,14 +64,20 @@ describe('FixedLoop warns about the delta trap', () => {
     const loop = new FixedLoop({ step: 60, onWarning: (m) => warnings.push(m) });
     for (let i = 0; i < 30; i++) loop.frame(16.6 + (i % 3) * 0.1); // deltas, not timestamps
     expect(warnings).toHaveLength(1);
-    expect(warnings[0]).toMatch(/expects a clock reading.*call loop\.advance\(deltaMs, nowMs\)/);
+    expect(warnings[0]).toMatch(
+      /expects a clock reading.*ran back.*call loop\.advance\(deltaMs, nowMs\)/,
+    );
     expect(loop.tick).toBeLessThan(2); // what the trap does: time stands still
   });
 
-  it('stays quiet for a real clock, duplicate frames included, and when told to', () => {
+  it('stays quiet for a real clock, duplicate frames, a paused clock, a clock set back once, and when told to', () => {
     const warnings: string[] = [];
     const loop = new FixedLoop({ step: 60, onWarning: (m) => warnings.push(m) });
     for (let i = 0; i < 60; i++) loop.frame(5000 + Math.floor(i / 2) * 16.7); // every frame twice
+    const paused = new FixedLoop({ step: 60, onWarning: (m) => warnings.push(m) });
+    for (let i = 0; i < 60; i++) paused.frame(0); // a simulated clock that does not run
+    const setBack = new FixedLoop({ step: 60, onWarning: (m) => warnings.push(m) });
+    for (let i = 0; i < 60; i++) setBack.frame(i < 30 ? 2000 + i * 16.7 : 500 + i * 16.7);
     expect(warnings).toEqual([]);
     const silent = new FixedLoop({ step: 60, onWarning: null });
     for (let i = 0; i < 30; i++) silent.frame(16.6);

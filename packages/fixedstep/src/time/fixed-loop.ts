@@ -135,7 +135,7 @@ export class FixedLoop implements Loop {
   private pausedNs = 0;
   private invalid = 0;
   private backwards = 0;
-  /** Clock readings (after the first) that did not advance, for the delta-as-timestamp check. */
+  /** Early clock readings that ran back, for the delta-as-timestamp check. */
   private stuckReadings = 0;
   private readonly warn: ((message: string) => void) | null;
   private readonly warned = new Set<LoopWarning>();
@@ -225,24 +225,23 @@ export class FixedLoop implements Loop {
     if (dt < 0) {
       this.backwards++;
       dt = 0;
+      this.checkReadings(nowMs);
     }
-    if (dt === 0 || this.frameCount < 1) this.checkReadings(nowMs);
     return this.accumulate(dt);
   }
 
   /**
-   * A frame delta passed where a timestamp belongs looks like a clock that stands still or runs
-   * back: readings of a few ms that never grow. Five such frames among the first thirty, all
-   * under a second, is no real clock (a real one repeats a reading only on a duplicate frame, and
-   * requestAnimationFrame never does).
+   * A frame delta passed where a timestamp belongs looks like a clock that keeps running back:
+   * readings of a few ms that jitter around one value. Three backward steps among the first sixty
+   * frames, each to a reading under 10 s, is no real clock (a clock that is paused stands still
+   * without going back; a clock set back once is one step).
    */
   private checkReadings(nowMs: number): void {
-    if (this.frameCount >= 30 || this.warn === null) return;
-    if (this.frameCount >= 1 && nowMs < 1000) this.stuckReadings++;
-    if (this.stuckReadings >= 5) {
+    if (this.frameCount >= 60 || this.warn === null || nowMs >= 10_000) return;
+    if (++this.stuckReadings >= 3) {
       this.warnOnce(
         'delta-as-timestamp',
-        `FixedLoop.frame(nowMs) expects a clock reading in ms (a requestAnimationFrame timestamp, performance.now()), but ${this.stuckReadings} of the first ${this.frameCount + 1} readings did not advance (last ${nowMs} ms): if your engine gives you a frame delta, call loop.advance(deltaMs, nowMs) instead.`,
+        `FixedLoop.frame(nowMs) expects a clock reading in ms (a requestAnimationFrame timestamp, performance.now()), but ${this.stuckReadings} of the first ${this.frameCount + 1} readings ran back (last ${nowMs} ms): if your engine gives you a frame delta, call loop.advance(deltaMs, nowMs) instead.`,
       );
     }
   }

@@ -38,7 +38,7 @@ import { ASPECT, drawGame } from '../../games-view/render.js';
 import { requestWatch, setLastReplay } from '../../games-view/replay-store.js';
 import { replayContents } from '../../games-view/replays.js';
 import { GameSession, routeOptions, type LoopMode } from './games-lab.js';
-import { attachGameInput } from './games-input.js';
+import { attachGameInput, attachTouchControls } from './games-input.js';
 import { ABOUT, LEDE, REFERENCE_APEX, afterGameText, howItWorks, rowsFor } from './games-text.js';
 import '../../games-view/game-stage.css';
 import './games.css';
@@ -101,6 +101,9 @@ class GamesChapter {
   private readonly announce = h('p', { class: 'sr-only', role: 'status', 'aria-live': 'polite' });
   private readonly highscores: HighscorePanel;
   private detachInput: (() => void) | undefined;
+  private detachTouch: (() => void) | undefined;
+  /** On-screen controls: shown on touch screens (and with `?touch=1`). */
+  private readonly touch = h('div', { class: 'touch-controls', 'data-testid': 'touch-controls' });
 
   constructor(root: HTMLElement, head: ChapterHead) {
     const opts = routeOptions(location.hash);
@@ -152,8 +155,16 @@ class GamesChapter {
       this.startOverlay,
       this.focusHint,
     );
+    if (new URLSearchParams(location.hash.split('?')[1] ?? '').get('touch') === '1') {
+      this.touch.classList.add('always');
+    }
     this.wireCanvas();
-    shell.own({ destroy: () => this.detachInput?.() });
+    shell.own({
+      destroy: () => {
+        this.detachInput?.();
+        this.detachTouch?.();
+      },
+    });
     this.after = this.buildAfter();
     shell.append(...this.sections());
     shell.listen(document, 'visibilitychange', () => {
@@ -199,6 +210,7 @@ class GamesChapter {
         { class: 'play', 'aria-label': 'Play' },
         this.ctl.box,
         this.frame,
+        this.touch,
         h(
           'aside',
           { class: 'game-side', 'aria-label': 'The game’s numbers and keys' },
@@ -412,6 +424,10 @@ class GamesChapter {
     this.wasOver = false;
     this.detachInput?.();
     this.detachInput = attachGameInput(this.scene.canvas, s, this.shell.driver, () => {
+      if (!this.started) this.start();
+    });
+    this.detachTouch?.();
+    this.detachTouch = attachTouchControls(this.touch, s, this.shell.driver, () => {
       if (!this.started) this.start();
     });
     const aspect = String(ASPECT[info.id] ?? 1.5);
