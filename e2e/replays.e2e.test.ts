@@ -144,19 +144,22 @@ describe('chapter 5, replays', () => {
     expect(num(facts, 'replay-ticks')).toBe(3600);
     expect(num(facts, 'replay-size')).toBeGreaterThan(1000);
     expect(num(facts, 'replay-bpm')).toBe(num(facts, 'replay-size'));
-    expect(num(facts, 'replay-keyframes')).toBe(12);
+    expect(num(facts, 'replay-keyframes')).toBe(0); // inputs, seed and hashes only
+    // A minute of the CTF bot: its inputs and a hash every 10 s.
+    expect(num(facts, 'replay-size')).toBeLessThan(4096);
     expect(await page.getByTestId('replay-verified').textContent()).toContain(
       'reproduced every stored hash',
     );
 
-    await playAt(page, 30, 2);
+    // Past the first stored hash after tick 0 (every 10 s) on each display.
+    await playAt(page, 30, 3);
     const at30 = await readouts(page);
-    expect(num(at30, 'replay-tick')).toBeGreaterThan(540);
-    await playAt(page, 144, 2);
+    expect(num(at30, 'replay-tick')).toBeGreaterThan(600);
+    await playAt(page, 144, 3);
     const r = await readouts(page);
     const tick = num(r, 'replay-common-tick');
-    expect(tick).toBeGreaterThanOrEqual(540);
-    expect(tick % 60).toBe(0);
+    expect(tick).toBeGreaterThanOrEqual(600);
+    expect(tick % 600).toBe(0);
     expect(r['readout-replay-hash-30']).toMatch(/^[0-9a-f]{16}$/);
     expect(r['readout-replay-hash-144']).toBe(r['readout-replay-hash-30']);
     expect(r['readout-replay-hash-file']).toBe(r['readout-replay-hash-30']);

@@ -269,13 +269,15 @@ describe('what the page says after a game', () => {
     const bytes = recordBotGame(gameDef('runner'), 3, 1800);
     const c = replayContents(readReplay(bytes));
     expect(c.inputs + c.hashes + c.keyframes + c.header).toBe(bytes.length);
-    expect(c.keyframeCount).toBe(6);
+    expect(c.keyframeCount).toBe(0);
+    expect(c.keyframes).toBe(0);
     const text = afterGameText({ ...base, score: 10, ticks: 1800, contents: c }).text;
     const n = (x: number) => count(x);
     expect(text).toContain(`The replay is ${n(bytes.length)} bytes`);
     expect(text).toContain(`the inputs of ${n(1800)} ticks in ${n(c.inputs)} B`);
-    expect(text).toContain(`6 keyframes for seeking in ${n(c.keyframes)} B`);
-    expect(text).not.toContain('only the inputs');
+    expect(text).toContain('no keyframes (seeking re-simulates from the inputs)');
+    // 30 s of the runner's bot: under a kilobyte a minute, all of it inputs and hashes.
+    expect(bytes.length).toBeLessThan(1024 / 2);
   });
 
   it('states each game’s numbers from the game’s own constants', () => {
@@ -322,14 +324,14 @@ describe('GameSession, the shooters with their bots', () => {
     expect(fixed.game.hud().kills).toBeGreaterThan(20);
   });
 
-  it('records a replay that verifies, with keyframes every 5 s and the score the HUD shows', () => {
+  it('records a replay that verifies, of inputs and hashes only, with the score the HUD shows', () => {
     const s = botSession('runner', 'fixed', 144, 0.1, 30_000);
     const bytes = s.replay()!;
     const r = readReplay(bytes);
     expect(r.tickCount).toBe(s.game.tick);
-    expect(r.checkpointEvery).toBe(60);
-    expect(r.keyframeEvery).toBe(300);
-    expect(r.keyframes.length).toBe(Math.floor(s.game.tick / 300));
+    expect(r.checkpointEvery).toBe(600); // the recorder's default: every 10 s of game time
+    expect(r.keyframeEvery).toBe(0);
+    expect(r.keyframes.length).toBe(0);
     expect(r.header.players).toEqual(['bot']);
     const v = verifyReplay(bytes, gameFromReplayHeader);
     expect(v.ok).toBe(true);

@@ -20,10 +20,6 @@ export interface DisplaySpec extends ClockDisplaySpec {
   hz: DisplayRate;
 }
 
-/** Checkpoint hashes every second of play, keyframes (seek points) every five. */
-export const CHECKPOINT_SECONDS = 1;
-export const KEYFRAME_SECONDS = 5;
-
 /** The registry entry of a game id; a RangeError naming the id for an unknown one. */
 export function gameDef(id: string): GameDefinition {
   const def = GAMES.find((g) => g.info.id === id);

@@ -11,19 +11,19 @@ import {
   type GameConfig,
   type GameDefinition,
 } from '@fixedstep/games';
-import { CHECKPOINT_SECONDS, KEYFRAME_SECONDS, bytesPerMinute, cleanName } from './games.js';
+import { bytesPerMinute, cleanName } from './games.js';
 
-/** The recorder options every game of the lab records with: a hash every second, keyframes every five. */
+/**
+ * The recorder options every game of the lab records with: the inputs, the seed and a state hash
+ * every 10 s (the recorder's default) — no stored snapshots: a player re-simulates to seek, as the
+ * talk says a replay is just the inputs and the seeds.
+ */
 export function labRecording(
   def: GameDefinition,
   config: GameConfig,
   player: string,
 ): ReplayRecorderOptions {
-  const rate = def.info.tickRate;
-  return replayOptionsFor(def, config, [cleanName(player)], {
-    checkpointEvery: CHECKPOINT_SECONDS * rate,
-    keyframeEvery: KEYFRAME_SECONDS * rate,
-  });
+  return replayOptionsFor(def, config, [cleanName(player)]);
 }
 
 /**

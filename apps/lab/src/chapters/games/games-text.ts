@@ -6,7 +6,7 @@
 import { CTF, CTF_WALLS, SURVIVAL, SURVIVAL_WALLS } from '@fixedstep/games';
 import { h, code } from '../../ui/dom.js';
 import * as fmt from '../../ui/format.js';
-import { KEYFRAME_SECONDS, hudLabel, type GameId } from '../../games-view/games.js';
+import { hudLabel, type GameId } from '../../games-view/games.js';
 import { describeContents, type ReplayContents } from '../../games-view/replays.js';
 import { runnerApex, type RankedRun } from './games-lab.js';
 
@@ -177,7 +177,7 @@ export function howItWorks(): HTMLElement {
     h(
       'p',
       {},
-      `The recording is the replay: the inputs of every tick (run-length coded), the seed, a state hash every second and a snapshot every ${KEYFRAME_SECONDS} s for seeking — the panel after a game says how many bytes each takes. “Variable Δt” swaps the FixedLoop for the talk’s naive loop, which calls update(dt) once per frame with that frame’s Δt; it is not recorded, because nothing could replay it.`,
+      `The recording is the replay: the inputs of every tick (run-length coded), the seed and a state hash every 10 s — nothing else; a player re-simulates to seek, at millions of ticks a second. The panel after a game says how many bytes each part takes. “Variable Δt” swaps the FixedLoop for the talk’s naive loop, which calls update(dt) once per frame with that frame’s Δt; it is not recorded, because nothing could replay it.`,
     ),
   );
 }
