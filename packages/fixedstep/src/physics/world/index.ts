@@ -1,7 +1,8 @@
 export { PhysicsWorld } from './world.js';
 export type { StaticShape, WorldOptions } from './world.js';
 export { defaultWorldDef } from './def.js';
-export type { WorldDef, CcdMode, BodyOptions, CircleOptions, BoxOptions } from './def.js';
+export type { WorldDef, CcdMode, BodyOptions, CircleOptions, BoxOptions, Exact } from './def.js';
+export { WORLD_LIMITS } from './validate.js';
 export { minWallSize, maxSafeSpeed, tunnellingShare, checkTunnellingRule } from './rule.js';
 export type { TunnellingWarning } from './rule.js';
 export {
