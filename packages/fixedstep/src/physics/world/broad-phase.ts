@@ -10,6 +10,7 @@
  */
 import { BodyFlag, type BodyStore } from './body.js';
 import type { ContactList } from './contacts.js';
+import type { WorldDef } from './def.js';
 import { boxBox, boxSegment, circleBox, circleCircle, circleSegment } from './manifold.js';
 import { WallKind, staticRef, type StaticStore } from './statics.js';
 
@@ -48,7 +49,8 @@ export class Grid {
    * (or `cellSize` if larger), doubled until the grid has at most `4 × slots + 64` cells — a
    * budget from the slot count (state), not the capacity (history).
    */
-  build(bodies: BodyStore, cellSizeSetting: number): void {
+  build(bodies: BodyStore, def: Readonly<WorldDef>): void {
+    const cellSizeSetting = def.cellSize;
     const n = bodies.slotCount;
     const flags = bodies.flags;
     const x = bodies.x;
@@ -142,17 +144,18 @@ export class Grid {
  * Every contact of this step into `contacts`: body–body pairs through the grid (cell order, then
  * id order), then body–wall pairs (body order, then wall order). `inverseMass` is the solver's
  * (0 for kinematic and sleeping bodies): a pair of two such bodies is skipped — unless a kinematic
- * body touches a sleeping one, which must wake. `gravityVx/Vy` (m/s) is what gravity is still to
- * add to each moving body's velocity this step (0 once it has), for the one test that reads a
- * velocity.
+ * body touches a sleeping one, which must wake. `gravityPending`: gravity is still to be added to
+ * the moving bodies' velocities this step (`def`'s), for the one test that reads a velocity.
+ * (Flags and objects as arguments, not doubles: V8 boxes a double passed to a call it does not
+ * inline, and this one is too large to inline.)
  */
 export function findContacts(
   grid: Grid,
   bodies: BodyStore,
   statics: StaticStore,
   contacts: ContactList,
-  gravityVx: number,
-  gravityVy: number,
+  gravityPending: boolean,
+  def: Readonly<WorldDef>,
 ): void {
   contacts.count = 0;
   const cols = grid.cols;
@@ -251,7 +254,7 @@ export function findContacts(
         if (isBox) boxBox(contacts, i, staticRef(s), xi - bx, yi - by, wi + bw, hi + bh);
         else circleBox(contacts, i, staticRef(s), xi, yi, wi, bx, by, bw, bh, 1);
       } else if (isBox) boxSegment(contacts, i, s, xi, yi, wi, hi, statics);
-      else circleSegment(contacts, i, s, xi, yi, wi, statics, bodies, gravityVx, gravityVy);
+      else circleSegment(contacts, i, s, xi, yi, wi, statics, bodies, gravityPending, def);
     }
   }
 }

@@ -143,7 +143,9 @@ export class ContinuousSolver {
     const farList = this.farList;
     const dt = def.timeStep;
     const mode = modeOf(def);
-    const thin = this.thinnest();
+    const wallThin = this.statics.thinnestHalfExtent;
+    const bodyThin = bodies.thinnestHalfExtent;
+    const thin = wallThin < bodyThin ? wallThin : bodyThin;
     const cell = this.grid.cellSize;
     // Bodies moving further than two cells are not found through the grid by the sweeps.
     const farLimit2 = this.grid.cols > 0 ? 4 * cell * cell : 0;

@@ -15,5 +15,12 @@ export {
   toiPointCapsule,
   toiBoxSegment,
 } from './swept.js';
-export { circlesInBox, circlesInBoxScene, bulletsScene, buildWorld } from './scenes.js';
+export {
+  circlesInBox,
+  circlesInBoxScene,
+  bodiesInBox,
+  bodiesInBoxScene,
+  bulletsScene,
+  buildWorld,
+} from './scenes.js';
 export type { PhysicsScene, SceneBody, SceneBox, SceneSegment } from './scenes.js';

@@ -13,6 +13,7 @@
  */
 import type { BodyStore } from './body.js';
 import type { ContactList } from './contacts.js';
+import type { WorldDef } from './def.js';
 import { staticRef, type StaticStore } from './statics.js';
 
 /**
@@ -94,8 +95,8 @@ export function circleBox(
 
 /**
  * Circle body `i` (centre `(cx, cy)`, radius `r`) against segment wall `s`. A centre exactly on
- * the segment goes back the way it came: against its velocity, including the `gravityVx/Vy` that
- * this step is still to add to it.
+ * the segment goes back the way it came: against its velocity, including the gravity this step is
+ * still to add to it if `gravityPending`.
  */
 export function circleSegment(
   contacts: ContactList,
@@ -106,8 +107,8 @@ export function circleSegment(
   r: number,
   walls: StaticStore,
   bodies: BodyStore,
-  gravityVx: number,
-  gravityVy: number,
+  gravityPending: boolean,
+  def: Readonly<WorldDef>,
 ): void {
   const ax = walls.ax[s]!;
   const ay = walls.ay[s]!;
@@ -134,8 +135,10 @@ export function circleSegment(
   const d = Math.sqrt(d2);
   if (d > 0) contacts.add(i, staticRef(s), ex / d, ey / d, d - r);
   else {
-    const vx = bodies.vx[i]! + gravityVx;
-    const vy = bodies.vy[i]! + gravityVy;
+    const gx = gravityPending ? def.gravityX * def.timeStep : 0;
+    const gy = gravityPending ? def.gravityY * def.timeStep : 0;
+    const vx = bodies.vx[i]! + gx;
+    const vy = bodies.vy[i]! + gy;
     const side = vx * nx + vy * ny > 0 ? -1 : 1;
     contacts.add(i, staticRef(s), side * nx, side * ny, -r);
   }

@@ -184,9 +184,11 @@ export class SnapshotWriter {
         b.restTime,
         b.island,
       ];
-      this.columnBytes = this.columnSources.map(
-        (a) => new Uint8Array(a.buffer, a.byteOffset, n * a.BYTES_PER_ELEMENT),
-      );
+      // A loop, not a closure: a closure here would make V8 allocate a context on every save.
+      const bytes: Uint8Array[] = [];
+      for (const a of this.columnSources)
+        bytes.push(new Uint8Array(a.buffer, a.byteOffset, n * a.BYTES_PER_ELEMENT));
+      this.columnBytes = bytes;
       this.viewSlots = n;
     }
     return this.columnBytes;
@@ -333,15 +335,26 @@ export class SnapshotReader {
   private cacheIdsAt = 0;
   /** f64 index of the cache's normal impulses (tangent impulses follow). */
   private cacheImpulsesAt = 0;
+  /** Whether a −0 was read (then values are copied one by one, with `+ 0`). */
+  private negativeZero = false;
+  // Views of the body columns in staging for the last slot count and offset (a rollback loop
+  // loads the same shape every time: the views are made once, the columns copied at memcpy speed).
+  private viewsBuffer: ArrayBufferLike | null = null;
+  private viewsAt = -1;
+  private viewsSlots = -1;
+  private flagsView = new Uint8Array(0);
+  private columnViews: Float64Array[] = [];
+  private islandView = new Int32Array(0);
 
   private fail(message: string): never {
     throw new RangeError(`PhysicsWorld.load: ${message}`);
   }
 
-  private need(count: number, what: string): void {
+  /** Fails unless `count` more bytes are there for `what` (`items` of them, if ≥ 0). */
+  private need(count: number, what: string, items = -1): void {
     if (this.p + count > this.end)
       this.fail(
-        `truncated snapshot: ${what} needs ${count} bytes at offset ${this.p - this.shift}, ${this.end - this.p} left`,
+        `truncated snapshot: ${items >= 0 ? `${items} ` : ''}${what}: ${count} bytes needed at offset ${this.p - this.shift}, ${this.end - this.p} left`,
       );
   }
 
@@ -387,25 +400,15 @@ export class SnapshotReader {
 
     const wallCount = data.getUint32(this.p, true);
     this.p += 4;
-    this.need(WALL_BYTES * wallCount, `${wallCount} walls`);
+    this.need(WALL_BYTES * wallCount, 'walls', wallCount);
     const wallsAt = this.p;
-    let sameWalls = wallCount === current.statics.count;
-    for (let s = 0; s < wallCount; s++, this.p += WALL_BYTES) {
-      const p = this.p;
-      const kind = staging[p]!;
-      if (kind !== SEGMENT && kind !== STATIC_BOX) this.fail(`bad kind ${kind} of static ${s}`);
-      const p0 = data.getFloat64(p + 1, true);
-      const p1 = data.getFloat64(p + 9, true);
-      const p2 = data.getFloat64(p + 17, true);
-      const p3 = data.getFloat64(p + 25, true);
-      this.checkWall(s, kind, p0, p1, p2, p3);
-      if (sameWalls) sameWalls = current.statics.is(s, kind, p0, p1, p2, p3);
-    }
+    const sameWalls = this.checkWalls(wallsAt, wallCount, current.statics);
+    this.p += WALL_BYTES * wallCount;
 
     this.need(4, 'the body count');
     const slots = data.getUint32(this.p, true);
     this.p += 4;
-    this.need(BODY_BYTES * slots + 4, `${slots} bodies`);
+    this.need(BODY_BYTES * slots + 4, 'bodies', slots);
     const flagsAt = this.p;
     this.p += slots;
     // Here p is 8-byte aligned (that is what the shift was for).
@@ -421,7 +424,7 @@ export class SnapshotReader {
 
     const cacheCount = data.getUint32(this.p, true);
     this.p += 4;
-    this.need(CACHE_ENTRY_BYTES * cacheCount, `${cacheCount} warm-start entries`);
+    this.need(CACHE_ENTRY_BYTES * cacheCount, 'warm-start entries', cacheCount);
     // 4-byte aligned: the body columns end 8-aligned, then 4·slots + 4 bytes.
     const cacheIdsAt = this.p >>> 2;
     this.p += 8 * cacheCount;
@@ -464,25 +467,52 @@ export class SnapshotReader {
     this.cacheImpulsesAt = cacheImpulsesAt;
   }
 
-  /** A wall's parameters: coordinates within ±1e9 m, a box's half extents in (0, 1e9]. */
-  private checkWall(s: number, kind: number, p0: number, p1: number, p2: number, p3: number): void {
+  /**
+   * The walls at byte `at`: a known kind, coordinates within ±1e9 m, a box's half extents in
+   * (0, 1e9]. Returns whether they are exactly `current`'s. (The values stay local: passing
+   * doubles to a call V8 does not inline boxes each of them.)
+   */
+  private checkWalls(at: number, count: number, current: StaticStore): boolean {
+    const staging = this.staging;
+    const data = this.views.data;
     const m = WORLD_LIMITS.maxCoordinate;
-    const segment = kind === SEGMENT;
-    const bad = !(p0 >= -m && p0 <= m)
-      ? 0
-      : !(p1 >= -m && p1 <= m)
-        ? 1
-        : !(segment ? p2 >= -m && p2 <= m : p2 > 0 && p2 <= m)
-          ? 2
-          : !(segment ? p3 >= -m && p3 <= m : p3 > 0 && p3 <= m)
-            ? 3
-            : -1;
-    if (bad === -1) return;
-    const name = (segment ? ['ax', 'ay', 'bx', 'by'] : ['x', 'y', 'halfWidth', 'halfHeight'])[bad]!;
-    const value = [p0, p1, p2, p3][bad]!;
-    this.fail(
-      `static ${s}: ${name} must be ${!segment && bad >= 2 ? 'a number > 0 and at most 1e9' : 'a finite number from -1e9 to 1e9'}, got ${show(value)}`,
-    );
+    let same = count === current.count;
+    for (let s = 0, p = at; s < count; s++, p += WALL_BYTES) {
+      const kind = staging[p]!;
+      if (kind !== SEGMENT && kind !== STATIC_BOX) this.fail(`bad kind ${kind} of static ${s}`);
+      const segment = kind === SEGMENT;
+      const p0 = data.getFloat64(p + 1, true);
+      const p1 = data.getFloat64(p + 9, true);
+      const p2 = data.getFloat64(p + 17, true);
+      const p3 = data.getFloat64(p + 25, true);
+      const bad = !(p0 >= -m && p0 <= m)
+        ? 0
+        : !(p1 >= -m && p1 <= m)
+          ? 1
+          : !(segment ? p2 >= -m && p2 <= m : p2 > 0 && p2 <= m)
+            ? 2
+            : !(segment ? p3 >= -m && p3 <= m : p3 > 0 && p3 <= m)
+              ? 3
+              : -1;
+      if (bad !== -1) {
+        const names = segment ? ['ax', 'ay', 'bx', 'by'] : ['x', 'y', 'halfWidth', 'halfHeight'];
+        const rule =
+          !segment && bad >= 2
+            ? 'a number > 0 and at most 1e9'
+            : 'a finite number from -1e9 to 1e9';
+        this.fail(
+          `static ${s}: ${names[bad]!} must be ${rule}, got ${show([p0, p1, p2, p3][bad])}`,
+        );
+      }
+      if (same)
+        same =
+          current.kind[s] === kind &&
+          current.ax[s] === p0 &&
+          current.ay[s] === p1 &&
+          current.bx[s] === p2 &&
+          current.by[s] === p3;
+    }
+    return same;
   }
 
   /** The def at `p`: the world's own object when nothing differs (no allocation), else a checked one. */
@@ -554,6 +584,7 @@ export class SnapshotReader {
     const maxInvDensity = (1 / WORLD_LIMITS.minDensity) * (1 + 1e-9);
     let live = 0;
     let sleeping = 0;
+    let negativeZero = false;
     for (let i = 0; i < n; i++) {
       const f = staging[flagsAt + i]!;
       const x = f64[at + i]!;
@@ -578,6 +609,7 @@ export class SnapshotReader {
           island !== 0
         )
           this.fail(`body ${i}: a free slot must be all zeros`);
+        if (1 / x < 0 || 1 / y < 0 || 1 / vx < 0 || 1 / vy < 0 || 1 / rest < 0) negativeZero = true;
         continue;
       }
       if (
@@ -587,6 +619,14 @@ export class SnapshotReader {
       )
         this.fail(`bad flags ${f} for body ${i}`);
       live++;
+      if (
+        (x === 0 && 1 / x < 0) ||
+        (y === 0 && 1 / y < 0) ||
+        (vx === 0 && 1 / vx < 0) ||
+        (vy === 0 && 1 / vy < 0) ||
+        (rest === 0 && 1 / rest < 0)
+      )
+        negativeZero = true;
       if (!(x - x === 0 && y - y === 0 && vx - vx === 0 && vy - vy === 0)) {
         const field = x - x !== 0 ? 'x' : y - y !== 0 ? 'y' : vx - vx !== 0 ? 'vx' : 'vy';
         const value = field === 'x' ? x : field === 'y' ? y : field === 'vx' ? vx : vy;
@@ -620,6 +660,7 @@ export class SnapshotReader {
     if (n > 0 && staging[flagsAt + n - 1] === 0) this.fail('trailing free slot (not canonical)');
     this.liveCount = live;
     this.sleepingCount = sleeping;
+    this.negativeZero = negativeZero;
   }
 
   /** Every warm-start entry: a live body, and a live body of higher id or a wall; finite impulses, the normal one ≥ 0. */
@@ -646,11 +687,30 @@ export class SnapshotReader {
         (b < 0 ? -1 - b < walls : b > a && b < n && staging[flagsAt + b] !== 0)
       ))
         this.fail(`bad contact cache entry ${k}`);
+      if ((jn === 0 && 1 / jn < 0) || (jt === 0 && 1 / jt < 0)) this.negativeZero = true;
       if (!(jn >= 0 && jn < Infinity && jt - jt === 0))
         this.fail(
           `contact cache entry ${k}: impulses must be finite (normal ≥ 0), got ${show(jn)}, ${show(jt)}`,
         );
     }
+  }
+
+  /** Views of the body columns in staging, made again only when their place or size changed. */
+  private makeViews(): void {
+    const buffer = this.staging.buffer;
+    const n = this.slots;
+    const at = this.columnsAt;
+    if (buffer === this.viewsBuffer && at === this.viewsAt && n === this.viewsSlots) return;
+    this.flagsView = new Uint8Array(buffer, this.flagsAt, n);
+    // A loop, not a closure: a closure here would make V8 allocate a context on every call.
+    const views: Float64Array[] = [];
+    for (let c = 0; c < BODY_F64_COLUMNS; c++)
+      views.push(new Float64Array(buffer, 8 * (at + c * n), n));
+    this.columnViews = views;
+    this.islandView = new Int32Array(buffer, 4 * this.islandAt, n);
+    this.viewsBuffer = buffer;
+    this.viewsAt = at;
+    this.viewsSlots = n;
   }
 
   /**
@@ -675,21 +735,44 @@ export class SnapshotReader {
     const n = this.slots;
     const previous = bodies.slotCount;
     const flags = bodies.flags;
-    for (let i = 0; i < n; i++) flags[i] = staging[this.flagsAt + i]!;
-    const at = this.columnsAt;
-    copyColumn(bodies.x, f64, at, n, previous);
-    copyColumn(bodies.y, f64, at + n, n, previous);
-    copyColumn(bodies.vx, f64, at + 2 * n, n, previous);
-    copyColumn(bodies.vy, f64, at + 3 * n, n, previous);
-    copyColumn(bodies.halfWidth, f64, at + 4 * n, n, previous);
-    copyColumn(bodies.halfHeight, f64, at + 5 * n, n, previous);
-    copyColumn(bodies.inverseMass, f64, at + 6 * n, n, previous);
-    copyColumn(bodies.restTime, f64, at + 7 * n, n, previous);
     const island = bodies.island;
-    for (let i = 0; i < n; i++) island[i] = i32[this.islandAt + i]!;
+    const at = this.columnsAt;
+    if (this.negativeZero) {
+      for (let i = 0; i < n; i++) flags[i] = staging[this.flagsAt + i]!;
+      copyColumn(bodies.x, f64, at, n);
+      copyColumn(bodies.y, f64, at + n, n);
+      copyColumn(bodies.vx, f64, at + 2 * n, n);
+      copyColumn(bodies.vy, f64, at + 3 * n, n);
+      copyColumn(bodies.halfWidth, f64, at + 4 * n, n);
+      copyColumn(bodies.halfHeight, f64, at + 5 * n, n);
+      copyColumn(bodies.inverseMass, f64, at + 6 * n, n);
+      copyColumn(bodies.restTime, f64, at + 7 * n, n);
+      for (let i = 0; i < n; i++) island[i] = i32[this.islandAt + i]!;
+    } else {
+      this.makeViews();
+      flags.set(this.flagsView);
+      const views = this.columnViews;
+      bodies.x.set(views[0]!);
+      bodies.y.set(views[1]!);
+      bodies.vx.set(views[2]!);
+      bodies.vy.set(views[3]!);
+      bodies.halfWidth.set(views[4]!);
+      bodies.halfHeight.set(views[5]!);
+      bodies.inverseMass.set(views[6]!);
+      bodies.restTime.set(views[7]!);
+      island.set(this.islandView);
+    }
     if (previous > n) {
       flags.fill(0, n, previous);
       island.fill(0, n, previous);
+      bodies.x.fill(0, n, previous);
+      bodies.y.fill(0, n, previous);
+      bodies.vx.fill(0, n, previous);
+      bodies.vy.fill(0, n, previous);
+      bodies.halfWidth.fill(0, n, previous);
+      bodies.halfHeight.fill(0, n, previous);
+      bodies.inverseMass.fill(0, n, previous);
+      bodies.restTime.fill(0, n, previous);
     }
     bodies.slotCount = n;
     bodies.liveCount = this.liveCount;
@@ -715,16 +798,9 @@ export class SnapshotReader {
   }
 }
 
-/** `dst[0, n) = src[at, at + n) + 0`, and zeros on `[n, previous)`. */
-function copyColumn(
-  dst: Float64Array,
-  src: Float64Array,
-  at: number,
-  n: number,
-  previous: number,
-): void {
+/** `dst[0, n) = src[at, at + n) + 0` (−0 becomes +0). */
+function copyColumn(dst: Float64Array, src: Float64Array, at: number, n: number): void {
   for (let i = 0; i < n; i++) dst[i] = src[at + i]! + 0;
-  if (previous > n) dst.fill(0, n, previous);
 }
 
 function u32At(bytes: Uint8Array, p: number): number {

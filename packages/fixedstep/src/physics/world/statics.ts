@@ -101,17 +101,6 @@ export class StaticStore {
     return this.kind[s] === SEGMENT ? 0 : 2 * Math.min(this.halfWidth[s]!, this.halfHeight[s]!);
   }
 
-  /** Whether wall `s` was made with exactly this kind and these parameters. */
-  is(s: number, kind: number, p0: number, p1: number, p2: number, p3: number): boolean {
-    return (
-      this.kind[s] === kind &&
-      this.ax[s] === p0 &&
-      this.ay[s] === p1 &&
-      this.bx[s] === p2 &&
-      this.by[s] === p3
-    );
-  }
-
   private grow(capacity: number): void {
     const f64 = (a: Float64Array) => {
       const b = new Float64Array(capacity);

@@ -468,7 +468,7 @@ export class PhysicsWorld implements Simulation<unknown> {
 
     // Contacts where the bodies are now (a new one wakes what it touches), gravity, velocities.
     this.beginStep();
-    this.grid.build(bodies, def.cellSize);
+    this.grid.build(bodies, def);
     this.findContactsOrUndo(def);
     this.solverStep(def);
 
@@ -554,21 +554,14 @@ export class PhysicsWorld implements Simulation<unknown> {
     let gravityDone = false;
     log.count = 0;
     try {
-      findContacts(
-        this.grid,
-        bodies,
-        this.statics,
-        this.contacts,
-        def.gravityX * def.timeStep,
-        def.gravityY * def.timeStep,
-      );
+      findContacts(this.grid, bodies, this.statics, this.contacts, true, def);
       this.integrateVelocities(def, sleepers);
       gravityDone = true;
       if (sleepers) {
         log.recording = true;
         const woke = wakeByNewContacts(bodies, this.contacts, this.cache, log);
         log.recording = false;
-        if (woke) findContacts(this.grid, bodies, this.statics, this.contacts, 0, 0);
+        if (woke) findContacts(this.grid, bodies, this.statics, this.contacts, false, def);
       }
     } catch (e) {
       log.recording = false;
