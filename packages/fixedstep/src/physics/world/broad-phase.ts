@@ -211,10 +211,9 @@ export function findContacts(
             )
               continue;
             if (((fi | fj) & BOX) === 0) circleCircle(contacts, i, j, dx, dy, sumW);
-            else if ((fi & fj & BOX) !== 0) boxBox(contacts, i, j, dx, dy, sumW, sumH);
-            else if ((fi & BOX) === 0)
-              circleBox(contacts, i, j, xi, yi, wi, x[j]!, y[j]!, hw[j]!, hh[j]!, 1);
-            else circleBox(contacts, i, j, x[j]!, y[j]!, hw[j]!, xi, yi, wi, hi, -1);
+            else if ((fi & fj & BOX) !== 0) boxBox(contacts, i, j, bodies, statics);
+            else if ((fi & BOX) === 0) circleBox(contacts, i, j, i, j, 1, bodies, statics);
+            else circleBox(contacts, i, j, j, i, -1, bodies, statics);
           }
         }
       }
@@ -247,14 +246,10 @@ export function findContacts(
       )
         continue;
       if (kind[s] === STATIC_BOX) {
-        const bx = statics.centerX[s]!;
-        const by = statics.centerY[s]!;
-        const bw = statics.halfWidth[s]!;
-        const bh = statics.halfHeight[s]!;
-        if (isBox) boxBox(contacts, i, staticRef(s), xi - bx, yi - by, wi + bw, hi + bh);
-        else circleBox(contacts, i, staticRef(s), xi, yi, wi, bx, by, bw, bh, 1);
-      } else if (isBox) boxSegment(contacts, i, s, xi, yi, wi, hi, statics);
-      else circleSegment(contacts, i, s, xi, yi, wi, statics, bodies, gravityPending, def);
+        if (isBox) boxBox(contacts, i, staticRef(s), bodies, statics);
+        else circleBox(contacts, i, staticRef(s), i, staticRef(s), 1, bodies, statics);
+      } else if (isBox) boxSegment(contacts, i, s, bodies, statics);
+      else circleSegment(contacts, i, s, bodies, statics, gravityPending, def);
     }
   }
 }

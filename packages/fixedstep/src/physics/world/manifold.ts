@@ -10,15 +10,21 @@
  *
  * The normal always points from the second shape to the first (`b` to `a`); a wall is
  * {@link staticRef}. Every function adds at most one contact.
+ *
+ * The functions take ids and read the shapes themselves: V8 boxes every double passed to a call it
+ * does not inline (a heap number each), and the broad phase, with all of these in it, is past its
+ * inlining budget — passing coordinates made 20 KB of garbage a step in a pile of boxes.
  */
 import type { BodyStore } from './body.js';
 import type { ContactList } from './contacts.js';
 import type { WorldDef } from './def.js';
-import { staticRef, type StaticStore } from './statics.js';
+import { staticOf, staticRef, type StaticStore } from './statics.js';
 
 /**
  * Circles `a` and `b`, `(dx, dy)` = centre a − centre b, radii summing to `radiusSum`. Centres on
- * top of each other part along +y.
+ * top of each other part along +y. The one function here that takes coordinates: it is the hot
+ * case, the broad phase has them already, and it is small enough that V8 always inlines it (the
+ * benchmark's allocation check would show boxed doubles if it did not).
  */
 export function circleCircle(
   contacts: ContactList,
@@ -36,43 +42,72 @@ export function circleCircle(
 }
 
 /**
- * Boxes `a` and `b` (or a box and a static box), `(dx, dy)` = centre a − centre b, half extents
- * summing to `(sumW, sumH)`; the caller has seen that they overlap on both axes. Out along the
- * axis of least overlap; a tie goes to y.
+ * Box `i` and box `b` (a body, or a static box as {@link staticRef}); the caller has seen that they
+ * overlap on both axes. Out along the axis of least overlap; a tie goes to y.
  */
 export function boxBox(
   contacts: ContactList,
-  a: number,
+  i: number,
   b: number,
-  dx: number,
-  dy: number,
-  sumW: number,
-  sumH: number,
+  bodies: BodyStore,
+  walls: StaticStore,
 ): void {
+  let dx: number;
+  let dy: number;
+  let sumW: number;
+  let sumH: number;
+  if (b >= 0) {
+    dx = bodies.x[i]! - bodies.x[b]!;
+    dy = bodies.y[i]! - bodies.y[b]!;
+    sumW = bodies.halfWidth[i]! + bodies.halfWidth[b]!;
+    sumH = bodies.halfHeight[i]! + bodies.halfHeight[b]!;
+  } else {
+    const s = staticOf(b);
+    dx = bodies.x[i]! - walls.centerX[s]!;
+    dy = bodies.y[i]! - walls.centerY[s]!;
+    sumW = bodies.halfWidth[i]! + walls.halfWidth[s]!;
+    sumH = bodies.halfHeight[i]! + walls.halfHeight[s]!;
+  }
   const overlapX = sumW - (dx < 0 ? -dx : dx);
   const overlapY = sumH - (dy < 0 ? -dy : dy);
-  if (overlapX < overlapY) contacts.add(a, b, dx >= 0 ? 1 : -1, 0, -overlapX);
-  else contacts.add(a, b, 0, dy >= 0 ? 1 : -1, -overlapY);
+  if (overlapX < overlapY) contacts.add(i, b, dx >= 0 ? 1 : -1, 0, -overlapX);
+  else contacts.add(i, b, 0, dy >= 0 ? 1 : -1, -overlapY);
 }
 
 /**
- * Circle (centre `(cx, cy)`, radius `r`) against box (centre `(bx, by)`, half extents `bw`, `bh`):
- * a contact between `a` and `b` whose normal is `sign ×` (box → circle). A centre inside the box
- * leaves through the nearer face.
+ * Circle body `circle` against box `box` (a body, or a static box as {@link staticRef}): a contact
+ * between `a` and `b` whose normal is `sign ×` (box → circle). A centre inside the box leaves
+ * through the nearer face.
  */
 export function circleBox(
   contacts: ContactList,
   a: number,
   b: number,
-  cx: number,
-  cy: number,
-  r: number,
-  bx: number,
-  by: number,
-  bw: number,
-  bh: number,
+  circle: number,
+  box: number,
   sign: number,
+  bodies: BodyStore,
+  walls: StaticStore,
 ): void {
+  const cx = bodies.x[circle]!;
+  const cy = bodies.y[circle]!;
+  const r = bodies.halfWidth[circle]!;
+  let bx: number;
+  let by: number;
+  let bw: number;
+  let bh: number;
+  if (box >= 0) {
+    bx = bodies.x[box]!;
+    by = bodies.y[box]!;
+    bw = bodies.halfWidth[box]!;
+    bh = bodies.halfHeight[box]!;
+  } else {
+    const s = staticOf(box);
+    bx = walls.centerX[s]!;
+    by = walls.centerY[s]!;
+    bw = walls.halfWidth[s]!;
+    bh = walls.halfHeight[s]!;
+  }
   const lx = cx - bx;
   const ly = cy - by;
   const alx = lx < 0 ? -lx : lx;
@@ -94,22 +129,22 @@ export function circleBox(
 }
 
 /**
- * Circle body `i` (centre `(cx, cy)`, radius `r`) against segment wall `s`. A centre exactly on
- * the segment goes back the way it came: against its velocity, including the gravity this step is
- * still to add to it if `gravityPending`.
+ * Circle body `i` against segment wall `s`. A centre exactly on the segment goes back the way it
+ * came: against its velocity, including the gravity this step is still to add to it if
+ * `gravityPending`.
  */
 export function circleSegment(
   contacts: ContactList,
   i: number,
   s: number,
-  cx: number,
-  cy: number,
-  r: number,
-  walls: StaticStore,
   bodies: BodyStore,
+  walls: StaticStore,
   gravityPending: boolean,
   def: Readonly<WorldDef>,
 ): void {
+  const cx = bodies.x[i]!;
+  const cy = bodies.y[i]!;
+  const r = bodies.halfWidth[i]!;
   const ax = walls.ax[s]!;
   const ay = walls.ay[s]!;
   const nx = walls.normalX[s]!;
@@ -145,19 +180,20 @@ export function circleSegment(
 }
 
 /**
- * Box body `i` (centre `(cx, cy)`, half extents `w`, `h`) against segment wall `s`: separating
- * axes x, y and the segment's normal; the smallest overlap wins (the normal on a tie).
+ * Box body `i` against segment wall `s`: separating axes x, y and the segment's normal; the
+ * smallest overlap wins (the normal on a tie).
  */
 export function boxSegment(
   contacts: ContactList,
   i: number,
   s: number,
-  cx: number,
-  cy: number,
-  w: number,
-  h: number,
+  bodies: BodyStore,
   walls: StaticStore,
 ): void {
+  const cx = bodies.x[i]!;
+  const cy = bodies.y[i]!;
+  const w = bodies.halfWidth[i]!;
+  const h = bodies.halfHeight[i]!;
   const ax = walls.ax[s]!;
   const ay = walls.ay[s]!;
   const bx = walls.bx[s]!;
