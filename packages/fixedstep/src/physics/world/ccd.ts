@@ -78,6 +78,22 @@ export class ContinuousSolver {
   private hitNx = 0;
   private hitNy = 0;
   private hitLength = 0;
+  // The motion being tested against walls and bodies: a shape at (qX, qY) moving (qDx, qDy) over
+  // the rest of the step from fraction qT (qRest of it), and its bounding box. Fields, not
+  // arguments: V8 boxes a double passed to a call it does not inline.
+  private qBox = false;
+  private qHalfWidth = 0;
+  private qHalfHeight = 0;
+  private qX = 0;
+  private qY = 0;
+  private qDx = 0;
+  private qDy = 0;
+  private qT = 0;
+  private qRest = 0;
+  private qMinX = 0;
+  private qMinY = 0;
+  private qMaxX = 0;
+  private qMaxY = 0;
   private def: Readonly<WorldDef> | null = null;
 
   constructor(
@@ -303,7 +319,20 @@ export class ContinuousSolver {
       const minY = (dy < 0 ? py + dy : py) - hi;
       const maxY = (dy < 0 ? py : py + dy) + hi;
 
-      if (ia > 0) this.findWallHit(isBox, wi, hi, px, py, dx, dy, minX, minY, maxX, maxY);
+      this.qBox = isBox;
+      this.qHalfWidth = wi;
+      this.qHalfHeight = hi;
+      this.qX = px;
+      this.qY = py;
+      this.qDx = dx;
+      this.qDy = dy;
+      this.qT = t;
+      this.qRest = rest;
+      this.qMinX = minX;
+      this.qMinY = minY;
+      this.qMaxX = maxX;
+      this.qMaxY = maxY;
+      if (ia > 0) this.findWallHit();
 
       // Bodies whose path stays within `reach` of their grid position, through the grid…
       if (!wallsOnly && grid.cols > 0) {
@@ -320,8 +349,7 @@ export class ContinuousSolver {
         const r0 = clampInt(Math.floor((loY - grid.minY) * inv), 0, grid.rows - 1);
         const r1 = clampInt(Math.floor((hiY - grid.minY) * inv), 0, grid.rows - 1);
         if ((c1 - c0 + 1) * (r1 - r0 + 1) > bodies.slotCount) {
-          for (let j = 0; j < bodies.slotCount; j++)
-            this.sweepAgainst(i, j, t, px, py, dx, dy, rest);
+          for (let j = 0; j < bodies.slotCount; j++) this.sweepAgainst(i, j);
         } else {
           const start = grid.cellStart;
           const items = grid.cellItems;
@@ -333,14 +361,14 @@ export class ContinuousSolver {
               const ax = startX[j]!;
               const ay = startY[j]!;
               if (ax < loX || ax > hiX || ay < loY || ay > hiY) continue;
-              this.sweepAgainst(i, j, t, px, py, dx, dy, rest);
+              this.sweepAgainst(i, j);
             }
           }
         }
       }
       // …and the far ones, one by one.
       for (let m = 0; !wallsOnly && m < this.farCount; m++) {
-        this.sweepAgainst(i, this.farList[m]!, t, px, py, dx, dy, rest);
+        this.sweepAgainst(i, this.farList[m]!);
       }
 
       const best = this.hitU;
@@ -421,20 +449,19 @@ export class ContinuousSolver {
     this.pathTime[i] = tLast;
   }
 
-  /** The earliest hit of a shape at `p` moving `d` against the walls, into `hit*`. */
-  private findWallHit(
-    isBox: boolean,
-    wi: number,
-    hi: number,
-    px: number,
-    py: number,
-    dx: number,
-    dy: number,
-    minX: number,
-    minY: number,
-    maxX: number,
-    maxY: number,
-  ): void {
+  /** The earliest hit of the motion `q*` against the walls, into `hit*`. */
+  private findWallHit(): void {
+    const isBox = this.qBox;
+    const wi = this.qHalfWidth;
+    const hi = this.qHalfHeight;
+    const px = this.qX;
+    const py = this.qY;
+    const dx = this.qDx;
+    const dy = this.qDy;
+    const minX = this.qMinX;
+    const minY = this.qMinY;
+    const maxX = this.qMaxX;
+    const maxY = this.qMaxY;
     const out = this.toiOut;
     const statics = this.statics;
     for (let s = 0; s < statics.count; s++) {
@@ -497,19 +524,18 @@ export class ContinuousSolver {
     const wj = bodies.halfWidth[j]!;
     const hj = bodies.halfHeight[j]!;
     this.hitU = NO_HIT;
-    this.findWallHit(
-      (bodies.flags[j]! & BOX) !== 0,
-      wj,
-      hj,
-      px,
-      py,
-      dx,
-      dy,
-      (dx < 0 ? px + dx : px) - wj,
-      (dy < 0 ? py + dy : py) - hj,
-      (dx < 0 ? px : px + dx) + wj,
-      (dy < 0 ? py : py + dy) + hj,
-    );
+    this.qBox = (bodies.flags[j]! & BOX) !== 0;
+    this.qHalfWidth = wj;
+    this.qHalfHeight = hj;
+    this.qX = px;
+    this.qY = py;
+    this.qDx = dx;
+    this.qDy = dy;
+    this.qMinX = (dx < 0 ? px + dx : px) - wj;
+    this.qMinY = (dy < 0 ? py + dy : py) - hj;
+    this.qMaxX = (dx < 0 ? px : px + dx) + wj;
+    this.qMaxY = (dy < 0 ? py : py + dy) + hj;
+    this.findWallHit();
     if (this.hitU > 1) return true;
     let u = this.hitU + (0.25 * def.linearSlop) / this.hitLength;
     if (u > 1) u = 1;
@@ -574,18 +600,15 @@ export class ContinuousSolver {
     this.track(j);
   }
 
-  /** Time of impact of `i` (at `p`, moving `d` over the rest of the step) against body `j`'s path. */
-  private sweepAgainst(
-    i: number,
-    j: number,
-    t: number,
-    px: number,
-    py: number,
-    dx: number,
-    dy: number,
-    rest: number,
-  ): void {
+  /** Time of impact of body `i`'s motion `q*` against body `j`'s path, into `hit*`. */
+  private sweepAgainst(i: number, j: number): void {
     if (j === i) return;
+    const t = this.qT;
+    const px = this.qX;
+    const py = this.qY;
+    const dx = this.qDx;
+    const dy = this.qDy;
+    const rest = this.qRest;
     const bodies = this.bodies;
     const fj = bodies.flags[j]!;
     if (fj === 0) return;
