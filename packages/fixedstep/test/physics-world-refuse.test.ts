@@ -352,7 +352,7 @@ describe('a limit on contacts per step', () => {
   it('regression: 10,000 bodies on one spot used to make 18.6 M contacts and 4.6 GB; now the step throws before changing anything', () => {
     const w = new PhysicsWorld({ enableSleep: false });
     for (let k = 0; k < 10_000; k++) w.createCircle({ x: 0, y: 0, radius: 0.1 });
-    const before = w.save();
+    const before = hex64(w.hash());
     expect(() => {
       w.step();
     }).toThrow(
@@ -360,7 +360,8 @@ describe('a limit on contacts per step', () => {
     );
     expect(w.tick).toBe(0);
     expect(w.contactCount).toBe(0);
-    expect(w.save()).toEqual(before);
+    // (Hashes, not bytes: comparing 690 kB byte by byte takes vitest seconds.)
+    expect(hex64(w.hash())).toBe(before);
   });
 
   it('a smaller limit throws at that count; a larger one lets the same step through', () => {
