@@ -110,8 +110,9 @@ export function writeCanonical(w: ByteWriter, s: WorldState): void {
   w.f64s(c.tangentImpulse.subarray(0, wc));
 }
 
-/** Typed views of a whole buffer, made once per buffer. */
+/** Typed views of a whole buffer, made once per buffer (again if it was resized). */
 interface BufferViews {
+  byteLength: number;
   bytes: Uint8Array;
   data: DataView;
   f64: Float64Array;
@@ -120,6 +121,7 @@ interface BufferViews {
 
 function viewsOf(buffer: ArrayBufferLike): BufferViews {
   return {
+    byteLength: buffer.byteLength,
     bytes: new Uint8Array(buffer),
     data: new DataView(buffer),
     f64: new Float64Array(buffer, 0, buffer.byteLength >>> 3),
@@ -149,7 +151,7 @@ export class SnapshotWriter {
 
   private views(buffer: ArrayBufferLike): BufferViews {
     let v = this.outViews.get(buffer);
-    if (v === undefined) {
+    if (v?.byteLength !== buffer.byteLength) {
       v = viewsOf(buffer);
       this.outViews.set(buffer, v);
     }
