@@ -29,6 +29,10 @@ export const BodyFlag = Object.freeze({
 /** Every flag a snapshot may hold. */
 export const KNOWN_FLAGS = 31;
 
+/**
+ * The bodies, a structure of typed arrays by body id (see the file comment). The world checks
+ * every value before it reaches here; the store only keeps them and its counts and extents.
+ */
 export class BodyStore {
   /** Slots the arrays have room for. */
   capacity = 0;

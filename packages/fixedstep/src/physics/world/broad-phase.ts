@@ -17,6 +17,7 @@ import { WallKind, staticRef, type StaticStore } from './statics.js';
 const { ASLEEP, BOX, KINEMATIC } = BodyFlag;
 const STATIC_BOX = WallKind.BOX;
 
+/** The uniform grid of one step: body ids sorted by cell (see the file comment). */
 export class Grid {
   /** Cells across and up; 0 when no body is in the grid this step. */
   cols = 0;

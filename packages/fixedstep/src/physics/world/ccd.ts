@@ -52,6 +52,10 @@ function clampInt(v: number, lo: number, hi: number): number {
   return v < lo ? lo : v > hi ? hi : v;
 }
 
+/**
+ * Continuous detection for one world (see the file comment): its per-body scratch, the queue of
+ * bodies to sweep, and the sweep in progress.
+ */
 export class ContinuousSolver {
   /** Bodies swept in the last step (a diagnostic). */
   sweptCount = 0;

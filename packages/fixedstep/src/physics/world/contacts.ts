@@ -19,6 +19,7 @@ export class ContactOverflow extends Error {
   }
 }
 
+/** The contacts of the current step, in structure-of-arrays columns (see the file comment). */
 export class ContactList {
   /** Contacts this step. */
   count = 0;

@@ -36,7 +36,9 @@ import { WORLD_LIMITS, checkDef, show } from './validate.js';
 const { ALIVE, ASLEEP, BOX, KINEMATIC } = BodyFlag;
 const { SEGMENT, BOX: STATIC_BOX } = WallKind;
 
-export const SNAPSHOT_MAGIC = 0x57505346; // "FSPW"
+/** The first four bytes of a world snapshot: "FSPW" (0x57505346, little-endian u32). */
+export const SNAPSHOT_MAGIC = 0x57505346;
+/** The snapshot format this world writes and reads. */
 export const SNAPSHOT_VERSION = 1;
 /** Bytes up to and including the wall count. */
 const HEADER_BYTES = 122;

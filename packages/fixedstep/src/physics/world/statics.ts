@@ -26,6 +26,7 @@ export function staticOf(ref: number): number {
   return -1 - ref;
 }
 
+/** The walls, a structure of typed arrays by wall id (see the file comment). */
 export class StaticStore {
   count = 0;
   /** A {@link WallKind}. */

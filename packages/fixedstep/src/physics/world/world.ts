@@ -76,12 +76,14 @@ export interface WorldOptions {
  * naming the method, the body, the field and the value, before changing anything. The def is
  * frozen: change it with {@link setDef}.
  *
- * **A step** (one call of {@link step}), Box2D's order, one file per stage:
- * 1. gravity into velocities (semi-implicit Euler);
- * 2. broad phase (`broad-phase.ts`): a uniform grid rebuilt from scratch, pairs in cell order then
+ * **A step** (one call of {@link step}), one file per stage:
+ * 1. broad phase (`broad-phase.ts`): a uniform grid rebuilt from scratch, pairs in cell order then
  *    id order — a function of the current state only, never of its history;
- * 3. narrow phase (`manifold.ts`): one contact per overlapping pair *at the start of the step*;
- *    sequential impulses (`contact-solver.ts`), warm-started from last step (`contacts.ts`);
+ * 2. narrow phase (`manifold.ts`): one contact per overlapping pair *at the start of the step*
+ *    (it reads positions only, so it can run before gravity: a step that must throw has changed
+ *    nothing yet); a contact that is new touches sleeping bodies awake;
+ * 3. gravity into velocities (semi-implicit Euler), then sequential impulses
+ *    (`contact-solver.ts`), warm-started from last step (`contacts.ts`);
  * 4. move by `v·dt` — or, for bodies that could pass through something (see
  *    {@link WorldDef.ccd}), *sweep* (`ccd.ts`);
  * 5. relaxation of positions (`contact-solver.ts`), walls last; then, under CCD, a guard puts back
