@@ -43,9 +43,9 @@ function bulletsWorld(scene: PhysicsScene, capacity: number): PhysicsWorld {
   const world = new PhysicsWorld(scene.def, { capacity });
   for (const w of scene.walls) world.addStaticBox(w.x, w.y, w.halfWidth, w.halfHeight);
   for (const s of scene.segments) world.addSegment(s.ax, s.ay, s.bx, s.by);
-  for (const b of scene.bodies) {
-    if (b.radius !== undefined) world.createCircle({ ...b, radius: b.radius });
-    else world.createBox({ ...b, halfWidth: b.halfWidth ?? 0, halfHeight: b.halfHeight ?? 0 });
+  for (const { radius, halfWidth, halfHeight, ...b } of scene.bodies) {
+    if (radius !== undefined) world.createCircle({ ...b, radius });
+    else world.createBox({ ...b, halfWidth: halfWidth ?? 0, halfHeight: halfHeight ?? 0 });
   }
   return world;
 }

@@ -45,6 +45,7 @@ describe('WorldDef', () => {
       enableSleep: true,
       sleepSpeed: 0.05,
       timeToSleep: 0.5,
+      maxContacts: 1_048_576,
     });
     expect(defaultWorldDef()).not.toBe(defaultWorldDef());
   });
@@ -54,17 +55,21 @@ describe('WorldDef', () => {
     [{ restitution: 1.5 }, /restitution must be in \[0, 1\]/],
     [{ velocityIterations: 2.5 }, /velocityIterations must be an integer/],
     [{ positionCorrection: 0 }, /positionCorrection must be in/],
-    [{ gravityY: NaN }, /gravity must be finite/],
+    [{ gravityY: NaN }, /gravityY must be a finite number/],
   ])('rejects %o with a clear error', (def, message) => {
     expect(() => new PhysicsWorld(def)).toThrow(message);
   });
 
   it('rejects bad bodies and walls', () => {
     const w = new PhysicsWorld();
-    expect(() => w.createCircle({ x: 0, y: 0, radius: 0 })).toThrow(/radius must be positive/);
-    expect(() => w.createBox({ x: 0, y: 0, halfWidth: 1, halfHeight: -1 })).toThrow(/positive/);
-    expect(() => w.createCircle({ x: NaN, y: 0, radius: 1 })).toThrow(/finite/);
-    expect(() => w.addStaticBox(0, 0, 0, 1)).toThrow(/half extents must be positive/);
+    expect(() => w.createCircle({ x: 0, y: 0, radius: 0 })).toThrow(
+      /body 0: radius must be from 1e-6 to 1e6 \(metres\), got 0/,
+    );
+    expect(() => w.createBox({ x: 0, y: 0, halfWidth: 1, halfHeight: -1 })).toThrow(
+      /halfHeight must be from 1e-6/,
+    );
+    expect(() => w.createCircle({ x: NaN, y: 0, radius: 1 })).toThrow(/x must be a finite number/);
+    expect(() => w.addStaticBox(0, 0, 0, 1)).toThrow(/static 0: halfWidth must be a number > 0/);
     expect(() => w.addSegment(0, 0, Infinity, 1)).toThrow(/finite/);
     expect(() => {
       w.destroyBody(0);
@@ -374,7 +379,7 @@ describe("the talk's rule", () => {
 
   it('does not warn about bodies that continuous detection moves', () => {
     const w = wallScene(20, 0.3, 0.05);
-    w.def.ccd = 'auto';
+    w.setDef({ ccd: 'auto' });
     expect(checkTunnellingRule(w)).toEqual([]);
   });
 

@@ -4,6 +4,7 @@ import {
   PhysicsWorld,
   Random,
   SimulatedDisplay,
+  WORLD_LIMITS,
   fnv1a64,
   maxSafeSpeed,
   minWallSize,
@@ -111,7 +112,7 @@ const FORMAT = 0x57524731; // "WRG1"
 /**
  * The firing range as a deterministic {@link Simulation}. {@link step} advances one fixed step
  * (`config.step`); {@link stepBy} advances by any Δt — what a variable-Δt loop does (it sets the
- * world's `timeStep` before each step, which the world allows and keeps deterministic).
+ * world's `timeStep` with `setDef` before each step, which the world allows and keeps deterministic).
  *
  * Shot k leaves at simulated time `k × fireEvery` (at the first step that starts at or after
  * it), in lane `(s·k) mod lanes` (s: the first of 7, 5, 3, 2, 1 coprime with `lanes`, so every
@@ -214,10 +215,11 @@ export class WallRange implements Simulation<unknown> {
 
   /**
    * One step of `dt` seconds (a variable-Δt loop's update). Fires the shots due at the current
-   * time, moves, then classifies and removes bodies. A `dt` that is not > 0 does nothing.
+   * time, moves, then classifies and removes bodies. A `dt` that is not > 0 (or longer
+   * than the world's `WORLD_LIMITS.maxTimeStep`, an hour) does nothing.
    */
   stepBy(dt: number): void {
-    if (!(dt > 0 && dt < Infinity)) return;
+    if (!(dt > 0 && dt <= WORLD_LIMITS.maxTimeStep)) return;
     const c = this.config;
     const world = this.world;
     // Shots due at the start of this step. The epsilon keeps k·fireEvery = t exactly on time
@@ -228,7 +230,7 @@ export class WallRange implements Simulation<unknown> {
     const ys = world.y;
     this.prevX.set(xs.subarray(0, n));
     this.prevY.set(ys.subarray(0, n));
-    world.def.timeStep = dt;
+    world.setDef({ timeStep: dt });
     world.step();
     this.ticks++;
     // Time is tick × step while every step is the nominal one (a fixed loop), else a running sum.

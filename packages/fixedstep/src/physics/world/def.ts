@@ -8,20 +8,31 @@
  */
 export type CcdMode = 'auto' | 'bullets' | 'off';
 
+/** The ccd modes in the order the snapshot numbers them (0, 1, 2). */
+export const CCD_MODES: readonly CcdMode[] = ['off', 'bullets', 'auto'];
+
 /**
  * Everything that configures a {@link PhysicsWorld} (Box2D's `b2WorldDef`). Units are metres,
  * seconds and kilograms; y points up. Get one from {@link defaultWorldDef} and change what you
- * need. All of it is part of the world's state (saved, loaded, hashed): two worlds with different
- * defs are different simulations.
+ * need. Every field but {@link maxContacts} is part of the world's state (saved, loaded, hashed):
+ * two worlds with different defs are different simulations.
+ *
+ * A world checks its def when it is built, freezes it, and checks it again on every
+ * {@link PhysicsWorld.setDef} and {@link PhysicsWorld.load}: a def the world holds is always
+ * valid (see `WORLD_LIMITS` for the bounds).
  */
 export interface WorldDef {
-  /** Gravity, x component. Metres per second squared. Default 0. */
+  /** Gravity, x component. Metres per second squared, at most `WORLD_LIMITS.maxGravity` in size. Default 0. */
   gravityX: number;
-  /** Gravity, y component (y points up). Metres per second squared. Default -9.81. */
+  /**
+   * Gravity, y component (y points up). Metres per second squared, at most
+   * `WORLD_LIMITS.maxGravity` in size. Default -9.81.
+   */
   gravityY: number;
   /**
-   * The fixed step. Seconds. Default 1/60 (the talk's TIME_STEP is 0.03). Every step advances by
-   * exactly this; changing it between steps is deterministic but changes the results.
+   * The fixed step. Seconds, > 0 and at most `WORLD_LIMITS.maxTimeStep`. Default 1/60 (the
+   * talk's TIME_STEP is 0.03). Every step advances by exactly this; changing it between steps
+   * ({@link PhysicsWorld.setDef}) is deterministic but changes the results.
    */
   timeStep: number;
   /** Coefficient of restitution of every contact, 0 (inelastic) to 1 (elastic). Default 0. */
@@ -33,9 +44,9 @@ export interface WorldDef {
   restitutionThreshold: number;
   /** Coulomb friction coefficient of every contact (bodies do not rotate). Default 0.6. */
   friction: number;
-  /** Sequential-impulse iterations on velocities per step. Default 8. */
+  /** Sequential-impulse iterations on velocities per step. An integer, 0–1000. Default 8. */
   velocityIterations: number;
-  /** Relaxation iterations on positions (push-out) per step. Default 3. */
+  /** Relaxation iterations on positions (push-out) per step. An integer, 0–1000. Default 3. */
   positionIterations: number;
   /** Overlap left alone by the push-out, so resting contacts stay in contact. Metres. Default 0.005. */
   linearSlop: number;
@@ -46,7 +57,7 @@ export interface WorldDef {
   /**
    * Sweeps per body per step under CCD: each hit advances the body to the time of impact,
    * responds and sweeps the rest of the step; after this many hits the body stops where it is
-   * for the rest of the step (it never tunnels). Default 4.
+   * for the rest of the step (it never tunnels). An integer, 0–1000. Default 4.
    */
   maxCcdIterations: number;
   /**
@@ -66,6 +77,18 @@ export interface WorldDef {
   sleepSpeed: number;
   /** How long an island must rest before it sleeps. Seconds. Default 0.5. */
   timeToSleep: number;
+  /**
+   * The most contacts one step may find (body–body and body–static together). A step that would
+   * find more throws a RangeError *before it changes anything* (the world stays as it was before
+   * the step), instead of growing its contact arrays without bound: 10,000 bodies created on one
+   * spot make 50 million overlapping pairs. A contact costs 92 bytes of arrays, so the default
+   * 1,048,576 (2^20) allows about 96 MB. An integer from 1 to `WORLD_LIMITS.maxContacts`.
+   *
+   * The one field that is **not** part of the state: it never changes a step that completes,
+   * only whether a step throws, so it is not saved, loaded or hashed ({@link PhysicsWorld.load}
+   * keeps the loading world's own value).
+   */
+  maxContacts: number;
 }
 
 /** A {@link WorldDef} with the documented defaults. A fresh object each call. */
@@ -87,20 +110,29 @@ export function defaultWorldDef(): WorldDef {
     enableSleep: true,
     sleepSpeed: 0.05,
     timeToSleep: 0.5,
+    maxContacts: 1 << 20,
   };
 }
 
-/** Options of a dynamic body. Metres, metres per second, kilograms per square metre. */
+/**
+ * Options of a dynamic body. Metres, metres per second, kilograms per square metre. The bounds are
+ * `WORLD_LIMITS`; a value outside them is refused with a RangeError that names the body, the
+ * option and the value. Bodies do not rotate: options such as `angle` or `angularVelocity` are a
+ * type error (the `create*` methods take exact option types) and a runtime error.
+ */
 export interface BodyOptions {
-  /** Centre, x. Metres. */
+  /** Centre, x. Metres, at most `WORLD_LIMITS.maxCoordinate` from 0. */
   x: number;
-  /** Centre, y. Metres. */
+  /** Centre, y. Metres, at most `WORLD_LIMITS.maxCoordinate` from 0. */
   y: number;
-  /** Initial velocity, x. Metres per second. Default 0. */
+  /** Initial velocity, x. Metres per second, at most `WORLD_LIMITS.maxSpeed` in size. Default 0. */
   vx?: number;
-  /** Initial velocity, y. Metres per second. Default 0. */
+  /** Initial velocity, y. Metres per second, at most `WORLD_LIMITS.maxSpeed` in size. Default 0. */
   vy?: number;
-  /** Mass per area. Kilograms per square metre. Default 1. */
+  /**
+   * Mass per area. Kilograms per square metre, from `WORLD_LIMITS.minDensity` to
+   * `WORLD_LIMITS.maxDensity`. Default 1.
+   */
   density?: number;
   /**
    * Always move with continuous collision detection (unless the world's `ccd` is `'off'`): for
@@ -116,14 +148,21 @@ export interface BodyOptions {
 
 /** A dynamic circle. */
 export interface CircleOptions extends BodyOptions {
-  /** Metres, > 0. */
+  /** Metres, from `WORLD_LIMITS.minSize` to `WORLD_LIMITS.maxSize`. */
   radius: number;
 }
 
 /** A dynamic axis-aligned box (bodies do not rotate). */
 export interface BoxOptions extends BodyOptions {
-  /** Half the width. Metres, > 0. */
+  /** Half the width. Metres, from `WORLD_LIMITS.minSize` to `WORLD_LIMITS.maxSize`. */
   halfWidth: number;
-  /** Half the height. Metres, > 0. */
+  /** Half the height. Metres, from `WORLD_LIMITS.minSize` to `WORLD_LIMITS.maxSize`. */
   halfHeight: number;
 }
+
+/**
+ * `T` with every key that `Shape` does not have typed `never`: passing an option the world does
+ * not know (e.g. `{ x, y, radius, angle }` to `createCircle`) is a type error, whether the object
+ * is a literal or a variable.
+ */
+export type Exact<T, Shape> = T & Record<Exclude<keyof T, keyof Shape>, never>;

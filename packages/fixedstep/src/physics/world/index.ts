@@ -1,7 +1,8 @@
 export { PhysicsWorld } from './world.js';
 export type { StaticShape, WorldOptions } from './world.js';
 export { defaultWorldDef } from './def.js';
-export type { WorldDef, CcdMode, BodyOptions, CircleOptions, BoxOptions } from './def.js';
+export type { WorldDef, CcdMode, BodyOptions, CircleOptions, BoxOptions, Exact } from './def.js';
+export { WORLD_LIMITS } from './validate.js';
 export { minWallSize, maxSafeSpeed, tunnellingShare, checkTunnellingRule } from './rule.js';
 export type { TunnellingWarning } from './rule.js';
 export {
@@ -14,5 +15,12 @@ export {
   toiPointCapsule,
   toiBoxSegment,
 } from './swept.js';
-export { circlesInBox, circlesInBoxScene, bulletsScene, buildWorld } from './scenes.js';
+export {
+  circlesInBox,
+  circlesInBoxScene,
+  bodiesInBox,
+  bodiesInBoxScene,
+  bulletsScene,
+  buildWorld,
+} from './scenes.js';
 export type { PhysicsScene, SceneBody, SceneBox, SceneSegment } from './scenes.js';

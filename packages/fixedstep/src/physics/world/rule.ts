@@ -12,6 +12,11 @@
  * ending on the far side is `max(0, 1 − (w + 2r) / (2·v·dt))` — one third of them when `w = v·dt`
  * exactly and `r` is small next to `w`.
  */
+import { BodyFlag, type BodyStore } from './body.js';
+import type { WorldDef } from './def.js';
+import type { StaticStore } from './statics.js';
+
+const { KINEMATIC } = BodyFlag;
 
 /**
  * The talk's rule: the thinnest wall that a body at `maxSpeed` (m/s) cannot jump over in one step
@@ -82,4 +87,108 @@ export function checkTunnellingRule(world: {
   tunnellingWarnings(): TunnellingWarning[];
 }): TunnellingWarning[] {
   return world.tunnellingWarnings();
+}
+
+/**
+ * The rule checked against a world's current velocities (what {@link PhysicsWorld.tunnellingWarnings}
+ * and the {@link PhysicsWorld.onTunnellingWarning} hook report). Reads the world, never writes it.
+ */
+export class RuleCheck {
+  /** Whether the last step ended with a body able to pass through a wall (for the hook). */
+  wasBroken = false;
+  // Over bodies that collide and are not swept: the fastest step distance and its body, and the
+  // largest `step − radius` and its body.
+  private fastest = 0;
+  private fastestId = -1;
+  private excess = -Infinity;
+  private excessId = -1;
+
+  constructor(
+    private readonly bodies: BodyStore,
+    private readonly statics: StaticStore,
+    private readonly wouldSweep: (id: number) => boolean,
+  ) {}
+
+  private measure(dt: number): void {
+    const b = this.bodies;
+    this.fastest = 0;
+    this.fastestId = -1;
+    this.excess = -Infinity;
+    this.excessId = -1;
+    for (let i = 0; i < b.slotCount; i++) {
+      const f = b.flags[i]!;
+      if (f === 0 || (f & KINEMATIC) !== 0 || this.wouldSweep(i)) continue;
+      const ux = b.vx[i]!;
+      const uy = b.vy[i]!;
+      const d = Math.sqrt(ux * ux + uy * uy) * dt;
+      if (d > this.fastest) {
+        this.fastest = d;
+        this.fastestId = i;
+      }
+      const e = d - Math.min(b.halfWidth[i]!, b.halfHeight[i]!);
+      if (d > 0 && e > this.excess) {
+        this.excess = e;
+        this.excessId = i;
+      }
+    }
+  }
+
+  /** One warning per wall at risk (see {@link PhysicsWorld.tunnellingWarnings}). Allocates. */
+  warnings(def: Readonly<WorldDef>): TunnellingWarning[] {
+    this.measure(def.timeStep);
+    const b = this.bodies;
+    const out: TunnellingWarning[] = [];
+    const dt = def.timeStep;
+    const fastD = this.fastest;
+    const excess = this.excess;
+    for (let s = 0; s < this.statics.count; s++) {
+      const w = this.statics.thickness(s);
+      let kind: TunnellingWarning['kind'];
+      let id: number;
+      if (fastD > w) {
+        kind = 'talk-rule';
+        id = this.fastestId;
+      } else if (excess > w / 2) {
+        kind = 'push-through';
+        id = this.excessId;
+      } else continue;
+      const ux = b.vx[id]!;
+      const uy = b.vy[id]!;
+      const speed = Math.sqrt(ux * ux + uy * uy);
+      const radius = Math.min(b.halfWidth[id]!, b.halfHeight[id]!);
+      const share = tunnellingShare(speed, w, radius, dt);
+      const canTunnel = excess > w / 2;
+      out.push({
+        kind,
+        staticId: s,
+        wallThickness: w,
+        bodyId: id,
+        speed,
+        radius,
+        stepDistance: speed * dt,
+        canTunnel,
+        share,
+        message:
+          kind === 'talk-rule'
+            ? `static ${s} is ${w} m thick, thinner than body ${id}'s step of ${speed * dt} m (${speed} m/s × ${dt} s): minWallSize is broken` +
+              (canTunnel ? '; bodies can pass through it' : '; its radius still stops it')
+            : `static ${s} is ${w} m thick, at least one step, but body ${id} moves ${speed * dt} m per step, more than half the wall plus its radius ${radius} m: the push-out can send it through`,
+      });
+    }
+    return out;
+  }
+
+  /**
+   * After a step: calls `hook` with the walls bodies can now pass through, when the scene starts
+   * breaking the rule (not again until it has been safe for a step).
+   */
+  afterStep(def: Readonly<WorldDef>, hook: (warnings: TunnellingWarning[]) => void): void {
+    this.measure(def.timeStep);
+    let thinnest = Infinity;
+    for (let s = 0; s < this.statics.count; s++)
+      thinnest = Math.min(thinnest, this.statics.thickness(s));
+    const broken = this.excess > thinnest / 2;
+    if (broken && !this.wasBroken) hook(this.warnings(def).filter((w) => w.canTunnel));
+    this.wasBroken = broken;
+  }
 }

@@ -136,6 +136,52 @@ export function circlesInBox(n: number, seed: number, def: Partial<WorldDef> = {
 }
 
 /**
+ * `n` bodies falling into a closed box, circles and axis-aligned boxes alternating (even indices
+ * circles of radius 0.10–0.15 m, odd ones boxes of half extents 0.08–0.14 m each), density 1:
+ * the rollback benchmark scene (`npm run bench -- physics-world-snapshot`), also for other
+ * engines (build it from the description, with rotation locked to compare like with like). The
+ * lattice, the box and the def are those of {@link circlesInBoxScene}.
+ */
+export function bodiesInBoxScene(
+  n: number,
+  seed: number,
+  def: Partial<WorldDef> = {},
+): PhysicsScene {
+  if (!(Number.isInteger(n) && n >= 0))
+    throw new RangeError(`bodiesInBox: n must be a non-negative integer, got ${String(n)}`);
+  const rng = new Random(seed);
+  const spacing = 0.4;
+  const cols = Math.max(10, Math.ceil(1.5 * Math.sqrt(n)));
+  const rows = Math.ceil(n / cols);
+  const width = cols * spacing;
+  const height = rows * spacing + 2;
+  const bodies: SceneBody[] = [];
+  for (let k = 0; k < n; k++) {
+    const col = k % cols;
+    const row = (k - col) / cols;
+    const x = -width / 2 + spacing / 2 + col * spacing + rng.range(-0.04, 0.04);
+    const y = spacing / 2 + row * spacing + rng.range(-0.04, 0.04);
+    if (k % 2 === 0) bodies.push({ x, y, vx: 0, vy: 0, radius: rng.range(0.1, 0.15) });
+    else {
+      const halfWidth = rng.range(0.08, 0.14);
+      bodies.push({ x, y, vx: 0, vy: 0, halfWidth, halfHeight: rng.range(0.08, 0.14) });
+    }
+  }
+  return {
+    def: { ...defaultWorldDef(), ...def },
+    walls: container(-width / 2, 0, width / 2, height),
+    segments: [],
+    bodies,
+    inner: [-width / 2, 0, width / 2, height],
+  };
+}
+
+/** {@link bodiesInBoxScene} as a ready world. */
+export function bodiesInBox(n: number, seed: number, def: Partial<WorldDef> = {}): PhysicsWorld {
+  return buildWorld(bodiesInBoxScene(n, seed, def));
+}
+
+/**
  * Bullets in a walled room, at the talk's step of 0.03 s: a closed 20 × 10 m box, three thin
  * vertical wall segments, two thin shelves (static boxes 2 cm thick), 20 circles and 10 boxes
  * dropped on the floor, and 30 bullets (radius 3 cm) fired at 200–1000 m/s in random directions.

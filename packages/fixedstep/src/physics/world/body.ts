@@ -1,0 +1,185 @@
+/**
+ * Body storage (Box2D's `body.c`): every body is a slot in a structure of typed arrays, indexed by
+ * body id. The *state* columns are what a snapshot holds; the *per-step* columns are scratch that
+ * every step rewrites before it reads them.
+ *
+ * A freed slot is cleared to zeros and the next body takes the lowest free slot, so the state
+ * after any history of creations and removals depends only on which slots hold what.
+ */
+
+/**
+ * Flag bits of {@link BodyStore.flags}; a slot whose flags are 0 is free.
+ *
+ * Files whose hot loops test flags copy the bits they need into module constants
+ * (`const { BOX } = BodyFlag;`): V8 folds a module's own constants into optimised code but
+ * loads an imported binding on every use, which cost 4 % of a step.
+ */
+export const BodyFlag = Object.freeze({
+  /** A live body. */
+  ALIVE: 1,
+  /** An axis-aligned box; otherwise a circle (whose half width and half height are its radius). */
+  BOX: 2,
+  /** Always swept with continuous detection (unless the world's ccd is `'off'`). */
+  BULLET: 4,
+  /** Infinite mass: moves with its velocity, pushes dynamic bodies, ignores walls and gravity. */
+  KINEMATIC: 8,
+  /** Sleeping: not moved, and pairs of sleeping bodies are not even looked at. */
+  ASLEEP: 16,
+});
+/** Every flag a snapshot may hold. */
+export const KNOWN_FLAGS = 31;
+
+/**
+ * The bodies, a structure of typed arrays by body id (see the file comment). The world checks
+ * every value before it reaches here; the store only keeps them and its counts and extents.
+ */
+export class BodyStore {
+  /** Slots the arrays have room for. */
+  capacity = 0;
+  /** Slots in use: one past the highest live id. */
+  slotCount = 0;
+  /** Live bodies. */
+  liveCount = 0;
+  /** Sleeping bodies. */
+  sleepingCount = 0;
+  /** The largest half extent of any live body (0 with none): the grid's cell is twice this. */
+  largestHalfExtent = 0;
+  /** The smallest half extent of any live body (Infinity with none): CCD's thinnest feature. */
+  thinnestHalfExtent = Infinity;
+
+  // State (saved), by body id.
+  flags = new Uint8Array(0);
+  x = new Float64Array(0);
+  y = new Float64Array(0);
+  vx = new Float64Array(0);
+  vy = new Float64Array(0);
+  halfWidth = new Float64Array(0);
+  halfHeight = new Float64Array(0);
+  /** 1/kg; 0 for kinematic bodies. */
+  inverseMass = new Float64Array(0);
+  /** Seconds each body has been slower than `def.sleepSpeed`. */
+  restTime = new Float64Array(0);
+  /** The island a sleeping body fell asleep with: its lowest body id (0 while awake). */
+  island = new Int32Array(0);
+
+  // Per step (scratch, never saved).
+  /** Where each body was at the start of the step (where the grid put it). */
+  startX = new Float64Array(0);
+  startY = new Float64Array(0);
+  /** Each body's velocity before gravity: put back if the step throws. */
+  startVx = new Float64Array(0);
+  startVy = new Float64Array(0);
+  /**
+   * The start of each body's straight path over the step: its position at fraction `s` of the step
+   * is `pathStart + s · (x − pathStart)`. Continuous detection keeps it consistent.
+   */
+  pathStartX = new Float64Array(0);
+  pathStartY = new Float64Array(0);
+  /** Inverse mass as the solvers see it this step: 0 for kinematic and sleeping bodies. */
+  solverInverseMass = new Float64Array(0);
+  /** How far each body has moved since its contacts were found (the push-out's prediction). */
+  movedX = new Float64Array(0);
+  movedY = new Float64Array(0);
+
+  /** The lowest free slot: the id the next body gets. */
+  nextId(): number {
+    if (this.liveCount === this.slotCount) return this.slotCount;
+    let id = 0;
+    while (this.flags[id] !== 0) id++;
+    return id;
+  }
+
+  /**
+   * Puts a body in slot `id` (from {@link nextId}); the caller has checked every value and made
+   * room ({@link grow}).
+   */
+  create(
+    id: number,
+    flags: number,
+    x: number,
+    y: number,
+    vx: number,
+    vy: number,
+    halfWidth: number,
+    halfHeight: number,
+    inverseMass: number,
+  ): void {
+    if (id === this.slotCount) this.slotCount++;
+    this.flags[id] = flags;
+    this.x[id] = x;
+    this.y[id] = y;
+    this.vx[id] = vx;
+    this.vy[id] = vy;
+    this.halfWidth[id] = halfWidth;
+    this.halfHeight[id] = halfHeight;
+    this.inverseMass[id] = inverseMass;
+    this.liveCount++;
+    const large = halfWidth > halfHeight ? halfWidth : halfHeight;
+    const small = halfWidth < halfHeight ? halfWidth : halfHeight;
+    if (large > this.largestHalfExtent) this.largestHalfExtent = large;
+    if (small < this.thinnestHalfExtent) this.thinnestHalfExtent = small;
+  }
+
+  /** Clears a live, awake slot to zeros and trims free slots off the end. */
+  destroy(id: number): void {
+    const w = this.halfWidth[id]!;
+    const h = this.halfHeight[id]!;
+    const wasExtreme =
+      Math.max(w, h) >= this.largestHalfExtent || Math.min(w, h) <= this.thinnestHalfExtent;
+    this.flags[id] = 0;
+    this.x[id] = 0;
+    this.y[id] = 0;
+    this.vx[id] = 0;
+    this.vy[id] = 0;
+    this.halfWidth[id] = 0;
+    this.halfHeight[id] = 0;
+    this.inverseMass[id] = 0;
+    this.restTime[id] = 0;
+    this.liveCount--;
+    while (this.slotCount > 0 && this.flags[this.slotCount - 1] === 0) this.slotCount--;
+    if (wasExtreme) this.recomputeExtents();
+  }
+
+  /** {@link largestHalfExtent} and {@link thinnestHalfExtent} from scratch. */
+  recomputeExtents(): void {
+    let large = 0;
+    let small = Infinity;
+    for (let i = 0; i < this.slotCount; i++) {
+      if (this.flags[i] === 0) continue;
+      const a = this.halfWidth[i]!;
+      const b = this.halfHeight[i]!;
+      large = Math.max(large, a, b);
+      small = Math.min(small, a, b);
+    }
+    this.largestHalfExtent = large;
+    this.thinnestHalfExtent = small;
+  }
+
+  /** Room for `capacity` slots: state columns keep their contents, scratch starts over. */
+  grow(capacity: number): void {
+    const keep = <T extends Float64Array | Int32Array | Uint8Array>(a: T, b: T): T => {
+      b.set(a.subarray(0, Math.min(a.length, capacity)));
+      return b;
+    };
+    this.flags = keep(this.flags, new Uint8Array(capacity));
+    this.x = keep(this.x, new Float64Array(capacity));
+    this.y = keep(this.y, new Float64Array(capacity));
+    this.vx = keep(this.vx, new Float64Array(capacity));
+    this.vy = keep(this.vy, new Float64Array(capacity));
+    this.halfWidth = keep(this.halfWidth, new Float64Array(capacity));
+    this.halfHeight = keep(this.halfHeight, new Float64Array(capacity));
+    this.inverseMass = keep(this.inverseMass, new Float64Array(capacity));
+    this.restTime = keep(this.restTime, new Float64Array(capacity));
+    this.island = keep(this.island, new Int32Array(capacity));
+    this.startX = new Float64Array(capacity);
+    this.startY = new Float64Array(capacity);
+    this.startVx = new Float64Array(capacity);
+    this.startVy = new Float64Array(capacity);
+    this.pathStartX = new Float64Array(capacity);
+    this.pathStartY = new Float64Array(capacity);
+    this.solverInverseMass = new Float64Array(capacity);
+    this.movedX = new Float64Array(capacity);
+    this.movedY = new Float64Array(capacity);
+    this.capacity = capacity;
+  }
+}

@@ -1,0 +1,256 @@
+/**
+ * The broad phase (Box2D's `broad_phase.c`): which pairs of shapes are close enough to test.
+ *
+ * Bodies go into a uniform grid rebuilt from scratch every step — a counting sort of their
+ * centres by cell — with cells at least as wide as the largest body, so two bodies that overlap
+ * sit in the same or neighbouring cells. Pairs are taken in cell order, then in id order: a
+ * function of the current state only, never of the grid's history or the arrays' capacity, so a
+ * world loaded from a snapshot finds the very same pairs in the very same order. Body–wall pairs
+ * are a linear scan (walls are few). Each candidate pair goes to `manifold.ts`.
+ */
+import { BodyFlag, type BodyStore } from './body.js';
+import type { ContactList } from './contacts.js';
+import type { WorldDef } from './def.js';
+import { boxBox, boxSegment, circleBox, circleCircle, circleSegment } from './manifold.js';
+import { WallKind, staticRef, type StaticStore } from './statics.js';
+
+const { ASLEEP, BOX, KINEMATIC } = BodyFlag;
+const STATIC_BOX = WallKind.BOX;
+
+/** The uniform grid of one step: body ids sorted by cell (see the file comment). */
+export class Grid {
+  /** Cells across and up; 0 when no body is in the grid this step. */
+  cols = 0;
+  rows = 0;
+  /** The lower-left corner of cell 0. Metres. */
+  minX = 0;
+  minY = 0;
+  /** A cell's width and height, metres, and its inverse. */
+  cellSize = 0;
+  inverseCellSize = 0;
+  /** By body: its cell, or -1 (free slot). */
+  cellOf = new Int32Array(0);
+  /** By cell: where its bodies start in {@link cellItems} (cell c is `[start[c], start[c+1])`). */
+  cellStart = new Int32Array(0);
+  private cellCursor = new Int32Array(0);
+  /** Body ids sorted by cell, in id order within a cell. */
+  cellItems = new Int32Array(0);
+
+  /** Room for `capacity` bodies (and the cells a grid of them may use). */
+  resize(capacity: number): void {
+    this.cellOf = new Int32Array(capacity);
+    this.cellItems = new Int32Array(capacity);
+    const maxCells = 4 * capacity + 64;
+    this.cellStart = new Int32Array(maxCells + 2);
+    this.cellCursor = new Int32Array(maxCells + 1);
+  }
+
+  /**
+   * Sorts the live bodies into cells over their bounds. The cell is twice the largest half extent
+   * (or `cellSize` if larger), doubled until the grid has at most `4 × slots + 64` cells — a
+   * budget from the slot count (state), not the capacity (history).
+   */
+  build(bodies: BodyStore, def: Readonly<WorldDef>): void {
+    const cellSizeSetting = def.cellSize;
+    const n = bodies.slotCount;
+    const flags = bodies.flags;
+    const x = bodies.x;
+    const y = bodies.y;
+    const cellOf = this.cellOf;
+    let minX = Infinity;
+    let minY = Infinity;
+    let maxX = -Infinity;
+    let maxY = -Infinity;
+    for (let i = 0; i < n; i++) {
+      if (flags[i] === 0) {
+        cellOf[i] = -1;
+        continue;
+      }
+      const a = x[i]!;
+      const b = y[i]!;
+      cellOf[i] = 0;
+      if (a < minX) minX = a;
+      if (a > maxX) maxX = a;
+      if (b < minY) minY = b;
+      if (b > maxY) maxY = b;
+    }
+    let spanX = maxX - minX;
+    let spanY = maxY - minY;
+    // Positions so far apart that the span overflows (finite ones beyond ±8.9e307 m, which only a
+    // step could reach): every body in one cell. Slow, but every pair is still tested.
+    const oneCell = spanX === Infinity || spanY === Infinity;
+    if (
+      oneCell &&
+      maxX - maxX === 0 &&
+      minX - minX === 0 &&
+      maxY - maxY === 0 &&
+      minY - minY === 0
+    ) {
+      minX = 0;
+      minY = 0;
+      spanX = 0;
+      spanY = 0;
+    }
+    if (!(spanX >= 0 && spanX < Infinity && spanY >= 0 && spanY < Infinity)) {
+      // No bodies, or a position that is not finite (the world never lets one in): no pairs.
+      this.cols = 0;
+      this.rows = 0;
+      for (let i = 0; i < n; i++) cellOf[i] = -1;
+      return;
+    }
+    const twice = 2 * bodies.largestHalfExtent;
+    let h = cellSizeSetting > twice ? cellSizeSetting : twice;
+    let inv = 1 / h;
+    let cols = Math.floor(spanX * inv) + 1;
+    let rows = Math.floor(spanY * inv) + 1;
+    const budget = 4 * n + 64;
+    while (cols * rows > budget) {
+      h *= 2;
+      inv = 1 / h;
+      cols = Math.floor(spanX * inv) + 1;
+      rows = Math.floor(spanY * inv) + 1;
+    }
+    if (oneCell) inv = 0;
+    this.cols = cols;
+    this.rows = rows;
+    this.minX = minX;
+    this.minY = minY;
+    this.inverseCellSize = inv;
+    this.cellSize = h;
+    const cells = cols * rows;
+    const start = this.cellStart;
+    const cursor = this.cellCursor;
+    const items = this.cellItems;
+    start.fill(0, 0, cells + 1);
+    for (let i = 0; i < n; i++) {
+      if (cellOf[i] === -1) continue;
+      const c = Math.floor((x[i]! - minX) * inv) + Math.floor((y[i]! - minY) * inv) * cols;
+      cellOf[i] = c;
+      start[c + 1]!++;
+    }
+    for (let c = 0; c < cells; c++) {
+      const s = start[c]!;
+      start[c + 1] = start[c + 1]! + s;
+      cursor[c] = s;
+    }
+    for (let i = 0; i < n; i++) {
+      const c = cellOf[i]!;
+      if (c === -1) continue;
+      items[cursor[c]!++] = i;
+    }
+  }
+}
+
+/**
+ * Every contact of this step into `contacts`: body–body pairs through the grid (cell order, then
+ * id order), then body–wall pairs (body order, then wall order). `inverseMass` is the solver's
+ * (0 for kinematic and sleeping bodies): a pair of two such bodies is skipped — unless a kinematic
+ * body touches a sleeping one, which must wake. `gravityPending`: gravity is still to be added to
+ * the moving bodies' velocities this step (`def`'s), for the one test that reads a velocity.
+ * (Flags and objects as arguments, not doubles: V8 boxes a double passed to a call it does not
+ * inline, and this one is too large to inline.)
+ */
+export function findContacts(
+  grid: Grid,
+  bodies: BodyStore,
+  statics: StaticStore,
+  contacts: ContactList,
+  gravityPending: boolean,
+  def: Readonly<WorldDef>,
+): void {
+  contacts.count = 0;
+  const cols = grid.cols;
+  const rows = grid.rows;
+  const start = grid.cellStart;
+  const items = grid.cellItems;
+  const flags = bodies.flags;
+  const x = bodies.x;
+  const y = bodies.y;
+  const hw = bodies.halfWidth;
+  const hh = bodies.halfHeight;
+  const im = bodies.solverInverseMass;
+  for (let cy = 0; cy < rows; cy++) {
+    for (let cx = 0; cx < cols; cx++) {
+      const c = cy * cols + cx;
+      const s = start[c]!;
+      const e = start[c + 1]!;
+      if (s === e) continue;
+      // Forward neighbours: the rest of this cell and the next cell (contiguous in `items`), then
+      // the three cells above (contiguous too). Every pair once, in a fixed order.
+      const sameRowEnd = cx + 1 < cols ? start[c + 2]! : e;
+      let upStart = 0;
+      let upEnd = 0;
+      if (cy + 1 < rows) {
+        const up = c + cols;
+        upStart = start[cx > 0 ? up - 1 : up]!;
+        upEnd = start[cx + 1 < cols ? up + 2 : up + 1]!;
+      }
+      for (let k = s; k < e; k++) {
+        const i = items[k]!;
+        const fi = flags[i]!;
+        const xi = x[i]!;
+        const yi = y[i]!;
+        const wi = hw[i]!;
+        const hi = hh[i]!;
+        const ii = im[i]!;
+        for (let pass = 0; pass < 2; pass++) {
+          const from = pass === 0 ? k + 1 : upStart;
+          const to = pass === 0 ? sameRowEnd : upEnd;
+          for (let m = from; m < to; m++) {
+            const j = items[m]!;
+            const dx = xi - x[j]!;
+            const dy = yi - y[j]!;
+            const sumW = wi + hw[j]!;
+            const sumH = hi + hh[j]!;
+            if (dx >= sumW || dx <= -sumW || dy >= sumH || dy <= -sumH) continue;
+            const fj = flags[j]!;
+            // Both immovable here: skip — unless a kinematic body touches a sleeping one.
+            if (
+              ii === 0 &&
+              im[j] === 0 &&
+              (((fi | fj) & ASLEEP) === 0 || ((fi | fj) & KINEMATIC) === 0)
+            )
+              continue;
+            if (((fi | fj) & BOX) === 0) circleCircle(contacts, i, j, dx, dy, sumW);
+            else if ((fi & fj & BOX) !== 0) boxBox(contacts, i, j, bodies, statics);
+            else if ((fi & BOX) === 0) circleBox(contacts, i, j, i, j, 1, bodies, statics);
+            else circleBox(contacts, i, j, j, i, -1, bodies, statics);
+          }
+        }
+      }
+    }
+  }
+  contacts.bodyPairCount = contacts.count;
+
+  const wallCount = statics.count;
+  if (wallCount === 0) return;
+  const kind = statics.kind;
+  const wallMinX = statics.minX;
+  const wallMinY = statics.minY;
+  const wallMaxX = statics.maxX;
+  const wallMaxY = statics.maxY;
+  const n = bodies.slotCount;
+  for (let i = 0; i < n; i++) {
+    const f = flags[i]!;
+    if (f === 0 || im[i] === 0) continue;
+    const xi = x[i]!;
+    const yi = y[i]!;
+    const wi = hw[i]!;
+    const hi = hh[i]!;
+    const isBox = (f & BOX) !== 0;
+    for (let s = 0; s < wallCount; s++) {
+      if (
+        xi - wi >= wallMaxX[s]! ||
+        xi + wi <= wallMinX[s]! ||
+        yi - hi >= wallMaxY[s]! ||
+        yi + hi <= wallMinY[s]!
+      )
+        continue;
+      if (kind[s] === STATIC_BOX) {
+        if (isBox) boxBox(contacts, i, staticRef(s), bodies, statics);
+        else circleBox(contacts, i, staticRef(s), i, staticRef(s), 1, bodies, statics);
+      } else if (isBox) boxSegment(contacts, i, s, bodies, statics);
+      else circleSegment(contacts, i, s, bodies, statics, gravityPending, def);
+    }
+  }
+}

@@ -1,0 +1,201 @@
+/**
+ * The contacts of one step, and the warm-start cache that carries their impulses to the next
+ * (Box2D's `contact.c` and the impulses its manifolds keep).
+ *
+ * A contact is one point between body `bodyA` and `bodyB` (a body id, or a wall as
+ * {@link staticRef}), a unit normal pointing from B to A, and the separation along it (negative:
+ * overlap). Body–body contacts come first (`[0, bodyPairCount)`), body–static ones after. A body
+ * pair is stored lower id first, so the cache finds it whichever way round it was met.
+ */
+
+/** Thrown by {@link ContactList.add} when a step finds more than `def.maxContacts` contacts. */
+export class ContactOverflow extends Error {
+  constructor(
+    readonly limit: number,
+    readonly bodyA: number,
+    readonly bodyB: number,
+  ) {
+    super(`more than ${limit} contacts in one step`);
+  }
+}
+
+/** The contacts of the current step, in structure-of-arrays columns (see the file comment). */
+export class ContactList {
+  /** Contacts this step. */
+  count = 0;
+  /** The body–body ones: `[0, bodyPairCount)`. */
+  bodyPairCount = 0;
+  /** Room in the arrays. */
+  capacity = 0;
+  /** `def.maxContacts`. */
+  limit = 1 << 20;
+  /** `min(capacity, limit)`: {@link add} stops here to grow or to throw. */
+  private room = 0;
+
+  bodyA = new Int32Array(0);
+  bodyB = new Int32Array(0);
+  /** Unit normal from B to A. */
+  normalX = new Float64Array(0);
+  normalY = new Float64Array(0);
+  /** Distance between the shapes along the normal when found: negative means overlap. Metres. */
+  separation = new Float64Array(0);
+  /** The accumulated normal impulse (≥ 0), N·s. */
+  normalImpulse = new Float64Array(0);
+  /** The accumulated friction impulse along the tangent (ny, −nx), N·s. */
+  tangentImpulse = new Float64Array(0);
+  /** 1 / (1/mA + 1/mB): the mass the contact sees along its normal (and tangent). kg. */
+  normalMass = new Float64Array(0);
+  /** Relative normal velocity before the solver ran (negative: approaching), for restitution. */
+  approachSpeed = new Float64Array(0);
+
+  /** Adds a contact. Throws {@link ContactOverflow} past `limit`. */
+  add(a: number, b: number, nx: number, ny: number, separation: number): void {
+    if (this.count === this.room) this.makeRoom(a, b);
+    const k = this.count++;
+    if (b >= 0 && b < a) {
+      this.bodyA[k] = b;
+      this.bodyB[k] = a;
+      this.normalX[k] = -nx;
+      this.normalY[k] = -ny;
+    } else {
+      this.bodyA[k] = a;
+      this.bodyB[k] = b;
+      this.normalX[k] = nx;
+      this.normalY[k] = ny;
+    }
+    this.separation[k] = separation;
+  }
+
+  /** Sets the limit; the arrays grow to it only as contacts come. */
+  setLimit(limit: number): void {
+    this.limit = limit;
+    this.room = Math.min(this.capacity, limit);
+  }
+
+  /** Room for at least `capacity` contacts (never beyond need: `limit` is checked by {@link add}). */
+  grow(capacity: number): void {
+    const i32 = (a: Int32Array) => {
+      const b = new Int32Array(capacity);
+      b.set(a.subarray(0, Math.min(a.length, capacity)));
+      return b;
+    };
+    const f64 = (a: Float64Array) => {
+      const b = new Float64Array(capacity);
+      b.set(a.subarray(0, Math.min(a.length, capacity)));
+      return b;
+    };
+    this.bodyA = i32(this.bodyA);
+    this.bodyB = i32(this.bodyB);
+    this.normalX = f64(this.normalX);
+    this.normalY = f64(this.normalY);
+    this.separation = f64(this.separation);
+    this.normalImpulse = f64(this.normalImpulse);
+    this.tangentImpulse = f64(this.tangentImpulse);
+    this.normalMass = f64(this.normalMass);
+    this.approachSpeed = f64(this.approachSpeed);
+    this.capacity = capacity;
+    this.room = Math.min(capacity, this.limit);
+  }
+
+  private makeRoom(a: number, b: number): void {
+    if (this.count >= this.limit) throw new ContactOverflow(this.limit, a, b);
+    this.grow(Math.min(this.capacity * 2, this.limit));
+  }
+}
+
+/**
+ * Last step's contacts — pair and impulses — so this step's solver can start from them (warm
+ * starting). Part of the state. Each body's entries are chained in cache order from
+ * {@link head}, so a lookup walks only that body's few contacts.
+ */
+export class WarmStartCache {
+  count = 0;
+  capacity = 0;
+  bodyA = new Int32Array(0);
+  bodyB = new Int32Array(0);
+  normalImpulse = new Float64Array(0);
+  tangentImpulse = new Float64Array(0);
+  /** The next entry with the same `bodyA`, or -1. */
+  next = new Int32Array(0);
+  /** By body id: its first entry, or -1. */
+  head = new Int32Array(0);
+
+  /** Keeps this step's contacts and impulses (a zero impulse is stored as +0, never −0). */
+  store(contacts: ContactList, slotCount: number): void {
+    const n = contacts.count;
+    if (n > this.capacity) this.grow(Math.max(n, 2 * this.capacity));
+    const cA = contacts.bodyA;
+    const cB = contacts.bodyB;
+    const jn = contacts.normalImpulse;
+    const jt = contacts.tangentImpulse;
+    const wA = this.bodyA;
+    const wB = this.bodyB;
+    const wJn = this.normalImpulse;
+    const wJt = this.tangentImpulse;
+    for (let k = 0; k < n; k++) {
+      wA[k] = cA[k]!;
+      wB[k] = cB[k]!;
+      wJn[k] = jn[k]!;
+      // A friction impulse clamped to −(μ·0) is −0: store +0, so the state is canonical as it is
+      // (a snapshot is a plain copy). The sign of a zero impulse changes no velocity.
+      wJt[k] = jt[k]! + 0;
+    }
+    this.count = n;
+    this.link(slotCount);
+  }
+
+  /** Rebuilds the per-body chains, in cache order. */
+  link(slotCount: number): void {
+    const head = this.head;
+    const next = this.next;
+    const wA = this.bodyA;
+    head.fill(-1, 0, slotCount);
+    for (let k = this.count - 1; k >= 0; k--) {
+      const a = wA[k]!;
+      next[k] = head[a]!;
+      head[a] = k;
+    }
+  }
+
+  /** Forgets every entry of body `id` (its slot's next body must not inherit them). */
+  forget(id: number, slotCount: number): void {
+    let m = 0;
+    for (let k = 0; k < this.count; k++) {
+      if (this.bodyA[k] === id || this.bodyB[k] === id) continue;
+      this.bodyA[m] = this.bodyA[k]!;
+      this.bodyB[m] = this.bodyB[k]!;
+      this.normalImpulse[m] = this.normalImpulse[k]!;
+      this.tangentImpulse[m] = this.tangentImpulse[k]!;
+      m++;
+    }
+    this.count = m;
+    this.link(slotCount);
+  }
+
+  /** Room for `capacity` entries. */
+  grow(capacity: number): void {
+    const i32 = (a: Int32Array) => {
+      const b = new Int32Array(capacity);
+      b.set(a.subarray(0, Math.min(a.length, capacity)));
+      return b;
+    };
+    const f64 = (a: Float64Array) => {
+      const b = new Float64Array(capacity);
+      b.set(a.subarray(0, Math.min(a.length, capacity)));
+      return b;
+    };
+    this.bodyA = i32(this.bodyA);
+    this.bodyB = i32(this.bodyB);
+    this.normalImpulse = f64(this.normalImpulse);
+    this.tangentImpulse = f64(this.tangentImpulse);
+    this.next = i32(this.next);
+    this.capacity = capacity;
+  }
+
+  /** Room for `capacity` bodies in {@link head}. */
+  growBodies(capacity: number): void {
+    const head = new Int32Array(capacity).fill(-1);
+    head.set(this.head.subarray(0, Math.min(this.head.length, capacity)));
+    this.head = head;
+  }
+}
