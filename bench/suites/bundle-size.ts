@@ -20,15 +20,19 @@ const ENTRIES: readonly Entry[] = [
   { name: 'loop only', imports: ['FixedLoop'], limit: 7 * 1024 },
   {
     name: 'loop + input + interpolation',
+    imports: ['FixedLoop', 'FrameStepper', 'InputSampler', 'attachKeyboard', 'InterpolationBuffer'],
+    limit: 12 * 1024,
+  },
+  {
+    name: '+ a schema of your own (defineInput, axes)',
     imports: [
       'FixedLoop',
       'FrameStepper',
       'InputSampler',
-      'defineInput',
       'attachKeyboard',
       'InterpolationBuffer',
+      'defineInput',
     ],
-    limit: 12 * 1024,
   },
   {
     name: '+ touch buttons, stick, gamepad, rAF driver',

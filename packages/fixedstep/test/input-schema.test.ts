@@ -67,6 +67,31 @@ describe('input schemas', () => {
     expect(s.problem(Uint32Array.of(packButtons(0b11, 0b10)), 0)).toBeUndefined();
   });
 
+  it('BUTTON_WORD, written out by hand, is exactly the schema defineInput builds for b0 … b15', () => {
+    const built = defineInput({ buttons: Array.from({ length: 16 }, (_, i) => `b${i}`) });
+    expect([...BUTTON_WORD.descriptor]).toEqual([...built.descriptor]);
+    expect(BUTTON_WORD.id).toBe(built.id);
+    expect(BUTTON_WORD.button).toEqual(built.button);
+    expect(BUTTON_WORD.axes).toEqual(built.axes);
+    const a = new Uint32Array(2);
+    const b = new Uint32Array(2);
+    for (const v of [0, 1, 0x10001, 0xffff0000, 0xffffffff]) {
+      BUTTON_WORD.encode(v, a, 1);
+      built.encode(v, b, 1);
+      expect(a[1]).toBe(b[1]);
+      expect(BUTTON_WORD.decode(a, 1)).toBe(built.decode(b, 1));
+      expect(BUTTON_WORD.problem(a, 1)).toBe(built.problem(b, 1));
+      BUTTON_WORD.missing(a, 1, a, 0);
+      built.missing(b, 1, b, 0);
+      expect(a[0]).toBe(b[0]);
+    }
+    expect(() => {
+      BUTTON_WORD.encode(-1, a, 0);
+    }).toThrow(/must be a u32/);
+    expect(() => BUTTON_WORD.quantise(0, 1)).toThrow(/no axes/);
+    expect(BUTTON_WORD.neutral()).toBe(built.neutral());
+  });
+
   it('BUTTON_WORD takes every u32, like the classic ButtonInput', () => {
     expect(BUTTON_WORD.words).toBe(1);
     expect(BUTTON_WORD.problem(Uint32Array.of(0xffffffff), 0)).toBeUndefined();

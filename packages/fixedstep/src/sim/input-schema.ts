@@ -391,13 +391,7 @@ export function defineInput(definition: InputDefinition): InputSchema<unknown> {
   return new Schema(Object.freeze(buttons), Object.freeze(axes));
 }
 
-/**
- * The classic input: one 32-bit {@link ButtonInput} word of 16 buttons named `b0` … `b15`. Every
- * replay of format 1 and every game written before schemas existed uses it.
- */
-export const BUTTON_WORD: InputSchema = defineInput({
-  buttons: Array.from({ length: 16 }, (_, i) => `b${i}`),
-});
+export { BUTTON_WORD } from './button-word.js';
 
 /**
  * The schema a descriptor describes (from a replay header or a hello). Throws a RangeError naming

@@ -5,7 +5,8 @@
  */
 import type { Loop } from '../time/loop.js';
 import { MAX_BUTTONS, packButtons, type ButtonInput } from './buttons.js';
-import { BUTTON_WORD, type InputSchema } from './input-schema.js';
+import { BUTTON_WORD } from './button-word.js';
+import type { InputSchema } from './input-schema.js';
 
 const DOWN = 0x80;
 const UP = 0x40;
