@@ -7,6 +7,10 @@
 import {
   ButtonSampler,
   FixedLoop,
+  MAX_BUTTONS,
+  downBit,
+  downMask,
+  pressedMask,
   SimulatedDisplay,
   Timestep,
   type DisplayEvent,
@@ -145,27 +149,27 @@ export function inputsToScript(inputs: ArrayLike<number>, stepMs: number): Trace
   let held = 0;
   for (let t = 0; t < inputs.length; t++) {
     const want = inputs[t]! >>> 0;
-    const pressed = (want >>> 16) & 0xffff;
-    const goesDown = pressed | (want & 0xffff & ~held);
+    const pressed = pressedMask(want);
+    const goesDown = pressed | (downMask(want) & ~held);
     const next = t + 1 < inputs.length ? inputs[t + 1]! >>> 0 : 0;
-    const keep = next & 0xffff & ~((next >>> 16) & 0xffff);
+    const keep = downMask(next) & ~pressedMask(next);
     const base = t * stepMs;
-    for (let b = 0; b < 16; b++) {
-      const bit = 1 << b;
+    for (let b = 0; b < MAX_BUTTONS; b++) {
+      const bit = downBit(b);
       if (pressed & bit && held & bit) {
         out.push({ timeMs: base + 0.2 * stepMs, button: b, down: false });
         held &= ~bit;
       }
     }
-    for (let b = 0; b < 16; b++) {
-      const bit = 1 << b;
+    for (let b = 0; b < MAX_BUTTONS; b++) {
+      const bit = downBit(b);
       if (goesDown & bit) {
         out.push({ timeMs: base + 0.4 * stepMs, button: b, down: true });
         held |= bit;
       }
     }
-    for (let b = 0; b < 16; b++) {
-      const bit = 1 << b;
+    for (let b = 0; b < MAX_BUTTONS; b++) {
+      const bit = downBit(b);
       if (held & bit && !(keep & bit)) {
         out.push({ timeMs: base + 0.6 * stepMs, button: b, down: false });
         held &= ~bit;

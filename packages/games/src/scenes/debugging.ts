@@ -1,3 +1,4 @@
+import { MAX_BUTTONS, downBit } from 'fixedstep';
 import type { ScriptedInput } from './loop-rig.js';
 import {
   JumperButtons,
@@ -63,7 +64,7 @@ export class InputRecorder {
 
   /** Record `button` going down or up at `timeMs` (ms from the start of the recording). */
   push(timeMs: number, button: number, down: boolean): ScriptedInput | undefined {
-    const bit = 1 << button;
+    const bit = downBit(button);
     if (down === ((this.held & bit) !== 0)) return undefined; // a repeat, or an up with no down
     const last = this.events[this.events.length - 1];
     const t = last && timeMs < last.timeMs ? last.timeMs : timeMs;
@@ -76,8 +77,8 @@ export class InputRecorder {
   /** Let go of every held button at `timeMs`; returns the release events added. */
   finish(timeMs: number): ScriptedInput[] {
     const out: ScriptedInput[] = [];
-    for (let b = 0; b < 16; b++) {
-      if (this.held & (1 << b)) {
+    for (let b = 0; b < MAX_BUTTONS; b++) {
+      if (this.held & downBit(b)) {
         const e = this.push(timeMs, b, false);
         if (e) out.push(e);
       }
