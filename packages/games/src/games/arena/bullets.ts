@@ -1,12 +1,12 @@
-import { toiPointCircle as toiPointCircle_, type ByteReader, type ByteWriter } from 'fixedstep';
+import { hitPointCircle as hitPointCircle_, type ByteReader, type ByteWriter } from 'fixedstep';
 import { isFiniteNumber } from './motion.js';
 import type { Walls } from './walls.js';
 
 // Local copies of imported bindings: some loaders (vitest, tsx) read an import through a
 // getter on every use, which costs in hot loops.
-const toiPointCircle = toiPointCircle_;
-/** Scratch for swept-test normals; never part of any state. */
-const normal = new Float64Array(2);
+const hitPointCircle = hitPointCircle_;
+/** Scratch for swept-test results (normal, u); never part of any state. */
+const contact = new Float64Array(3);
 
 /**
  * What bullets can hit besides walls: circles in structure-of-arrays form (players in capture the
@@ -20,6 +20,13 @@ export interface BulletTargets {
   readonly targetY: Float64Array;
   /** Radius of every target, arena units. */
   readonly targetRadius: number;
+  /**
+   * Optional: the only targets that can be hit during this {@link Bullets.advance}, in increasing
+   * index order (`targetList[0 … targetListCount − 1]`; may include some that cannot). Absent:
+   * every slot. A pool of mostly empty slots (survival's enemies) saves visiting them all.
+   */
+  readonly targetList?: Int32Array;
+  readonly targetListCount?: number;
   /** Whether bullet `b` can hit target `t` now (alive, not a teammate …). */
   canHit(b: number, t: number): boolean;
   /** Bullet `b` hit target `t`. The bullet is removed right after. */
@@ -56,6 +63,8 @@ export class Bullets {
   readonly radius: number;
   /** Number of live bullets. */
   live = 0;
+  /** One past the highest slot that may hold a bullet (slots from here on are empty). Not state. */
+  private end = 0;
   /** The serial the next bullet gets. */
   nextSerial = 1;
   /** Bullets that went through a wall (their path crossed a wall and they flew on): a diagnostic, part of the state. */
@@ -102,6 +111,7 @@ export class Bullets {
       this.vy[i] = vy;
       this.life[i] = life;
       this.live++;
+      if (i >= this.end) this.end = i + 1;
       return i;
     }
     return -1;
@@ -120,12 +130,13 @@ export class Bullets {
     this.vy[i] = 0;
     this.life[i] = 0;
     this.live--;
+    while (this.end > 0 && this.alive[this.end - 1] === 0) this.end--;
   }
 
   /**
    * Move every bullet by `dt` seconds and collide it with `walls` and `targets`.
    *
-   * - `continuous` (continuous collision detection): the whole move is swept (`Walls.sweep`, `toiPointCircle`) and
+   * - `continuous` (continuous collision detection): the whole move is swept (`Walls.sweep`, `hitPointCircle`) and
    *   the bullet stops at the earliest impact — nothing passes through anything, at any speed.
    * - otherwise (discrete, the talk's naive game): the bullet jumps to its new position and only overlaps there
    *   count. A bullet that jumps over a wall (its move is longer than the wall's thickness plus
@@ -136,7 +147,14 @@ export class Bullets {
   advance(dt: number, walls: Walls, targets: BulletTargets, continuous: boolean): void {
     const r = this.radius;
     const tr = targets.targetRadius + r;
-    for (let b = 0; b < this.capacity; b++) {
+    // How far from a move a target's centre must be for no test to hit it (the slack: far more
+    // than any rounding): such targets are passed over before asking `canHit` — it changes nothing.
+    const reach = tr + 1;
+    const targetX = targets.targetX;
+    const targetY = targets.targetY;
+    const list = targets.targetList;
+    const listed = list === undefined ? targets.targetCount : (targets.targetListCount ?? 0);
+    for (let b = 0; b < this.end; b++) {
       if (this.alive[b] === 0) continue;
       const x = this.x[b]!;
       const y = this.y[b]!;
@@ -144,6 +162,10 @@ export class Bullets {
       this.prevY[b] = y;
       const dx = this.vx[b]! * dt;
       const dy = this.vy[b]! * dt;
+      const minX = (dx < 0 ? x + dx : x) - reach;
+      const maxX = (dx < 0 ? x : x + dx) + reach;
+      const minY = (dy < 0 ? y + dy : y) - reach;
+      const maxY = (dy < 0 ? y : y + dy) + reach;
       let u = 1;
       let hitWall = false;
       let hitTarget = -1;
@@ -153,13 +175,20 @@ export class Bullets {
           u = uw;
           hitWall = true;
         }
-        for (let t = 0; t < targets.targetCount; t++) {
+        for (let k = 0; k < listed; k++) {
+          const t = list === undefined ? k : list[k]!;
+          const tx = targetX[t]!;
+          const ty = targetY[t]!;
+          if (tx < minX || tx > maxX || ty < minY || ty > maxY) continue;
           if (!targets.canHit(b, t)) continue;
-          const px = x - targets.targetX[t]!;
-          const py = y - targets.targetY[t]!;
+          const px = x - tx;
+          const py = y - ty;
           // A bullet that starts inside a target (fired point-blank) hits it at once, whichever
           // way it flies; otherwise the swept test.
-          const ut = px * px + py * py < tr * tr ? 0 : toiPointCircle(px, py, dx, dy, tr, normal);
+          let ut = 0;
+          if (px * px + py * py >= tr * tr) {
+            ut = hitPointCircle(px, py, dx, dy, tr, contact) ? contact[2]! : -1;
+          }
           if (ut >= 0 && ut < u) {
             u = ut;
             hitWall = false;
@@ -171,10 +200,14 @@ export class Bullets {
         const ny = y + dy;
         if (walls.overlaps(nx, ny, r)) hitWall = true;
         else {
-          for (let t = 0; t < targets.targetCount; t++) {
+          for (let k = 0; k < listed; k++) {
+            const t = list === undefined ? k : list[k]!;
+            const tx = targetX[t]!;
+            const ty = targetY[t]!;
+            if (tx < minX || tx > maxX || ty < minY || ty > maxY) continue;
             if (!targets.canHit(b, t)) continue;
-            const ex = nx - targets.targetX[t]!;
-            const ey = ny - targets.targetY[t]!;
+            const ex = nx - tx;
+            const ey = ny - ty;
             if (ex * ex + ey * ey < tr * tr) {
               hitTarget = t;
               break;
@@ -262,6 +295,8 @@ export class Bullets {
     this.live = live;
     this.prevX.set(this.x);
     this.prevY.set(this.y);
+    this.end = this.capacity;
+    while (this.end > 0 && this.alive[this.end - 1] === 0) this.end--;
   }
 
   /** Copy another pool of the same capacity into this one. */
@@ -278,6 +313,7 @@ export class Bullets {
     this.prevX.set(o.prevX);
     this.prevY.set(o.prevY);
     this.live = o.live;
+    this.end = o.end;
     this.nextSerial = o.nextSerial;
     this.throughWalls = o.throughWalls;
   }

@@ -244,6 +244,9 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
   readonly targetX = this.state.ex;
   readonly targetY = this.state.ey;
   readonly targetRadius = ER;
+  /** The enemies alive when they last moved, in slot order (some may have died since). Not state. */
+  readonly targetList = new Int32Array(CAP);
+  targetListCount = 0;
 
   private readonly inputs = new Uint32Array(PLAYERS);
 
@@ -421,21 +424,27 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
    */
   private moveEnemies(dt: number): void {
     const s = this.state;
-    for (let e = 0; e < CAP; e++) {
-      s.enemyPrevX[e] = s.ex[e]!;
-      s.enemyPrevY[e] = s.ey[e]!;
-      shoveX[e] = 0;
-      shoveY[e] = 0;
+    // The live enemies, in slot order: every loop below visits them in that order (for the shoves,
+    // pairs in the order of the slots), as loops over every slot would.
+    const live = this.targetList;
+    let n = 0;
+    for (let e = 0; e < CAP; e++) if (s.enemyAlive[e] !== 0) live[n++] = e;
+    this.targetListCount = n;
+    s.enemyPrevX.set(s.ex);
+    s.enemyPrevY.set(s.ey);
+    if (n === 0) return;
+    for (let k = 0; k < n; k++) {
+      shoveX[live[k]!] = 0;
+      shoveY[live[k]!] = 0;
     }
-    if (s.enemies === 0) return;
     // Shoves, pair by pair in slot order, from the positions at the start of the step.
     const d2max = 4 * ER * ER;
-    for (let i = 0; i < CAP; i++) {
-      if (s.enemyAlive[i] === 0) continue;
+    for (let a = 0; a < n; a++) {
+      const i = live[a]!;
       const xi = s.ex[i]!;
       const yi = s.ey[i]!;
-      for (let j = i + 1; j < CAP; j++) {
-        if (s.enemyAlive[j] === 0) continue;
+      for (let b = a + 1; b < n; b++) {
+        const j = live[b]!;
         const dx = s.ex[j]! - xi;
         const dy = s.ey[j]! - yi;
         const d2 = dx * dx + dy * dy;
@@ -455,8 +464,8 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
         shoveY[j] = shoveY[j]! + ny * push;
       }
     }
-    for (let e = 0; e < CAP; e++) {
-      if (s.enemyAlive[e] === 0) continue;
+    for (let k = 0; k < n; k++) {
+      const e = live[k]!;
       const x = s.ex[e]!;
       const y = s.ey[e]!;
       let vx = 0;
@@ -523,7 +532,10 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
   private contacts(): void {
     const s = this.state;
     const r = PR + ER;
-    for (let e = 0; e < CAP; e++) {
+    // The enemies alive when they moved (none has come since), in slot order.
+    const live = this.targetList;
+    for (let k = 0; k < this.targetListCount; k++) {
+      const e = live[k]!;
       if (s.enemyAlive[e] === 0) continue;
       for (let p = 0; p < PLAYERS; p++) {
         if (s.alive[p] === 0 || s.invulnerable[p]! > 0) continue;
