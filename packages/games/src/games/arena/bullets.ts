@@ -1,12 +1,15 @@
-import { hitPointCircle as hitPointCircle_, type ByteReader, type ByteWriter } from 'fixedstep';
+import type { ByteReader, ByteWriter } from 'fixedstep';
+import { SWEPT, pointCircle as pointCircle_, sweptRegisters } from './swept.js';
 import { isFiniteNumber } from './motion.js';
 import type { Walls } from './walls.js';
 
 // Local copies of imported bindings: some loaders (vitest, tsx) read an import through a
 // getter on every use, which costs in hot loops.
-const hitPointCircle = hitPointCircle_;
-/** Scratch for swept-test results (normal, u); never part of any state. */
-const contact = new Float64Array(3);
+const pointCircle = pointCircle_;
+/** Where the swept test writes the fraction of a hit. */
+const U = SWEPT.u;
+/** The swept test's registers (see `swept.ts`); never part of any state. */
+const reg = sweptRegisters();
 
 /**
  * What bullets can hit besides walls: circles in structure-of-arrays form (players in capture the
@@ -61,6 +64,11 @@ export class Bullets {
   readonly prevY: Float64Array;
   /** Bullet radius, arena units. */
   readonly radius: number;
+  /**
+   * The registers of {@link spawnLaunched}: x, y (arena units), vx, vy (units per second), life
+   * (seconds). Scratch, never part of any state.
+   */
+  readonly launch = new Float64Array(5);
   /** Number of live bullets. */
   live = 0;
   /** One past the highest slot that may hold a bullet (slots from here on are empty). Not state. */
@@ -96,8 +104,25 @@ export class Bullets {
     vy: number,
     life: number,
   ): number {
+    const l = this.launch;
+    l[0] = x;
+    l[1] = y;
+    l[2] = vx;
+    l[3] = vy;
+    l[4] = life;
+    return this.spawnLaunched(owner, team);
+  }
+
+  /**
+   * {@link spawn} of the bullet in {@link launch}: its register form (the games fire through it,
+   * so no fractional number crosses a call: V8 would box it).
+   */
+  spawnLaunched(owner: number, team: number): number {
+    const l = this.launch;
     for (let i = 0; i < this.capacity; i++) {
       if (this.alive[i] !== 0) continue;
+      const x = l[0]!;
+      const y = l[1]!;
       this.alive[i] = 1;
       this.owner[i] = owner;
       this.team[i] = team;
@@ -107,9 +132,9 @@ export class Bullets {
       this.y[i] = y;
       this.prevX[i] = x;
       this.prevY[i] = y;
-      this.vx[i] = vx;
-      this.vy[i] = vy;
-      this.life[i] = life;
+      this.vx[i] = l[2]!;
+      this.vy[i] = l[3]!;
+      this.life[i] = l[4]!;
       this.live++;
       if (i >= this.end) this.end = i + 1;
       return i;
@@ -136,7 +161,7 @@ export class Bullets {
   /**
    * Move every bullet by `dt` seconds and collide it with `walls` and `targets`.
    *
-   * - `continuous` (continuous collision detection): the whole move is swept (`Walls.sweep`, `hitPointCircle`) and
+   * - `continuous` (continuous collision detection): the whole move is swept (`Walls.sweep`, the library's `hitPointCircle`) and
    *   the bullet stops at the earliest impact — nothing passes through anything, at any speed.
    * - otherwise (discrete, the talk's naive game): the bullet jumps to its new position and only overlaps there
    *   count. A bullet that jumps over a wall (its move is longer than the wall's thickness plus
@@ -153,6 +178,7 @@ export class Bullets {
     const targetX = targets.targetX;
     const targetY = targets.targetY;
     const list = targets.targetList;
+    const q = walls.query;
     const listed = list === undefined ? targets.targetCount : (targets.targetListCount ?? 0);
     for (let b = 0; b < this.end; b++) {
       if (this.alive[b] === 0) continue;
@@ -170,9 +196,13 @@ export class Bullets {
       let hitWall = false;
       let hitTarget = -1;
       if (continuous) {
-        const uw = walls.sweep(x, y, dx, dy, r);
-        if (uw >= 0) {
-          u = uw;
+        // (The walls' register forms: see `Walls`.)
+        q[0] = x;
+        q[1] = y;
+        q[2] = dx;
+        q[3] = dy;
+        if (walls.sweepQuery(r)) {
+          u = q[4]!;
           hitWall = true;
         }
         for (let k = 0; k < listed; k++) {
@@ -187,7 +217,12 @@ export class Bullets {
           // way it flies; otherwise the swept test.
           let ut = 0;
           if (px * px + py * py >= tr * tr) {
-            ut = hitPointCircle(px, py, dx, dy, tr, contact) ? contact[2]! : -1;
+            reg[0] = px;
+            reg[1] = py;
+            reg[2] = dx;
+            reg[3] = dy;
+            reg[6] = tr;
+            ut = pointCircle(reg) ? reg[U]! : -1;
           }
           if (ut >= 0 && ut < u) {
             u = ut;
@@ -198,7 +233,9 @@ export class Bullets {
       } else {
         const nx = x + dx;
         const ny = y + dy;
-        if (walls.overlaps(nx, ny, r)) hitWall = true;
+        q[0] = nx;
+        q[1] = ny;
+        if (walls.overlapsQuery(r)) hitWall = true;
         else {
           for (let k = 0; k < listed; k++) {
             const t = list === undefined ? k : list[k]!;
@@ -218,7 +255,11 @@ export class Bullets {
       const ex = x + u * dx;
       const ey = y + u * dy;
       // The diagnostic: a bullet that no wall stopped but whose path met a wall went through it.
-      if (!hitWall && walls.crosses(x, y, ex, ey)) this.throughWalls++;
+      q[0] = x;
+      q[1] = y;
+      q[2] = ex;
+      q[3] = ey;
+      if (!hitWall && walls.crossesQuery()) this.throughWalls++;
       this.x[b] = ex;
       this.y[b] = ey;
       if (hitWall) {

@@ -353,7 +353,11 @@ export abstract class ArenaGame<S extends ArenaState> implements Game {
     const vy = DIR_Y[d]! * spec.playerSpeed;
     s.vx[p] = vx;
     s.vy[p] = vy;
-    this.walls.pushOut(s.x[p]! + vx * dt, s.y[p]! + vy * dt, r, moved);
+    // (The walls' register form: see `Walls`.)
+    const q = this.walls.query;
+    q[0] = s.x[p]! + vx * dt;
+    q[1] = s.y[p]! + vy * dt;
+    this.walls.pushOutQuery(r, moved);
     // Keep everyone on the field whatever happened (the naive game can push one out of it).
     s.x[p] = clamp(moved[0]!, r, spec.width - r);
     s.y[p] = clamp(moved[1]!, r, spec.height - r);

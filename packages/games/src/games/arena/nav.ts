@@ -41,6 +41,20 @@ export class NavGrid {
   readonly nodeY: Float64Array;
   /** Shortest path cost from node i to node j at `i * count + j` (5 per cell straight, 7 diagonal). */
   readonly dist: Int32Array;
+  /**
+   * The registers of {@link waypointQuery}: from (x, y) in `[0]`, `[1]` to (tx, ty) in `[2]`,
+   * `[3]`. Scratch, never part of any state.
+   */
+  readonly query = new Float64Array(4);
+  /** {@link nearestNode}'s point. */
+  private readonly point = new Float64Array(2);
+
+  /**
+   * Whether `dist` is symmetric (every layout so far: moving straight between two waypoints is
+   * clear both ways or neither). Then the costs *to* a goal are its row, in a few cache lines,
+   * rather than a column strided across the whole table.
+   */
+  private readonly symmetric: boolean;
 
   /** {@link nearestNode}'s last answers by hash of the coordinates: a cache, not state (NaN: empty). */
   private readonly memoX = new Float64Array(1 << MEMO_BITS).fill(NaN);
@@ -159,6 +173,16 @@ export class NavGrid {
         }
       }
     }
+    let symmetric = true;
+    for (let i = 0; i < n && symmetric; i++) {
+      for (let j = i + 1; j < n; j++) {
+        if (this.dist[i * n + j] !== this.dist[j * n + i]) {
+          symmetric = false;
+          break;
+        }
+      }
+    }
+    this.symmetric = symmetric;
   }
 
   /**
@@ -171,12 +195,33 @@ export class NavGrid {
    * waypoint is usable.
    */
   waypoint(x: number, y: number, tx: number, ty: number, out: Float64Array): void {
-    out[0] = tx;
-    out[1] = ty;
+    const q = this.query;
+    q[0] = x;
+    q[1] = y;
+    q[2] = tx;
+    q[3] = ty;
+    this.waypointQuery(out);
+  }
+
+  /**
+   * {@link waypoint} from `query[0]`, `query[1]` to `query[2]`, `query[3]` (a register form, as
+   * `Walls` has: no fractional number crosses a call, so nothing is allocated). Leaves `query` as
+   * it was.
+   */
+  waypointQuery(out: Float64Array): void {
+    const q = this.query;
+    const x = q[0]!;
+    const y = q[1]!;
+    out[0] = q[2]!;
+    out[1] = q[3]!;
     const walls = this.walls;
-    const r = this.clearance;
-    if (walls.clear(x, y, tx, ty, r)) return;
-    if (!this.nearestNode(tx, ty, goal)) return;
+    const wq = walls.query;
+    wq[0] = x;
+    wq[1] = y;
+    wq[2] = q[2]!;
+    wq[3] = q[3]!;
+    if (walls.clearQuery(this.clearance)) return;
+    if (!this.nearestTo(q, 2, goal)) return;
     const g = goal[0]!;
     if (!(isFiniteNumber(x) && isFiniteNumber(y))) {
       this.scanWaypoints(x, y, g, out);
@@ -185,6 +230,10 @@ export class NavGrid {
     const col = Math.floor(x / this.spacing);
     const row = Math.floor(y / this.spacing);
     const scale = (ORTHO * 0.9) / this.spacing;
+    // The cost from node nd to the goal is at nd × count + g, or (the same number) at g × count + nd.
+    const count = this.count;
+    const restAt = this.symmetric ? g * count : g;
+    const restStride = this.symmetric ? 1 : count;
     // The 3 × 3 cells around, or the ring of the 5 × 5 around those if none of them will do. The
     // cheapest first: the first that a body can go straight to is the one to head for, so the
     // line tests (the costly part) stop there.
@@ -198,7 +247,7 @@ export class NavGrid {
           if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
           const nd = this.cellNode[r2 * this.cols + c2]!;
           if (nd < 0) continue;
-          const rest = this.dist[nd * this.count + g]!;
+          const rest = this.dist[restAt + nd * restStride]!;
           if (rest === UNREACHABLE) continue;
           const ex = this.nodeX[nd]! - x;
           const ey = this.nodeY[nd]! - y;
@@ -207,7 +256,7 @@ export class NavGrid {
           n++;
         }
       }
-      const nd = this.firstClear(x, y, n);
+      const nd = this.firstClear(q, 0, n);
       if (nd >= 0) {
         out[0] = this.nodeX[nd]!;
         out[1] = this.nodeY[nd]!;
@@ -225,6 +274,15 @@ export class NavGrid {
    * flag stands, guard posts, lanes — tick after tick.
    */
   nearestNode(x: number, y: number, out: Int32Array): boolean {
+    this.point[0] = x;
+    this.point[1] = y;
+    return this.nearestTo(this.point, 0, out);
+  }
+
+  /** {@link nearestNode} of the point in `from[at]`, `from[at + 1]`. */
+  private nearestTo(from: Float64Array, at: number, out: Int32Array): boolean {
+    const x = from[at]!;
+    const y = from[at + 1]!;
     if (!(isFiniteNumber(x) && isFiniteNumber(y))) return this.scanNearest(x, y, out);
     bits[0] = x;
     bits[1] = y;
@@ -256,7 +314,7 @@ export class NavGrid {
           n++;
         }
       }
-      found = this.firstClear(x, y, n);
+      found = this.firstClear(from, at, n);
     }
     this.memoX[h] = x;
     this.memoY[h] = y;
@@ -267,11 +325,15 @@ export class NavGrid {
 
   /**
    * Of the first `n` candidates (`candidateNode`, `candidateCost`), the cheapest that a body can
-   * reach in a straight line from (x, y) — of equals, the first — or -1. Tries them cheapest
-   * first, so it answers what a scan keeping the cheapest reachable one would, with fewer line
-   * tests. Uses up the candidates.
+   * reach in a straight line from the point in `from[at]`, `from[at + 1]` — of equals, the
+   * first — or -1. Tries them cheapest first, so it answers what a scan keeping the cheapest
+   * reachable one would, with fewer line tests. Uses up the candidates.
    */
-  private firstClear(x: number, y: number, n: number): number {
+  private firstClear(from: Float64Array, at: number, n: number): number {
+    const x = from[at]!;
+    const y = from[at + 1]!;
+    const walls = this.walls;
+    const wq = walls.query;
     for (;;) {
       let pick = -1;
       let least = Infinity;
@@ -284,7 +346,11 @@ export class NavGrid {
       if (pick < 0) return -1;
       const nd = candidateNode[pick]!;
       candidateNode[pick] = -1;
-      if (this.walls.clear(x, y, this.nodeX[nd]!, this.nodeY[nd]!, this.clearance)) return nd;
+      wq[0] = x;
+      wq[1] = y;
+      wq[2] = this.nodeX[nd]!;
+      wq[3] = this.nodeY[nd]!;
+      if (walls.clearQuery(this.clearance)) return nd;
     }
   }
 

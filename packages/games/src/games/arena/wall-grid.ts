@@ -63,9 +63,6 @@ export class WallGrid {
   readonly originY: number;
   /** The walls near each cell (`row * cols + col`), one bit per wall. */
   readonly masks: Int32Array;
-  /** Every wall. */
-  readonly all: number;
-
   private readonly inverse: number;
   private readonly cells: number;
   private readonly rects: readonly Rect[];
@@ -106,52 +103,43 @@ export class WallGrid {
     });
     this.cells = cols * this.rows;
     this.rects = rects;
-    this.all = rects.length === 32 ? -1 : (1 << rects.length) - 1;
   }
 
-  /** The column of x (finite), clamped onto the grid. */
-  col(x: number): number {
-    // Clamped before truncating (truncation is the floor of a number ≥ 0), so `| 0` never wraps.
-    const c = (x - this.originX) * this.inverse;
-    return c < 0 ? 0 : c >= this.cols ? this.cols - 1 : c | 0;
+  /** The column of x, clamped onto the grid (for building it). */
+  private col(x: number): number {
+    const c = Math.floor((x - this.originX) * this.inverse);
+    return c < 0 ? 0 : c >= this.cols ? this.cols - 1 : c;
   }
 
-  /** The row of y (finite), clamped onto the grid. */
-  row(y: number): number {
-    const r = (y - this.originY) * this.inverse;
-    return r < 0 ? 0 : r >= this.rows ? this.rows - 1 : r | 0;
-  }
-
-  /** The walls that a circle at (x, y) of radius up to {@link GRID_MAX_RADIUS} can overlap (and more). Finite coordinates only. */
-  pointMask(x: number, y: number): number {
-    return this.masks[this.row(y) * this.cols + this.col(x)]!;
+  /** The row of y, clamped onto the grid (for building it). */
+  private row(y: number): number {
+    const r = Math.floor((y - this.originY) * this.inverse);
+    return r < 0 ? 0 : r >= this.rows ? this.rows - 1 : r;
   }
 
   /**
-   * The walls that a circle of radius up to {@link GRID_MAX_RADIUS} moving from (x, y) by
-   * (dx, dy) can touch (and more), and those a segment can meet: the walls near the segment
-   * between the centres of its end cells (see {@link pairMask}); every wall when an end is off
-   * the grid. Finite coordinates only.
+   * The cell (`row * cols + col`) of the point (`p[at]`, `p[at + 1]`), or -1 off the grid (and for
+   * coordinates that are not finite). A circle there of radius up to {@link GRID_MAX_RADIUS} can
+   * overlap only the walls of `masks[cell]`. (The point comes in an array: V8 boxes a fractional
+   * number passed to a call it does not inline.)
    */
-  segmentMask(x: number, y: number, dx: number, dy: number): number {
-    const inverse = this.inverse;
-    const ax = (x - this.originX) * inverse;
-    const ay = (y - this.originY) * inverse;
-    const bx = (x + dx - this.originX) * inverse;
-    const by = (y + dy - this.originY) * inverse;
-    const cols = this.cols;
-    const rows = this.rows;
-    if (!(ax >= 0 && ax < cols && ay >= 0 && ay < rows && bx >= 0 && bx < cols && by >= 0)) {
-      return this.all;
-    }
-    if (!(by < rows)) return this.all;
-    // Truncation is the floor here: every coordinate is ≥ 0.
-    const from = (ay | 0) * cols + (ax | 0);
-    const to = (by | 0) * cols + (bx | 0);
+  cellOf(p: Float64Array, at: number): number {
+    const col = (p[at]! - this.originX) * this.inverse;
+    const row = (p[at + 1]! - this.originY) * this.inverse;
+    if (!(col >= 0 && col < this.cols && row >= 0 && row < this.rows)) return -1;
+    // Truncation is the floor here: both are ≥ 0.
+    return (row | 0) * this.cols + (col | 0);
+  }
+
+  /**
+   * The walls that a circle of radius up to {@link GRID_MAX_RADIUS} moving from anywhere in cell
+   * `from` to anywhere in cell `to` can touch (and more): {@link pairMaskOf}, remembered.
+   */
+  pairMask(from: number, to: number): number {
     const key = from * this.cells + to;
     const slot = Math.imul(key, 0x9e3779b1) >>> (32 - PAIR_CACHE_BITS);
     if (this.pairKeys[slot] === key) return this.pairMasks[slot]!;
-    const m = this.pairMask(from, to);
+    const m = this.pairMaskOf(from, to);
     this.pairKeys[slot] = key;
     this.pairMasks[slot] = m;
     return m;
@@ -165,7 +153,7 @@ export class WallGrid {
    * meets the wall's box grown by the reach plus half a cell. Liang–Barsky against that box grown
    * by one more unit, so its own rounding cannot leave a wall out.
    */
-  private pairMask(from: number, to: number): number {
+  private pairMaskOf(from: number, to: number): number {
     const cols = this.cols;
     const half = this.cell / 2;
     const x0 = this.originX + (from % cols) * this.cell + half;
