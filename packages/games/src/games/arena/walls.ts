@@ -23,6 +23,13 @@ const normal = new Float64Array(2);
 const ALL = 0.5;
 
 /**
+ * Arena units; a million times any rounding of the crossing test on an arena a thousand units
+ * across (and the grid answers only there): a wall this far from a segment's bounding box is
+ * passed over without the test, which could not have found it met.
+ */
+const NEAR = 1e-6;
+
+/**
  * The static walls of an arena: axis-aligned boxes, stored as structure of arrays (centre and half
  * extents), in a fixed order. They never change during a game, so they are not part of a saved
  * state — they are part of the game's code and version.
@@ -309,12 +316,19 @@ export class Walls {
     if (walls === ALL) return this.crossesAll(x0, y0, x1, y1);
     const dx = x1 - x0;
     const dy = y1 - y0;
+    // The segment's bounding box, widened by far more than the roundings of the clipping below:
+    // a wall clear of it cannot be met.
+    const minX = (x0 < x1 ? x0 : x1) - NEAR;
+    const maxX = (x0 < x1 ? x1 : x0) + NEAR;
+    const minY = (y0 < y1 ? y0 : y1) - NEAR;
+    const maxY = (y0 < y1 ? y1 : y0) + NEAR;
     for (let m = walls; m !== 0; m &= m - 1) {
       const i = 31 - Math.clz32(m & -m);
       const cx = this.cx[i]!;
       const cy = this.cy[i]!;
       const hw = this.hw[i]!;
       const hh = this.hh[i]!;
+      if (maxX < cx - hw || minX > cx + hw || maxY < cy - hh || minY > cy + hh) continue;
       let t0 = 0;
       let t1 = 1;
       if (dx === 0) {
