@@ -306,6 +306,12 @@ export abstract class ArenaGame<S extends ArenaState> implements Game {
     this.scratch ??= this.newState();
     this.scratch.read(bytes, this.players);
     this.state.copyFrom(this.scratch);
+    this.loaded();
+  }
+
+  /** After {@link load}: the game's chance to rebuild what it derives from the state (not state). */
+  protected loaded(): void {
+    // Nothing by default.
   }
 
   hash(): bigint {

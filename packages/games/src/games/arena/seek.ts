@@ -82,6 +82,8 @@ export function nearestVisible(
     nearIndex = new Int32Array(alive.length);
     nearD2 = new Float64Array(alive.length);
   }
+  const index = nearIndex;
+  const d2s = nearD2;
   let n = 0;
   for (let i = first; i < alive.length; i += stride) {
     if (alive[i] === 0) continue;
@@ -92,22 +94,22 @@ export function nearestVisible(
     if (d2 !== d2)
       return scanVisible(walls, x, y, limit, clearance, alive, xs, ys, out, first, stride);
     if (!(d2 < limit)) continue;
-    nearIndex[n] = i;
-    nearD2[n] = d2;
+    index[n] = i;
+    d2s[n] = d2;
     n++;
   }
   for (;;) {
     let pick = -1;
     let least = limit;
     for (let k = 0; k < n; k++) {
-      if (nearIndex[k]! >= 0 && nearD2[k]! < least) {
-        least = nearD2[k]!;
+      if (index[k]! >= 0 && d2s[k]! < least) {
+        least = d2s[k]!;
         pick = k;
       }
     }
     if (pick < 0) break;
-    const i = nearIndex[pick]!;
-    nearIndex[pick] = -1;
+    const i = index[pick]!;
+    index[pick] = -1;
     const q = walls.query;
     q[0] = x;
     q[1] = y;

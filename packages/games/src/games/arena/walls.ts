@@ -156,7 +156,11 @@ export class Walls {
     // are too far to overlap it, and the loop would pass over them. A push moves the centre, so
     // the walls after it come from its new cell.
     const masks = grid.masks;
-    for (let pass = 0; pass < 2 && cell >= 0; pass++) {
+    // A pass that pushes nothing leaves nothing for the next one to push (the same walls, at the
+    // same place): it is the last.
+    let pushed = true;
+    for (let pass = 0; pass < 2 && cell >= 0 && pushed; pass++) {
+      pushed = false;
       let m = masks[cell]!;
       while (m !== 0) {
         const i = 31 - Math.clz32(m & -m);
@@ -191,6 +195,7 @@ export class Walls {
           x = qx + (ex / d) * r;
           y = qy + (ey / d) * r;
         }
+        pushed = true;
         // Moved: the walls after i come from the new cell (bits above i; none when i is 31). A
         // push ends within the wall's reach, so on the grid; were it ever off it, every other
         // wall would be too far to overlap.

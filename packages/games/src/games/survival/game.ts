@@ -253,6 +253,10 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
   targetListCount = 0;
 
   private readonly inputs = new Uint32Array(PLAYERS);
+  /** One past the highest slot that may hold an enemy (the slots from here on are empty). Not state. */
+  private enemyEnd = 0;
+  /** The slots from here on have `enemyPrevX/Y` equal to their (zero) position. Not state. */
+  private prevEnd = 0;
 
   constructor(options: SurvivalOptions) {
     super(
@@ -327,6 +331,7 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
       s.evy[e] = 0;
       s.espeed[e] = Math.min(newEnemy[2]!, SURVIVAL.maxEnemySpeed);
       s.enemies++;
+      if (e >= this.enemyEnd) this.enemyEnd = e + 1;
       return e;
     }
     return -1;
@@ -443,11 +448,17 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
     // The live enemies, in slot order: every loop below visits them in that order (for the shoves,
     // pairs in the order of the slots), as loops over every slot would.
     const live = this.targetList;
+    const end = this.enemyEnd;
     let n = 0;
-    for (let e = 0; e < CAP; e++) if (s.enemyAlive[e] !== 0) live[n++] = e;
+    for (let e = 0; e < end; e++) if (s.enemyAlive[e] !== 0) live[n++] = e;
     this.targetListCount = n;
-    s.enemyPrevX.set(s.ex);
-    s.enemyPrevY.set(s.ey);
+    // Every slot's previous position is its position now: from the prevEnd-th slot on, both are
+    // zero already.
+    for (let e = 0, copy = end > this.prevEnd ? end : this.prevEnd; e < copy; e++) {
+      s.enemyPrevX[e] = s.ex[e]!;
+      s.enemyPrevY[e] = s.ey[e]!;
+    }
+    this.prevEnd = end;
     if (n === 0) return;
     for (let k = 0; k < n; k++) {
       shoveX[live[k]!] = 0;
@@ -597,5 +608,14 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
     s.espeed[e] = 0;
     s.eslide[e] = 0;
     s.enemies--;
+    while (this.enemyEnd > 0 && s.enemyAlive[this.enemyEnd - 1] === 0) this.enemyEnd--;
+  }
+
+  protected override loaded(): void {
+    const s = this.state;
+    this.enemyEnd = CAP;
+    while (this.enemyEnd > 0 && s.enemyAlive[this.enemyEnd - 1] === 0) this.enemyEnd--;
+    // Loading set every enemy's previous position to its position.
+    this.prevEnd = this.enemyEnd;
   }
 }
