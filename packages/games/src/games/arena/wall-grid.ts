@@ -44,12 +44,12 @@ const MAX_CELLS_PER_AXIS = 128;
  * - A circle of radius `r ≤ GRID_MAX_RADIUS` centred at p can overlap a wall only if p lies in
  *   the wall's reach at least {@link SLACK} inside its edge, so p's cell has the wall's bit.
  * - A swept circle (or a segment, `r = 0`) can touch a wall only at a point p of its path within
- *   `r` plus rounding of the wall's box, which again lies well inside the reach; a segment's mask
- *   has every wall whose reach comes within half a cell (along each axis) of the segment between
- *   the centres of its end cells, which every point of the path is (see {@link WallGrid.pairMask}),
- *   or every wall when an end is off the grid.
- * - Points outside the grid are outside every reach (the grid covers them all), so clamping cell
- *   indices onto the grid only adds candidates.
+ *   `r` plus rounding of the wall's box, which again lies well inside the reach. A path within
+ *   one cell: that cell's walls. From one cell to another: every wall whose reach comes within
+ *   half a cell (along each axis) of the segment between the two cells' centres, which every
+ *   point of the path is ({@link WallGrid.pairMask}).
+ * - The grid covers every wall's reach. A query with a point or an end off it (or not finite)
+ *   gets no answer here: `Walls` runs its all-walls loop.
  *
  * Built once per layout from its walls (static data, not game state); queries allocate nothing.
  */
@@ -66,7 +66,7 @@ export class WallGrid {
   private readonly inverse: number;
   private readonly cells: number;
   private readonly rects: readonly Rect[];
-  /** {@link segmentMask}'s cache of {@link pairMask}s, by a hash of the pair (-1: empty). */
+  /** {@link pairMask}'s cache of {@link pairMaskOf}'s answers, by a hash of the pair (-1: empty). */
   private readonly pairKeys = new Int32Array(1 << PAIR_CACHE_BITS).fill(-1);
   private readonly pairMasks = new Int32Array(1 << PAIR_CACHE_BITS);
 
