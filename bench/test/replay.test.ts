@@ -111,6 +111,7 @@ describe('replay suite: a tiny run', () => {
     expect(tables.map((t) => t.rows.map((r) => r[0]))).toEqual([
       GAMES.map((g) => g.info.id),
       GAMES.map((g) => g.info.id),
+      GAMES.map((g) => g.info.id),
     ]);
     const alloc = sections.find((s): s is AllocationSection => s.kind === 'allocation');
     // Measured under node --expose-gc (npm run bench), skipped under vitest.
