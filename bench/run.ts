@@ -4,7 +4,14 @@
  * Finds the suites in `bench/suites/*.ts`, runs the chosen ones one after another, prints a table
  * per measurement and optionally writes everything as JSON. Candidates are always measured side
  * by side in one run, so read the ratios, not the absolute times.
+ *
+ * Each suite runs in a process of its own (this file again, with the same Node options), so what
+ * one suite measures does not depend on which ran before it: the JIT's state — what is compiled,
+ * inlined, deoptimized — carries over within a process and changes timings and, above all,
+ * allocation figures. The child prints its sections as they come and hands its report back over
+ * the IPC channel; the output and the JSON are those of one process.
  */
+import { spawn } from 'node:child_process';
 import { mkdirSync, readdirSync, writeFileSync } from 'node:fs';
 import { cpus } from 'node:os';
 import { dirname, join } from 'node:path';
@@ -15,7 +22,18 @@ import { FULL_PLAN, QUICK_PLAN, sinkValue } from './lib/measure.js';
 import type { Section, SuiteReport } from './lib/report.js';
 import { createContext, isSuite, type Suite } from './lib/suite.js';
 
-const SUITES_DIR = join(dirname(fileURLToPath(import.meta.url)), 'suites');
+/** Where the suites are; `FIXEDSTEP_BENCH_SUITES_DIR` points elsewhere (the runner's own tests). */
+const SUITES_DIR =
+  process.env.FIXEDSTEP_BENCH_SUITES_DIR ?? join(dirname(fileURLToPath(import.meta.url)), 'suites');
+
+/** Set (to a suite's name) in a child process: run just that suite and report to the parent. */
+const CHILD_ENV = 'FIXEDSTEP_BENCH_SUITE';
+
+/** What a child process sends back: its suite's report and its sink. */
+interface ChildReport {
+  readonly report: SuiteReport;
+  readonly sink: number;
+}
 
 function fail(message: string, code = 2): never {
   console.error(`bench: ${message}\n\n${USAGE}`);
@@ -82,30 +100,13 @@ async function main(): Promise<void> {
 
   const started = process.hrtime.bigint();
   const reports: SuiteReport[] = [];
+  let sink = 0;
   for (const name of selected.names) {
     const suite = suites.find((s) => s.name === name)!;
     console.log(`\n== ${suite.name}: ${suite.description}\n`);
-    const sections: Section[] = [];
-    const ctx = createContext(options.quick, plan, sections, (text) => {
-      console.log(`${text}\n`);
-    });
-    const t0 = process.hrtime.bigint();
-    let error: string | undefined;
-    try {
-      await suite.run(ctx);
-    } catch (e) {
-      error = e instanceof Error ? (e.stack ?? e.message) : String(e);
-      console.error(`suite ${suite.name} failed: ${error}\n`);
-    }
-    const seconds = Number(process.hrtime.bigint() - t0) / 1e9;
-    reports.push({
-      name: suite.name,
-      description: suite.description,
-      ok: error === undefined,
-      ...(error === undefined ? {} : { error }),
-      seconds,
-      sections,
-    });
+    const child = await runInChild(suite, options.quick);
+    reports.push(child.report);
+    sink += child.sink;
   }
   const seconds = Number(process.hrtime.bigint() - started) / 1e9;
   const failed = reports.filter((r) => !r.ok).map((r) => r.name);
@@ -125,7 +126,7 @@ async function main(): Promise<void> {
       quick: options.quick,
       gc: globalThis.gc !== undefined,
       plan,
-      sink: sinkValue(),
+      sink,
       suites: reports,
     };
     mkdirSync(dirname(options.json), { recursive: true });
@@ -135,4 +136,93 @@ async function main(): Promise<void> {
   if (failed.length > 0) process.exitCode = 1;
 }
 
-await main();
+/** Runs one suite, printing its sections; its report. */
+async function runSuite(suite: Suite, quick: boolean): Promise<SuiteReport> {
+  const sections: Section[] = [];
+  const ctx = createContext(quick, quick ? QUICK_PLAN : FULL_PLAN, sections, (text) => {
+    console.log(`${text}\n`);
+  });
+  const t0 = process.hrtime.bigint();
+  let error: string | undefined;
+  try {
+    await suite.run(ctx);
+  } catch (e) {
+    error = e instanceof Error ? (e.stack ?? e.message) : String(e);
+    console.error(`suite ${suite.name} failed: ${error}\n`);
+  }
+  const seconds = Number(process.hrtime.bigint() - t0) / 1e9;
+  return {
+    name: suite.name,
+    description: suite.description,
+    ok: error === undefined,
+    ...(error === undefined ? {} : { error }),
+    seconds,
+    sections,
+  };
+}
+
+/**
+ * Runs `suite` in a fresh process: this file, the same Node options (`--expose-gc`, the loader),
+ * the suite's name in the environment. Its output goes straight to ours; its report comes back
+ * over IPC. A child that dies without reporting is a failed suite, with its exit code as the error.
+ */
+function runInChild(suite: Suite, quick: boolean): Promise<ChildReport> {
+  return new Promise((resolve) => {
+    const child = spawn(
+      process.execPath,
+      [...process.execArgv, fileURLToPath(import.meta.url), ...(quick ? ['--quick'] : [])],
+      {
+        env: { ...process.env, [CHILD_ENV]: suite.name },
+        stdio: ['ignore', 'inherit', 'inherit', 'ipc'],
+      },
+    );
+    let reported: ChildReport | undefined;
+    child.on('message', (message) => {
+      reported = message as ChildReport;
+    });
+    const failed = (why: string): ChildReport => {
+      console.error(`suite ${suite.name} failed: ${why}\n`);
+      return {
+        report: {
+          name: suite.name,
+          description: suite.description,
+          ok: false,
+          error: why,
+          seconds: 0,
+          sections: [],
+        },
+        sink: 0,
+      };
+    };
+    child.on('error', (e) => {
+      resolve(failed(`could not start its process: ${e.message}`));
+    });
+    child.on('exit', (code, signal) => {
+      resolve(
+        reported ??
+          failed(`its process exited (${signal ?? `code ${String(code)}`}) without a report`),
+      );
+    });
+  });
+}
+
+/** In a child process: run the one suite named in the environment and send the report back. */
+async function child(name: string): Promise<void> {
+  const parsed = parseArgs(process.argv.slice(2));
+  const quick = parsed.ok && parsed.options.quick;
+  const suite = (await loadSuites()).find((s) => s.name === name);
+  if (suite === undefined) throw new Error(`bench: no suite named ${name}`);
+  const report = await runSuite(suite, quick);
+  const message: ChildReport = { report, sink: sinkValue() };
+  await new Promise<void>((resolve, reject) => {
+    process.send!(message, (e: Error | null) => {
+      if (e) reject(e);
+      else resolve();
+    });
+  });
+  process.disconnect();
+}
+
+const childSuite = process.env[CHILD_ENV];
+if (childSuite !== undefined && process.send !== undefined) await child(childSuite);
+else await main();

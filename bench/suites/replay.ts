@@ -1,15 +1,17 @@
 /**
  * Replays of every registered game (`GAMES` of `@fixedstep/games`, so a new game is measured as
- * soon as it is registered): how fast a replay verifies, and how big it is.
+ * soon as it is registered): how fast a replay re-simulates and verifies, and how big it is.
  *
- * - **Verification speed**, in ticks per second: `verifyReplay` on a bot game (re-simulation with
- *   the recorded inputs, a hash at every checkpoint, the keyframes compared), side by side with
- *   the bare `step()` loop over the same inputs without any replay machinery. The ratio is the
- *   cost of verification on top of simulation: the input cursor, the checkpoint hashes, the
- *   keyframe snapshots, and (for the `bytes` row) parsing and checksumming the file.
+ * - **Re-simulation speed**, in ticks per second, on a 10-minute bot match (what a server
+ *   verifying a submitted match does): the bare `step()` loop over the replay's own inputs without
+ *   any replay machinery, side by side with `verifyReplay` (re-simulation with the recorded
+ *   inputs, a hash at every checkpoint, the keyframes compared). The ratio is the cost of
+ *   verification on top of simulation: the input cursor, the checkpoint hashes, the keyframe
+ *   snapshots, and (for the `bytes` row) parsing and checksumming the file.
  * - **Size**, in bytes per minute of play: the inputs alone and the whole file (inputs,
  *   a checkpoint every second, a keyframe every minute, header, checksum).
- * - **Allocation** per tick of a game stepped by its bots: neither should allocate.
+ * - **Allocation** per tick of a live game stepped by its bots, and of the re-simulation of the
+ *   recorded match: neither should allocate.
  */
 import { ReplayRecorder, readReplay, verifyReplay, type Replay } from 'fixedstep';
 import {
@@ -19,7 +21,7 @@ import {
   type GameConfig,
   type GameDefinition,
 } from '@fixedstep/games';
-import { formatBytes } from '../lib/format.js';
+import { formatBytes, formatDuration } from '../lib/format.js';
 import { ALLOCATION_NOISE_BYTES } from '../lib/report.js';
 import { defineSuite, type Candidate } from '../lib/suite.js';
 
@@ -29,6 +31,8 @@ export const SEED = 0x5eed;
 export const CHECKPOINT_EVERY = 60;
 /** A keyframe every minute at 60 Hz, so a player can seek. */
 export const KEYFRAME_EVERY = 3600;
+/** Minutes of every recorded bot match (a server verifies matches of this length). */
+export const MATCH_MINUTES = 10;
 
 /** The players a game is measured with: two where it allows, else what it needs. */
 export function botConfig(def: GameDefinition, seed = SEED): GameConfig {
@@ -139,24 +143,72 @@ export function verification(rec: BotRecording, fromBytes: boolean): Candidate {
 }
 
 /**
- * One op: one tick of one long-lived game driven by its bots. (Recorded inputs cycled past their
- * end would drive a course they were not made for: crashes and restarts all the time.)
+ * One op: one tick of a game driven by its bots; when the match is over, a new one (another seed)
+ * takes its place, so the ticks measured are those of a match being played. (Recorded inputs
+ * cycled past their end would drive a course they were not made for: crashes and restarts all
+ * the time.)
  */
-function botAndStep(def: GameDefinition): Candidate {
-  const config = botConfig(def);
-  const players = config.players;
+export function botAndStep(def: GameDefinition): Candidate {
+  const players = botConfig(def).players;
   const frame = new Array<number>(players).fill(0);
-  const game = def.create(config);
+  let seed = SEED;
+  let game = def.create(botConfig(def, seed));
   return {
-    name: def.info.id,
+    name: `${def.info.id}: bots + step()`,
     run(ops) {
       for (let k = 0; k < ops; k++) {
+        if (game.over) game = def.create(botConfig(def, ++seed));
         for (let p = 0; p < players; p++) frame[p] = def.bot(game, p);
         game.step(frame);
       }
       return game.tick;
     },
   };
+}
+
+/**
+ * One op: one tick of the re-simulation of the recorded match with its own inputs; at its end,
+ * from the start again in a new game.
+ */
+export function resimulation(rec: BotRecording): Candidate {
+  const { def, config, ticks, inputs } = rec;
+  const players = config.players;
+  const frame = new Array<number>(players).fill(0);
+  let game = def.create(config);
+  let t = 0;
+  return {
+    name: `${def.info.id}: re-simulation`,
+    run(ops) {
+      for (let k = 0; k < ops; k++) {
+        if (t === ticks) {
+          game = def.create(config);
+          t = 0;
+        }
+        for (let p = 0, i = t * players; p < players; p++) frame[p] = inputs[i + p]!;
+        game.step(frame);
+        t++;
+      }
+      return game.tick;
+    },
+  };
+}
+
+/**
+ * The fastest of `runs` re-simulations of the recording (one `bareStep` op each), in CPU time of
+ * this process (`process.cpuUsage`): ns per replay. Wall time counts the time other processes
+ * hold the cores; on a shared machine that swamps it, while CPU time stays close to what the work
+ * costs.
+ */
+export function cpuTimePerReplay(rec: BotRecording, runs: number): number {
+  const bare = bareStep(rec);
+  let best = Infinity;
+  for (let k = 0; k < runs; k++) {
+    const t0 = process.cpuUsage();
+    bare.run(1);
+    const t = process.cpuUsage(t0);
+    best = Math.min(best, (t.user + t.system) * 1000);
+  }
+  return best;
 }
 
 function perSecond(ticks: number, nsPerReplay: number): string {
@@ -167,55 +219,57 @@ function perSecond(ticks: number, nsPerReplay: number): string {
 export default defineSuite({
   name: 'replay',
   description:
-    'replay verification (ticks/s) per registered game vs its bare step() loop; replay bytes/minute',
+    're-simulation and verification (ticks/s) of a 10-minute replay per registered game; bytes/minute; allocation',
   run(ctx) {
-    // Sizes from a long game; speed from a shorter one, so a slow game keeps the run short.
-    const sizeMinutes = ctx.quick ? 1 : 10;
-    const timedSeconds = ctx.quick ? 10 : 60;
     if (GAMES.length === 0) {
       ctx.note('no games registered');
       return;
     }
     ctx.note(
-      `games: ${GAMES.map((g) => g.info.id).join(', ')} — bots on seed ${SEED}, a checkpoint every ` +
-        `${CHECKPOINT_EVERY} ticks, a keyframe every ${KEYFRAME_EVERY}; sizes from a ` +
-        `${sizeMinutes}-minute game, speed from a ${timedSeconds}-second one`,
+      `games: ${GAMES.map((g) => g.info.id).join(', ')} — bots on seed ${SEED}, ${MATCH_MINUTES}-minute ` +
+        `matches (speed: ${ctx.quick ? 'their first minute' : 'whole'}), a checkpoint every ` +
+        `${CHECKPOINT_EVERY} ticks, a keyframe every ${KEYFRAME_EVERY}`,
     );
 
+    // Speed from whole matches in a full run; from their first minute in a quick one.
+    const speedMinutes = ctx.quick ? 1 : MATCH_MINUTES;
     const sizeRows: string[][] = [];
     const speedRows: string[][] = [];
-    const timed: BotRecording[] = [];
+    const cpuRows: string[][] = [];
+    const recorded: BotRecording[] = [];
     const failed: string[] = [];
     for (const def of GAMES) {
       const id = def.info.id;
       try {
-        const long = recordBotGame(def, sizeMinutes * 60 * def.info.tickRate);
-        const size = replaySize(long);
+        const rec = recordBotGame(def, MATCH_MINUTES * 60 * def.info.tickRate);
+        const size = replaySize(rec);
         sizeRows.push([
           id,
-          String(long.config.players),
+          String(rec.config.players),
           size.runsPerMinute.toFixed(0),
           size.inputsPerMinute.toFixed(0),
           size.filePerMinute.toFixed(0),
           String(size.fileBytes),
         ]);
 
-        const rec = recordBotGame(def, timedSeconds * def.info.tickRate);
-        const unit = `replay (${rec.ticks} ticks)`;
+        const timed =
+          speedMinutes === MATCH_MINUTES ? rec : recordBotGame(def, speedMinutes * 3600);
         const section = ctx.compare(
-          `${id}: verifying a ${timedSeconds}-second replay`,
-          [bareStep(rec), verification(rec, false), verification(rec, true)],
-          { unit },
+          `${id}: re-simulating and verifying a ${speedMinutes}-minute replay`,
+          [bareStep(timed), verification(timed, false), verification(timed, true)],
+          { unit: `replay (${timed.ticks} ticks)` },
         );
         const [bare, parsed, bytes] = section.candidates;
+        cpuRows.push([id, perSecond(timed.ticks, cpuTimePerReplay(timed, ctx.quick ? 3 : 10))]);
         speedRows.push([
           id,
-          perSecond(rec.ticks, bare!.ns.median),
-          perSecond(rec.ticks, parsed!.ns.median),
-          perSecond(rec.ticks, bytes!.ns.median),
+          perSecond(timed.ticks, bare!.ns.median),
+          perSecond(timed.ticks, parsed!.ns.median),
+          perSecond(timed.ticks, bytes!.ns.median),
           `${parsed!.ratio!.median.toFixed(2)}×`,
+          formatDuration((bytes!.ns.median * rec.ticks) / timed.ticks),
         ]);
-        timed.push(rec);
+        recorded.push(rec);
       } catch (e) {
         failed.push(id);
         ctx.note(`${id} FAILED: ${e instanceof Error ? (e.stack ?? e.message) : String(e)}`);
@@ -223,23 +277,34 @@ export default defineSuite({
     }
 
     ctx.table(
-      'Verification speed, ticks per second (median)',
-      ['game', 'bare step()', 'verifyReplay', 'verify + parse', 'verify / bare'],
+      `Re-simulation speed, ticks per second (median), ${speedMinutes}-minute bot matches`,
+      [
+        'game',
+        'bare step()',
+        'verifyReplay',
+        'verify + parse',
+        'verify / bare',
+        `${MATCH_MINUTES}-min file verified in`,
+      ],
       speedRows,
     );
     ctx.table(
-      `Replay size per minute of play (bots, ${sizeMinutes}-minute game)`,
+      `Re-simulation speed in CPU time (the fastest of ${ctx.quick ? 3 : 10} bare step() loops; ` +
+        'wall time above also counts other processes on the cores)',
+      ['game', 'bare step(), ticks/s'],
+      cpuRows,
+    );
+    ctx.table(
+      `Replay size per minute of play (bots, ${MATCH_MINUTES}-minute game)`,
       ['game', 'players', 'input runs/min', 'inputs B/min', 'file B/min', 'file B'],
       sizeRows,
     );
 
-    if (timed.length > 0) {
-      const perTick = timed.map((rec) => botAndStep(rec.def));
+    if (recorded.length > 0) {
+      const perTick = recorded.flatMap((rec) => [botAndStep(rec.def), resimulation(rec)]);
       // Let the JIT optimise first: unoptimised code boxes every float it computes.
-      for (const c of perTick) c.run(200_000);
-      const alloc = ctx.allocation('Heap allocated per tick by the bots + step()', perTick, {
-        unit: 'tick',
-      });
+      for (const c of perTick) c.run(ctx.quick ? 20_000 : 200_000);
+      const alloc = ctx.allocation('Heap allocated per tick', perTick, { unit: 'tick' });
       const allocating = alloc.candidates.filter(
         (c) => c.bytes.median * alloc.opsPerChunk >= ALLOCATION_NOISE_BYTES,
       );

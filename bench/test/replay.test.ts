@@ -3,12 +3,14 @@ import { verifyReplay } from 'fixedstep';
 import { GAMES, gameFromReplayHeader, runnerGame } from '@fixedstep/games';
 import { createContext, type SuiteContext } from '../lib/suite.js';
 import type { MeasurePlan } from '../lib/measure.js';
-import type { ComparisonSection, Section, TableSection } from '../lib/report.js';
+import type { AllocationSection, ComparisonSection, Section, TableSection } from '../lib/report.js';
 import suite, {
   bareStep,
+  botAndStep,
   botConfig,
   recordBotGame,
   replaySize,
+  resimulation,
   verification,
 } from '../suites/replay.js';
 
@@ -28,6 +30,14 @@ describe.each(GAMES.map((def) => ({ id: def.info.id, def })))('replay suite: $id
     expect(verification(rec, true).run(1)).toBe(rec.ticks);
   });
 
+  it('the allocation candidates tick a live match: the recorded one again from its start, a new one when over', () => {
+    const again = resimulation(rec);
+    expect(again.run(rec.ticks)).toBe(rec.ticks);
+    expect(again.run(5)).toBe(5);
+    const bots = botAndStep(def);
+    expect(bots.run(100)).toBe(100);
+  });
+
   it('the bare loop reaches the recorded final state', () => {
     const game = def.create(rec.config);
     const players = rec.config.players;
@@ -37,6 +47,19 @@ describe.each(GAMES.map((def) => ({ id: def.info.id, def })))('replay suite: $id
       game.step(frame);
     }
     expect(game.hash()).toBe(rec.replay.finalHash);
+  });
+});
+
+describe('replay suite: a finished match', () => {
+  it('bots + step() goes on with a new match when one is over', () => {
+    // Capture the flag ends by its time limit: 10 minutes.
+    const ctf = GAMES.find((g) => g.info.id === 'ctf')!;
+    const bots = botAndStep(ctf);
+    // Ticks of the match being played: fewer than were run, as it started again.
+    const tick = bots.run(40_000);
+    expect(tick).toBeGreaterThan(0);
+    expect(tick).toBeLessThan(36_001);
+    expect(bots.run(10)).toBe(tick + 10);
   });
 });
 
@@ -88,7 +111,15 @@ describe('replay suite: a tiny run', () => {
     expect(tables.map((t) => t.rows.map((r) => r[0]))).toEqual([
       GAMES.map((g) => g.info.id),
       GAMES.map((g) => g.info.id),
+      GAMES.map((g) => g.info.id),
     ]);
-    expect(sections.some((s) => s.kind === 'allocation')).toBe(true);
+    const alloc = sections.find((s): s is AllocationSection => s.kind === 'allocation');
+    // Measured under node --expose-gc (npm run bench), skipped under vitest.
+    const measured =
+      alloc?.skipped === undefined ? alloc?.candidates.map((c) => c.name) : 'skipped';
+    expect([
+      GAMES.flatMap((g) => [`${g.info.id}: bots + step()`, `${g.info.id}: re-simulation`]),
+      'skipped',
+    ]).toContainEqual(measured);
   });
 });

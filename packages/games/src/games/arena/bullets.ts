@@ -1,12 +1,15 @@
-import { toiPointCircle as toiPointCircle_, type ByteReader, type ByteWriter } from 'fixedstep';
+import type { ByteReader, ByteWriter } from 'fixedstep';
+import { SWEPT, pointCircle as pointCircle_, sweptRegisters } from './swept.js';
 import { isFiniteNumber } from './motion.js';
 import type { Walls } from './walls.js';
 
 // Local copies of imported bindings: some loaders (vitest, tsx) read an import through a
 // getter on every use, which costs in hot loops.
-const toiPointCircle = toiPointCircle_;
-/** Scratch for swept-test normals; never part of any state. */
-const normal = new Float64Array(2);
+const pointCircle = pointCircle_;
+/** Where the swept test writes the fraction of a hit. */
+const U = SWEPT.u;
+/** The swept test's registers (see `swept.ts`); never part of any state. */
+const reg = sweptRegisters();
 
 /**
  * What bullets can hit besides walls: circles in structure-of-arrays form (players in capture the
@@ -20,6 +23,13 @@ export interface BulletTargets {
   readonly targetY: Float64Array;
   /** Radius of every target, arena units. */
   readonly targetRadius: number;
+  /**
+   * Optional: the only targets that can be hit during this {@link Bullets.advance}, in increasing
+   * index order (`targetList[0 … targetListCount − 1]`; may include some that cannot). Absent:
+   * every slot. A pool of mostly empty slots (survival's enemies) saves visiting them all.
+   */
+  readonly targetList?: Int32Array;
+  readonly targetListCount?: number;
   /** Whether bullet `b` can hit target `t` now (alive, not a teammate …). */
   canHit(b: number, t: number): boolean;
   /** Bullet `b` hit target `t`. The bullet is removed right after. */
@@ -54,8 +64,15 @@ export class Bullets {
   readonly prevY: Float64Array;
   /** Bullet radius, arena units. */
   readonly radius: number;
+  /**
+   * The registers of {@link spawnLaunched}: x, y (arena units), vx, vy (units per second), life
+   * (seconds). Scratch, never part of any state.
+   */
+  readonly launch = new Float64Array(5);
   /** Number of live bullets. */
   live = 0;
+  /** One past the highest slot that may hold a bullet (slots from here on are empty). Not state. */
+  private end = 0;
   /** The serial the next bullet gets. */
   nextSerial = 1;
   /** Bullets that went through a wall (their path crossed a wall and they flew on): a diagnostic, part of the state. */
@@ -87,8 +104,25 @@ export class Bullets {
     vy: number,
     life: number,
   ): number {
+    const l = this.launch;
+    l[0] = x;
+    l[1] = y;
+    l[2] = vx;
+    l[3] = vy;
+    l[4] = life;
+    return this.spawnLaunched(owner, team);
+  }
+
+  /**
+   * {@link spawn} of the bullet in {@link launch}: its register form (the games fire through it,
+   * so no fractional number crosses a call: V8 would box it).
+   */
+  spawnLaunched(owner: number, team: number): number {
+    const l = this.launch;
     for (let i = 0; i < this.capacity; i++) {
       if (this.alive[i] !== 0) continue;
+      const x = l[0]!;
+      const y = l[1]!;
       this.alive[i] = 1;
       this.owner[i] = owner;
       this.team[i] = team;
@@ -98,10 +132,11 @@ export class Bullets {
       this.y[i] = y;
       this.prevX[i] = x;
       this.prevY[i] = y;
-      this.vx[i] = vx;
-      this.vy[i] = vy;
-      this.life[i] = life;
+      this.vx[i] = l[2]!;
+      this.vy[i] = l[3]!;
+      this.life[i] = l[4]!;
       this.live++;
+      if (i >= this.end) this.end = i + 1;
       return i;
     }
     return -1;
@@ -120,12 +155,13 @@ export class Bullets {
     this.vy[i] = 0;
     this.life[i] = 0;
     this.live--;
+    while (this.end > 0 && this.alive[this.end - 1] === 0) this.end--;
   }
 
   /**
    * Move every bullet by `dt` seconds and collide it with `walls` and `targets`.
    *
-   * - `continuous` (continuous collision detection): the whole move is swept (`Walls.sweep`, `toiPointCircle`) and
+   * - `continuous` (continuous collision detection): the whole move is swept (`Walls.sweep`, the library's `hitPointCircle`) and
    *   the bullet stops at the earliest impact — nothing passes through anything, at any speed.
    * - otherwise (discrete, the talk's naive game): the bullet jumps to its new position and only overlaps there
    *   count. A bullet that jumps over a wall (its move is longer than the wall's thickness plus
@@ -136,7 +172,15 @@ export class Bullets {
   advance(dt: number, walls: Walls, targets: BulletTargets, continuous: boolean): void {
     const r = this.radius;
     const tr = targets.targetRadius + r;
-    for (let b = 0; b < this.capacity; b++) {
+    // How far from a move a target's centre must be for no test to hit it (the slack: far more
+    // than any rounding): such targets are passed over before asking `canHit` — it changes nothing.
+    const reach = tr + 1;
+    const targetX = targets.targetX;
+    const targetY = targets.targetY;
+    const list = targets.targetList;
+    const q = walls.query;
+    const listed = list === undefined ? targets.targetCount : (targets.targetListCount ?? 0);
+    for (let b = 0; b < this.end; b++) {
       if (this.alive[b] === 0) continue;
       const x = this.x[b]!;
       const y = this.y[b]!;
@@ -144,22 +188,42 @@ export class Bullets {
       this.prevY[b] = y;
       const dx = this.vx[b]! * dt;
       const dy = this.vy[b]! * dt;
+      const minX = (dx < 0 ? x + dx : x) - reach;
+      const maxX = (dx < 0 ? x : x + dx) + reach;
+      const minY = (dy < 0 ? y + dy : y) - reach;
+      const maxY = (dy < 0 ? y : y + dy) + reach;
       let u = 1;
       let hitWall = false;
       let hitTarget = -1;
       if (continuous) {
-        const uw = walls.sweep(x, y, dx, dy, r);
-        if (uw >= 0) {
-          u = uw;
+        // (The walls' register forms: see `Walls`.)
+        q[0] = x;
+        q[1] = y;
+        q[2] = dx;
+        q[3] = dy;
+        if (walls.sweepQuery(r)) {
+          u = q[4]!;
           hitWall = true;
         }
-        for (let t = 0; t < targets.targetCount; t++) {
+        for (let k = 0; k < listed; k++) {
+          const t = list === undefined ? k : list[k]!;
+          const tx = targetX[t]!;
+          const ty = targetY[t]!;
+          if (tx < minX || tx > maxX || ty < minY || ty > maxY) continue;
           if (!targets.canHit(b, t)) continue;
-          const px = x - targets.targetX[t]!;
-          const py = y - targets.targetY[t]!;
+          const px = x - tx;
+          const py = y - ty;
           // A bullet that starts inside a target (fired point-blank) hits it at once, whichever
           // way it flies; otherwise the swept test.
-          const ut = px * px + py * py < tr * tr ? 0 : toiPointCircle(px, py, dx, dy, tr, normal);
+          let ut = 0;
+          if (px * px + py * py >= tr * tr) {
+            reg[0] = px;
+            reg[1] = py;
+            reg[2] = dx;
+            reg[3] = dy;
+            reg[6] = tr;
+            ut = pointCircle(reg) ? reg[U]! : -1;
+          }
           if (ut >= 0 && ut < u) {
             u = ut;
             hitWall = false;
@@ -169,12 +233,18 @@ export class Bullets {
       } else {
         const nx = x + dx;
         const ny = y + dy;
-        if (walls.overlaps(nx, ny, r)) hitWall = true;
+        q[0] = nx;
+        q[1] = ny;
+        if (walls.overlapsQuery(r)) hitWall = true;
         else {
-          for (let t = 0; t < targets.targetCount; t++) {
+          for (let k = 0; k < listed; k++) {
+            const t = list === undefined ? k : list[k]!;
+            const tx = targetX[t]!;
+            const ty = targetY[t]!;
+            if (tx < minX || tx > maxX || ty < minY || ty > maxY) continue;
             if (!targets.canHit(b, t)) continue;
-            const ex = nx - targets.targetX[t]!;
-            const ey = ny - targets.targetY[t]!;
+            const ex = nx - tx;
+            const ey = ny - ty;
             if (ex * ex + ey * ey < tr * tr) {
               hitTarget = t;
               break;
@@ -185,7 +255,11 @@ export class Bullets {
       const ex = x + u * dx;
       const ey = y + u * dy;
       // The diagnostic: a bullet that no wall stopped but whose path met a wall went through it.
-      if (!hitWall && walls.crosses(x, y, ex, ey)) this.throughWalls++;
+      q[0] = x;
+      q[1] = y;
+      q[2] = ex;
+      q[3] = ey;
+      if (!hitWall && walls.crossesQuery()) this.throughWalls++;
       this.x[b] = ex;
       this.y[b] = ey;
       if (hitWall) {
@@ -262,6 +336,8 @@ export class Bullets {
     this.live = live;
     this.prevX.set(this.x);
     this.prevY.set(this.y);
+    this.end = this.capacity;
+    while (this.end > 0 && this.alive[this.end - 1] === 0) this.end--;
   }
 
   /** Copy another pool of the same capacity into this one. */
@@ -278,6 +354,7 @@ export class Bullets {
     this.prevX.set(o.prevX);
     this.prevY.set(o.prevY);
     this.live = o.live;
+    this.end = o.end;
     this.nextSerial = o.nextSerial;
     this.throughWalls = o.throughWalls;
   }

@@ -312,6 +312,12 @@ export abstract class ArenaGame<S extends ArenaState> implements Game {
     this.scratch ??= this.newState();
     this.scratch.read(bytes, this.players);
     this.state.copyFrom(this.scratch);
+    this.loaded();
+  }
+
+  /** After {@link load}: the game's chance to rebuild what it derives from the state (not state). */
+  protected loaded(): void {
+    // Nothing by default.
   }
 
   hash(): bigint {
@@ -359,7 +365,11 @@ export abstract class ArenaGame<S extends ArenaState> implements Game {
     const vy = DIR_Y[d]! * spec.playerSpeed;
     s.vx[p] = vx;
     s.vy[p] = vy;
-    this.walls.pushOut(s.x[p]! + vx * dt, s.y[p]! + vy * dt, r, moved);
+    // (The walls' register form: see `Walls`.)
+    const q = this.walls.query;
+    q[0] = s.x[p]! + vx * dt;
+    q[1] = s.y[p]! + vy * dt;
+    this.walls.pushOutQuery(r, moved);
     // Keep everyone on the field whatever happened (the naive game can push one out of it).
     s.x[p] = clamp(moved[0]!, r, spec.width - r);
     s.y[p] = clamp(moved[1]!, r, spec.height - r);

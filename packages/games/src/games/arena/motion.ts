@@ -84,6 +84,18 @@ export function dirToward(dx: number, dy: number): number {
  * clockwise side of the line). -1 if the point is the origin.
  */
 export function nearestLine(dx: number, dy: number, out: Float64Array): number {
+  lineArgs[0] = dx;
+  lineArgs[1] = dy;
+  return nearestLineOf(lineArgs, out);
+}
+
+/**
+ * {@link nearestLine} of the point (`v[0]`, `v[1]`): the form for the bots, which call it every
+ * tick — V8 boxes a fractional number passed to a call it does not inline in a fresh heap object.
+ */
+export function nearestLineOf(v: Float64Array, out: Float64Array): number {
+  const dx = v[0]!;
+  const dy = v[1]!;
   let best = -1;
   let bestAbs = Infinity;
   for (let d = 0; d < 8; d++) {
@@ -100,6 +112,9 @@ export function nearestLine(dx: number, dy: number, out: Float64Array): number {
   }
   return best;
 }
+
+/** {@link nearestLine}'s argument, as {@link nearestLineOf} takes it. */
+const lineArgs = new Float64Array(2);
 
 /** `v` kept within [lo, hi] (lo ≤ hi). */
 export function clamp(v: number, lo: number, hi: number): number {

@@ -1,4 +1,5 @@
 import type { Walls } from './walls.js';
+import { isFiniteNumber } from './motion.js';
 
 /** Integer edge costs: orthogonal 5, diagonal 7 (≈ 5√2), so path lengths are exact integers. */
 const ORTHO = 5;
@@ -7,6 +8,15 @@ const UNREACHABLE = 0x7fffffff;
 
 /** Scratch for {@link NavGrid.waypoint}'s goal search; never part of any state. */
 const goal = new Int32Array(1);
+/** Scratch: the candidate waypoints of a search (at most the 5 × 5 cells) and their costs. */
+const candidateNode = new Int32Array(25);
+const candidateCost = new Float64Array(25);
+/** Scratch: the bits of two coordinates, for {@link NavGrid.nearestNode}'s memo. */
+const bits = new Float64Array(2);
+const words = new Int32Array(bits.buffer);
+
+/** Entries of {@link NavGrid.nearestNode}'s memo (a power of two: indexed by a hash's top bits). */
+const MEMO_BITS = 6;
 
 /**
  * Navigation for the bots: a grid of waypoints at cell centres (those a body of radius
@@ -31,6 +41,25 @@ export class NavGrid {
   readonly nodeY: Float64Array;
   /** Shortest path cost from node i to node j at `i * count + j` (5 per cell straight, 7 diagonal). */
   readonly dist: Int32Array;
+  /**
+   * The registers of {@link waypointQuery}: from (x, y) in `[0]`, `[1]` to (tx, ty) in `[2]`,
+   * `[3]`. Scratch, never part of any state.
+   */
+  readonly query = new Float64Array(4);
+  /** {@link nearestNode}'s point. */
+  private readonly point = new Float64Array(2);
+
+  /**
+   * Whether `dist` is symmetric (every layout so far: moving straight between two waypoints is
+   * clear both ways or neither). Then the costs *to* a goal are its row, in a few cache lines,
+   * rather than a column strided across the whole table.
+   */
+  private readonly symmetric: boolean;
+
+  /** {@link nearestNode}'s last answers by hash of the coordinates: a cache, not state (NaN: empty). */
+  private readonly memoX = new Float64Array(1 << MEMO_BITS).fill(NaN);
+  private readonly memoY = new Float64Array(1 << MEMO_BITS).fill(NaN);
+  private readonly memoNode = new Int32Array(1 << MEMO_BITS);
 
   constructor(
     readonly walls: Walls,
@@ -144,6 +173,16 @@ export class NavGrid {
         }
       }
     }
+    let symmetric = true;
+    for (let i = 0; i < n && symmetric; i++) {
+      for (let j = i + 1; j < n; j++) {
+        if (this.dist[i * n + j] !== this.dist[j * n + i]) {
+          symmetric = false;
+          break;
+        }
+      }
+    }
+    this.symmetric = symmetric;
   }
 
   /**
@@ -151,22 +190,177 @@ export class NavGrid {
    * straight there; otherwise, among the waypoints of the 3 × 3 cells around (x, y) (5 × 5 if none will do) that it can
    * go straight to, the one that minimises the distance to it plus the path length from it to
    * the waypoint nearest the target (distances to waypoints are discounted a little, so it
-   * heads for the farthest useful one rather than dithering at the nearest). Writes the point to
-   * `out[0], out[1]`. Falls back to the target when no waypoint is usable.
+   * heads for the farthest useful one rather than dithering at the nearest; of equals, the first
+   * in row-major order). Writes the point to `out[0], out[1]`. Falls back to the target when no
+   * waypoint is usable.
    */
   waypoint(x: number, y: number, tx: number, ty: number, out: Float64Array): void {
-    out[0] = tx;
-    out[1] = ty;
+    const q = this.query;
+    q[0] = x;
+    q[1] = y;
+    q[2] = tx;
+    q[3] = ty;
+    this.waypointQuery(out);
+  }
+
+  /**
+   * {@link waypoint} from `query[0]`, `query[1]` to `query[2]`, `query[3]` (a register form, as
+   * `Walls` has: no fractional number crosses a call, so nothing is allocated). Leaves `query` as
+   * it was.
+   */
+  waypointQuery(out: Float64Array): void {
+    const q = this.query;
+    const x = q[0]!;
+    const y = q[1]!;
+    out[0] = q[2]!;
+    out[1] = q[3]!;
     const walls = this.walls;
-    const r = this.clearance;
-    if (walls.clear(x, y, tx, ty, r)) return;
-    if (!this.nearestNode(tx, ty, goal)) return;
+    const wq = walls.query;
+    wq[0] = x;
+    wq[1] = y;
+    wq[2] = q[2]!;
+    wq[3] = q[3]!;
+    if (walls.clearQuery(this.clearance)) return;
+    if (!this.nearestTo(q, 2, goal)) return;
     const g = goal[0]!;
+    if (!(isFiniteNumber(x) && isFiniteNumber(y))) {
+      this.scanWaypoints(x, y, g, out);
+      return;
+    }
+    const col = Math.floor(x / this.spacing);
+    const row = Math.floor(y / this.spacing);
+    const scale = (ORTHO * 0.9) / this.spacing;
+    // The cost from node nd to the goal is at nd × count + g, or (the same number) at g × count + nd.
+    const count = this.count;
+    const restAt = this.symmetric ? g * count : g;
+    const restStride = this.symmetric ? 1 : count;
+    // The 3 × 3 cells around, or the ring of the 5 × 5 around those if none of them will do. The
+    // cheapest first: the first that a body can go straight to is the one to head for, so the
+    // line tests (the costly part) stop there.
+    for (let rad = 1; rad <= 2; rad++) {
+      let n = 0;
+      for (let dr = -rad; dr <= rad; dr++) {
+        for (let dc = -rad; dc <= rad; dc++) {
+          if (rad === 2 && dr > -2 && dr < 2 && dc > -2 && dc < 2) continue; // tried already
+          const r2 = row + dr;
+          const c2 = col + dc;
+          if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
+          const nd = this.cellNode[r2 * this.cols + c2]!;
+          if (nd < 0) continue;
+          const rest = this.dist[restAt + nd * restStride]!;
+          if (rest === UNREACHABLE) continue;
+          const ex = this.nodeX[nd]! - x;
+          const ey = this.nodeY[nd]! - y;
+          candidateNode[n] = nd;
+          candidateCost[n] = Math.sqrt(ex * ex + ey * ey) * scale + rest;
+          n++;
+        }
+      }
+      const nd = this.firstClear(q, 0, n);
+      if (nd >= 0) {
+        out[0] = this.nodeX[nd]!;
+        out[1] = this.nodeY[nd]!;
+        return;
+      }
+    }
+  }
+
+  /**
+   * The waypoint among the 3 × 3 (else 5 × 5) cells around (x, y) nearest to it that a body can
+   * reach in a straight line from there (of equals, the first in row-major order), in `out[0]`;
+   * false if there is none.
+   *
+   * Remembers its last answers (by the exact coordinates): bots ask it for the same few goals —
+   * flag stands, guard posts, lanes — tick after tick.
+   */
+  nearestNode(x: number, y: number, out: Int32Array): boolean {
+    this.point[0] = x;
+    this.point[1] = y;
+    return this.nearestTo(this.point, 0, out);
+  }
+
+  /** {@link nearestNode} of the point in `from[at]`, `from[at + 1]`. */
+  private nearestTo(from: Float64Array, at: number, out: Int32Array): boolean {
+    const x = from[at]!;
+    const y = from[at + 1]!;
+    if (!(isFiniteNumber(x) && isFiniteNumber(y))) return this.scanNearest(x, y, out);
+    bits[0] = x;
+    bits[1] = y;
+    const h =
+      (Math.imul(words[0]! ^ words[1]!, 0x9e3779b1) ^
+        Math.imul(words[2]! ^ words[3]!, 0x85ebca6b)) >>>
+      (32 - MEMO_BITS);
+    if (this.memoX[h] === x && this.memoY[h] === y) {
+      out[0] = this.memoNode[h]!;
+      return out[0] >= 0;
+    }
+    const col = Math.floor(x / this.spacing);
+    const row = Math.floor(y / this.spacing);
+    let found = -1;
+    for (let rad = 1; rad <= 2 && found < 0; rad++) {
+      let n = 0;
+      for (let dr = -rad; dr <= rad; dr++) {
+        for (let dc = -rad; dc <= rad; dc++) {
+          if (rad === 2 && dr > -2 && dr < 2 && dc > -2 && dc < 2) continue; // tried already
+          const r2 = row + dr;
+          const c2 = col + dc;
+          if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
+          const nd = this.cellNode[r2 * this.cols + c2]!;
+          if (nd < 0) continue;
+          const ex = this.nodeX[nd]! - x;
+          const ey = this.nodeY[nd]! - y;
+          candidateNode[n] = nd;
+          candidateCost[n] = ex * ex + ey * ey;
+          n++;
+        }
+      }
+      found = this.firstClear(from, at, n);
+    }
+    this.memoX[h] = x;
+    this.memoY[h] = y;
+    this.memoNode[h] = found;
+    out[0] = found;
+    return found >= 0;
+  }
+
+  /**
+   * Of the first `n` candidates (`candidateNode`, `candidateCost`), the cheapest that a body can
+   * reach in a straight line from the point in `from[at]`, `from[at + 1]` — of equals, the
+   * first — or -1. Tries them cheapest first, so it answers what a scan keeping the cheapest
+   * reachable one would, with fewer line tests. Uses up the candidates.
+   */
+  private firstClear(from: Float64Array, at: number, n: number): number {
+    const x = from[at]!;
+    const y = from[at + 1]!;
+    const walls = this.walls;
+    const wq = walls.query;
+    for (;;) {
+      let pick = -1;
+      let least = Infinity;
+      for (let k = 0; k < n; k++) {
+        if (candidateNode[k]! >= 0 && candidateCost[k]! < least) {
+          least = candidateCost[k]!;
+          pick = k;
+        }
+      }
+      if (pick < 0) return -1;
+      const nd = candidateNode[pick]!;
+      candidateNode[pick] = -1;
+      wq[0] = x;
+      wq[1] = y;
+      wq[2] = this.nodeX[nd]!;
+      wq[3] = this.nodeY[nd]!;
+      if (walls.clearQuery(this.clearance)) return nd;
+    }
+  }
+
+  // --- the scans that the searches above shortcut, for coordinates that are not finite ---
+
+  private scanWaypoints(x: number, y: number, g: number, out: Float64Array): void {
     const col = Math.floor(x / this.spacing);
     const row = Math.floor(y / this.spacing);
     const scale = (ORTHO * 0.9) / this.spacing;
     let best = Infinity;
-    // The 3 × 3 cells around, or the 5 × 5 if none of those will do.
     for (let rad = 1; rad <= 2 && best === Infinity; rad++) {
       for (let dr = -rad; dr <= rad; dr++) {
         for (let dc = -rad; dc <= rad; dc++) {
@@ -183,7 +377,7 @@ export class NavGrid {
           const ey = ny - y;
           const c = Math.sqrt(ex * ex + ey * ey) * scale + rest;
           if (c >= best) continue;
-          if (!walls.clear(x, y, nx, ny, r)) continue;
+          if (!this.walls.clear(x, y, nx, ny, this.clearance)) continue;
           best = c;
           out[0] = nx;
           out[1] = ny;
@@ -192,11 +386,7 @@ export class NavGrid {
     }
   }
 
-  /**
-   * The waypoint among the 3 × 3 (else 5 × 5) cells around (x, y) nearest to it that a body can reach in a
-   * straight line from there, in `out[0]`; false if there is none.
-   */
-  nearestNode(x: number, y: number, out: Int32Array): boolean {
+  private scanNearest(x: number, y: number, out: Int32Array): boolean {
     const col = Math.floor(x / this.spacing);
     const row = Math.floor(y / this.spacing);
     let best = Infinity;

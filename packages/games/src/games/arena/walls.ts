@@ -1,8 +1,13 @@
 import { toiPointRoundedBox as toiPointRoundedBox_ } from 'fixedstep';
+import { SWEPT, pointRoundedBox as pointRoundedBox_, sweptRegisters } from './swept.js';
+import { GRID_MAX_RADIUS, GRID_MAX_WALLS, WallGrid } from './wall-grid.js';
 
 // Local copies of imported bindings: some loaders (vitest, tsx) read an import through a
 // getter on every use, which costs in hot loops.
 const toiPointRoundedBox = toiPointRoundedBox_;
+const pointRoundedBox = pointRoundedBox_;
+/** Where the swept test writes the fraction of a hit. */
+const U = SWEPT.u;
 /** An axis-aligned rectangle by its corners, in arena units (pixels, y pointing down). */
 export interface Rect {
   readonly x0: number;
@@ -11,8 +16,18 @@ export interface Rect {
   readonly y1: number;
 }
 
-/** Scratch for contact normals and push-out results; never part of any state. */
+/** Scratch for the all-walls loops' swept-test normals; never part of any state. */
 const normal = new Float64Array(2);
+
+/** {@link Walls}' answer for "every wall, by the all-walls loops" (no wall mask is 0.5). */
+const ALL = 0.5;
+
+/**
+ * Arena units; a million times any rounding of the crossing test on an arena a thousand units
+ * across (and the grid answers only there): a wall this far from a segment's bounding box is
+ * passed over without the test, which could not have found it met.
+ */
+const NEAR = 1e-6;
 
 /**
  * The static walls of an arena: axis-aligned boxes, stored as structure of arrays (centre and half
@@ -20,6 +35,13 @@ const normal = new Float64Array(2);
  * state — they are part of the game's code and version.
  *
  * Every query here is `+ − × /` and `Math.sqrt` only, so it gives the same bits in every engine.
+ *
+ * A grid ({@link WallGrid}) tells each query which walls can matter; the per-wall tests are those
+ * of the all-walls loops, so every answer is theirs, bit for bit. Each query also has a
+ * *register form* (`clearQuery`, `sweepQuery`, `crossesQuery`, `pushOutQuery`, `overlapsQuery`)
+ * that reads its coordinates from {@link query} and takes only small integers: V8 boxes a
+ * fractional number passed to a call it does not inline in a fresh heap object, so the games'
+ * hot loops write the registers and call those forms, and a step allocates nothing.
  */
 export class Walls {
   /** Number of walls. */
@@ -33,6 +55,23 @@ export class Walls {
   readonly thinnest: number;
   /** The walls as given, for drawing. */
   readonly rects: readonly Rect[];
+  /**
+   * The registers of the register forms, arena units: a point (x, y) in `[0]`, `[1]`; a segment's
+   * other end (x1, y1), or a move (dx, dy) for {@link sweepQuery}, in `[2]`, `[3]`; what
+   * {@link sweepQuery} found in `[4]`. Write them, then call the form. Scratch, never part of any
+   * state.
+   */
+  readonly query = new Float64Array(5);
+
+  /**
+   * The broad phase: which walls are near where (static, like the walls). Null for layouts of more
+   * than {@link GRID_MAX_WALLS} walls or with coordinates that are not finite: every query then
+   * tests every wall.
+   */
+  private readonly grid: WallGrid | null;
+  /** The move being swept (x, y, dx, dy), and the swept test's registers (see {@link touches}). */
+  private readonly move = new Float64Array(4);
+  private readonly reg = sweptRegisters();
 
   constructor(rects: readonly Rect[]) {
     const n = rects.length;
@@ -54,11 +93,27 @@ export class Walls {
     });
     this.thinnest = thinnest;
     this.rects = Object.freeze(rects.map((r) => Object.freeze({ ...r })));
+    const finite = rects.every((r) => [r.x0, r.y0, r.x1, r.y1].every((v) => v - v === 0));
+    this.grid = n <= GRID_MAX_WALLS && finite ? new WallGrid(this.rects) : null;
   }
 
   /** Whether a circle of radius `r` at (x, y) overlaps any wall (touching does not count). */
   overlaps(x: number, y: number, r: number): boolean {
-    for (let i = 0; i < this.count; i++) {
+    this.query[0] = x;
+    this.query[1] = y;
+    return this.overlapsQuery(r);
+  }
+
+  /** {@link overlaps} of the point in `query[0]`, `query[1]`. */
+  overlapsQuery(r: number): boolean {
+    const x = this.query[0]!;
+    const y = this.query[1]!;
+    const grid = this.grid;
+    const cell = grid === null || !(r <= GRID_MAX_RADIUS) ? -1 : grid.cellOf(this.query, 0);
+    if (grid === null || cell < 0) return this.overlapsAll(x, y, r);
+    // The walls near the cell, in index order (see `WallGrid`); the test is the all-walls loop's.
+    for (let m = grid.masks[cell]!; m !== 0; m &= m - 1) {
+      const i = 31 - Math.clz32(m & -m);
       const dx = Math.abs(x - this.cx[i]!);
       const dy = Math.abs(y - this.cy[i]!);
       const hw = this.hw[i]!;
@@ -82,6 +137,301 @@ export class Walls {
    * happen while every step moves the circle at most `thickness / 2 + r` (see `maxSafeSpeed`).
    */
   pushOut(x: number, y: number, r: number, out: Float64Array): void {
+    this.query[0] = x;
+    this.query[1] = y;
+    this.pushOutQuery(r, out);
+  }
+
+  /** {@link pushOut} of the circle centred at `query[0]`, `query[1]`. */
+  pushOutQuery(r: number, out: Float64Array): void {
+    let x = this.query[0]!;
+    let y = this.query[1]!;
+    const grid = this.grid;
+    let cell = grid === null || !(r <= GRID_MAX_RADIUS) ? -1 : grid.cellOf(this.query, 0);
+    if (grid === null || cell < 0) {
+      this.pushOutAll(x, y, r, out);
+      return;
+    }
+    // The all-walls loop, visiting only the walls near the cell the centre is in now: the others
+    // are too far to overlap it, and the loop would pass over them. A push moves the centre, so
+    // the walls after it come from its new cell.
+    const masks = grid.masks;
+    // A pass that pushes nothing leaves nothing for the next one to push (the same walls, at the
+    // same place): it is the last.
+    let pushed = true;
+    for (let pass = 0; pass < 2 && cell >= 0 && pushed; pass++) {
+      pushed = false;
+      let m = masks[cell]!;
+      while (m !== 0) {
+        const i = 31 - Math.clz32(m & -m);
+        m &= m - 1;
+        const cx = this.cx[i]!;
+        const cy = this.cy[i]!;
+        const hw = this.hw[i]!;
+        const hh = this.hh[i]!;
+        const dx = x - cx;
+        const dy = y - cy;
+        const ax = dx < 0 ? -dx : dx;
+        const ay = dy < 0 ? -dy : dy;
+        if (ax >= hw + r || ay >= hh + r) continue;
+        const sx = dx < 0 ? -1 : 1;
+        const sy = dy < 0 ? -1 : 1;
+        if (ax <= hw && ay <= hh) {
+          // Centre inside: leave through the nearer face.
+          if (hw - ax <= hh - ay) x = cx + sx * (hw + r);
+          else y = cy + sy * (hh + r);
+        } else if (ax <= hw) {
+          y = cy + sy * (hh + r);
+        } else if (ay <= hh) {
+          x = cx + sx * (hw + r);
+        } else {
+          const qx = cx + sx * hw;
+          const qy = cy + sy * hh;
+          const ex = x - qx;
+          const ey = y - qy;
+          const d2 = ex * ex + ey * ey;
+          if (d2 >= r * r) continue;
+          const d = Math.sqrt(d2);
+          x = qx + (ex / d) * r;
+          y = qy + (ey / d) * r;
+        }
+        pushed = true;
+        // Moved: the walls after i come from the new cell (bits above i; none when i is 31). A
+        // push ends within the wall's reach, so on the grid; were it ever off it, every other
+        // wall would be too far to overlap.
+        const at = this.move;
+        at[0] = x;
+        at[1] = y;
+        cell = grid.cellOf(at, 0);
+        m = cell < 0 || i === 31 ? 0 : masks[cell]! & (-2 << i);
+      }
+    }
+    out[0] = x;
+    out[1] = y;
+  }
+
+  /**
+   * Continuous detection: the earliest fraction `u ∈ [0, 1]` of the move (dx, dy) at which a
+   * circle of radius `r` starting at (x, y) touches a wall, or -1 if it touches none: the
+   * library's swept test (`toiPointRoundedBox`: a ray against the wall grown by `r`) on every
+   * wall, the earliest hit.
+   */
+  sweep(x: number, y: number, dx: number, dy: number, r: number): number {
+    const q = this.query;
+    q[0] = x;
+    q[1] = y;
+    q[2] = dx;
+    q[3] = dy;
+    this.sweepQuery(r);
+    return q[4]!;
+  }
+
+  /**
+   * {@link sweep} of the move from `query[0]`, `query[1]` by `query[2]`, `query[3]`: whether it
+   * touches a wall, the earliest fraction `u` to `query[4]` if so.
+   */
+  sweepQuery(r: number): boolean {
+    const q = this.query;
+    const x = q[0]!;
+    const y = q[1]!;
+    const dx = q[2]!;
+    const dy = q[3]!;
+    const ends = this.move;
+    ends[0] = x;
+    ends[1] = y;
+    ends[2] = x + dx;
+    ends[3] = y + dy;
+    const walls = this.segmentWalls(ends, r);
+    let best = -1;
+    if (walls === ALL) {
+      best = this.sweepAll(x, y, dx, dy, r);
+    } else {
+      // ends → the move (x, y, dx, dy) that `touches` sweeps.
+      ends[2] = dx;
+      ends[3] = dy;
+      // The earliest of all: the same whatever order the walls come in.
+      for (let m = walls; m !== 0; m &= m - 1) {
+        if (!this.touches(31 - Math.clz32(m & -m), r)) continue;
+        const u = this.reg[U]!;
+        if (u >= 0 && (best < 0 || u < best)) best = u;
+      }
+    }
+    q[4] = best;
+    return best >= 0;
+  }
+
+  /** Whether a circle of radius `r` can move in a straight line from (x0, y0) to (x1, y1) without touching a wall. */
+  clear(x0: number, y0: number, x1: number, y1: number, r: number): boolean {
+    const q = this.query;
+    q[0] = x0;
+    q[1] = y0;
+    q[2] = x1;
+    q[3] = y1;
+    return this.clearQuery(r);
+  }
+
+  /** {@link clear} from `query[0]`, `query[1]` to `query[2]`, `query[3]`. */
+  clearQuery(r: number): boolean {
+    const q = this.query;
+    const x0 = q[0]!;
+    const y0 = q[1]!;
+    const x1 = q[2]!;
+    const y1 = q[3]!;
+    const dx = x1 - x0;
+    const dy = y1 - y0;
+    const walls = this.segmentWalls(q, r);
+    if (walls === ALL) return this.sweepAll(x0, y0, dx, dy, r) < 0;
+    // `sweep(…) < 0`, stopping at the first wall touched.
+    const move = this.move;
+    move[0] = x0;
+    move[1] = y0;
+    move[2] = dx;
+    move[3] = dy;
+    for (let m = walls; m !== 0; m &= m - 1) {
+      if (this.touches(31 - Math.clz32(m & -m), r) && this.reg[U]! >= 0) return false;
+    }
+    return true;
+  }
+
+  /**
+   * Whether the segment from (x0, y0) to (x1, y1) meets the inside of a wall (closed box): the
+   * tunnelling detector. A circle's centre never legitimately gets there — the response keeps it
+   * `r` away from every wall, and a centre path that touches a wall's box between two positions
+   * at least `r` from it is at least `2r` long — so for a mover whose step is shorter than its
+   * diameter, a `true` here means it went through the wall. Liang–Barsky clipping, independent
+   * of the collision code it checks.
+   */
+  crosses(x0: number, y0: number, x1: number, y1: number): boolean {
+    const q = this.query;
+    q[0] = x0;
+    q[1] = y0;
+    q[2] = x1;
+    q[3] = y1;
+    return this.crossesQuery();
+  }
+
+  /** {@link crosses} from `query[0]`, `query[1]` to `query[2]`, `query[3]`. */
+  crossesQuery(): boolean {
+    const q = this.query;
+    const x0 = q[0]!;
+    const y0 = q[1]!;
+    const x1 = q[2]!;
+    const y1 = q[3]!;
+    const walls = this.segmentWalls(q, 0);
+    if (walls === ALL) return this.crossesAll(x0, y0, x1, y1);
+    const dx = x1 - x0;
+    const dy = y1 - y0;
+    // The segment's bounding box, widened by far more than the roundings of the clipping below:
+    // a wall clear of it cannot be met.
+    const minX = (x0 < x1 ? x0 : x1) - NEAR;
+    const maxX = (x0 < x1 ? x1 : x0) + NEAR;
+    const minY = (y0 < y1 ? y0 : y1) - NEAR;
+    const maxY = (y0 < y1 ? y1 : y0) + NEAR;
+    for (let m = walls; m !== 0; m &= m - 1) {
+      const i = 31 - Math.clz32(m & -m);
+      const cx = this.cx[i]!;
+      const cy = this.cy[i]!;
+      const hw = this.hw[i]!;
+      const hh = this.hh[i]!;
+      if (maxX < cx - hw || minX > cx + hw || maxY < cy - hh || minY > cy + hh) continue;
+      let t0 = 0;
+      let t1 = 1;
+      if (dx === 0) {
+        if (x0 < cx - hw || x0 > cx + hw) continue;
+      } else {
+        let a = (cx - hw - x0) / dx;
+        let b = (cx + hw - x0) / dx;
+        if (a > b) {
+          const s = a;
+          a = b;
+          b = s;
+        }
+        if (a > t0) t0 = a;
+        if (b < t1) t1 = b;
+        if (t0 > t1) continue;
+      }
+      if (dy === 0) {
+        if (y0 < cy - hh || y0 > cy + hh) continue;
+      } else {
+        let a = (cy - hh - y0) / dy;
+        let b = (cy + hh - y0) / dy;
+        if (a > b) {
+          const s = a;
+          a = b;
+          b = s;
+        }
+        if (a > t0) t0 = a;
+        if (b < t1) t1 = b;
+        if (t0 > t1) continue;
+      }
+      return true;
+    }
+    return false;
+  }
+
+  /**
+   * The walls a segment query from (`ends[0]`, `ends[1]`) to (`ends[2]`, `ends[3]`) with radius
+   * `r` must test, as a bit mask; {@link ALL} for the all-walls loops (no grid, a radius beyond it,
+   * an end off the grid or not finite).
+   */
+  private segmentWalls(ends: Float64Array, r: number): number {
+    const grid = this.grid;
+    if (grid === null || !(r <= GRID_MAX_RADIUS)) return ALL;
+    const from = grid.cellOf(ends, 0);
+    const to = grid.cellOf(ends, 2);
+    if (from < 0 || to < 0) return ALL;
+    return from === to ? grid.masks[from]! : grid.pairMask(from, to);
+  }
+
+  /**
+   * Whether a circle of radius `r` making the move in `move` (x, y, dx, dy) touches wall `i`, the
+   * fraction of the move at which it does in `reg[SWEPT.u]`: the all-walls loop's test — its
+   * bounding-box rejection, then the library's `hitPointRoundedBox` (as {@link pointRoundedBox}).
+   */
+  private touches(i: number, r: number): boolean {
+    const move = this.move;
+    const x = move[0]!;
+    const y = move[1]!;
+    const dx = move[2]!;
+    const dy = move[3]!;
+    const cx = this.cx[i]!;
+    const cy = this.cy[i]!;
+    const hw = this.hw[i]! + r;
+    const hh = this.hh[i]! + r;
+    const minX = dx < 0 ? x + dx : x;
+    const maxX = dx < 0 ? x : x + dx;
+    const minY = dy < 0 ? y + dy : y;
+    const maxY = dy < 0 ? y : y + dy;
+    if (maxX <= cx - hw || minX >= cx + hw || maxY <= cy - hh || minY >= cy + hh) return false;
+    const reg = this.reg;
+    reg[0] = x - cx;
+    reg[1] = y - cy;
+    reg[2] = dx;
+    reg[3] = dy;
+    reg[4] = this.hw[i]!;
+    reg[5] = this.hh[i]!;
+    reg[6] = r;
+    return pointRoundedBox(reg);
+  }
+
+  // --- The all-walls loops: the queries as they were before the grid, and still are wherever it
+  // does not answer. The grid's paths above must agree with them bit for bit (a test checks). ---
+
+  private overlapsAll(x: number, y: number, r: number): boolean {
+    for (let i = 0; i < this.count; i++) {
+      const dx = Math.abs(x - this.cx[i]!);
+      const dy = Math.abs(y - this.cy[i]!);
+      const hw = this.hw[i]!;
+      const hh = this.hh[i]!;
+      if (dx >= hw + r || dy >= hh + r) continue;
+      if (dx <= hw || dy <= hh) return true;
+      const ex = dx - hw;
+      const ey = dy - hh;
+      if (ex * ex + ey * ey < r * r) return true;
+    }
+    return false;
+  }
+  private pushOutAll(x: number, y: number, r: number, out: Float64Array): void {
     for (let pass = 0; pass < 2; pass++) {
       for (let i = 0; i < this.count; i++) {
         const cx = this.cx[i]!;
@@ -119,13 +469,7 @@ export class Walls {
     out[0] = x;
     out[1] = y;
   }
-
-  /**
-   * Continuous detection: the earliest fraction `u ∈ [0, 1]` of the move (dx, dy) at which a
-   * circle of radius `r` starting at (x, y) touches a wall, or -1 if it touches none. Uses the
-   * library's swept test (`toiPointRoundedBox`: a ray against the wall grown by `r`).
-   */
-  sweep(x: number, y: number, dx: number, dy: number, r: number): number {
+  private sweepAll(x: number, y: number, dx: number, dy: number, r: number): number {
     let best = -1;
     const minX = dx < 0 ? x + dx : x;
     const maxX = dx < 0 ? x : x + dx;
@@ -143,21 +487,7 @@ export class Walls {
     }
     return best;
   }
-
-  /** Whether a circle of radius `r` can move in a straight line from (x0, y0) to (x1, y1) without touching a wall. */
-  clear(x0: number, y0: number, x1: number, y1: number, r: number): boolean {
-    return this.sweep(x0, y0, x1 - x0, y1 - y0, r) < 0;
-  }
-
-  /**
-   * Whether the segment from (x0, y0) to (x1, y1) meets the inside of a wall (closed box): the
-   * tunnelling detector. A circle's centre never legitimately gets there — the response keeps it
-   * `r` away from every wall, and a centre path that touches a wall's box between two positions
-   * at least `r` from it is at least `2r` long — so for a mover whose step is shorter than its
-   * diameter, a `true` here means it went through the wall. Liang–Barsky clipping, independent
-   * of the collision code it checks.
-   */
-  crosses(x0: number, y0: number, x1: number, y1: number): boolean {
+  private crossesAll(x0: number, y0: number, x1: number, y1: number): boolean {
     const dx = x1 - x0;
     const dy = y1 - y0;
     for (let i = 0; i < this.count; i++) {

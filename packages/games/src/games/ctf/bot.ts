@@ -5,7 +5,7 @@ import {
   DIR_Y as DIR_Y_,
   FIRE,
   STRAFE,
-  nearestLine as nearestLine_,
+  nearestLineOf as nearestLineOf_,
 } from '../arena/motion.js';
 import { nearestVisible as nearestVisible_, walkTo as walkTo_ } from '../arena/seek.js';
 import {
@@ -23,7 +23,7 @@ import type { CtfGame } from './game.js';
 const DIR_BUTTONS = DIR_BUTTONS_;
 const DIR_X = DIR_X_;
 const DIR_Y = DIR_Y_;
-const nearestLine = nearestLine_;
+const nearestLineOf = nearestLineOf_;
 const nearestVisible = nearestVisible_;
 const walkTo = walkTo_;
 const CTF = CTF_;
@@ -63,8 +63,9 @@ function laneOf(seed: number, slot: number, tick: number): number {
   return (h >>> 0) % 4;
 }
 
-/** Scratch (never state): a signed distance, a squared one. */
+/** Scratch (never state): a signed distance, a squared one, an offset. */
 const perp = new Float64Array(1);
+const offset = new Float64Array(2);
 const dist2 = new Float64Array(1);
 
 /**
@@ -101,8 +102,9 @@ export function ctfBotInput(game: CtfGame, p: number): ButtonInput {
   // In sight: clear for the bullet and most of its spread. The enemies are on every other slot.
   const target = nearestVisible(
     walls,
-    x,
-    y,
+    s.x,
+    s.y,
+    p,
     range,
     LOS_CLEARANCE,
     s.alive,
@@ -117,7 +119,9 @@ export function ctfBotInput(game: CtfGame, p: number): ButtonInput {
   if (target >= 0) {
     // No lead: a target that is itself sidestepping reverses every few ticks, and leading it
     // only makes both bots dance.
-    line = nearestLine(s.x[target]! - x, s.y[target]! - y, perp);
+    offset[0] = s.x[target]! - x;
+    offset[1] = s.y[target]! - y;
+    line = nearestLineOf(offset, perp);
     if (line >= 0 && Math.abs(perp[0]!) < ALIGN && s.protect[target] === 0) {
       return DIR_BUTTONS[line]! | FIRE;
     }
@@ -162,16 +166,29 @@ export function ctfBotInput(game: CtfGame, p: number): ButtonInput {
     const uy = DIR_Y[side]!;
     // Only where there is room, and where the target stays in sight (else it would flicker
     // between sidestepping and walking on).
-    if (
-      walls.clear(x, y, x + ux * PROBE, y + uy * PROBE, CTF.playerRadius) &&
-      walls.clear(x + ux * 3, y + uy * 3, s.x[target]!, s.y[target]!, LOS_CLEARANCE)
-    ) {
-      return DIR_BUTTONS[side]! | STRAFE;
+    // (The walls' register form: see `Walls`.)
+    const q = walls.query;
+    q[0] = x;
+    q[1] = y;
+    q[2] = x + ux * PROBE;
+    q[3] = y + uy * PROBE;
+    if (walls.clearQuery(CTF.playerRadius)) {
+      q[0] = x + ux * 3;
+      q[1] = y + uy * 3;
+      q[2] = s.x[target]!;
+      q[3] = s.y[target]!;
+      if (walls.clearQuery(LOS_CLEARANCE)) return DIR_BUTTONS[side]! | STRAFE;
     }
   }
 
   const dx = gx - x;
   const dy = gy - y;
   if (dx * dx + dy * dy < 16) return 0;
-  return walkTo(ctfNav(), x, y, gx, gy);
+  const nav = ctfNav();
+  const q = nav.query;
+  q[0] = x;
+  q[1] = y;
+  q[2] = gx;
+  q[3] = gy;
+  return walkTo(nav);
 }

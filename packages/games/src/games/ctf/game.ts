@@ -322,9 +322,14 @@ export class CtfGame extends ArenaGame<CtfState> implements BulletTargets {
       s.prevX[p] = x;
       s.prevY[p] = y;
       if (s.alive[p] === 0) continue;
-      if (this.walk(p, inputs[p]!, dt) && this.walls.crosses(x, y, s.x[p]!, s.y[p]!)) {
-        s.playersThroughWalls++;
-      }
+      if (!this.walk(p, inputs[p]!, dt)) continue;
+      // (The walls' register form: see `Walls`.)
+      const q = this.walls.query;
+      q[0] = x;
+      q[1] = y;
+      q[2] = s.x[p]!;
+      q[3] = s.y[p]!;
+      if (this.walls.crossesQuery()) s.playersThroughWalls++;
     }
     // Fire.
     const bullets = s.bullets;
@@ -340,15 +345,13 @@ export class CtfGame extends ArenaGame<CtfState> implements BulletTargets {
       const sn = sc[0]!;
       // From the shooter's centre: its first move is swept from there, so a player hugging a thin
       // wall cannot shoot through it.
-      const b = bullets.spawn(
-        p,
-        p & 1,
-        s.x[p]!,
-        s.y[p]!,
-        (ux * c - uy * sn) * CTF.bulletSpeed,
-        (ux * sn + uy * c) * CTF.bulletSpeed,
-        CTF.bulletLife,
-      );
+      const l = bullets.launch;
+      l[0] = s.x[p]!;
+      l[1] = s.y[p]!;
+      l[2] = (ux * c - uy * sn) * CTF.bulletSpeed;
+      l[3] = (ux * sn + uy * c) * CTF.bulletSpeed;
+      l[4] = CTF.bulletLife;
+      const b = bullets.spawnLaunched(p, p & 1);
       if (b < 0) continue;
       s.cooldown[p] = CTF.fireCooldown;
       s.protect[p] = 0;

@@ -5,7 +5,7 @@ import {
   DIR_Y as DIR_Y_,
   FIRE,
   STRAFE,
-  nearestLine as nearestLine_,
+  nearestLineOf as nearestLineOf_,
 } from '../arena/motion.js';
 import {
   nearestLive as nearestLive_,
@@ -20,7 +20,7 @@ import type { SurvivalGame } from './game.js';
 const DIR_BUTTONS = DIR_BUTTONS_;
 const DIR_X = DIR_X_;
 const DIR_Y = DIR_Y_;
-const nearestLine = nearestLine_;
+const nearestLineOf = nearestLineOf_;
 const nearestLive = nearestLive_;
 const nearestVisible = nearestVisible_;
 const walkTo = walkTo_;
@@ -37,9 +37,11 @@ const CALM = 90;
 /** Enemies nearer than this to a probe point count as danger. */
 const DANGER = 200;
 
-/** Scratch (never state): a signed distance, a squared one. */
+/** Scratch (never state): a signed distance, a squared one, an offset, the live enemies. */
 const perp = new Float64Array(1);
+const offset = new Float64Array(2);
 const dist2 = new Float64Array(1);
+const live = new Int32Array(SURVIVAL_.enemyCapacity);
 
 /**
  * The survival bot, for one player: a pure function of the state (reads only, no random
@@ -59,22 +61,45 @@ export function survivalBotInput(game: SurvivalGame, p: number): ButtonInput {
 
   // The nearest visible enemy in range, and how to line up a shot at it.
   const clearance = SURVIVAL.bulletRadius + 4;
-  const target = nearestVisible(walls, x, y, RANGE, clearance, s.enemyAlive, s.ex, s.ey, dist2);
+  const target = nearestVisible(
+    walls,
+    s.x,
+    s.y,
+    p,
+    RANGE,
+    clearance,
+    s.enemyAlive,
+    s.ex,
+    s.ey,
+    dist2,
+  );
   let line = -1;
   let aligned = false;
   if (target >= 0) {
-    line = nearestLine(s.ex[target]! - x, s.ey[target]! - y, perp);
+    offset[0] = s.ex[target]! - x;
+    offset[1] = s.ey[target]! - y;
+    line = nearestLineOf(offset, perp);
     aligned = line >= 0 && Math.abs(perp[0]!) < ALIGN;
     if (aligned && line !== s.facing[p]) return DIR_BUTTONS[line]! | FIRE;
   }
 
   // Nothing in sight and nothing near: go and find the nearest enemy (the wave will not end
   // while one waits behind a wall).
-  const nearest = nearestLive(x, y, s.enemyAlive, s.ex, s.ey, dist2);
+  const nearest = nearestLive(s.x, s.y, p, s.enemyAlive, s.ex, s.ey, dist2);
   const nearest2 = dist2[0]!;
   if (target < 0 && nearest >= 0 && nearest2 > DANGER * DANGER) {
-    return walkTo(survivalNav(), x, y, s.ex[nearest]!, s.ey[nearest]!);
+    const nav = survivalNav();
+    const q = nav.query;
+    q[0] = x;
+    q[1] = y;
+    q[2] = s.ex[nearest]!;
+    q[3] = s.ey[nearest]!;
+    return walkTo(nav);
   }
+
+  // The live enemies, in slot order (each direction sums their danger in that order).
+  let n = 0;
+  for (let e = 0; e < SURVIVAL.enemyCapacity; e++) if (s.enemyAlive[e] !== 0) live[n++] = e;
 
   // Where to go: score standing still and the eight directions.
   const cx = SURVIVAL.width / 2;
@@ -87,11 +112,16 @@ export function survivalBotInput(game: SurvivalGame, p: number): ButtonInput {
     if (d >= 0) {
       qx = x + DIR_X[d]! * PROBE;
       qy = y + DIR_Y[d]! * PROBE;
-      if (!walls.clear(x, y, qx, qy, SURVIVAL.playerRadius)) continue;
+      const q = walls.query;
+      q[0] = x;
+      q[1] = y;
+      q[2] = qx;
+      q[3] = qy;
+      if (!walls.clearQuery(SURVIVAL.playerRadius)) continue;
     }
     let danger = 0;
-    for (let e = 0; e < SURVIVAL.enemyCapacity; e++) {
-      if (s.enemyAlive[e] === 0) continue;
+    for (let k = 0; k < n; k++) {
+      const e = live[k]!;
       const dx = s.ex[e]! - qx;
       const dy = s.ey[e]! - qy;
       const d2 = dx * dx + dy * dy;

@@ -216,11 +216,15 @@ export class SurvivalState extends ArenaState {
   }
 }
 
-/** Scratch, never state: push-out results, per-enemy shoves, a nearest distance. */
+/** Scratch, never state: push-out results, per-enemy shoves, a nearest distance, a spawn point. */
 const moved = new Float64Array(2);
 const shoveX = new Float64Array(CAP);
 const shoveY = new Float64Array(CAP);
 const near = new Float64Array(1);
+const edgeX = new Float64Array(1);
+const edgeY = new Float64Array(1);
+/** An enemy to add: x, y, speed. */
+const newEnemy = new Float64Array(3);
 
 /**
  * Survival, as in the talk's demo ("Kills: 0, Lives: 15"): waves of fast enemies, spawned at
@@ -244,8 +248,15 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
   readonly targetX = this.state.ex;
   readonly targetY = this.state.ey;
   readonly targetRadius = ER;
+  /** The enemies alive when they last moved, in slot order (some may have died since). Not state. */
+  readonly targetList = new Int32Array(CAP);
+  targetListCount = 0;
 
   private readonly inputs = new Uint32Array(PLAYERS);
+  /** One past the highest slot that may hold an enemy (the slots from here on are empty). Not state. */
+  private enemyEnd = 0;
+  /** The slots from here on have `enemyPrevX/Y` equal to their (zero) position. Not state. */
+  private prevEnd = 0;
 
   constructor(options: SurvivalOptions) {
     super(
@@ -296,9 +307,19 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
     if (!(isFiniteNumber(x) && isFiniteNumber(y) && speed >= 0)) {
       throw new RangeError('SurvivalGame.spawnEnemy: position and speed must be finite');
     }
+    newEnemy[0] = x;
+    newEnemy[1] = y;
+    newEnemy[2] = speed;
+    return this.addEnemy();
+  }
+
+  /** {@link spawnEnemy} of the enemy in `newEnemy` (x, y, speed: so no number is boxed). */
+  private addEnemy(): number {
     const s = this.state;
     for (let e = 0; e < CAP; e++) {
       if (s.enemyAlive[e] !== 0) continue;
+      const x = newEnemy[0]!;
+      const y = newEnemy[1]!;
       s.enemyAlive[e] = 1;
       s.enemySerial[e] = s.nextEnemy;
       s.nextEnemy = (s.nextEnemy + 1) >>> 0;
@@ -308,8 +329,9 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
       s.enemyPrevY[e] = y;
       s.evx[e] = 0;
       s.evy[e] = 0;
-      s.espeed[e] = Math.min(speed, SURVIVAL.maxEnemySpeed);
+      s.espeed[e] = Math.min(newEnemy[2]!, SURVIVAL.maxEnemySpeed);
       s.enemies++;
+      if (e >= this.enemyEnd) this.enemyEnd = e + 1;
       return e;
     }
     return -1;
@@ -349,15 +371,13 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
       this.walk(p, input, dt);
       if (s.cooldown[p]! > 0 || !isDown(input, ShooterButtons.fire)) continue;
       const f = s.facing[p]!;
-      const b = bullets.spawn(
-        p,
-        0,
-        s.x[p]!,
-        s.y[p]!,
-        DIR_X[f]! * SURVIVAL.bulletSpeed,
-        DIR_Y[f]! * SURVIVAL.bulletSpeed,
-        SURVIVAL.bulletLife,
-      );
+      const l = bullets.launch;
+      l[0] = s.x[p]!;
+      l[1] = s.y[p]!;
+      l[2] = DIR_X[f]! * SURVIVAL.bulletSpeed;
+      l[3] = DIR_Y[f]! * SURVIVAL.bulletSpeed;
+      l[4] = SURVIVAL.bulletLife;
+      const b = bullets.spawnLaunched(p, 0);
       if (b >= 0) s.cooldown[p] = SURVIVAL.fireCooldown;
     }
     if (this.waves) this.spawnWaves(dt);
@@ -407,11 +427,15 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
         x = edge === 2 ? lo : SURVIVAL.width - lo;
         y = lo + along * (SURVIVAL.height - 2 * lo);
       }
-      nearestLive(x, y, s.alive, s.x, s.y, near);
+      edgeX[0] = x;
+      edgeY[0] = y;
+      nearestLive(edgeX, edgeY, 0, s.alive, s.x, s.y, near);
       if (near[0]! > 180 * 180) break;
     }
-    const speed = waveSpeed(s.wave) * (0.85 + 0.3 * rng.next());
-    return this.spawnEnemy(x, y, speed) >= 0;
+    newEnemy[0] = x;
+    newEnemy[1] = y;
+    newEnemy[2] = waveSpeed(s.wave) * (0.85 + 0.3 * rng.next());
+    return this.addEnemy() >= 0;
   }
 
   /**
@@ -421,21 +445,33 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
    */
   private moveEnemies(dt: number): void {
     const s = this.state;
-    for (let e = 0; e < CAP; e++) {
+    // The live enemies, in slot order: every loop below visits them in that order (for the shoves,
+    // pairs in the order of the slots), as loops over every slot would.
+    const live = this.targetList;
+    const end = this.enemyEnd;
+    let n = 0;
+    for (let e = 0; e < end; e++) if (s.enemyAlive[e] !== 0) live[n++] = e;
+    this.targetListCount = n;
+    // Every slot's previous position is its position now: from the prevEnd-th slot on, both are
+    // zero already.
+    for (let e = 0, copy = end > this.prevEnd ? end : this.prevEnd; e < copy; e++) {
       s.enemyPrevX[e] = s.ex[e]!;
       s.enemyPrevY[e] = s.ey[e]!;
-      shoveX[e] = 0;
-      shoveY[e] = 0;
     }
-    if (s.enemies === 0) return;
+    this.prevEnd = end;
+    if (n === 0) return;
+    for (let k = 0; k < n; k++) {
+      shoveX[live[k]!] = 0;
+      shoveY[live[k]!] = 0;
+    }
     // Shoves, pair by pair in slot order, from the positions at the start of the step.
     const d2max = 4 * ER * ER;
-    for (let i = 0; i < CAP; i++) {
-      if (s.enemyAlive[i] === 0) continue;
+    for (let a = 0; a < n; a++) {
+      const i = live[a]!;
       const xi = s.ex[i]!;
       const yi = s.ey[i]!;
-      for (let j = i + 1; j < CAP; j++) {
-        if (s.enemyAlive[j] === 0) continue;
+      for (let b = a + 1; b < n; b++) {
+        const j = live[b]!;
         const dx = s.ex[j]! - xi;
         const dy = s.ey[j]! - yi;
         const d2 = dx * dx + dy * dy;
@@ -455,13 +491,13 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
         shoveY[j] = shoveY[j]! + ny * push;
       }
     }
-    for (let e = 0; e < CAP; e++) {
-      if (s.enemyAlive[e] === 0) continue;
+    for (let k = 0; k < n; k++) {
+      const e = live[k]!;
       const x = s.ex[e]!;
       const y = s.ey[e]!;
       let vx = 0;
       let vy = 0;
-      const p = nearestLive(x, y, s.alive, s.x, s.y, near);
+      const p = nearestLive(s.ex, s.ey, e, s.alive, s.x, s.y, near);
       if (p >= 0) {
         const dx = s.x[p]! - x;
         const dy = s.y[p]! - y;
@@ -481,7 +517,11 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
         sx *= k;
         sy *= k;
       }
-      this.walls.pushOut(x + vx * dt + sx, y + vy * dt + sy, ER, moved);
+      // (The walls' register forms: see `Walls`.)
+      const q = this.walls.query;
+      q[0] = x + vx * dt + sx;
+      q[1] = y + vy * dt + sy;
+      this.walls.pushOutQuery(ER, moved);
       // Nearly head-on into a wall (it let through less than a quarter of the run)? Run along
       // it instead, and keep to that side until free: the way the wall already deflects it (or,
       // dead straight, the way the enemy's serial picks), else the other way.
@@ -498,7 +538,9 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
           const sgn = k === 0 ? side : -side;
           const wx = -vy * sgn;
           const wy = vx * sgn;
-          this.walls.pushOut(x + wx * dt + sx, y + wy * dt + sy, ER, moved);
+          q[0] = x + wx * dt + sx;
+          q[1] = y + wy * dt + sy;
+          this.walls.pushOutQuery(ER, moved);
           if (((moved[0]! - x) * wx + (moved[1]! - y) * wy) * 2 >= want) {
             vx = wx;
             vy = wy;
@@ -513,7 +555,11 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
       }
       const nx = clamp(moved[0]!, ER, SURVIVAL.width - ER);
       const ny = clamp(moved[1]!, ER, SURVIVAL.height - ER);
-      if (this.walls.crosses(x, y, nx, ny)) s.enemiesThroughWalls++;
+      q[0] = x;
+      q[1] = y;
+      q[2] = nx;
+      q[3] = ny;
+      if (this.walls.crossesQuery()) s.enemiesThroughWalls++;
       s.ex[e] = nx;
       s.ey[e] = ny;
     }
@@ -523,7 +569,10 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
   private contacts(): void {
     const s = this.state;
     const r = PR + ER;
-    for (let e = 0; e < CAP; e++) {
+    // The enemies alive when they moved (none has come since), in slot order.
+    const live = this.targetList;
+    for (let k = 0; k < this.targetListCount; k++) {
+      const e = live[k]!;
       if (s.enemyAlive[e] === 0) continue;
       for (let p = 0; p < PLAYERS; p++) {
         if (s.alive[p] === 0 || s.invulnerable[p]! > 0) continue;
@@ -559,5 +608,14 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
     s.espeed[e] = 0;
     s.eslide[e] = 0;
     s.enemies--;
+    while (this.enemyEnd > 0 && s.enemyAlive[this.enemyEnd - 1] === 0) this.enemyEnd--;
+  }
+
+  protected override loaded(): void {
+    const s = this.state;
+    this.enemyEnd = CAP;
+    while (this.enemyEnd > 0 && s.enemyAlive[this.enemyEnd - 1] === 0) this.enemyEnd--;
+    // Loading set every enemy's previous position to its position.
+    this.prevEnd = this.enemyEnd;
   }
 }

@@ -1,0 +1,204 @@
+import type { Rect } from './walls.js';
+
+/**
+ * The largest radius the grid answers for, arena units. Every radius the games use is smaller
+ * (bullets 2, lines of sight 6, enemies 9, players 10, the bots' clearance 12, the nav grid's 13);
+ * a larger one takes the walls' all-walls path.
+ */
+export const GRID_MAX_RADIUS = 16;
+
+/** The most walls a layout may have for the grid (one bit per wall in a 32-bit mask). */
+export const GRID_MAX_WALLS = 32;
+
+/**
+ * Slack around every wall's reach, arena units: more than a thousand million times any rounding
+ * error of the queries (≈ 1e-12 on an arena a thousand units across), so what the grid leaves
+ * out can never be a near miss that rounding would have turned into a hit.
+ */
+const SLACK = 1;
+
+/** How far a wall's reach extends past its box: the largest radius plus the slack. */
+const REACH = GRID_MAX_RADIUS + SLACK;
+
+/** Entries of the cache of cell pairs' masks (a power of two: indexed by a hash's top bits). */
+const PAIR_CACHE_BITS = 14;
+
+/** Cells are at least this big, arena units. */
+const MIN_CELL = 32;
+
+/**
+ * At most this many cells along either axis (a huge layout gets bigger cells, not more), so a pair
+ * of cells has a key below 2³¹.
+ */
+const MAX_CELLS_PER_AXIS = 128;
+
+/**
+ * A broad phase for the static walls of a layout of up to {@link GRID_MAX_WALLS} walls: a uniform
+ * grid whose cells hold a bit mask (bit i: wall i) of every wall whose *reach* — its box grown by
+ * {@link GRID_MAX_RADIUS} plus a slack — touches the cell.
+ *
+ * It only ever narrows down which walls the exact tests of `Walls` look at, never what those tests
+ * compute, and it leaves out only walls that the exact tests would pass over (no overlap, no hit,
+ * no crossing): so the answers stay bit for bit those of the all-walls loops. Why:
+ *
+ * - A circle of radius `r ≤ GRID_MAX_RADIUS` centred at p can overlap a wall only if p lies in
+ *   the wall's reach at least {@link SLACK} inside its edge, so p's cell has the wall's bit.
+ * - A swept circle (or a segment, `r = 0`) can touch a wall only at a point p of its path within
+ *   `r` plus rounding of the wall's box, which again lies well inside the reach. A path within
+ *   one cell: that cell's walls. From one cell to another: every wall whose reach comes within
+ *   half a cell (along each axis) of the segment between the two cells' centres, which every
+ *   point of the path is ({@link WallGrid.pairMask}).
+ * - The grid covers every wall's reach. A query with a point or an end off it (or not finite)
+ *   gets no answer here: `Walls` runs its all-walls loop.
+ *
+ * Built once per layout from its walls (static data, not game state); queries allocate nothing.
+ */
+export class WallGrid {
+  /** Cell size, arena units. */
+  readonly cell: number;
+  readonly cols: number;
+  readonly rows: number;
+  /** The grid's top-left corner, arena units. */
+  readonly originX: number;
+  readonly originY: number;
+  /** The walls near each cell (`row * cols + col`), one bit per wall. */
+  readonly masks: Int32Array;
+  private readonly inverse: number;
+  private readonly cells: number;
+  private readonly rects: readonly Rect[];
+  /** {@link pairMask}'s cache of {@link pairMaskOf}'s answers, by a hash of the pair (-1: empty). */
+  private readonly pairKeys = new Int32Array(1 << PAIR_CACHE_BITS).fill(-1);
+  private readonly pairMasks = new Int32Array(1 << PAIR_CACHE_BITS);
+
+  /** `rects`: at most {@link GRID_MAX_WALLS}, with finite coordinates (checked by the caller). */
+  constructor(rects: readonly Rect[]) {
+    let x0 = Infinity;
+    let y0 = Infinity;
+    let x1 = -Infinity;
+    let y1 = -Infinity;
+    for (const r of rects) {
+      x0 = Math.min(x0, r.x0 - REACH);
+      y0 = Math.min(y0, r.y0 - REACH);
+      x1 = Math.max(x1, r.x1 + REACH);
+      y1 = Math.max(y1, r.y1 + REACH);
+    }
+    if (rects.length === 0) {
+      x0 = y0 = 0;
+      x1 = y1 = MIN_CELL;
+    }
+    this.cell = Math.max(MIN_CELL, Math.ceil(Math.max(x1 - x0, y1 - y0) / MAX_CELLS_PER_AXIS));
+    this.inverse = 1 / this.cell;
+    this.originX = x0;
+    this.originY = y0;
+    this.cols = Math.max(1, Math.ceil((x1 - x0) * this.inverse));
+    this.rows = Math.max(1, Math.ceil((y1 - y0) * this.inverse));
+    const cols = this.cols;
+    this.masks = new Int32Array(cols * this.rows);
+    rects.forEach((r, wall) => {
+      const c0 = this.col(r.x0 - REACH);
+      const c1 = this.col(r.x1 + REACH);
+      for (let row = this.row(r.y0 - REACH); row <= this.row(r.y1 + REACH); row++) {
+        for (let col = c0; col <= c1; col++) this.masks[row * cols + col]! |= 1 << wall;
+      }
+    });
+    this.cells = cols * this.rows;
+    this.rects = rects;
+  }
+
+  /** The column of x, clamped onto the grid (for building it). */
+  private col(x: number): number {
+    const c = Math.floor((x - this.originX) * this.inverse);
+    return c < 0 ? 0 : c >= this.cols ? this.cols - 1 : c;
+  }
+
+  /** The row of y, clamped onto the grid (for building it). */
+  private row(y: number): number {
+    const r = Math.floor((y - this.originY) * this.inverse);
+    return r < 0 ? 0 : r >= this.rows ? this.rows - 1 : r;
+  }
+
+  /**
+   * The cell (`row * cols + col`) of the point (`p[at]`, `p[at + 1]`), or -1 off the grid (and for
+   * coordinates that are not finite). A circle there of radius up to {@link GRID_MAX_RADIUS} can
+   * overlap only the walls of `masks[cell]`. (The point comes in an array: V8 boxes a fractional
+   * number passed to a call it does not inline.)
+   */
+  cellOf(p: Float64Array, at: number): number {
+    const col = (p[at]! - this.originX) * this.inverse;
+    const row = (p[at + 1]! - this.originY) * this.inverse;
+    if (!(col >= 0 && col < this.cols && row >= 0 && row < this.rows)) return -1;
+    // Truncation is the floor here: both are ≥ 0.
+    return (row | 0) * this.cols + (col | 0);
+  }
+
+  /**
+   * The walls that a circle of radius up to {@link GRID_MAX_RADIUS} moving from anywhere in cell
+   * `from` to anywhere in cell `to` can touch (and more): {@link pairMaskOf}, remembered.
+   */
+  pairMask(from: number, to: number): number {
+    const key = from * this.cells + to;
+    const slot = Math.imul(key, 0x9e3779b1) >>> (32 - PAIR_CACHE_BITS);
+    if (this.pairKeys[slot] === key) return this.pairMasks[slot]!;
+    const m = this.pairMaskOf(from, to);
+    this.pairKeys[slot] = key;
+    this.pairMasks[slot] = m;
+    return m;
+  }
+
+  /**
+   * The walls that a segment from anywhere in cell `from` to anywhere in cell `to` can come within
+   * {@link GRID_MAX_RADIUS} of (and more). Every such segment lies within half a cell (along
+   * each axis) of the segment joining the two cells' centres — the set of them is that segment
+   * grown by the square of a cell — so it can come that near a wall only if the centres' segment
+   * meets the wall's box grown by the reach plus half a cell. Liang–Barsky against that box grown
+   * by one more unit, so its own rounding cannot leave a wall out.
+   */
+  private pairMaskOf(from: number, to: number): number {
+    const cols = this.cols;
+    const half = this.cell / 2;
+    const x0 = this.originX + (from % cols) * this.cell + half;
+    const y0 = this.originY + Math.floor(from / cols) * this.cell + half;
+    const dx = this.originX + (to % cols) * this.cell + half - x0;
+    const dy = this.originY + Math.floor(to / cols) * this.cell + half - y0;
+    const grow = REACH + half + SLACK;
+    const rects = this.rects;
+    let m = 0;
+    for (let i = 0; i < rects.length; i++) {
+      const r = rects[i]!;
+      if (segmentMeetsBox(x0, y0, dx, dy, r.x0 - grow, r.y0 - grow, r.x1 + grow, r.y1 + grow)) {
+        m |= 1 << i;
+      }
+    }
+    return m;
+  }
+}
+
+/** Whether the segment from (x0, y0) by (dx, dy) meets the closed box [bx0, bx1] × [by0, by1]. */
+function segmentMeetsBox(
+  x0: number,
+  y0: number,
+  dx: number,
+  dy: number,
+  bx0: number,
+  by0: number,
+  bx1: number,
+  by1: number,
+): boolean {
+  let t0 = 0;
+  let t1 = 1;
+  if (dx === 0) {
+    if (x0 < bx0 || x0 > bx1) return false;
+  } else {
+    let a = (bx0 - x0) / dx;
+    let b = (bx1 - x0) / dx;
+    if (a > b) [a, b] = [b, a];
+    t0 = Math.max(t0, a);
+    t1 = Math.min(t1, b);
+    if (t0 > t1) return false;
+  }
+  if (dy === 0) return y0 >= by0 && y0 <= by1;
+  let a = (by0 - y0) / dy;
+  let b = (by1 - y0) / dy;
+  if (a > b) [a, b] = [b, a];
+  return Math.max(t0, a) <= Math.min(t1, b);
+}

@@ -1,0 +1,236 @@
+/**
+ * The bots' searches try their candidates cheapest first (and the nav grid remembers its nearest
+ * nodes), so they make fewer line-of-sight tests — and must answer exactly as the scans they
+ * replace, which keep the cheapest reachable candidate while going through all of them (copied
+ * here as they were). Both arenas, random points and targets (repeated ones too, for the memo),
+ * equal distances for the ties, and points that are not finite.
+ */
+import { describe, expect, it } from 'vitest';
+import { Random } from 'fixedstep';
+import { CTF_WALLS, SURVIVAL_WALLS, ctfNav, type NavGrid, type Walls } from '@fixedstep/games';
+import { survivalNav } from '../src/games/survival/layout.js';
+import { nearestVisible } from '../src/games/arena/seek.js';
+
+const ORTHO = 5;
+const UNREACHABLE = 0x7fffffff;
+
+/** `NavGrid.nearestNode` as it was: every candidate, keeping the nearest reachable. */
+function scanNearest(nav: NavGrid, x: number, y: number, out: Int32Array): boolean {
+  const col = Math.floor(x / nav.spacing);
+  const row = Math.floor(y / nav.spacing);
+  let best = Infinity;
+  let found = -1;
+  for (let rad = 1; rad <= 2 && found < 0; rad++) {
+    for (let dr = -rad; dr <= rad; dr++) {
+      for (let dc = -rad; dc <= rad; dc++) {
+        const r2 = row + dr;
+        const c2 = col + dc;
+        if (r2 < 0 || c2 < 0 || r2 >= nav.rows || c2 >= nav.cols) continue;
+        const nd = nav.cellNode[r2 * nav.cols + c2]!;
+        if (nd < 0) continue;
+        const ex = nav.nodeX[nd]! - x;
+        const ey = nav.nodeY[nd]! - y;
+        const d2 = ex * ex + ey * ey;
+        if (d2 >= best) continue;
+        if (!nav.walls.clear(x, y, nav.nodeX[nd]!, nav.nodeY[nd]!, nav.clearance)) continue;
+        best = d2;
+        found = nd;
+      }
+    }
+  }
+  out[0] = found;
+  return found >= 0;
+}
+
+/** `NavGrid.waypoint` as it was. */
+function scanWaypoint(nav: NavGrid, x: number, y: number, tx: number, ty: number): number[] {
+  const out = Float64Array.of(tx, ty);
+  const walls = nav.walls;
+  const r = nav.clearance;
+  if (walls.clear(x, y, tx, ty, r)) return [...out];
+  const goal = new Int32Array(1);
+  if (!scanNearest(nav, tx, ty, goal)) return [...out];
+  const g = goal[0]!;
+  const col = Math.floor(x / nav.spacing);
+  const row = Math.floor(y / nav.spacing);
+  const scale = (ORTHO * 0.9) / nav.spacing;
+  let best = Infinity;
+  for (let rad = 1; rad <= 2 && best === Infinity; rad++) {
+    for (let dr = -rad; dr <= rad; dr++) {
+      for (let dc = -rad; dc <= rad; dc++) {
+        const r2 = row + dr;
+        const c2 = col + dc;
+        if (r2 < 0 || c2 < 0 || r2 >= nav.rows || c2 >= nav.cols) continue;
+        const nd = nav.cellNode[r2 * nav.cols + c2]!;
+        if (nd < 0) continue;
+        const rest = nav.dist[nd * nav.count + g]!;
+        if (rest === UNREACHABLE) continue;
+        const nx = nav.nodeX[nd]!;
+        const ny = nav.nodeY[nd]!;
+        const ex = nx - x;
+        const ey = ny - y;
+        const c = Math.sqrt(ex * ex + ey * ey) * scale + rest;
+        if (c >= best) continue;
+        if (!walls.clear(x, y, nx, ny, r)) continue;
+        best = c;
+        out[0] = nx;
+        out[1] = ny;
+      }
+    }
+  }
+  return [...out];
+}
+
+/** The bots' `nearestVisible` as it was: [index, squared distance]. */
+function scanVisible(
+  walls: Walls,
+  x: number,
+  y: number,
+  range: number,
+  clearance: number,
+  alive: Uint8Array,
+  xs: Float64Array,
+  ys: Float64Array,
+  first: number,
+  stride: number,
+): number[] {
+  let found = -1;
+  let best = range * range;
+  for (let i = first; i < alive.length; i += stride) {
+    if (alive[i] === 0) continue;
+    const dx = xs[i]! - x;
+    const dy = ys[i]! - y;
+    const d2 = dx * dx + dy * dy;
+    if (d2 >= best) continue;
+    if (!walls.clear(x, y, xs[i]!, ys[i]!, clearance)) continue;
+    best = d2;
+    found = i;
+  }
+  return [found, best];
+}
+
+/** A point on or near the field: anywhere, on a whole or half unit, or a waypoint. */
+function point(rng: Random, nav: NavGrid): [number, number] {
+  switch (rng.int(4)) {
+    case 0: {
+      const nd = rng.int(nav.count);
+      return [nav.nodeX[nd]!, nav.nodeY[nd]!];
+    }
+    case 1:
+      return [rng.int(2000) / 2 - 20, rng.int(1400) / 2 - 20];
+    default:
+      return [
+        rng.range(-20, nav.cols * nav.spacing + 20),
+        rng.range(-20, nav.rows * nav.spacing + 20),
+      ];
+  }
+}
+
+const ARENAS: [string, NavGrid][] = [
+  ['capture the flag', ctfNav()],
+  ['survival', survivalNav()],
+];
+
+describe.each(ARENAS)('the bots’ searches on %s', (_name, nav) => {
+  it('waypoint and nearestNode answer as the scans, for new and repeated targets', () => {
+    const rng = new Random(nav.count);
+    const targets: [number, number][] = [];
+    const out = new Float64Array(2);
+    const node = new Int32Array(1);
+    const want = new Int32Array(1);
+    for (let k = 0; k < 6000; k++) {
+      const [x, y] = point(rng, nav);
+      // Half the time a target asked before (as bots do tick after tick); 300 of them, more than
+      // the memo holds, so entries get replaced.
+      const [tx, ty] =
+        targets.length > 0 && rng.int(2) === 0
+          ? targets[rng.int(targets.length)]!
+          : point(rng, nav);
+      if (targets.length < 300) targets.push([tx, ty]);
+      nav.waypoint(x, y, tx, ty, out);
+      expect({ x, y, tx, ty, to: [...out] }).toEqual({
+        x,
+        y,
+        tx,
+        ty,
+        to: scanWaypoint(nav, x, y, tx, ty),
+      });
+      const found = nav.nearestNode(tx, ty, node);
+      expect({ tx, ty, found, node: node[0] }).toEqual({
+        tx,
+        ty,
+        found: scanNearest(nav, tx, ty, want),
+        node: want[0],
+      });
+    }
+  });
+
+  it('waypoint and nearestNode answer as the scans at points that are not finite', () => {
+    const out = new Float64Array(2);
+    const node = new Int32Array(1);
+    const want = new Int32Array(1);
+    for (const bad of [NaN, Infinity, -Infinity]) {
+      for (const [x, y, tx, ty] of [
+        [bad, 100, 300, 300],
+        [100, 100, bad, 300],
+        [bad, bad, bad, bad],
+      ] as const) {
+        nav.waypoint(x, y, tx, ty, out);
+        expect([...out]).toEqual(scanWaypoint(nav, x, y, tx, ty));
+        expect([nav.nearestNode(tx, ty, node), node[0]]).toEqual([
+          scanNearest(nav, tx, ty, want),
+          want[0],
+        ]);
+      }
+    }
+  });
+
+  it('nearestVisible answers as the scan, ties included', () => {
+    const walls = nav.walls;
+    const rng = new Random(7 + nav.count);
+    const n = 12;
+    const alive = new Uint8Array(n);
+    const xs = new Float64Array(n);
+    const ys = new Float64Array(n);
+    const from = new Float64Array(2);
+    const out = new Float64Array(1);
+    for (let k = 0; k < 3000; k++) {
+      for (let i = 0; i < n; i++) {
+        alive[i] = rng.int(4) === 0 ? 0 : 1;
+        // Now and then the same spot as another body: equal distances.
+        const [x, y] = i > 0 && rng.int(4) === 0 ? [xs[i - 1]!, ys[i - 1]!] : point(rng, nav);
+        xs[i] = x;
+        ys[i] = y;
+      }
+      [from[0], from[1]] = point(rng, nav);
+      const range = [0, 70, 100, 320, 480, 2000][rng.int(6)]!;
+      const clearance = [2, 6, 10][rng.int(3)]!;
+      const stride = 1 + rng.int(2);
+      const first = rng.int(stride);
+      const found = nearestVisible(
+        walls,
+        from,
+        from.subarray(1),
+        0,
+        range,
+        clearance,
+        alive,
+        xs,
+        ys,
+        out,
+        first,
+        stride,
+      );
+      expect([found, out[0]]).toEqual(
+        scanVisible(walls, from[0], from[1], range, clearance, alive, xs, ys, first, stride),
+      );
+    }
+  });
+});
+
+describe('the walls the nav grids were built on', () => {
+  it('are the arenas’ own', () => {
+    expect(ctfNav().walls).toBe(CTF_WALLS);
+    expect(survivalNav().walls).toBe(SURVIVAL_WALLS);
+  });
+});

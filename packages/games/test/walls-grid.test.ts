@@ -1,0 +1,275 @@
+/**
+ * The walls' grid (the broad phase in front of every query) changes which walls a query looks at,
+ * never its answer: every query of `Walls` against the all-walls loops as they were before the
+ * grid (copied here, calling the library's swept test), bit for bit — on the two arenas and on
+ * random layouts, at points and along moves built to land on faces, corners and cell edges, for
+ * every radius the games use and beyond the grid's (and at coordinates that are not finite).
+ */
+import { describe, expect, it } from 'vitest';
+import fc from 'fast-check';
+import { Random, toiPointRoundedBox } from 'fixedstep';
+import { CTF_WALLS, SURVIVAL_WALLS, Walls, type Rect } from '@fixedstep/games';
+
+const normal = new Float64Array(2);
+
+/** The walls' queries as they were before the grid: every wall, in index order. */
+class AllWalls {
+  readonly count: number;
+  readonly cx: Float64Array;
+  readonly cy: Float64Array;
+  readonly hw: Float64Array;
+  readonly hh: Float64Array;
+
+  constructor(rects: readonly Rect[]) {
+    this.count = rects.length;
+    this.cx = Float64Array.from(rects, (r) => (r.x0 + r.x1) / 2);
+    this.cy = Float64Array.from(rects, (r) => (r.y0 + r.y1) / 2);
+    this.hw = Float64Array.from(rects, (r) => (r.x1 - r.x0) / 2);
+    this.hh = Float64Array.from(rects, (r) => (r.y1 - r.y0) / 2);
+  }
+
+  overlaps(x: number, y: number, r: number): boolean {
+    for (let i = 0; i < this.count; i++) {
+      const dx = Math.abs(x - this.cx[i]!);
+      const dy = Math.abs(y - this.cy[i]!);
+      const hw = this.hw[i]!;
+      const hh = this.hh[i]!;
+      if (dx >= hw + r || dy >= hh + r) continue;
+      if (dx <= hw || dy <= hh) return true;
+      const ex = dx - hw;
+      const ey = dy - hh;
+      if (ex * ex + ey * ey < r * r) return true;
+    }
+    return false;
+  }
+  pushOut(x: number, y: number, r: number, out: Float64Array): void {
+    for (let pass = 0; pass < 2; pass++) {
+      for (let i = 0; i < this.count; i++) {
+        const cx = this.cx[i]!;
+        const cy = this.cy[i]!;
+        const hw = this.hw[i]!;
+        const hh = this.hh[i]!;
+        const dx = x - cx;
+        const dy = y - cy;
+        const ax = dx < 0 ? -dx : dx;
+        const ay = dy < 0 ? -dy : dy;
+        if (ax >= hw + r || ay >= hh + r) continue;
+        const sx = dx < 0 ? -1 : 1;
+        const sy = dy < 0 ? -1 : 1;
+        if (ax <= hw && ay <= hh) {
+          // Centre inside: leave through the nearer face.
+          if (hw - ax <= hh - ay) x = cx + sx * (hw + r);
+          else y = cy + sy * (hh + r);
+        } else if (ax <= hw) {
+          y = cy + sy * (hh + r);
+        } else if (ay <= hh) {
+          x = cx + sx * (hw + r);
+        } else {
+          const qx = cx + sx * hw;
+          const qy = cy + sy * hh;
+          const ex = x - qx;
+          const ey = y - qy;
+          const d2 = ex * ex + ey * ey;
+          if (d2 >= r * r) continue;
+          const d = Math.sqrt(d2);
+          x = qx + (ex / d) * r;
+          y = qy + (ey / d) * r;
+        }
+      }
+    }
+    out[0] = x;
+    out[1] = y;
+  }
+  sweep(x: number, y: number, dx: number, dy: number, r: number): number {
+    let best = -1;
+    const minX = dx < 0 ? x + dx : x;
+    const maxX = dx < 0 ? x : x + dx;
+    const minY = dy < 0 ? y + dy : y;
+    const maxY = dy < 0 ? y : y + dy;
+    for (let i = 0; i < this.count; i++) {
+      const cx = this.cx[i]!;
+      const cy = this.cy[i]!;
+      const hw = this.hw[i]! + r;
+      const hh = this.hh[i]! + r;
+      // Cheap rejection: the move's bounding box against the grown wall.
+      if (maxX <= cx - hw || minX >= cx + hw || maxY <= cy - hh || minY >= cy + hh) continue;
+      const u = toiPointRoundedBox(x - cx, y - cy, dx, dy, this.hw[i]!, this.hh[i]!, r, normal);
+      if (u >= 0 && (best < 0 || u < best)) best = u;
+    }
+    return best;
+  }
+  clear(x0: number, y0: number, x1: number, y1: number, r: number): boolean {
+    return this.sweep(x0, y0, x1 - x0, y1 - y0, r) < 0;
+  }
+  crosses(x0: number, y0: number, x1: number, y1: number): boolean {
+    const dx = x1 - x0;
+    const dy = y1 - y0;
+    for (let i = 0; i < this.count; i++) {
+      const cx = this.cx[i]!;
+      const cy = this.cy[i]!;
+      const hw = this.hw[i]!;
+      const hh = this.hh[i]!;
+      let t0 = 0;
+      let t1 = 1;
+      if (dx === 0) {
+        if (x0 < cx - hw || x0 > cx + hw) continue;
+      } else {
+        let a = (cx - hw - x0) / dx;
+        let b = (cx + hw - x0) / dx;
+        if (a > b) {
+          const s = a;
+          a = b;
+          b = s;
+        }
+        if (a > t0) t0 = a;
+        if (b < t1) t1 = b;
+        if (t0 > t1) continue;
+      }
+      if (dy === 0) {
+        if (y0 < cy - hh || y0 > cy + hh) continue;
+      } else {
+        let a = (cy - hh - y0) / dy;
+        let b = (cy + hh - y0) / dy;
+        if (a > b) {
+          const s = a;
+          a = b;
+          b = s;
+        }
+        if (a > t0) t0 = a;
+        if (b < t1) t1 = b;
+        if (t0 > t1) continue;
+      }
+      return true;
+    }
+    return false;
+  }
+}
+
+/** Radii of the games (2, 6, 9, 10, 12, 13), the grid's limit (16) and beyond it. */
+const RADII = [0, 2, 6, 9, 10, 12, 13, 16, 16.5, 17, 40];
+
+/** A query's answers, from either implementation. */
+function answers(w: Walls | AllWalls, x: number, y: number, dx: number, dy: number, r: number) {
+  const out = new Float64Array(2);
+  w.pushOut(x, y, r, out);
+  return {
+    overlaps: w.overlaps(x, y, r),
+    pushOut: [out[0]!, out[1]!],
+    sweep: w.sweep(x, y, dx, dy, r),
+    clear: w.clear(x, y, x + dx, y + dy, r),
+    crosses: w.crosses(x, y, x + dx, y + dy),
+  };
+}
+
+/**
+ * A coordinate near the layout: anywhere around it, or on a wall's face or corner (± the radius,
+ * ± a hair), or on a whole or half unit — where rounding and cell edges bite.
+ */
+function coordinate(rng: Random, rects: readonly Rect[], r: number, along: 'x' | 'y'): number {
+  const kind = rng.int(4);
+  if (kind === 0 || rects.length === 0) return rng.range(-60, 1060);
+  if (kind === 1) return rng.int(2100) / 2 - 30;
+  const rect = rects[rng.int(rects.length)]!;
+  const edge =
+    along === 'x' ? (rng.int(2) === 0 ? rect.x0 : rect.x1) : rng.int(2) === 0 ? rect.y0 : rect.y1;
+  const offsets = [0, r, -r, 1e-9, -1e-9, 0.5, -0.5, r + 1e-12, -r - 1e-12];
+  return edge + offsets[rng.int(offsets.length)]!;
+}
+
+function move(rng: Random): number {
+  switch (rng.int(6)) {
+    case 0:
+      return 0;
+    case 1:
+      return rng.range(-4, 4);
+    case 2:
+      return rng.range(-90, 90);
+    case 3:
+      return rng.range(-900, 900);
+    case 4:
+      return rng.int(61) - 30;
+    default:
+      return rng.int(2) === 0 ? 32 : -32;
+  }
+}
+
+/** `n` random queries on `rects`: the grid's answers and the all-walls loops' must be the same. */
+function expectSameAnswers(rects: readonly Rect[], n: number, seed: number): void {
+  const walls = new Walls(rects);
+  const all = new AllWalls(rects);
+  const rng = new Random(seed);
+  for (let k = 0; k < n; k++) {
+    const r = RADII[rng.int(RADII.length)]!;
+    const x = coordinate(rng, rects, r, 'x');
+    const y = coordinate(rng, rects, r, 'y');
+    const dx = move(rng);
+    const dy = rng.int(5) === 0 ? 0 : move(rng);
+    // (toEqual tells 0 from -0 and takes NaN as NaN: bit for bit, as far as numbers go.)
+    expect({ x, y, dx, dy, r, ...answers(walls, x, y, dx, dy, r) }).toEqual({
+      x,
+      y,
+      dx,
+      dy,
+      r,
+      ...answers(all, x, y, dx, dy, r),
+    });
+  }
+}
+
+describe('the walls’ grid', () => {
+  it('answers as the all-walls loops on capture the flag’s walls', () => {
+    expectSameAnswers(CTF_WALLS.rects, 15000, 1);
+  });
+
+  it('answers as the all-walls loops on survival’s walls', () => {
+    expectSameAnswers(SURVIVAL_WALLS.rects, 15000, 2);
+  });
+
+  it('answers as the all-walls loops on random layouts of up to 32 walls (and 40: no grid)', () => {
+    const rect = fc
+      .record({
+        x: fc.integer({ min: -20, max: 980 }),
+        y: fc.integer({ min: -20, max: 680 }),
+        w: fc.oneof(
+          fc.integer({ min: 1, max: 300 }),
+          fc.double({ min: 0.5, max: 40, noNaN: true }),
+        ),
+        h: fc.oneof(
+          fc.integer({ min: 1, max: 300 }),
+          fc.double({ min: 0.5, max: 40, noNaN: true }),
+        ),
+      })
+      .map((r): Rect => ({ x0: r.x, y0: r.y, x1: r.x + r.w, y1: r.y + r.h }));
+    fc.assert(
+      fc.property(
+        fc.oneof(
+          fc.array(rect, { minLength: 0, maxLength: 32 }),
+          fc.array(rect, { minLength: 40, maxLength: 40 }),
+        ),
+        fc.integer({ min: 1, max: 1 << 30 }),
+        (rects, seed) => {
+          expectSameAnswers(rects, 150, seed);
+        },
+      ),
+      { numRuns: 150, seed: 3 },
+    );
+  });
+
+  it('answers as the all-walls loops at coordinates that are not finite', () => {
+    const walls = new Walls(CTF_WALLS.rects);
+    const all = new AllWalls(CTF_WALLS.rects);
+    for (const bad of [NaN, Infinity, -Infinity, 1e300]) {
+      for (const [x, y, dx, dy] of [
+        [bad, 300, 5, 5],
+        [300, bad, 5, 5],
+        [300, 300, bad, 5],
+        [300, 300, 5, bad],
+        [bad, bad, bad, bad],
+      ] as const) {
+        for (const r of [0, 10, 40]) {
+          expect(answers(walls, x, y, dx, dy, r)).toEqual(answers(all, x, y, dx, dy, r));
+        }
+      }
+    }
+  });
+});
