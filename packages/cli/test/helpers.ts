@@ -19,7 +19,10 @@ let cached: Promise<Blob> | undefined;
 function template(): Promise<Blob> {
   return (cached ??= (async () => {
     const version = JSON.parse(
-      await readFile(new URL('../../../node_modules/@electric-sql/pglite/package.json', import.meta.url), 'utf8'),
+      await readFile(
+        new URL('../../../node_modules/@electric-sql/pglite/package.json', import.meta.url),
+        'utf8',
+      ),
     ) as { version: string };
     const file = path.join(os.tmpdir(), `fixedstep-pglite-template-${version.version}.tar`);
     if (!existsSync(file)) {
@@ -43,12 +46,23 @@ export function request(
 ): Promise<{ status: number; headers: http.IncomingHttpHeaders; body: Buffer }> {
   return new Promise((resolve, reject) => {
     const req = http.request(
-      { host: '127.0.0.1', port, path: rawPath, method: options.method ?? 'GET', headers: options.headers, agent: false },
+      {
+        host: '127.0.0.1',
+        port,
+        path: rawPath,
+        method: options.method ?? 'GET',
+        headers: options.headers,
+        agent: false,
+      },
       (res) => {
         const chunks: Buffer[] = [];
         res.on('data', (c: Buffer) => chunks.push(c));
         res.on('end', () => {
-          resolve({ status: res.statusCode ?? 0, headers: res.headers, body: Buffer.concat(chunks) });
+          resolve({
+            status: res.statusCode ?? 0,
+            headers: res.headers,
+            body: Buffer.concat(chunks),
+          });
         });
       },
     );

@@ -136,6 +136,10 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
   if (!Number.isInteger(port) || port < 0 || port > 65535) {
     throw new RangeError(`port must be an integer from 0 to 65535, got ${String(port)}`);
   }
+  // Observed at once: a store that fails while the server is still being set up is reported by
+  // storeReady and /readyz, not as an unhandled rejection.
+  const storeInput = options.store === undefined ? undefined : Promise.resolve(options.store);
+  storeInput?.catch(() => undefined);
   const limits: HttpLimits = { ...DEFAULT_HTTP_LIMITS, ...options.limits };
   const log =
     options.log ??
@@ -190,6 +194,10 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
 
   app.addHook('onSend', async (request, reply, payload) => {
     for (const [k, v] of Object.entries(SECURITY_HEADERS)) reply.header(k, v);
+    // JavaScript is text/javascript (RFC 9239), whatever the static server's table says.
+    if (String(reply.getHeader('content-type')).startsWith('application/javascript')) {
+      reply.header('Content-Type', 'text/javascript; charset=utf-8');
+    }
     // A refused body was not read to its end: close the connection instead of reading the rest.
     if (reply.statusCode === 413 || reply.statusCode === 408) reply.header('Connection', 'close');
     return payload;
@@ -213,6 +221,12 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
       return reply.code(status).header('Cache-Control', 'no-store').send({ error: message, code });
     },
   );
+
+  // An empty path segment (`GET //`, `/a//b`) names nothing: 404, before any route or file lookup.
+  app.addHook('onRequest', async (request, reply) => {
+    if (request.url.split('?')[0]!.includes('//')) return text(reply, 404, 'Not Found');
+    return undefined;
+  });
 
   // Health: alive, and ready to take traffic (not draining, the store open and answering).
   app.get('/healthz', async (_request, reply) =>
@@ -243,9 +257,9 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
 
   // The highscore API: registered now, answering 503 until the store is open.
   const storeReady: Promise<void> =
-    options.store === undefined
+    storeInput === undefined
       ? Promise.resolve()
-      : Promise.resolve(options.store).then(
+      : storeInput.then(
           (opened) => {
             store = opened;
             const verification = options.verification;
@@ -289,6 +303,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
 
   // Static files: the lab at /, the API reference at /docs/.
   if (docs !== undefined) {
+    app.get('/docs', async (_request, reply) => reply.redirect('/docs/', 301));
     await app.register(fastifyStatic, {
       root: docs,
       prefix: '/docs/',
@@ -296,9 +311,10 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
       index: ['index.html'],
       dotfiles: 'ignore',
       cacheControl: false,
-      redirect: true,
       // TypeDoc's assets/ are not content-hashed: everything under /docs/ is revalidated.
-      setHeaders: (res) => res.setHeader('Cache-Control', 'no-cache'),
+      setHeaders: (res) => {
+        res.setHeader('Cache-Control', 'no-cache');
+      },
       allowedPath: (pathName) => insideRoot(docs)(pathName),
     });
   }
@@ -311,13 +327,16 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
       dotfiles: 'ignore',
       cacheControl: false,
       // Vite puts content-hashed files under assets/: they never change, so they may be cached for a year.
-      setHeaders: (res, file) =>
+      setHeaders: (res, file) => {
         res.setHeader(
           'Cache-Control',
           path.relative(labRoot, file).startsWith(`assets${path.sep}`)
             ? 'public, max-age=31536000, immutable'
             : 'no-cache',
-        ),
+        );
+      },
+      // A directory without its slash is redirected to it (`/docs` → `/docs/`).
+      redirect: true,
       allowedPath: insideRoot(labRoot),
     });
   }
@@ -393,7 +412,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
       await stopped;
       await app.close().catch(() => undefined);
       if (options.closeStore !== false) {
-        const opened = await Promise.resolve(options.store).catch(() => undefined);
+        const opened = await storeInput?.catch(() => undefined);
         await opened?.close();
       }
     })());
