@@ -16,7 +16,8 @@ export async function memoryStore(): Promise<HighscoreStore> {
 }
 
 let cached: Promise<Blob> | undefined;
-function template(): Promise<Blob> {
+/** PGlite's freshly initialised data folder, dumped (cached across test files in the temp folder). */
+export function template(): Promise<Blob> {
   return (cached ??= (async () => {
     const version = JSON.parse(
       await readFile(

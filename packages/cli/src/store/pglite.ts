@@ -77,6 +77,34 @@ function alive(pid: number): boolean {
   }
 }
 
+/**
+ * `mkdir -p`, one level at a time. Node's own recursive mkdir never returns for a path under
+ * `/proc` (each level answers ENOENT and it retries forever); this walks up to the first existing
+ * ancestor and creates each missing level once, so it fails at once with the reason.
+ */
+export async function makeDirectory(dir: string): Promise<void> {
+  const missing: string[] = [];
+  let at = path.resolve(dir);
+  for (;;) {
+    try {
+      if (!(await stat(at)).isDirectory()) throw new Error(`${at} is not a directory`);
+      break;
+    } catch (error) {
+      const parent = path.dirname(at);
+      if ((error as NodeJS.ErrnoException).code !== 'ENOENT' || parent === at) throw error;
+      missing.push(at);
+      at = parent;
+    }
+  }
+  for (const level of missing.reverse()) {
+    try {
+      await mkdir(level);
+    } catch (error) {
+      if ((error as NodeJS.ErrnoException).code !== 'EEXIST') throw error;
+    }
+  }
+}
+
 /** A data folder checked and locked for this process (see {@link claimDataDir}). */
 export interface ClaimedDataDir {
   /** The folder, absolute. */
@@ -93,8 +121,7 @@ export interface ClaimedDataDir {
 export async function claimDataDir(dataDir: string): Promise<ClaimedDataDir> {
   const dir = path.resolve(dataDir);
   try {
-    await mkdir(dir, { recursive: true });
-    if (!(await stat(dir)).isDirectory()) throw new Error('not a directory');
+    await makeDirectory(dir);
     const probe = path.join(dir, `.probe-${process.pid}`);
     await (await open(probe, 'w')).close();
     await unlink(probe);
