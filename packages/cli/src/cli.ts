@@ -538,7 +538,7 @@ export async function run(
             : {}),
           log: (message, error) => {
             io.err(
-              `fixedstep: ${message}${error === undefined ? '' : `: ${error instanceof Error ? error.message : String(error)}`}\n`,
+              `fixedstep: ${message}${error === undefined ? '' : `: ${error instanceof Error ? error.message : JSON.stringify(error)}`}\n`,
             );
           },
         });

@@ -12,7 +12,7 @@ import {
   precheckSubmission,
   submissionLimits,
 } from './verify/check.js';
-import { VerifierPool, type VerifierPoolOptions } from './verify/pool.js';
+import { VerifierPool } from './verify/pool.js';
 import type { LoadedGames } from './games/load.js';
 
 /**
@@ -61,9 +61,9 @@ export interface HighscoreApiOptions {
   metrics?: ServerMetrics;
   /** Where unexpected errors are reported. Default `console.error`. */
   log?: (message: string, error: unknown) => void;
-  /** Worker threads of the verifier this API creates (see {@link VerifierPoolOptions.workers}). */
+  /** Worker threads of the verifier this API creates (see `VerifierPoolOptions.workers`). */
   workers?: number;
-  /** Submissions that may wait for a worker (see {@link VerifierPoolOptions.maxQueue}). Default 32. */
+  /** Submissions that may wait for a worker (see `VerifierPoolOptions.maxQueue`). Default 32. */
   maxQueue?: number;
 }
 
@@ -140,7 +140,11 @@ export function highscoreApi(options: HighscoreApiOptions): HighscoreApi {
     });
   const limiter = new RateLimiter(options.perMinute ?? 20, 60_000, options.now ?? Date.now);
   const now = options.now ?? Date.now;
-  const log = options.log ?? ((message, error) => console.error(`fixedstep: ${message}`, error));
+  const log =
+    options.log ??
+    ((message, error) => {
+      console.error(`fixedstep: ${message}`, error);
+    });
   let draining = false;
 
   const storeFailed = (error: unknown): ApiAnswer => {
@@ -401,6 +405,7 @@ export function highscoreRoutes(
   options: { maxBodyBytes?: number; trustProxy?: string } = {},
 ): FastifyPluginAsync {
   const maxBody = options.maxBodyBytes ?? MAX_SUBMITTED_BYTES;
+  // eslint-disable-next-line @typescript-eslint/require-await -- fastify's plugin signature
   return async (app) => {
     app.removeAllContentTypeParsers();
     app.addContentTypeParser('*', { parseAs: 'buffer', bodyLimit: maxBody }, (_req, body, done) => {
@@ -412,7 +417,9 @@ export function highscoreRoutes(
       for (const [k, v] of Object.entries(result.headers ?? {})) reply.header(k, v);
       return reply.send(result.body instanceof Uint8Array ? Buffer.from(result.body) : result.body);
     };
-    type Query = { Querystring: Record<string, string | undefined> };
+    interface Query {
+      Querystring: Record<string, string | undefined>;
+    }
     app.get<Query>('/api/highscores', (request, reply) =>
       send(reply, () => get()!.list(request.query.game ?? '', request.query.limit ?? null)),
     );

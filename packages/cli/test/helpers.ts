@@ -75,7 +75,9 @@ export function request(
 /** Opens a raw TCP connection; resolves once connected. */
 export function connect(port: number): Promise<net.Socket> {
   return new Promise((resolve, reject) => {
-    const socket = net.connect(port, '127.0.0.1', () => resolve(socket));
+    const socket = net.connect(port, '127.0.0.1', () => {
+      resolve(socket);
+    });
     socket.on('error', reject);
   });
 }
@@ -86,6 +88,8 @@ export function closed(socket: net.Socket): Promise<string> {
     let received = '';
     socket.on('data', (d: Buffer) => (received += d.toString('latin1')));
     socket.on('error', () => undefined);
-    socket.on('close', () => resolve(received));
+    socket.on('close', () => {
+      resolve(received);
+    });
   });
 }

@@ -71,6 +71,7 @@ describe('a user game as a plug-in', () => {
         createSimulation: (welcome) => {
           slot = welcome.slot;
           const setup = setupFromWelcome(welcome);
+          // eslint-disable-next-line @typescript-eslint/no-unsafe-class-instance-assignment -- the module's definition builds a CoinDash
           const sim = coinDash.create(setup) as CoinDash;
           real = sim;
           const recorder = ReplayRecorder.forGame(coinDash, setup, ['ada', 'bob'], {
@@ -87,7 +88,9 @@ describe('a user game as a plug-in', () => {
               recorder.record(inputs, sim);
             },
             save: () => sim.save(),
-            load: (bytes: Uint8Array) => sim.load(bytes),
+            load: (bytes: Uint8Array) => {
+              sim.load(bytes);
+            },
             hash: () => sim.hash(),
           };
         },
@@ -137,6 +140,7 @@ describe('a user game as a plug-in', () => {
 function scoreOf(bytes: Uint8Array, games: readonly AnyGameDefinition[] = loaded): number {
   let sim: CoinDash | undefined;
   const factory = replayFactory(games);
+  // eslint-disable-next-line @typescript-eslint/no-unsafe-class-instance-assignment -- the module's definition builds a CoinDash
   expect(verifyReplay(bytes, (h) => (sim = factory(h) as CoinDash)).ok).toBe(true);
   expect(readReplay(bytes).tickCount).toBe(600);
   return games[0]!.score!(sim!);

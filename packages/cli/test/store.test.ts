@@ -48,7 +48,7 @@ function flaky(driver: SqlDriver): SqlDriver & { failures: number } {
     },
     close: () => driver.close(),
   };
-  return wrapped as SqlDriver & { failures: number };
+  return wrapped;
 }
 
 describe('the highscore store', () => {

@@ -143,7 +143,9 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
   const limits: HttpLimits = { ...DEFAULT_HTTP_LIMITS, ...options.limits };
   const log =
     options.log ??
-    ((message: string, error?: unknown) => console.error(`fixedstep: ${message}`, error ?? ''));
+    ((message: string, error?: unknown) => {
+      console.error(`fixedstep: ${message}`, error ?? '');
+    });
   let root: string | undefined;
   if (options.root !== undefined) {
     try {
@@ -189,7 +191,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
 
   let draining = false;
   let api: HighscoreApi | undefined;
-  let storeError: unknown;
+  let storeError: string | undefined;
   let store: HighscoreStore | undefined;
 
   app.addHook('onSend', async (request, reply, payload) => {
@@ -236,7 +238,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     const reasons: string[] = [];
     if (draining) reasons.push('draining: the server is shutting down');
     if (options.store !== undefined) {
-      if (storeError !== undefined) reasons.push(`the store failed to open: ${String(storeError)}`);
+      if (storeError !== undefined) reasons.push(`the store failed to open: ${storeError}`);
       else if (store === undefined) reasons.push('the store is opening');
       else if (!(await store.ping())) {
         metrics.storeErrors.inc();
@@ -284,9 +286,11 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
                 : {}),
               maxBodyBytes: limits.maxBodyBytes,
             });
+            // Ready means the verification workers have imported the games too.
+            return api.verifier.ready();
           },
           (error: unknown) => {
-            storeError = error instanceof Error ? error.message : error;
+            storeError = error instanceof Error ? error.message : JSON.stringify(error);
             log('the highscore store could not be opened', error);
             throw error;
           },
@@ -403,7 +407,11 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     (closing ??= (async () => {
       draining = true;
       // Stop accepting; idle keep-alive connections go now, busy ones when answered.
-      const stopped = new Promise<void>((resolve) => server.close(() => resolve()));
+      const stopped = new Promise<void>((resolve) =>
+        server.close(() => {
+          resolve();
+        }),
+      );
       server.closeIdleConnections();
       await api?.drain();
       await relay?.close();

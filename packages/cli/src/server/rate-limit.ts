@@ -63,8 +63,8 @@ export class RateLimiter {
     const t = this.now();
     const windows = Math.floor((t - this.windowStart) / this.windowMs);
     if (windows <= 0) return;
-    this.previous = windows === 1 ? this.current : new Map();
-    this.current = new Map();
+    this.previous = windows === 1 ? this.current : new Map<string, number>();
+    this.current = new Map<string, number>();
     this.windowStart += windows * this.windowMs;
   }
 }

@@ -74,6 +74,7 @@ export async function openPostgres(
     await pool.end().catch(() => undefined);
     throw new Error(
       `cannot reach ${driver.description}: ${error instanceof Error ? error.message : String(error)}`,
+      { cause: error },
     );
   }
   return driver;

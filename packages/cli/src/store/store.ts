@@ -73,8 +73,7 @@ function toEntry(row: Row): HighscoreEntry {
   const at = row.submitted_at;
   return {
     game: String(row.game),
-    version:
-      row.game_version === null || row.game_version === undefined ? null : String(row.game_version),
+    version: typeof row.game_version === 'string' ? row.game_version : null,
     name: String(row.name),
     score: Number(row.score),
     ticks: Number(row.ticks),
@@ -125,7 +124,9 @@ export class HighscoreStore {
   async ping(timeoutMs = 2000): Promise<boolean> {
     let timer: NodeJS.Timeout | undefined;
     const timeout = new Promise<boolean>((resolve) => {
-      timer = setTimeout(() => resolve(false), timeoutMs);
+      timer = setTimeout(() => {
+        resolve(false);
+      }, timeoutMs);
       timer.unref();
     });
     try {
