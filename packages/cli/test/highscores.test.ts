@@ -90,7 +90,7 @@ describe('the highscore API under hostile traffic', () => {
     });
     await server.storeReady;
     base = `http://127.0.0.1:${server.port}`;
-  });
+  }, 120_000);
   afterAll(async () => {
     await server.close();
   });

@@ -40,7 +40,7 @@ beforeAll(async () => {
     verification: { workers: 1 },
   });
   await server.storeReady;
-});
+}, 120_000);
 afterAll(async () => {
   await server.close();
 });
