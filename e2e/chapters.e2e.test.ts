@@ -11,7 +11,7 @@ import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/cli';
-import { HighscoreStore, highscoreApi } from '../packages/cli/src/highscores.js';
+import { openStore } from '../packages/cli/src/store/store.js';
 import { CHAPTERS } from '../apps/lab/src/chapters.js';
 import { dist, horizontalOverflow, phonePage, shots, useLab, watch } from './harness.js';
 
@@ -22,8 +22,8 @@ let dataDir: string;
 
 beforeAll(async () => {
   dataDir = mkdtempSync(path.join(tmpdir(), 'fixedstep-chapters-e2e-'));
-  const { store } = await HighscoreStore.open(path.join(dataDir, 'highscores.json'));
-  api = await startServer({ root: dist, port: 0, api: highscoreApi({ store }) });
+  api = await startServer({ root: dist, port: 0, store: openStore({ dataDir }) });
+  await api.storeReady;
 });
 
 afterAll(async () => {

@@ -2,7 +2,14 @@
 // runs on a fresh clone before any dependency is installed.
 import { spawnSync } from 'node:child_process';
 import { createHash } from 'node:crypto';
-import { existsSync, readFileSync, writeFileSync, accessSync, constants } from 'node:fs';
+import {
+  existsSync,
+  readFileSync,
+  readdirSync,
+  writeFileSync,
+  accessSync,
+  constants,
+} from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
@@ -130,4 +137,47 @@ export function ensureChromium() {
       '  On Debian/Ubuntu: sudo apt-get install chromium\n' +
       '  Or point at any Chromium/Chrome binary: CHROMIUM_PATH=/path/to/chromium npm test',
   );
+}
+
+/** The bin folder of Debian's PostgreSQL (initdb, pg_ctl, postgres), or undefined. */
+function postgresBin() {
+  const base = '/usr/lib/postgresql';
+  if (!existsSync(base)) return undefined;
+  const versions = readdirSync(base)
+    .filter((v) => /^\d+$/.test(v))
+    .sort((a, b) => Number(b) - Number(a));
+  for (const v of versions) {
+    const bin = join(base, v, 'bin');
+    if (isExecutable(join(bin, 'initdb')) && isExecutable(join(bin, 'pg_ctl'))) return bin;
+  }
+  return undefined;
+}
+
+/**
+ * PostgreSQL for the test of two server processes sharing one database: Debian's `postgresql`,
+ * installed when absent and we are root on a machine with apt-get (the test starts its own
+ * cluster in a scratch folder, as the `postgres` user, on a free port — nothing is started here).
+ * Returns `{ bin }`, or `{ reason }` saying why there is none (the test is then skipped with it).
+ */
+export function ensurePostgres() {
+  let bin = postgresBin();
+  if (bin) return { bin };
+  const isRoot = typeof process.getuid === 'function' && process.getuid() === 0;
+  if (!isRoot || !isExecutable('/usr/bin/apt-get')) {
+    return {
+      reason: "PostgreSQL is not installed (install Debian's postgresql, or run npm test as root)",
+    };
+  }
+  console.log("\nPostgreSQL is not installed: installing Debian's postgresql for the store tests…");
+  const env = { ...process.env, DEBIAN_FRONTEND: 'noninteractive' };
+  if (run('apt-get', ['update', '-qq'], { env }) !== 0) return { reason: 'apt-get update failed' };
+  if (
+    run('apt-get', ['install', '-y', '-qq', '--no-install-recommends', 'postgresql'], { env }) !== 0
+  ) {
+    return { reason: 'apt-get install postgresql failed' };
+  }
+  bin = postgresBin();
+  return bin
+    ? { bin }
+    : { reason: 'postgresql installed, but no initdb under /usr/lib/postgresql' };
 }

@@ -1,15 +1,24 @@
 // `npm test`: every test. Installs what the tests need (dependencies; Debian's chromium, and
-// firefox-esr, webkit2gtk-driver and xvfb for the determinism suite, when absent and we are
-// root), then: format, lint, typecheck, unit tests, build, the e2e tests (browser, packed
+// firefox-esr, webkit2gtk-driver and xvfb for the determinism suite, and postgresql for the
+// store test, when absent and we are root), then: format, lint, typecheck, unit tests, build, the e2e tests (browser, packed
 // packages, API reference), and a smoke run of the benchmarks. Runs every stage even when one fails, then prints a summary.
 import { existsSync, mkdirSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { ensureChromium, ensureDependencies, root, run, seconds } from './setup.mjs';
+import {
+  ensureChromium,
+  ensureDependencies,
+  ensurePostgres,
+  root,
+  run,
+  seconds,
+} from './setup.mjs';
 
 ensureDependencies();
 const chromium = ensureChromium();
 // Firefox ESR and WebKitGTK for the cross-engine determinism suite (skipped, with the reason, when absent).
 (await import('./engines.mjs')).ensureEngines();
+// PostgreSQL for the two-process store test (skipped, with the reason, when absent).
+const postgres = ensurePostgres();
 const results = join(root, 'artifacts', 'test-results');
 mkdirSync(results, { recursive: true });
 
@@ -46,7 +55,11 @@ const stages = [
   ['benchmarks (smoke)', 'npm', ['run', 'bench', '--', '--quick']],
 ];
 
-const env = { ...process.env, CHROMIUM_PATH: chromium };
+const env = {
+  ...process.env,
+  CHROMIUM_PATH: chromium,
+  ...(postgres.bin ? { FIXEDSTEP_PG_BIN: postgres.bin } : { FIXEDSTEP_PG_SKIP: postgres.reason }),
+};
 const failed = [];
 for (const [i, [name, cmd, args]] of stages.entries()) {
   const n = `${i + 1}/${stages.length}`;

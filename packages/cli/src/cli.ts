@@ -32,9 +32,9 @@ import {
   replayInfo,
   replayVerify,
 } from './replay.js';
-import { HighscoreStore, highscoreApi } from './highscores.js';
-import { startServer } from './serve.js';
-import { attachRelay } from './net/server.js';
+import { GamesModuleError, loadGames } from './games/load.js';
+import { createServer } from './server/app.js';
+import { prepareStore } from './store/store.js';
 import { lineChartSvg } from './svg.js';
 
 /** Exit codes: 0 done, 1 it failed while running, 2 the command line was wrong. */
@@ -113,16 +113,55 @@ const SERVE_OPTIONS: OptionSpec[] = [
     valueName: 'dir',
     help: 'Directory to serve (default: the built lab, apps/lab/dist)',
   },
+  {
+    name: 'games',
+    kind: 'string',
+    valueName: 'module',
+    help: 'Your games: an ES module whose default (or "games") export is a game\ndefinition or an array of them (default: the built-in games)',
+  },
+  {
+    name: 'trust-proxy',
+    kind: 'string',
+    valueName: 'header',
+    help: 'Behind a reverse proxy: the header with the client address\n(x-forwarded-for, x-real-ip), for rate limits',
+  },
+  {
+    name: 'allowed-origins',
+    kind: 'string',
+    valueName: 'list',
+    help: 'Comma-separated origins allowed to open the relay WebSocket\n(default: any)',
+  },
+  {
+    name: 'workers',
+    kind: 'integer',
+    min: 0,
+    max: 64,
+    valueName: 'n',
+    help: 'Verification worker threads (default: cores - 1, at least 1)',
+  },
+  {
+    name: 'max-connections',
+    kind: 'integer',
+    min: 1,
+    max: 1_000_000,
+    valueName: 'n',
+    help: 'Most open connections (default: the open-file limit - 256, ≤ 10000)',
+  },
   { name: 'help', short: 'h', kind: 'flag', help: 'Show this help' },
 ];
 
 export const SERVE_HELP = `fixedstep serve — serve the lab
 
-Serves the built lab, the highscore API and, on the same port at /ws, the multiplayer relay
-(WebSocket; rooms for every game, server-ordered lockstep inputs, desync detection).
+Serves the built lab, the highscore API (replays re-simulated in worker threads; scores and
+their replays in PostgreSQL) and, on the same port at /ws, the multiplayer relay (WebSocket;
+rooms for every game, server-ordered lockstep inputs, desync detection); /healthz, /readyz
+and /metrics (Prometheus).
+
+Scores go to the embedded PostgreSQL (PGlite) in <data>/pglite, or to the PostgreSQL server
+of $DATABASE_URL when it is set (then any number of server processes may share it).
 
 Usage:
-  fixedstep serve [--port <n>] [--host <address>] [--root <dir>]
+  fixedstep serve [--port <n>] [--host <address>] [--root <dir>] [--data <dir>] [--games <module>]
 
 Options:
 ${formatOptions(SERVE_OPTIONS)}
@@ -212,7 +251,19 @@ Example:
 export type Command =
   | { kind: 'help'; text: string }
   | { kind: 'version' }
-  | { kind: 'serve'; port: number; host: string; root: string | undefined; data?: string }
+  | {
+      kind: 'serve';
+      port: number;
+      host: string;
+      root: string | undefined;
+      data?: string;
+      games?: string;
+      trustProxy?: string;
+      allowedOrigins?: string[];
+      workers?: number;
+      maxConnections?: number;
+      databaseUrl?: string;
+    }
   | {
       kind: 'experiment-integrators';
       options: IntegratorExperimentOptions;
@@ -221,7 +272,7 @@ export type Command =
     }
   | { kind: 'experiment-tunnel'; options: TunnelExperimentOptions; csv?: string }
   | { kind: 'replay-info'; file: string; json: boolean }
-  | { kind: 'replay-verify'; file: string; quiet: boolean }
+  | { kind: 'replay-verify'; file: string; quiet: boolean; games?: string }
   | { kind: 'usage-error'; message: string; help: string };
 
 /** A port from the command line or the environment: an integer from 0 to 65535, or undefined. */
@@ -248,12 +299,29 @@ function parseServe(
   const envPort = env.PORT;
   if (envPort !== undefined && envPort !== '')
     port = convertValue(SERVE_OPTIONS[0]!, 'PORT', envPort) as number;
+  const originList = str(values['allowed-origins']);
+  const origins = originList?.split(',').map((o) => o.trim());
+  if (origins?.some((o) => !/^https?:\/\/[^/\s]+$/.test(o))) {
+    throw new UsageError(
+      `--allowed-origins must be origins like https://game.example, got "${originList ?? ''}"`,
+    );
+  }
   return {
     kind: 'serve',
     port: num(values.port, port),
     host: str(values.host) ?? DEFAULT_HOST,
     root: str(values.root),
     ...(str(values.data) !== undefined ? { data: str(values.data) } : {}),
+    ...(str(values.games) !== undefined ? { games: str(values.games) } : {}),
+    ...(str(values['trust-proxy']) !== undefined ? { trustProxy: str(values['trust-proxy']) } : {}),
+    ...(origins !== undefined ? { allowedOrigins: origins } : {}),
+    ...(typeof values.workers === 'number' ? { workers: values.workers } : {}),
+    ...(typeof values['max-connections'] === 'number'
+      ? { maxConnections: values['max-connections'] }
+      : {}),
+    ...(env.DATABASE_URL !== undefined && env.DATABASE_URL !== ''
+      ? { databaseUrl: env.DATABASE_URL }
+      : {}),
   };
 }
 
@@ -442,34 +510,57 @@ export async function run(
         );
         return EXIT_FAILURE;
       }
+      const dataDir = path.resolve(command.data ?? 'fixedstep-data');
       let server;
-      let relay;
       try {
-        const table = path.resolve(command.data ?? 'fixedstep-data', 'highscores.json');
-        const { store, recovered } = await HighscoreStore.open(table);
-        if (recovered) io.err(`fixedstep: ${recovered}\n`);
-        const api = highscoreApi({ store });
-        server = await startServer({
+        const games = await loadGames(command.games === undefined ? [] : [command.games]);
+        // Fast: checks and locks the data folder (or names the PostgreSQL server); the database
+        // opens while the server already listens (the highscore API answers 503 until then).
+        const prepared = await prepareStore({
+          dataDir,
+          ...(command.databaseUrl !== undefined ? { databaseUrl: command.databaseUrl } : {}),
+        });
+        const store = prepared.open();
+        server = await createServer({
           port: command.port,
           host: command.host,
           root,
-          api,
           docs: defaultDocsRoot(),
+          games,
+          store,
+          ...(command.trustProxy !== undefined ? { trustProxy: command.trustProxy } : {}),
+          ...(command.allowedOrigins !== undefined
+            ? { allowedOrigins: command.allowedOrigins }
+            : {}),
+          ...(command.workers !== undefined ? { verification: { workers: command.workers } } : {}),
+          ...(command.maxConnections !== undefined
+            ? { limits: { maxConnections: command.maxConnections } }
+            : {}),
+          log: (message, error) => {
+            io.err(
+              `fixedstep: ${message}${error === undefined ? '' : `: ${error instanceof Error ? error.message : JSON.stringify(error)}`}\n`,
+            );
+          },
         });
-        relay = attachRelay(server.server);
+        io.out(`fixedstep lab: ${server.url} (press Ctrl-C to stop)\n`);
+        io.out(`games: ${games.games.map((g) => `${g.id} v${g.version}`).join(', ')}\n`);
+        io.out(`highscores kept in ${prepared.description}\n`);
+        store.then(
+          (opened) => {
+            for (const note of opened.notes) io.out(`fixedstep: ${note}\n`);
+          },
+          () => undefined, // reported by the server's log, and by /readyz
+        );
       } catch (error) {
-        io.err(`fixedstep: ${error instanceof Error ? error.message : String(error)}\n`);
+        const message = error instanceof Error ? error.message : String(error);
+        io.err(`fixedstep: ${error instanceof GamesModuleError ? '' : ''}${message}\n`);
         return EXIT_FAILURE;
       }
-      io.out(`fixedstep lab: ${server.url} (press Ctrl-C to stop)\n`);
-      io.out(
-        `highscores kept in ${path.resolve(command.data ?? 'fixedstep-data', 'highscores.json')}\n`,
-      );
       if (command.host === '0.0.0.0' || command.host === '::') {
         io.out(`(listening on every interface, port ${server.port})\n`);
       }
       await (io.stopSignal ?? signals());
-      await relay.close();
+      io.out('fixedstep: stopping (finishing queued verifications, closing rooms and the store)\n');
       await server.close();
       return EXIT_OK;
     }

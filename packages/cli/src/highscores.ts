@@ -1,333 +1,529 @@
-import { mkdir, open, readFile, readdir, rename, unlink } from 'node:fs/promises';
 import type http from 'node:http';
-import path from 'node:path';
-import { ReplayError, fnv1a64Hex, hex64, verifyReplay, type Simulation } from 'fixedstep';
-import { findGame, gameFromReplayHeader, type Game } from '@fixedstep/games';
+import type { FastifyPluginAsync, FastifyReply } from 'fastify';
+import type { AnyGameDefinition } from 'fixedstep';
+import { clientAddress } from './server/client-address.js';
+import type { ServerMetrics } from './server/metrics.js';
+import { RateLimiter } from './server/rate-limit.js';
+import type { HighscoreStore, HighscoreEntry } from './store/store.js';
+import { TABLE_SIZE } from './store/store.js';
+import {
+  MAX_SUBMITTED_BYTES,
+  SubmissionError,
+  precheckSubmission,
+  submissionLimits,
+} from './verify/check.js';
+import { VerifierPool } from './verify/pool.js';
+import type { LoadedGames } from './games/load.js';
 
 /**
- * Highscores that cannot be faked: a score is accepted only with the replay that produced it,
- * re-simulated here from the inputs and seed alone; the table is kept durably in one JSON file.
+ * The highscore API: a score is accepted only with the replay that produced it, re-simulated from
+ * its inputs and seed alone, and stored with that replay.
  *
- * Why one file and not an embedded database: the table is small (the best 100 per game), written
- * rarely (a verified submission) and read whole; one file written atomically — write a temporary
- * file, fsync it, rename it over the old one, fsync the directory — survives a restart and a crash
- * at any point of a write (the old table or the new one is on disk, never half of one), needs no
- * native module, and can be read with any text editor.
+ * - `GET /api/highscores?game=<id>&limit=10` → 200 `{ game, entries }`
+ * - `POST /api/highscores?score=<n>`, the replay file as the body → 201 `{ rank, entry }`; the same
+ *   submission again → 201 with the same entry and `repeated: true`; refusals are
+ *   `{ error, code }`: 400 bad request, 409 `RUN_TAKEN` (this run is already in the table under
+ *   another name), 413 too large, 422 refused (invalid replay, unknown game or version, does not
+ *   reproduce, score mismatch), 429 too many submissions, 503 busy / store unavailable (with
+ *   `Retry-After`).
+ * - `GET /api/highscores/<replayId>/replay` → the stored replay file.
+ *
+ * Usable three ways: {@link HighscoreApi.plugin} (fastify; what `createServer` uses),
+ * {@link HighscoreApi.handler} (plain `node:http`, and express as middleware).
  */
 
-export interface HighscoreEntry {
-  game: string;
-  /** The player's name, from the replay (trimmed to 32 printable characters). */
-  name: string;
-  score: number;
-  /** Ticks the game lasted. */
-  ticks: number;
-  seed: number;
-  /** The replay's final state hash, 16 hex digits. */
-  finalHash: string;
-  /** FNV-1a 64 of the replay file, 16 hex digits: the same file is accepted once. */
-  replayId: string;
-  /** When it was accepted (server time, ISO 8601). */
-  at: string;
-}
-
-/** How many entries each game's table keeps. */
-export const TABLE_SIZE = 100;
-
-/** A table of highscores per game, persisted atomically to one JSON file. */
-export class HighscoreStore {
-  private entries: HighscoreEntry[] = [];
-  private writing: Promise<void> = Promise.resolve();
-  private tmpCount = 0;
-
-  private constructor(readonly file: string) {}
-
+/** Options of {@link highscoreApi}. */
+export interface HighscoreApiOptions {
   /**
-   * Opens (or creates) the table at `file`. A file that cannot be parsed is kept aside as
-   * `<file>.corrupt-<time>` — never deleted — and the table starts empty; `recovered` says so.
+   * The games: the definitions, or what {@link loadGames} returned (its module URLs let the
+   * verification workers import the same games). With definitions alone and no `verifier`,
+   * verification runs inline on the event loop.
    */
-  static async open(file: string): Promise<{ store: HighscoreStore; recovered?: string }> {
-    const store = new HighscoreStore(path.resolve(file));
-    await mkdir(path.dirname(store.file), { recursive: true });
-    await store.removeStaleTemporaries();
-    let text: string;
-    try {
-      text = await readFile(store.file, 'utf8');
-    } catch (error) {
-      if ((error as NodeJS.ErrnoException).code === 'ENOENT') return { store };
-      throw error;
-    }
-    try {
-      store.entries = parseTable(text);
-      return { store };
-    } catch (error) {
-      const aside = `${store.file}.corrupt-${new Date().toISOString().replace(/[:.]/g, '-')}`;
-      await rename(store.file, aside);
-      return {
-        store,
-        recovered: `${store.file} could not be read (${(error as Error).message}); kept as ${aside}`,
-      };
-    }
-  }
-
-  /** The best entries of `game`, best first. */
-  top(game: string, limit = 10): HighscoreEntry[] {
-    return this.entries.filter((e) => e.game === game).slice(0, limit);
-  }
-
-  /** Whether a replay file with this id was already accepted. */
-  has(replayId: string): boolean {
-    return this.entries.some((e) => e.replayId === replayId);
-  }
-
+  games: LoadedGames | readonly AnyGameDefinition[];
+  /** Where accepted scores and their replays go. */
+  store: HighscoreStore;
+  /** Re-simulates submissions. Default: a {@link VerifierPool} over the games' modules. */
+  verifier?: VerifierPool;
+  /** Submissions that passed the pre-check allowed per client address per minute. Default 20. */
+  perMinute?: number;
   /**
-   * Adds an entry and writes the table to disk before resolving. Returns its rank (1 = best) in
-   * its game's table, or 0 if it did not make the table.
+   * The header a trusted reverse proxy puts the client's address in (`x-forwarded-for`,
+   * `x-real-ip`). Unset: the socket's address (do not set it without such a proxy in front).
    */
-  async add(entry: HighscoreEntry): Promise<number> {
-    const all = [...this.entries, entry].sort(compareEntries);
-    const kept: HighscoreEntry[] = [];
-    const perGame = new Map<string, number>();
-    for (const e of all) {
-      const n = perGame.get(e.game) ?? 0;
-      if (n < TABLE_SIZE) kept.push(e);
-      perGame.set(e.game, n + 1);
-    }
-    this.entries = kept;
-    const rank = kept.filter((e) => e.game === entry.game).indexOf(entry) + 1;
-    await this.persist();
-    return rank;
-  }
-
-  private persist(): Promise<void> {
-    const text = `${JSON.stringify({ format: 'fixedstep-highscores', version: 1, entries: this.entries }, null, 1)}\n`;
-    // Writes run one after another; each writes the whole table as it was when it was asked for.
-    this.writing = this.writing.then(() => this.writeAtomically(text));
-    return this.writing;
-  }
-
-  private async writeAtomically(text: string): Promise<void> {
-    const tmp = `${this.file}.tmp-${process.pid}-${++this.tmpCount}`;
-    const handle = await open(tmp, 'w');
-    try {
-      await handle.writeFile(text, 'utf8');
-      await handle.sync();
-    } finally {
-      await handle.close();
-    }
-    await rename(tmp, this.file);
-    const dir = await open(path.dirname(this.file), 'r');
-    try {
-      await dir.sync();
-    } finally {
-      await dir.close();
-    }
-  }
-
-  private async removeStaleTemporaries(): Promise<void> {
-    const base = path.basename(this.file);
-    for (const name of await readdir(path.dirname(this.file))) {
-      if (name.startsWith(`${base}.tmp-`)) await unlink(path.join(path.dirname(this.file), name));
-    }
-  }
+  trustProxy?: string;
+  /** Largest replay accepted, in bytes. Default 1 MiB. */
+  maxBodyBytes?: number;
+  /** A body must arrive within this many ms (plain `node:http` handler). Default 10 000. */
+  bodyTimeoutMs?: number;
+  /** The clock for rate limits and timestamps, in ms. Default `Date.now`. */
+  now?: () => number;
+  /** Metrics to count into. */
+  metrics?: ServerMetrics;
+  /** Where unexpected errors are reported. Default `console.error`. */
+  log?: (message: string, error: unknown) => void;
+  /** Worker threads of the verifier this API creates (see `VerifierPoolOptions.workers`). */
+  workers?: number;
+  /** Submissions that may wait for a worker (see `VerifierPoolOptions.maxQueue`). Default 32. */
+  maxQueue?: number;
 }
 
-function compareEntries(a: HighscoreEntry, b: HighscoreEntry): number {
-  if (a.game !== b.game) return a.game < b.game ? -1 : 1;
-  if (a.score !== b.score) return b.score - a.score;
-  if (a.ticks !== b.ticks) return a.ticks - b.ticks;
-  return a.at < b.at ? -1 : a.at > b.at ? 1 : 0;
+/** An answer of the API, before it is written to a response. */
+export interface ApiAnswer {
+  status: number;
+  body: unknown;
+  headers?: Record<string, string>;
 }
 
-function parseTable(text: string): HighscoreEntry[] {
-  const data = JSON.parse(text) as { format?: unknown; entries?: unknown };
-  if (data.format !== 'fixedstep-highscores' || !Array.isArray(data.entries))
-    throw new Error('not a highscore table');
-  const ok = (e: Record<string, unknown>) =>
-    typeof e.game === 'string' &&
-    typeof e.name === 'string' &&
-    Number.isFinite(e.score) &&
-    Number.isInteger(e.ticks) &&
-    typeof e.replayId === 'string' &&
-    typeof e.at === 'string';
-  const entries = data.entries as Record<string, unknown>[];
-  if (!entries.every(ok)) throw new Error('an entry is malformed');
-  return (entries as unknown as HighscoreEntry[]).sort(compareEntries);
-}
-
-/** Why a submission was refused. */
-export class SubmissionError extends Error {
-  constructor(
-    readonly status: number,
-    readonly code: string,
-    message: string,
-  ) {
-    super(message);
-  }
-}
-
-/** The most ticks a submitted replay may have: one hour at 60 Hz (bounds the re-simulation). */
-export const MAX_SUBMITTED_TICKS = 216_000;
-/** The largest submitted replay, in bytes. */
-export const MAX_SUBMITTED_BYTES = 1024 * 1024;
-
-/**
- * Checks a submission: the replay must parse, be of a game this server has (same version),
- * re-simulate to every stored hash, and end with exactly the claimed score. Returns the entry to
- * store (not stored yet).
- */
-export function checkSubmission(
-  bytes: Uint8Array,
-  claimedScore: number,
-  now: Date,
-): HighscoreEntry {
-  let game: Game | undefined;
-  const factory = (header: Parameters<typeof gameFromReplayHeader>[0]): Simulation => {
-    game = gameFromReplayHeader(header);
-    return game;
-  };
-  let result;
-  try {
-    result = verifyReplay(bytes, factory, {
-      limits: { maxTicks: MAX_SUBMITTED_TICKS, maxFileBytes: MAX_SUBMITTED_BYTES },
-    });
-  } catch (error) {
-    if (error instanceof ReplayError)
-      throw new SubmissionError(422, error.code, `invalid replay: ${error.message}`);
-    if (error instanceof RangeError) throw new SubmissionError(422, 'WRONG_GAME', error.message);
-    throw error;
-  }
-  if (!result.ok || !game) {
-    throw new SubmissionError(
-      422,
-      'DOES_NOT_REPRODUCE',
-      `the replay does not reproduce: the state first differs after a tick in (${result.lastGoodTick}, ${result.firstMismatchTick}]`,
-    );
-  }
-  const header = result.replay.header;
-  const key = findGame(header.gameId)?.info.scoreKey ?? 'score';
-  const score = game.hud()[key];
-  if (score === undefined)
-    throw new SubmissionError(422, 'NO_SCORE', `${header.gameId} has no "${key}" to rank by`);
-  if (score !== claimedScore) {
-    throw new SubmissionError(
-      422,
-      'SCORE_MISMATCH',
-      `claimed ${claimedScore}, the replay scores ${score}`,
-    );
-  }
-  return {
-    game: header.gameId,
-    name: cleanName(header.players[0] ?? ''),
-    score,
-    ticks: result.ticks,
-    seed: header.seeds[0] ?? 0,
-    finalHash: hex64(result.replay.finalHash),
-    replayId: fnv1a64Hex(bytes),
-    at: now.toISOString(),
-  };
-}
-
-function cleanName(name: string): string {
-  const printable = Array.from(name)
-    .filter((ch) => ch >= ' ' && ch !== '\u007f')
-    .join('');
-  const clean = printable.trim().slice(0, 32);
-  return clean === '' ? 'anonymous' : clean;
-}
-
-/** Handles one HTTP request if it is for the highscore API; resolves true when it answered. */
+/** A `node:http` request handler that answers the API's paths and resolves false for any other. */
 export type ApiHandler = (req: http.IncomingMessage, res: http.ServerResponse) => Promise<boolean>;
 
-export interface HighscoreApiOptions {
-  store: HighscoreStore;
-  /** Submissions allowed per client address per minute. Default 20. */
-  perMinute?: number;
-  /** The clock for the rate limit and timestamps (injectable for tests). Default Date.now. */
-  now?: () => number;
+/** The highscore API over a store and games (see the module's description). */
+export interface HighscoreApi {
+  /** The fastify plugin: registers the routes (with their own body parser and limit). */
+  readonly plugin: FastifyPluginAsync;
+  /** For `node:http` and express: answers `/api/highscores…` and resolves true, else resolves false. */
+  readonly handler: ApiHandler;
+  /** The verifier in use. */
+  readonly verifier: VerifierPool;
+  /** Lists a game's table. */
+  list(game: string, limitText: string | null): Promise<ApiAnswer>;
+  /** Judges one submission: `scoreText` as in the query, `client` the rate-limit key. */
+  submit(bytes: Uint8Array, scoreText: string | null, client: string): Promise<ApiAnswer>;
+  /** Answers a stored replay's bytes. */
+  replay(runId: string): Promise<ApiAnswer>;
+  /** Refuses new submissions (503) and waits for the ones being verified. */
+  drain(): Promise<void>;
+  /** Drains, then stops the verifier if this API made it (the store is the caller's to close). */
+  close(): Promise<void>;
 }
 
-/**
- * `GET /api/highscores?game=runner&limit=10` → `{ game, entries }`.
- * `POST /api/highscores?score=N` with the replay file as the body → 201 `{ rank, entry }`, or
- * 4xx `{ error, code }`: 400 bad request, 409 already submitted, 413 too large, 422 refused
- * (invalid replay, does not reproduce, score mismatch), 429 too many submissions.
- */
-export function highscoreApi(options: HighscoreApiOptions): ApiHandler {
-  const perMinute = options.perMinute ?? 20;
-  const now = options.now ?? Date.now;
-  const recent = new Map<string, number[]>();
-  return async (req, res) => {
-    const url = new URL(req.url ?? '/', 'http://localhost');
-    if (url.pathname !== '/api/highscores') return false;
-    try {
-      if (req.method === 'GET' || req.method === 'HEAD') {
-        const game = url.searchParams.get('game') ?? '';
-        if (!findGame(game))
-          throw new SubmissionError(400, 'UNKNOWN_GAME', `unknown game "${game}"`);
-        const limit = Number(url.searchParams.get('limit') ?? '10');
-        if (!Number.isInteger(limit) || limit < 1 || limit > TABLE_SIZE) {
-          throw new SubmissionError(
-            400,
-            'BAD_LIMIT',
-            `limit must be an integer from 1 to ${TABLE_SIZE}`,
-          );
-        }
-        json(res, 200, { game, entries: options.store.top(game, limit) });
-        return true;
-      }
-      if (req.method !== 'POST') {
-        res.setHeader('Allow', 'GET, HEAD, POST');
-        throw new SubmissionError(405, 'METHOD', 'use GET to read or POST to submit');
-      }
-      const t = now();
-      const who = req.socket.remoteAddress ?? '?';
-      const times = (recent.get(who) ?? []).filter((x) => t - x < 60_000);
-      if (times.length >= perMinute)
-        throw new SubmissionError(429, 'RATE_LIMITED', `at most ${perMinute} submissions a minute`);
-      times.push(t);
-      recent.set(who, times);
-      const scoreText = url.searchParams.get('score') ?? '';
-      if (!/^\d{1,15}$/.test(scoreText))
-        throw new SubmissionError(400, 'BAD_SCORE', 'score must be a whole number ≥ 0');
-      const body = await readBody(req, MAX_SUBMITTED_BYTES);
-      const entry = checkSubmission(body, Number(scoreText), new Date(t));
-      if (options.store.has(entry.replayId))
-        throw new SubmissionError(409, 'DUPLICATE', 'this replay was already submitted');
-      const rank = await options.store.add(entry);
-      json(res, 201, { rank, entry });
-    } catch (error) {
-      if (!(error instanceof SubmissionError)) throw error;
-      json(res, error.status, { error: error.message, code: error.code });
-    }
-    return true;
+function refusal(error: SubmissionError): ApiAnswer {
+  return {
+    status: error.status,
+    body: { error: error.message, code: error.code },
+    ...(error.retryAfter !== undefined
+      ? { headers: { 'Retry-After': String(error.retryAfter) } }
+      : {}),
   };
 }
 
-async function readBody(req: http.IncomingMessage, max: number): Promise<Uint8Array> {
-  const declared = Number(req.headers['content-length'] ?? NaN);
-  if (declared > max) {
-    req.resume();
-    throw new SubmissionError(413, 'TOO_LARGE', `a replay is at most ${max} bytes`);
-  }
-  const chunks: Buffer[] = [];
-  let size = 0;
-  for await (const chunk of req as AsyncIterable<Buffer>) {
-    size += chunk.length;
-    if (size > max) {
-      req.destroy();
-      throw new SubmissionError(413, 'TOO_LARGE', `a replay is at most ${max} bytes`);
+/** Creates the highscore API (see {@link HighscoreApiOptions}). */
+export function highscoreApi(options: HighscoreApiOptions): HighscoreApi {
+  const loaded: LoadedGames = Array.isArray(options.games)
+    ? { modules: [], games: options.games as readonly AnyGameDefinition[] }
+    : (options.games as LoadedGames);
+  const games = loaded.games;
+  const maxBody = options.maxBodyBytes ?? MAX_SUBMITTED_BYTES;
+  const limits = submissionLimits(undefined, maxBody);
+  const metrics = options.metrics;
+  const ownVerifier = options.verifier === undefined;
+  const verifier =
+    options.verifier ??
+    new VerifierPool({
+      modules: loaded.modules,
+      games,
+      limits,
+      ...(loaded.modules.length === 0
+        ? { workers: 0 }
+        : options.workers !== undefined
+          ? { workers: options.workers }
+          : {}),
+      ...(options.maxQueue !== undefined ? { maxQueue: options.maxQueue } : {}),
+      ...(metrics
+        ? {
+            onDone: (seconds: number, outcome: string) => {
+              metrics.verificationSeconds.observe(seconds);
+              metrics.verificationOutcomes.inc({ outcome });
+            },
+          }
+        : {}),
+    });
+  const limiter = new RateLimiter(options.perMinute ?? 20, 60_000, options.now ?? Date.now);
+  const now = options.now ?? Date.now;
+  const log =
+    options.log ??
+    ((message, error) => {
+      console.error(`fixedstep: ${message}`, error);
+    });
+  let draining = false;
+
+  const storeFailed = (error: unknown): ApiAnswer => {
+    metrics?.storeErrors.inc();
+    log('the highscore store failed', error);
+    return refusal(
+      new SubmissionError(
+        503,
+        'STORE_UNAVAILABLE',
+        'the highscore table cannot be written right now; nothing was saved, try again',
+        5,
+      ),
+    );
+  };
+  const count = (answer: ApiAnswer, result: string): ApiAnswer => {
+    metrics?.submissions.inc({ result });
+    return answer;
+  };
+  const gauges = () => {
+    metrics?.verificationQueue.set(verifier.queued);
+    metrics?.verificationRunning.set(verifier.running);
+  };
+
+  const list = async (game: string, limitText: string | null): Promise<ApiAnswer> => {
+    if (!games.some((g) => g.id === game)) {
+      return refusal(
+        new SubmissionError(400, 'UNKNOWN_GAME', `unknown game "${game.slice(0, 40)}"`),
+      );
     }
-    chunks.push(chunk);
-  }
-  return new Uint8Array(Buffer.concat(chunks));
+    const limit = Number(limitText ?? '10');
+    if (!Number.isInteger(limit) || limit < 1 || limit > TABLE_SIZE) {
+      return refusal(
+        new SubmissionError(400, 'BAD_LIMIT', `limit must be an integer from 1 to ${TABLE_SIZE}`),
+      );
+    }
+    try {
+      return { status: 200, body: { game, entries: await options.store.top(game, limit) } };
+    } catch (error) {
+      return storeFailed(error);
+    }
+  };
+
+  const submit = async (
+    bytes: Uint8Array,
+    scoreText: string | null,
+    client: string,
+  ): Promise<ApiAnswer> => {
+    if (draining)
+      return count(
+        refusal(new SubmissionError(503, 'DRAINING', 'the server is shutting down', 5)),
+        'DRAINING',
+      );
+    if (scoreText === null || !/^\d{1,10}$/.test(scoreText)) {
+      return count(
+        refusal(new SubmissionError(400, 'BAD_SCORE', 'score must be a whole number ≥ 0')),
+        'BAD_SCORE',
+      );
+    }
+    const claimed = Number(scoreText);
+    let pre;
+    try {
+      pre = precheckSubmission(bytes, claimed, games, limits);
+    } catch (error) {
+      if (error instanceof SubmissionError) return count(refusal(error), error.code);
+      throw error;
+    }
+    // A run already in the table is answered from the table, with no simulation.
+    let known: HighscoreEntry | undefined;
+    try {
+      known = await options.store.find(pre.runId);
+    } catch (error) {
+      return count(storeFailed(error), 'STORE_UNAVAILABLE');
+    }
+    if (known !== undefined) return count(await answerKnown(known, pre.name, claimed), 'KNOWN');
+    // Honest-looking: only now is the submission charged to its address.
+    const wait = limiter.check(client);
+    if (wait > 0) {
+      return count(
+        refusal(
+          new SubmissionError(
+            429,
+            'RATE_LIMITED',
+            `at most ${limiter.limit} submissions a minute from one address`,
+            wait,
+          ),
+        ),
+        'RATE_LIMITED',
+      );
+    }
+    limiter.charge(client);
+    let verdict;
+    try {
+      const pending = verifier.verify(bytes, claimed);
+      gauges();
+      verdict = await pending;
+    } catch (error) {
+      if (error instanceof SubmissionError) return count(refusal(error), error.code);
+      throw error;
+    } finally {
+      gauges();
+    }
+    if (!verdict.ok)
+      return count(
+        refusal(new SubmissionError(verdict.status, verdict.code, verdict.message)),
+        verdict.code,
+      );
+    const entry: HighscoreEntry = {
+      game: pre.game.id,
+      version: String(pre.game.version),
+      name: pre.name,
+      score: verdict.score,
+      ticks: verdict.ticks,
+      seed: pre.seed,
+      finalHash: verdict.finalHash,
+      replayId: pre.runId,
+      at: new Date(now()).toISOString(),
+    };
+    let outcome;
+    try {
+      outcome = await options.store.add(entry, bytes);
+    } catch (error) {
+      return count(storeFailed(error), 'STORE_UNAVAILABLE');
+    }
+    if (outcome.kind === 'taken') return count(taken(outcome.entry), 'RUN_TAKEN');
+    return count(
+      {
+        status: 201,
+        body: {
+          rank: outcome.rank,
+          entry: outcome.entry,
+          ...(outcome.kind === 'same' ? { repeated: true } : {}),
+        },
+      },
+      outcome.kind === 'added' ? 'added' : 'repeated',
+    );
+  };
+
+  const taken = (entry: HighscoreEntry): ApiAnswer =>
+    refusal(
+      new SubmissionError(
+        409,
+        'RUN_TAKEN',
+        `this run (the same game, seed and inputs) is already in the table under the name "${entry.name}"; a run is ranked once, whatever its name`,
+      ),
+    );
+
+  const answerKnown = async (
+    known: HighscoreEntry,
+    name: string,
+    claimed: number,
+  ): Promise<ApiAnswer> => {
+    if (known.name !== name) return taken(known);
+    if (known.score !== claimed) {
+      return refusal(
+        new SubmissionError(
+          422,
+          'SCORE_MISMATCH',
+          `claimed ${claimed}, the replay scores ${known.score}`,
+        ),
+      );
+    }
+    try {
+      return {
+        status: 201,
+        body: { rank: await options.store.rank(known), entry: known, repeated: true },
+      };
+    } catch (error) {
+      return storeFailed(error);
+    }
+  };
+
+  const replay = async (runId: string): Promise<ApiAnswer> => {
+    if (!/^(v1-)?[0-9a-f]{16}$/.test(runId)) {
+      return refusal(new SubmissionError(404, 'NOT_FOUND', 'no such replay'));
+    }
+    let bytes;
+    try {
+      bytes = await options.store.replay(runId);
+    } catch (error) {
+      return storeFailed(error);
+    }
+    if (bytes === undefined)
+      return refusal(new SubmissionError(404, 'NOT_FOUND', 'no such replay'));
+    return {
+      status: 200,
+      body: bytes,
+      headers: {
+        'Content-Type': 'application/octet-stream',
+        'Content-Disposition': `attachment; filename="${runId}.fsr"`,
+      },
+    };
+  };
+
+  const plugin = highscoreRoutes(() => api, {
+    maxBodyBytes: maxBody,
+    ...(options.trustProxy !== undefined ? { trustProxy: options.trustProxy } : {}),
+  });
+
+  const handler: ApiHandler = async (req, res) => {
+    const url = new URL(req.url ?? '/', 'http://localhost');
+    const replayPath = /^\/api\/highscores\/([^/]+)\/replay$/.exec(url.pathname);
+    if (url.pathname !== '/api/highscores' && replayPath === null) return false;
+    let answer: ApiAnswer;
+    try {
+      if (replayPath !== null && (req.method === 'GET' || req.method === 'HEAD'))
+        answer = await replay(replayPath[1]!);
+      else if (replayPath === null && (req.method === 'GET' || req.method === 'HEAD')) {
+        answer = await list(url.searchParams.get('game') ?? '', url.searchParams.get('limit'));
+      } else if (replayPath === null && req.method === 'POST') {
+        const bytes = await readBody(req, maxBody, options.bodyTimeoutMs ?? 10_000);
+        answer = await submit(
+          bytes,
+          url.searchParams.get('score'),
+          clientAddress(req, options.trustProxy),
+        );
+      } else {
+        res.setHeader('Allow', 'GET, HEAD, POST');
+        answer = refusal(new SubmissionError(405, 'METHOD', 'use GET to read or POST to submit'));
+      }
+    } catch (error) {
+      if (!(error instanceof SubmissionError)) throw error;
+      answer = refusal(error);
+      // The body was not read to its end: close the connection rather than read the rest.
+      if (error.status === 413 || error.status === 408) res.setHeader('Connection', 'close');
+    }
+    writeAnswer(res, answer);
+    return true;
+  };
+
+  const api: HighscoreApi = {
+    plugin,
+    handler,
+    verifier,
+    list,
+    submit,
+    replay,
+    async drain() {
+      draining = true;
+      await verifier.drain();
+    },
+    async close() {
+      draining = true;
+      await verifier.drain();
+      if (ownVerifier) await verifier.close();
+    },
+  };
+  return api;
 }
 
-function json(res: http.ServerResponse, status: number, body: unknown): void {
-  const text = JSON.stringify(body);
-  res.statusCode = status;
+/**
+ * The API's fastify routes over whichever API `get` returns (503 `STORE_STARTING` while it returns
+ * undefined, e.g. while the store opens): `GET|POST /api/highscores`, `GET /api/highscores/:id/replay`.
+ * Replays are read as bytes whatever type the client claims; the limit is checked against
+ * Content-Length before a byte is read (413, and the connection is closed).
+ */
+export function highscoreRoutes(
+  get: () => HighscoreApi | undefined,
+  options: { maxBodyBytes?: number; trustProxy?: string } = {},
+): FastifyPluginAsync {
+  const maxBody = options.maxBodyBytes ?? MAX_SUBMITTED_BYTES;
+  // eslint-disable-next-line @typescript-eslint/require-await -- fastify's plugin signature
+  return async (app) => {
+    app.removeAllContentTypeParsers();
+    app.addContentTypeParser('*', { parseAs: 'buffer', bodyLimit: maxBody }, (_req, body, done) => {
+      done(null, body);
+    });
+    const send = async (reply: FastifyReply, answer: () => Promise<ApiAnswer> | ApiAnswer) => {
+      const result = get() === undefined ? starting() : await answer();
+      reply.code(result.status).header('Cache-Control', 'no-store');
+      for (const [k, v] of Object.entries(result.headers ?? {})) reply.header(k, v);
+      return reply.send(result.body instanceof Uint8Array ? Buffer.from(result.body) : result.body);
+    };
+    interface Query {
+      Querystring: Record<string, string | undefined>;
+    }
+    app.get<Query>('/api/highscores', (request, reply) =>
+      send(reply, () => get()!.list(request.query.game ?? '', request.query.limit ?? null)),
+    );
+    app.post<Query>('/api/highscores', (request, reply) => {
+      const body = Buffer.isBuffer(request.body) ? new Uint8Array(request.body) : new Uint8Array(0);
+      return send(reply, () =>
+        get()!.submit(
+          body,
+          request.query.score ?? null,
+          clientAddress(request.raw, options.trustProxy),
+        ),
+      );
+    });
+    app.get<{ Params: { id: string } }>('/api/highscores/:id/replay', (request, reply) =>
+      send(reply, () => get()!.replay(request.params.id)),
+    );
+    app.route({
+      method: ['PUT', 'DELETE', 'PATCH', 'OPTIONS'],
+      url: '/api/highscores',
+      handler: (_request, reply) =>
+        send(reply.header('Allow', 'GET, HEAD, POST'), () =>
+          refusal(new SubmissionError(405, 'METHOD', 'use GET to read or POST to submit')),
+        ),
+    });
+  };
+}
+
+function starting(): ApiAnswer {
+  return {
+    status: 503,
+    body: {
+      error: 'the highscore table is opening; try again in a few seconds',
+      code: 'STORE_STARTING',
+    },
+    headers: { 'Retry-After': '5' },
+  };
+}
+
+function writeAnswer(res: http.ServerResponse, answer: ApiAnswer): void {
+  const binary = answer.body instanceof Uint8Array;
+  const body = binary
+    ? Buffer.from(answer.body as Uint8Array)
+    : Buffer.from(JSON.stringify(answer.body));
+  res.statusCode = answer.status;
   res.setHeader('Content-Type', 'application/json; charset=utf-8');
   res.setHeader('Cache-Control', 'no-store');
-  res.setHeader('Content-Length', Buffer.byteLength(text));
-  res.end(text);
+  for (const [k, v] of Object.entries(answer.headers ?? {})) res.setHeader(k, v);
+  res.setHeader('Content-Length', body.length);
+  res.end(body);
+}
+
+/**
+ * Reads a request body of at most `max` bytes within `timeoutMs`. A declared length over the limit
+ * is refused (413) before a byte is read; a body that grows past it, or is too slow (408), is
+ * refused and the rest is never read (the connection is closed after the answer).
+ */
+export async function readBody(
+  req: http.IncomingMessage,
+  max: number,
+  timeoutMs: number,
+): Promise<Uint8Array> {
+  const declared = Number(req.headers['content-length'] ?? NaN);
+  if (declared > max)
+    throw new SubmissionError(413, 'TOO_LARGE', `a replay is at most ${max} bytes`);
+  const chunks: Buffer[] = [];
+  let size = 0;
+  return new Promise<Uint8Array>((resolve, reject) => {
+    const timer = setTimeout(() => {
+      cleanup();
+      req.pause();
+      reject(
+        new SubmissionError(
+          408,
+          'BODY_TIMEOUT',
+          `the body did not arrive within ${timeoutMs / 1000} s`,
+        ),
+      );
+    }, timeoutMs);
+    const onData = (chunk: Buffer) => {
+      size += chunk.length;
+      if (size > max) {
+        cleanup();
+        req.pause();
+        reject(new SubmissionError(413, 'TOO_LARGE', `a replay is at most ${max} bytes`));
+        return;
+      }
+      chunks.push(chunk);
+    };
+    const onEnd = () => {
+      cleanup();
+      resolve(new Uint8Array(Buffer.concat(chunks)));
+    };
+    const onError = (error: Error) => {
+      cleanup();
+      reject(error);
+    };
+    const cleanup = () => {
+      clearTimeout(timer);
+      req.off('data', onData);
+      req.off('end', onEnd);
+      req.off('error', onError);
+    };
+    req.on('data', onData);
+    req.on('end', onEnd);
+    req.on('error', onError);
+  });
 }

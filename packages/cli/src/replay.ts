@@ -1,7 +1,16 @@
-import { readFileSync, statSync } from 'node:fs';
-import { ReplayError, hex64, readReplay, verifyReplay, type Replay } from 'fixedstep';
-import { gameFromReplayHeader } from '@fixedstep/games';
+import { closeSync, constants, fstatSync, openSync, readSync } from 'node:fs';
+import {
+  DEFAULT_REPLAY_LIMITS,
+  ReplayError,
+  hex64,
+  readReplay,
+  replayFactory,
+  verifyReplay,
+  type Replay,
+} from 'fixedstep';
 import { UsageError, formatOptions, parseOptions, type OptionSpec } from './args.js';
+import { loadGames } from './games/load.js';
+import { printable } from './text.js';
 
 /** Exit codes of `fixedstep replay …`, for scripts. */
 export const EXIT_BAD_REPLAY = 3;
@@ -13,6 +22,12 @@ const INFO_OPTIONS: OptionSpec[] = [
 ];
 const VERIFY_OPTIONS: OptionSpec[] = [
   { name: 'quiet', short: 'q', kind: 'flag', help: 'No progress bar' },
+  {
+    name: 'games',
+    kind: 'string',
+    valueName: 'module',
+    help: 'Your games: an ES module whose default (or "games") export is a game\ndefinition or an array of them (default: the built-in games)',
+  },
   { name: 'help', short: 'h', kind: 'flag', help: 'Show this help' },
 ];
 
@@ -35,19 +50,19 @@ On a difference it names the first tick whose state differs (exactly, when the r
 per-tick hashes; otherwise within one checkpoint interval).
 
 Usage:
-  fixedstep replay verify <file> [--quiet]
+  fixedstep replay verify <file> [--quiet] [--games <module>]
 
 Options:
 ${formatOptions(VERIFY_OPTIONS)}
 
-Exit codes: 0 reproduced, 1 cannot read the file, 2 usage error, 3 not a valid replay file
-(or a game this build does not have), 4 the replay does not reproduce.
+Exit codes: 0 reproduced, 1 cannot read the file (or the games module), 2 usage error, 3 not a
+valid replay file (or a game this build does not have), 4 the replay does not reproduce.
 `;
 
 export type ReplayCommand =
   | { kind: 'help'; text: string }
   | { kind: 'replay-info'; file: string; json: boolean }
-  | { kind: 'replay-verify'; file: string; quiet: boolean };
+  | { kind: 'replay-verify'; file: string; quiet: boolean; games?: string };
 
 export function parseReplayInfo(rest: readonly string[]): ReplayCommand {
   const { values, positionals } = parseOptions('replay info', rest, INFO_OPTIONS, 1);
@@ -62,7 +77,13 @@ export function parseReplayVerify(rest: readonly string[]): ReplayCommand {
   if (values.help) return { kind: 'help', text: REPLAY_VERIFY_HELP };
   const file = positionals[0];
   if (file === undefined) throw new UsageError('replay verify needs a file');
-  return { kind: 'replay-verify', file, quiet: values.quiet === true };
+  const games = typeof values.games === 'string' ? values.games : undefined;
+  return {
+    kind: 'replay-verify',
+    file,
+    quiet: values.quiet === true,
+    ...(games !== undefined ? { games } : {}),
+  };
 }
 
 interface Io {
@@ -71,30 +92,72 @@ interface Io {
   progress?(done: number, total: number): void;
 }
 
-/** Reads a file for the replay commands, refusing anything larger than the replay limit before reading. */
-function readFile(file: string, io: Io): Uint8Array | undefined {
+/** The largest file the replay commands read (the replay format's own default limit). */
+export const MAX_REPLAY_FILE_BYTES = DEFAULT_REPLAY_LIMITS.maxFileBytes;
+
+/**
+ * Reads a file for the replay commands: only a regular file (a FIFO, a device such as /dev/zero,
+ * a directory or a socket is refused with a message — never waited on, never read without bound),
+ * at most {@link MAX_REPLAY_FILE_BYTES}, checked before reading; a file that grows while it is read
+ * is cut at the limit and then refused by the parser.
+ */
+export function readReplayFile(file: string, io: Pick<Io, 'err'>): Uint8Array | undefined {
+  let fd: number;
   try {
-    const size = statSync(file).size;
-    if (size > 64 * 1024 * 1024) {
-      io.err(`fixedstep: ${file} is ${size} bytes; replays are at most 64 MiB\n`);
-      return undefined;
-    }
-    return readFileSync(file);
+    // O_NONBLOCK: opening a FIFO must not wait for a writer.
+    fd = openSync(file, constants.O_RDONLY | constants.O_NONBLOCK);
   } catch (error) {
     io.err(
       `fixedstep: cannot read ${file}: ${error instanceof Error ? error.message : String(error)}\n`,
     );
     return undefined;
   }
+  try {
+    const info = fstatSync(fd);
+    if (!info.isFile()) {
+      const kind = info.isDirectory()
+        ? 'a directory'
+        : info.isFIFO()
+          ? 'a FIFO (named pipe)'
+          : info.isCharacterDevice() || info.isBlockDevice()
+            ? 'a device'
+            : info.isSocket()
+              ? 'a socket'
+              : 'not a regular file';
+      io.err(`fixedstep: cannot read ${file}: it is ${kind}, not a replay file\n`);
+      return undefined;
+    }
+    if (info.size > MAX_REPLAY_FILE_BYTES) {
+      io.err(
+        `fixedstep: ${file} is ${info.size} bytes; replays are at most ${MAX_REPLAY_FILE_BYTES} bytes\n`,
+      );
+      return undefined;
+    }
+    const buffer = Buffer.alloc(Math.min(info.size + 1, MAX_REPLAY_FILE_BYTES + 1));
+    let length = 0;
+    while (length < buffer.length) {
+      const n = readSync(fd, buffer, length, buffer.length - length, null);
+      if (n === 0) break;
+      length += n;
+    }
+    return new Uint8Array(buffer.buffer, buffer.byteOffset, length);
+  } catch (error) {
+    io.err(
+      `fixedstep: cannot read ${file}: ${error instanceof Error ? error.message : String(error)}\n`,
+    );
+    return undefined;
+  } finally {
+    closeSync(fd);
+  }
 }
 
 function badReplay(io: Io, file: string, error: unknown): number {
   if (error instanceof ReplayError) {
-    io.err(`fixedstep: ${file}: not a valid replay (${error.code}): ${error.message}\n`);
+    io.err(`fixedstep: ${file}: not a valid replay (${error.code}): ${printable(error.message)}\n`);
     return EXIT_BAD_REPLAY;
   }
   if (error instanceof RangeError) {
-    io.err(`fixedstep: ${file}: cannot replay: ${error.message}\n`);
+    io.err(`fixedstep: ${file}: cannot replay: ${printable(error.message)}\n`);
     return EXIT_BAD_REPLAY;
   }
   throw error;
@@ -104,14 +167,15 @@ function badReplay(io: Io, file: string, error: unknown): number {
 export function replayFacts(replay: Replay, fileBytes: number): Record<string, unknown> {
   const h = replay.header;
   const seconds = (replay.tickCount * h.stepNumerator) / h.stepDenominator;
+  // Names come from the file: printed without control characters (no terminal escape sequences).
   return {
-    game: h.gameId,
-    gameVersion: h.gameVersion,
+    game: printable(h.gameId),
+    gameVersion: printable(h.gameVersion),
     step: `${h.stepNumerator}/${h.stepDenominator} s`,
     tickRate: h.stepDenominator / h.stepNumerator,
     ticks: replay.tickCount,
     duration: `${seconds.toFixed(2)} s`,
-    players: h.players,
+    players: h.players.map(printable),
     seeds: h.seeds,
     configBytes: h.config.length,
     checkpointEvery: replay.checkpointEvery,
@@ -126,7 +190,7 @@ export function replayFacts(replay: Replay, fileBytes: number): Record<string, u
 }
 
 export function replayInfo(cmd: { file: string; json: boolean }, io: Io): number {
-  const bytes = readFile(cmd.file, io);
+  const bytes = readReplayFile(cmd.file, io);
   if (!bytes) return 1;
   let replay: Replay;
   try {
@@ -149,13 +213,23 @@ export function replayInfo(cmd: { file: string; json: boolean }, io: Io): number
   return 0;
 }
 
-export function replayVerify(cmd: { file: string; quiet: boolean }, io: Io): number {
-  const bytes = readFile(cmd.file, io);
+export async function replayVerify(
+  cmd: { file: string; quiet: boolean; games?: string },
+  io: Io,
+): Promise<number> {
+  let games;
+  try {
+    games = await loadGames(cmd.games === undefined ? [] : [cmd.games]);
+  } catch (error) {
+    io.err(`fixedstep: ${error instanceof Error ? error.message : String(error)}\n`);
+    return 1;
+  }
+  const bytes = readReplayFile(cmd.file, io);
   if (!bytes) return 1;
   let result;
   const started = process.hrtime.bigint();
   try {
-    result = verifyReplay(bytes, gameFromReplayHeader, {
+    result = verifyReplay(bytes, replayFactory(games.games), {
       onProgress: cmd.quiet ? undefined : (tick, total) => io.progress?.(tick, total),
     });
   } catch (error) {
@@ -166,7 +240,7 @@ export function replayVerify(cmd: { file: string; quiet: boolean }, io: Io): num
   if (result.ok) {
     const rate = seconds > 0 ? Math.round(result.simulated / seconds) : 0;
     io.out(
-      `ok: ${h.gameId} v${h.gameVersion}, ${result.ticks} ticks reproduced, final hash ${hex64(result.replay.finalHash)} (${rate.toLocaleString('en-US')} ticks/s)\n`,
+      `ok: ${printable(h.gameId)} v${printable(h.gameVersion)}, ${result.ticks} ticks reproduced, final hash ${hex64(result.replay.finalHash)} (${rate.toLocaleString('en-US')} ticks/s)\n`,
     );
     return 0;
   }
@@ -174,7 +248,7 @@ export function replayVerify(cmd: { file: string; quiet: boolean }, io: Io): num
     ? `the state first differs after tick ${result.firstMismatchTick}`
     : `the state first differs after a tick in (${result.lastGoodTick}, ${result.firstMismatchTick}]`;
   io.out(
-    `MISMATCH: ${h.gameId} v${h.gameVersion}: ${where}; ${result.kind ?? 'hash'} expected ${hex(result.expected)}, got ${hex(result.actual)}\n`,
+    `MISMATCH: ${printable(h.gameId)} v${printable(h.gameVersion)}: ${where}; ${result.kind ?? 'hash'} expected ${hex(result.expected)}, got ${hex(result.actual)}\n`,
   );
   return EXIT_REPLAY_MISMATCH;
 }

@@ -133,12 +133,13 @@ describe('run', () => {
       await expect
         .poll(() => io.stdout)
         .toMatch(
-          /^fixedstep lab: http:\/\/localhost:\d+\/ \(press Ctrl-C to stop\)\nhighscores kept in .*highscores\.json\n$/,
+          /^fixedstep lab: http:\/\/localhost:\d+\/ \(press Ctrl-C to stop\)\ngames: runner v\d+, ctf v\d+, survival v\d+\nhighscores kept in PGlite in .*pglite\n$/,
         );
       const url = /http:\/\/localhost:\d+\//.exec(io.stdout)![0].replace('localhost', '127.0.0.1');
       expect(await (await fetch(url)).text()).toBe('hello');
       stop();
       expect(await done).toBe(EXIT_OK);
+      expect(io.stdout).toContain('fixedstep: stopping');
     } finally {
       await rm(dir, { recursive: true, force: true });
     }

@@ -1,178 +1,204 @@
-import { mkdtemp, readdir, readFile, rm, writeFile } from 'node:fs/promises';
-import os from 'node:os';
-import path from 'node:path';
-import { afterEach, beforeEach, describe, expect, it } from 'vitest';
-import { startServer, type RunningServer } from '../src/serve.js';
-import {
-  HighscoreStore,
-  checkSubmission,
-  highscoreApi,
-  type HighscoreEntry,
-} from '../src/highscores.js';
+import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import { GAMES } from '@fixedstep/games';
+import { createServer, type FixedstepServer } from '../src/server/app.js';
+import { precheckSubmission, resimulate, runId } from '../src/verify/check.js';
+import { readReplay } from 'fixedstep';
+import { closed, connect, memoryStore, request } from './helpers.js';
 import { recordBot, recordRunner } from './replay-fixtures.js';
 
-let dir: string;
-beforeEach(async () => {
-  dir = await mkdtemp(path.join(os.tmpdir(), 'fixedstep-hs-'));
-});
-afterEach(async () => {
-  await rm(dir, { recursive: true, force: true });
-});
-
-const table = () => path.join(dir, 'data', 'highscores.json');
-
-describe('checkSubmission', () => {
+describe('checking a submission', () => {
   const honest = recordRunner(1800);
   const score = honest.game.hud().score!;
 
   it('accepts a replay that reproduces the claimed score', () => {
-    const entry = checkSubmission(honest.bytes, score, new Date(0));
-    expect(entry).toMatchObject({ game: 'runner', name: 'ada', score, ticks: 1800, seed: 7 });
+    const pre = precheckSubmission(honest.bytes, score, GAMES);
+    expect(pre).toMatchObject({ name: 'ada', seed: 7, ticks: 1800 });
+    expect(pre.runId).toMatch(/^[0-9a-f]{16}$/);
+    expect(resimulate(honest.bytes, score, GAMES)).toMatchObject({ ok: true, score, ticks: 1800 });
     expect(score).toBeGreaterThan(0);
   });
 
   it.each(['ctf', 'survival'])('ranks %s by kills', (id) => {
     const match = recordBot(id, 3600);
     const kills = match.game.hud().kills!;
-    expect(checkSubmission(match.bytes, kills, new Date(0))).toMatchObject({
-      game: id,
-      score: kills,
-      name: 'bot0',
+    expect(resimulate(match.bytes, kills, GAMES)).toMatchObject({ ok: true, score: kills });
+    expect(resimulate(match.bytes, kills + 1, GAMES)).toMatchObject({
+      ok: false,
+      code: 'SCORE_MISMATCH',
     });
-    expect(() => checkSubmission(match.bytes, kills + 1, new Date(0))).toThrow(/claimed/);
+  });
+
+  it('gives a renamed run the same identity, and another run another', () => {
+    const renamed = recordRunner(1800, {}, 'mallory');
+    expect(readReplay(renamed.bytes).header.players).toEqual(['mallory']);
+    expect(runId(readReplay(renamed.bytes))).toBe(runId(readReplay(honest.bytes)));
+    expect(runId(readReplay(recordRunner(1799).bytes))).not.toBe(runId(readReplay(honest.bytes)));
+    expect(runId(readReplay(recordRunner(1800, { claimSeed: 9 }).bytes))).not.toBe(
+      runId(readReplay(honest.bytes)),
+    );
+  });
+
+  it.each([
+    ['an edited score', () => resimulate(honest.bytes, score + 1, GAMES), 'SCORE_MISMATCH'],
+    [
+      'edited inputs',
+      () => resimulate(recordRunner(1800, { editTick: 700 }).bytes, score, GAMES),
+      'DOES_NOT_REPRODUCE',
+    ],
+    [
+      'another seed',
+      () => resimulate(recordRunner(1800, { claimSeed: 9 }).bytes, score, GAMES),
+      'DOES_NOT_REPRODUCE',
+    ],
+  ])('refuses %s when re-simulating', (_, check, code) => {
+    expect(check()).toMatchObject({ ok: false, status: 422, code });
   });
 
   it.each([
     [
-      'an edited score',
-      () => checkSubmission(honest.bytes, score + 1, new Date(0)),
-      'SCORE_MISMATCH',
-    ],
-    [
-      'edited inputs',
-      () => checkSubmission(recordRunner(1800, { editTick: 700 }).bytes, score, new Date(0)),
-      'DOES_NOT_REPRODUCE',
-    ],
-    [
-      'a replay of another seed',
-      () => checkSubmission(recordRunner(1800, { claimSeed: 9 }).bytes, score, new Date(0)),
-      'DOES_NOT_REPRODUCE',
-    ],
-    [
       'a damaged file',
-      () => checkSubmission(honest.bytes.slice(0, 100), score, new Date(0)),
+      () => precheckSubmission(honest.bytes.slice(0, 100), score, GAMES),
       'TRUNCATED',
     ],
-  ])('refuses %s', (_, submit, code) => {
-    expect(submit).toThrow(expect.objectContaining({ code, status: 422 }) as Error);
+    [
+      'a game the server lacks',
+      () => precheckSubmission(honest.bytes, score, GAMES.slice(1)),
+      'UNKNOWN_GAME',
+    ],
+    ['an impossible claim', () => precheckSubmission(honest.bytes, -1, GAMES), 'BAD_SCORE'],
+    [
+      'too many ticks',
+      () => precheckSubmission(honest.bytes, score, GAMES, { maxTicks: 100 }),
+      'TOO_LARGE',
+    ],
+  ])('refuses %s before any simulation', (_, check, code) => {
+    expect(check).toThrow(expect.objectContaining({ code }) as Error);
   });
 });
 
-describe('HighscoreStore', () => {
-  const entry = (score: number, game = 'runner'): HighscoreEntry => ({
-    game,
-    name: 'x',
-    score,
-    ticks: 60,
-    seed: 1,
-    finalHash: '0'.repeat(16),
-    replayId: `id-${game}-${score}`,
-    at: new Date(score).toISOString(),
-  });
-
-  it('ranks per game and survives a restart', async () => {
-    const { store } = await HighscoreStore.open(table());
-    expect(await store.add(entry(100))).toBe(1);
-    expect(await store.add(entry(300))).toBe(1);
-    expect(await store.add(entry(200))).toBe(2);
-    expect(await store.add(entry(50, 'ctf'))).toBe(1);
-    const { store: again } = await HighscoreStore.open(table());
-    expect(again.top('runner').map((e) => e.score)).toEqual([300, 200, 100]);
-    expect(again.top('ctf')).toHaveLength(1);
-  });
-
-  it('survives a crash in the middle of a write: the old table stays, the half-written file goes', async () => {
-    const { store } = await HighscoreStore.open(table());
-    await store.add(entry(100));
-    // A crash mid-write leaves a temporary file next to an intact table.
-    await writeFile(`${table()}.tmp-999-1`, '{"format":"fixedstep-highscores","entr');
-    const { store: again, recovered } = await HighscoreStore.open(table());
-    expect(recovered).toBeUndefined();
-    expect(again.top('runner').map((e) => e.score)).toEqual([100]);
-    expect((await readdir(path.dirname(table()))).filter((f) => f.includes('.tmp-'))).toEqual([]);
-  });
-
-  it('keeps a corrupt table aside instead of losing it', async () => {
-    await HighscoreStore.open(table());
-    await writeFile(table(), 'not json at all');
-    const { store, recovered } = await HighscoreStore.open(table());
-    expect(recovered).toMatch(/could not be read.*kept as .*corrupt-/);
-    expect(store.top('runner')).toEqual([]);
-    const aside = (await readdir(path.dirname(table()))).find((f) => f.includes('.corrupt-'))!;
-    expect(await readFile(path.join(path.dirname(table()), aside), 'utf8')).toBe('not json at all');
-  });
-
-  it('keeps the best 100 per game', async () => {
-    const { store } = await HighscoreStore.open(table());
-    for (let s = 1; s <= 105; s++) await store.add(entry(s));
-    expect(store.top('runner', 100)).toHaveLength(100);
-    expect(store.top('runner', 100).at(-1)!.score).toBe(6);
-    expect(await store.add(entry(0.5))).toBe(0);
-  });
-});
-
-describe('the highscore API', () => {
-  let server: RunningServer;
+describe('the highscore API under hostile traffic', () => {
+  let server: FixedstepServer;
   let base: string;
-  beforeEach(async () => {
-    const { store } = await HighscoreStore.open(table());
-    await writeFile(path.join(dir, 'index.html'), 'lab');
-    server = await startServer({ port: 0, root: dir, api: highscoreApi({ store, perMinute: 5 }) });
-    base = server.url.replace('localhost', '127.0.0.1');
-  });
-  afterEach(async () => {
+  beforeAll(async () => {
+    server = await createServer({
+      port: 0,
+      relay: false,
+      store: memoryStore(),
+      submissionsPerMinute: 3,
+      trustProxy: 'x-forwarded-for',
+      limits: { requestTimeoutMs: 400, headersTimeoutMs: 400 },
+    });
+    await server.storeReady;
+    base = `http://127.0.0.1:${server.port}`;
+  }, 120_000);
+  afterAll(async () => {
     await server.close();
   });
 
-  const post = (bytes: Uint8Array, score: string) =>
-    fetch(`${base}api/highscores?score=${score}`, {
+  const post = (bytes: Uint8Array, score: number | string, from = '203.0.113.1') =>
+    fetch(`${base}/api/highscores?score=${score}`, {
       method: 'POST',
       body: Buffer.from(bytes),
-      headers: { 'content-type': 'application/octet-stream' },
+      headers: {
+        'content-type': 'application/octet-stream',
+        'x-forwarded-for': `10.0.0.1, ${from}`,
+      },
     });
 
-  it('accepts a verified score, refuses a duplicate and a forgery, and lists the table', async () => {
+  it('accepts a verified run once: a retry gets the same answer, a renamed copy and a stolen run 409', async () => {
     const honest = recordRunner(1200, {}, 'grace');
-    const score = String(honest.game.hud().score);
-    const ok = await post(honest.bytes, score);
-    expect(ok.status).toBe(201);
-    expect(await ok.json()).toMatchObject({ rank: 1, entry: { name: 'grace', game: 'runner' } });
-    expect((await post(honest.bytes, score)).status).toBe(409);
-    const forged = await post(recordRunner(1200, { editTick: 300 }).bytes, score);
-    expect(forged.status).toBe(422);
-    expect(await forged.json()).toMatchObject({ code: 'DOES_NOT_REPRODUCE' });
-    const list = (await (await fetch(`${base}api/highscores?game=runner`)).json()) as {
-      entries: HighscoreEntry[];
+    const score = honest.game.hud().score!;
+    const first = await post(honest.bytes, score, '198.51.100.7');
+    expect(first.status).toBe(201);
+    const accepted = (await first.json()) as {
+      rank: number;
+      entry: { replayId: string; name: string };
+    };
+    expect(accepted).toMatchObject({ rank: 1, entry: { name: 'grace', game: 'runner', score } });
+    // The same submission again (a client retrying after a lost answer): the same entry.
+    const retry = await post(honest.bytes, score, '198.51.100.7');
+    expect(retry.status).toBe(201);
+    expect(await retry.json()).toMatchObject({ repeated: true, rank: 1, entry: accepted.entry });
+    // Renamed twelve times, by its author or by someone else: refused every time, no simulation.
+    for (let i = 0; i < 12; i++) {
+      const renamed = await post(recordRunner(1200, {}, `grace${i}`).bytes, score, `192.0.2.${i}`);
+      expect(renamed.status).toBe(409);
+      expect(await renamed.json()).toMatchObject({ code: 'RUN_TAKEN' });
+    }
+    const list = (await (await fetch(`${base}/api/highscores?game=runner&limit=100`)).json()) as {
+      entries: { name: string }[];
     };
     expect(list.entries.map((e) => e.name)).toEqual(['grace']);
-    // The static lab is still served next to the API.
-    expect(await (await fetch(base)).text()).toBe('lab');
+    // The stored replay comes back byte for byte.
+    const replay = await fetch(`${base}/api/highscores/${accepted.entry.replayId}/replay`);
+    expect(Buffer.from(await replay.arrayBuffer())).toEqual(Buffer.from(honest.bytes));
   });
 
-  it('answers bad requests clearly and limits the rate', async () => {
-    expect((await fetch(`${base}api/highscores?game=chess`)).status).toBe(400);
+  it('charges the rate limit after the pre-check: junk never locks out an honest score', async () => {
+    const from = '198.51.100.20';
+    for (let i = 0; i < 20; i++) {
+      const junk = await post(new Uint8Array(64), 1, from);
+      expect(junk.status).toBe(422);
+    }
+    const honest = recordRunner(900, {}, 'ada');
+    expect((await post(honest.bytes, honest.game.hud().score!, from)).status).toBe(201);
+    // Honest-looking submissions are charged: 3 a minute per client address (from the proxy header).
+    const forged = recordRunner(1500, { editTick: 300 }, 'eve');
+    expect((await post(forged.bytes, 1, from)).status).toBe(422);
+    expect((await post(forged.bytes, 2, from)).status).toBe(422);
+    const limited = await post(forged.bytes, 3, from);
+    expect(limited.status).toBe(429);
+    expect(Number(limited.headers.get('retry-after'))).toBeGreaterThan(0);
+    expect(await limited.json()).toMatchObject({ code: 'RATE_LIMITED' });
+    // Another address behind the same proxy has its own quota.
+    const other = recordRunner(700, {}, 'bob');
+    expect((await post(other.bytes, other.game.hud().score!, '198.51.100.21')).status).toBe(201);
+  });
+
+  it('refuses a declared 1 GiB body at once and closes the connection without reading it', async () => {
+    const socket = await connect(server.port);
+    const done = closed(socket);
+    socket.write(
+      'POST /api/highscores?score=1 HTTP/1.1\r\nHost: x\r\nContent-Type: application/octet-stream\r\n' +
+        `Content-Length: ${1024 ** 3}\r\n\r\n`,
+    );
+    // Keep sending until the server hangs up: it must not read the gigabyte.
+    let sent = 0;
+    const chunk = Buffer.alloc(64 * 1024);
+    const pump = () => {
+      while (!socket.destroyed && sent < 64 * 1024 * 1024 && socket.write(chunk))
+        sent += chunk.length;
+      if (!socket.destroyed && sent < 64 * 1024 * 1024) socket.once('drain', pump);
+    };
+    pump();
+    const answer = await done;
+    expect(answer).toMatch(/^HTTP\/1\.1 413/);
+    expect(answer.toLowerCase()).toContain('connection: close');
+    expect(sent).toBeLessThan(64 * 1024 * 1024);
+  });
+
+  it('cuts a slow body (408) and keeps answering', async () => {
+    const socket = await connect(server.port);
+    const done = closed(socket);
+    socket.write(
+      'POST /api/highscores?score=1 HTTP/1.1\r\nHost: x\r\nContent-Length: 1000\r\n\r\nab',
+    );
+    expect(await done).toMatch(/^HTTP\/1\.1 408/);
+    const idle = await connect(server.port);
+    // A connection that never sends its headers is answered 408 and closed too.
+    expect(await closed(idle)).toMatch(/^HTTP\/1\.1 408/);
+    expect((await fetch(`${base}/api/highscores?game=runner`)).status).toBe(200);
+  });
+
+  it('answers bad requests clearly', async () => {
+    expect((await fetch(`${base}/api/highscores?game=chess`)).status).toBe(400);
     expect((await post(new Uint8Array(10), 'lots')).status).toBe(400);
     const big = await post(new Uint8Array(2 * 1024 * 1024), '1');
     expect(big.status).toBe(413);
+    expect(await big.json()).toMatchObject({ code: 'TOO_LARGE' });
     const garbage = await post(new Uint8Array(64), '1');
-    expect(garbage.status).toBe(422);
     expect(await garbage.json()).toMatchObject({ code: 'BAD_MAGIC' });
-    // Five submissions a minute from one address: the 4th and 5th are judged, the 6th is not.
-    expect((await post(new Uint8Array(64), '1')).status).toBe(422);
-    expect((await post(new Uint8Array(64), '1')).status).toBe(422);
-    const limited = await post(new Uint8Array(64), '1');
-    expect(limited.status).toBe(429);
-    expect(await limited.json()).toMatchObject({ code: 'RATE_LIMITED' });
-    expect((await fetch(`${base}api/highscores`, { method: 'DELETE' })).status).toBe(405);
+    expect((await fetch(`${base}/api/highscores`, { method: 'DELETE' })).status).toBe(405);
+    expect((await request(server.port, '/api/highscores/zzz/replay')).status).toBe(404);
   });
 });

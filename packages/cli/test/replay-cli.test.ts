@@ -1,8 +1,11 @@
+import { spawnSync } from 'node:child_process';
 import { mkdtemp, rm, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import { BUTTON_WORD, ByteWriter, Fnv1a64, ReplayRecorder, gameSetup } from 'fixedstep';
 import { run } from '@fixedstep/cli';
+import { coinDash } from '../../../examples/coin-dash/src/game.js';
 import { recordRunner } from './replay-fixtures.js';
 
 let dir: string;
@@ -102,3 +105,133 @@ describe('fixedstep replay', () => {
     expect((await cli(['replay'])).stderr).toContain('replay needs a subcommand: info or verify');
   });
 });
+
+describe('fixedstep replay on hostile files', () => {
+  it.each([
+    ['/dev/zero', /it is a device/],
+    [os.tmpdir(), /it is a directory/],
+  ])('refuses %s with a message and exit 1, without reading it', async (p, message) => {
+    for (const sub of ['info', 'verify']) {
+      const r = await cli(['replay', sub, p]);
+      expect(r.code).toBe(1);
+      expect(r.stderr).toMatch(message);
+    }
+  });
+
+  it('refuses a FIFO without waiting for a writer', async () => {
+    const fifo = path.join(dir, 'pipe.fsr');
+    expect(spawnSync('mkfifo', [fifo]).status).toBe(0);
+    const r = await cli(['replay', 'info', fifo]);
+    expect(r.code).toBe(1);
+    expect(r.stderr).toContain('it is a FIFO (named pipe), not a replay file');
+  });
+
+  it('prints names from the file without control characters', async () => {
+    const evil = recordRunner(120, {}, 'eve\u001b]0;pwned\u0007\u001b[31mred\u009b2J');
+    const p = await file('evil.fsr', evil.bytes);
+    const text = await cli(['replay', 'info', p]);
+    expect(text.code).toBe(0);
+    expect(text.stdout).toContain('eve]0;pwned[31mred2J');
+    const codes = Array.from({ length: text.stdout.length }, (_, i) => text.stdout.charCodeAt(i));
+    expect(codes.filter((c) => (c < 32 && c !== 10) || (c >= 0x7f && c <= 0x9f))).toEqual([]);
+    const json = await cli(['replay', 'info', p, '--json']);
+    expect((JSON.parse(json.stdout) as { players: string[] }).players).toEqual([
+      'eve]0;pwned[31mred2J',
+    ]);
+  });
+
+  it('refuses a replay of millions of empty keyframes before allocating them', async () => {
+    // 3 M ticks, a keyframe after every tick, each an empty snapshot: a small file that used to
+    // make the reader build one object per keyframe.
+    const p = await file('keyframes.fsr', keyframeBomb(3_000_000));
+    const before = process.memoryUsage().heapUsed;
+    const r = await cli(['replay', 'info', p]);
+    expect(r.code).toBe(3);
+    expect(r.stderr).toMatch(/TOO_LARGE.*keyframe count is 3000000, limit 100000/);
+    expect(process.memoryUsage().heapUsed - before).toBeLessThan(200 * 1024 * 1024);
+  });
+
+  it('verifies a replay of a game from a --games module, and names a bad module', async () => {
+    const game = new URL('../../../examples/coin-dash/src/game.ts', import.meta.url).pathname;
+    const p = await file('coin.fsr', recordCoinDash(600));
+    const ok = await cli(['replay', 'verify', p, '--quiet', '--games', game]);
+    expect(ok.stderr).toBe('');
+    expect(ok.stdout).toMatch(/^ok: coin-dash v1, 600 ticks reproduced/);
+    expect(ok.code).toBe(0);
+    // Without the module the built-in games do not know it.
+    const unknown = await cli(['replay', 'verify', p, '--quiet']);
+    expect(unknown.code).toBe(3);
+    expect(unknown.stderr).toContain('unknown game "coin-dash"');
+    const notGames = await file(
+      'not-games.mjs',
+      new TextEncoder().encode('export default { hello: 1 };'),
+    );
+    const bad = await cli(['replay', 'verify', p, '--games', notGames]);
+    expect(bad.code).toBe(1);
+    expect(bad.stderr).toContain(`games module "${notGames}": not a valid game definition`);
+    const none = await cli(['replay', 'verify', p, '--games', path.join(dir, 'missing.mjs')]);
+    expect(none.stderr).toContain('no such file');
+  });
+});
+
+function recordCoinDash(ticks: number): Uint8Array {
+  const setup = gameSetup(coinDash, 1, 5);
+  const rec = ReplayRecorder.forGame(coinDash, setup, ['cat'], { checkpointEvery: 60 });
+  const sim = coinDash.create(setup);
+  rec.start(sim);
+  for (let t = 0; t < ticks; t++) {
+    const input = coinDash.bot!(sim, 0);
+    sim.step([input]);
+    rec.record([input], sim);
+  }
+  return rec.finish();
+}
+
+/**
+ * A well-formed replay file of `ticks` ticks with a checkpoint and an empty keyframe after every
+ * tick (written section by section, as docs/replay-format.md lays them out): 9 bytes a tick.
+ */
+function keyframeBomb(ticks: number): Uint8Array {
+  const section = (w: ByteWriter, id: number, payload: Uint8Array) =>
+    w.u8(id).u32(payload.length).bytes(payload);
+  const game = new ByteWriter()
+    .str('runner')
+    .str('1')
+    .varint(1)
+    .varint(60)
+    .varint(1)
+    .u32(1)
+    .varint(0)
+    .varint(1)
+    .str('x')
+    .varint(BUTTON_WORD.descriptor.length)
+    .bytes(BUTTON_WORD.descriptor)
+    .finish();
+  const tickSection = new ByteWriter().u32(ticks).u64(0n).varint(1).varint(1).finish();
+  const stream = new ByteWriter()
+    .varint(0)
+    .varint(ticks - 1)
+    .finish();
+  const inputs = new ByteWriter().varint(stream.length).bytes(stream).finish();
+  const checkpoints = new Uint8Array((ticks + 1) * 8); // all 0, the final hash too
+  const keyframes = new Uint8Array(ticks); // a 0-byte length each
+  const body = new ByteWriter(ticks * 9 + 1024);
+  section(body, 1, game);
+  section(body, 2, tickSection);
+  section(body, 3, inputs);
+  section(body, 4, checkpoints);
+  section(body, 5, keyframes);
+  const sections = body.finish();
+  const total = 16 + sections.length + 8;
+  const head = new ByteWriter()
+    .bytes(new TextEncoder().encode('FSREPLAY'))
+    .u32(2)
+    .u32(total)
+    .finish();
+  const file = new Uint8Array(total);
+  file.set(head, 0);
+  file.set(sections, 16);
+  const sum = new Fnv1a64().update(file.subarray(0, total - 8)).digest();
+  new DataView(file.buffer).setBigUint64(total - 8, sum, true);
+  return file;
+}

@@ -3,13 +3,10 @@ import http from 'node:http';
 import os from 'node:os';
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import {
-  DOCS_NOT_BUILT,
-  mimeType,
-  resolveRequestPath,
-  startServer,
-  type RunningServer,
-} from '@fixedstep/cli';
+import { DOCS_NOT_BUILT, startServer, type RunningServer } from '@fixedstep/cli';
+import { createServer } from '../src/server/app.js';
+import { SECURITY_HEADERS } from '../src/server/security.js';
+import { closed, connect, memoryStore } from './helpers.js';
 
 /** A raw GET: the path goes on the wire exactly as given (fetch would normalise `..`). */
 function get(
@@ -105,11 +102,13 @@ describe('startServer', () => {
     expect(again.body).toBe('');
   });
 
-  it('answers 404 for missing files and directories without a trailing slash', async () => {
+  it('answers 404 for missing files, and redirects a directory to its slash', async () => {
     expect((await get(server.port, '/nope.js')).status).toBe(404);
     expect((await get(server.port, '/assets/nope.js')).status).toBe(404);
-    expect((await get(server.port, '/docs')).status).toBe(404);
-    expect((await get(server.port, '/assets')).status).toBe(404);
+    const docs = await get(server.port, '/docs');
+    expect(docs.status).toBe(301);
+    expect(docs.headers.location).toBe('/docs/');
+    expect((await get(server.port, '/assets/')).status).toBe(404);
   });
 
   it('refuses other methods with 405', async () => {
@@ -133,7 +132,7 @@ describe('startServer', () => {
     '/link.txt',
   ])('never serves a file outside the root or a dot-file: %s', async (rawPath) => {
     const res = await get(server.port, rawPath);
-    expect([400, 404]).toContain(res.status);
+    expect([400, 403, 404]).toContain(res.status);
     expect(res.body).not.toContain('outside the root');
     expect(res.body).not.toContain('SECRET');
   });
@@ -208,29 +207,95 @@ describe('startServer with the API reference at /docs/', () => {
   });
 });
 
-describe('resolveRequestPath', () => {
-  it('maps request paths inside the root and refuses the rest', () => {
-    expect(resolveRequestPath('/srv', '/')).toBe('/srv/index.html');
-    expect(resolveRequestPath('/srv', '/a/b.js')).toBe('/srv/a/b.js');
-    expect(resolveRequestPath('/srv', '/a%20b.js')).toBe('/srv/a b.js');
-    expect(resolveRequestPath('/srv', '/a//b.js')).toBe('/srv/a/b.js');
-    expect(resolveRequestPath('/srv', '/../etc/passwd')).toBeUndefined();
-    expect(resolveRequestPath('/srv', '/%2e%2e/etc/passwd')).toBeUndefined();
-    expect(resolveRequestPath('/srv', '/a/..%2f..%2fetc')).toBeUndefined();
-    expect(resolveRequestPath('/srv', 'relative')).toBeUndefined();
+describe('hardening', () => {
+  it('answers GET // and other odd paths with 404, never 500', async () => {
+    for (const p of ['//', '///x', '//..//', '/%', '/%00', '/assets//index-abc123.js/']) {
+      const res = await get(server.port, p);
+      expect([400, 404]).toContain(res.status);
+    }
   });
-});
 
-describe('mimeType', () => {
-  it.each([
-    ['index.html', 'text/html; charset=utf-8'],
-    ['a.JS', 'text/javascript; charset=utf-8'],
-    ['a.css', 'text/css; charset=utf-8'],
-    ['a.json', 'application/json; charset=utf-8'],
-    ['a.png', 'image/png'],
-    ['a.woff2', 'font/woff2'],
-    ['no-extension', 'application/octet-stream'],
-  ])('%s → %s', (name, type) => {
-    expect(mimeType(name)).toBe(type);
+  it('sends the security headers on every answer, a CSP included', async () => {
+    for (const p of ['/', '/nope', '/healthz']) {
+      const res = await get(server.port, p);
+      for (const [k, v] of Object.entries(SECURITY_HEADERS))
+        expect(res.headers[k.toLowerCase()]).toBe(v);
+    }
+    expect(SECURITY_HEADERS['Content-Security-Policy']).toContain("frame-ancestors 'none'");
+    expect(SECURITY_HEADERS['X-Frame-Options']).toBe('DENY');
+  });
+
+  it('says it is alive and ready, and serves Prometheus metrics', async () => {
+    expect((await get(server.port, '/healthz')).status).toBe(200);
+    const ready = await get(server.port, '/readyz');
+    expect(ready.status).toBe(200);
+    expect(JSON.parse(ready.body)).toEqual({ ready: true, reasons: [] });
+    const metrics = await get(server.port, '/metrics');
+    expect(metrics.headers['content-type']).toContain('text/plain');
+    expect(metrics.body).toMatch(
+      /fixedstep_http_requests_total\{method="GET",route="\/healthz",status="200"\} [1-9]/,
+    );
+  });
+
+  it('caps connections: idle sockets beyond the cap are closed, and the server still answers', async () => {
+    const capped = await createServer({
+      port: 0,
+      root,
+      relay: false,
+      limits: { maxConnections: 5 },
+    });
+    const sockets = await Promise.all(Array.from({ length: 5 }, () => connect(capped.port)));
+    const extra = await connect(capped.port);
+    expect(await closed(extra)).toBe(''); // closed by the server at once
+    for (const s of sockets) s.destroy();
+    await expect
+      .poll(async () => (await get(capped.port, '/healthz').catch(() => ({ status: 0 }))).status)
+      .toBe(200);
+    await capped.close();
+  });
+
+  it('drains on close: not ready, the store closed, the port released', async () => {
+    const store = await memoryStore();
+    const s = await createServer({ port: 0, root, relay: true, store });
+    await s.storeReady;
+    expect((await get(s.port, '/readyz')).status).toBe(200);
+    const closing = s.close();
+    expect(s.draining).toBe(true);
+    await closing;
+    await expect(get(s.port, '/healthz')).rejects.toThrow();
+    await expect(store.top('runner')).rejects.toThrow();
+  });
+
+  it('is not ready while the store is opening or failed to open', async () => {
+    let open: (() => void) | undefined;
+    const gate = new Promise<void>((resolve) => (open = resolve));
+    const s = await createServer({
+      port: 0,
+      root,
+      relay: false,
+      store: gate.then(() => memoryStore()),
+    });
+    const early = await get(s.port, '/readyz');
+    expect(early.status).toBe(503);
+    expect(early.body).toContain('the store is opening');
+    const starting = await get(s.port, '/api/highscores?game=runner');
+    expect(starting.status).toBe(503);
+    expect(starting.headers['retry-after']).toBe('5');
+    open!();
+    await s.storeReady;
+    expect((await get(s.port, '/readyz')).status).toBe(200);
+    await s.close();
+    const failed = await createServer({
+      port: 0,
+      root,
+      relay: false,
+      store: Promise.reject(new Error('no database here')),
+      log: () => undefined,
+    });
+    await expect(failed.storeReady).rejects.toThrow('no database here');
+    const res = await get(failed.port, '/readyz');
+    expect(res.status).toBe(503);
+    expect(res.body).toContain('no database here');
+    await failed.close();
   });
 });

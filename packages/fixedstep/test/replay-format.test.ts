@@ -104,6 +104,10 @@ describe('replay format validation', () => {
     expect(code({ limits: { maxSeeds: 0 } })).toBe('TOO_LARGE');
     expect(code({ limits: { maxConfigBytes: 10 } })).toBe('TOO_LARGE');
     expect(code({ limits: { maxKeyframeBytes: 100 } })).toBe('TOO_LARGE');
+    expect(code({ limits: { maxKeyframes: 0 } })).toBe('TOO_LARGE');
+    expect(errorOf(good, { limits: { maxKeyframes: 0 } }).message).toMatch(
+      /keyframe count is \d+, limit 0/,
+    );
     expect(readReplay(good, { limits: { maxTicks: 1000, maxPlayers: 2 } }).tickCount).toBe(1000);
     expect(DEFAULT_REPLAY_LIMITS.maxTicks).toBe(5_184_000);
     // A declared length of 4 GiB is refused without reading further.

@@ -16,6 +16,7 @@ const LIMITS: ReplayLimits = {
   maxSeeds: 8,
   maxConfigBytes: 4096,
   maxKeyframeBytes: 1 << 16,
+  maxKeyframes: 1 << 16,
 };
 
 const bases = [

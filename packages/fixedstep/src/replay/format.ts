@@ -66,6 +66,12 @@ export interface ReplayLimits {
   maxConfigBytes: number;
   /** Largest keyframe snapshot, in bytes. Default 16 MiB. */
   maxKeyframeBytes: number;
+  /**
+   * Most keyframes. Default 100 000. Each parsed keyframe costs an object and a view (about 200
+   * bytes) however small its snapshot, so this bounds that memory: a 46 MB file of 5 million empty
+   * keyframes would otherwise take about a gigabyte.
+   */
+  maxKeyframes: number;
 }
 
 /** The limits {@link readReplay} uses unless told otherwise. */
@@ -76,6 +82,7 @@ export const DEFAULT_REPLAY_LIMITS: Readonly<ReplayLimits> = Object.freeze({
   maxSeeds: 64,
   maxConfigBytes: 1024 * 1024,
   maxKeyframeBytes: 16 * 1024 * 1024,
+  maxKeyframes: 100_000,
 });
 
 /** Options of {@link readReplay}. */
@@ -681,6 +688,9 @@ class Parser {
   private keyframeSection(c: Cursor): void {
     const m = this.keyframeEvery;
     const count = m === 0 ? 0 : Math.floor(this.tickCount / m);
+    if (count > this.limits.maxKeyframes) {
+      this.tooLarge('keyframe count', count, this.limits.maxKeyframes, c.pos);
+    }
     // Each keyframe takes at least its 1-byte length: check before allocating anything per keyframe.
     if (count > c.remaining) {
       c.corrupt(`${count} keyframes expected but only ${c.remaining} bytes`);
