@@ -10,7 +10,7 @@ import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import type { CDPSession, Page } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/cli';
-import { HighscoreStore, highscoreApi } from '../packages/cli/src/highscores.js';
+import { openStore } from '../packages/cli/src/store/store.js';
 import { isDown, readReplay, verifyReplay, wasPressed } from 'fixedstep';
 import { GAMES, RunnerButtons, RunnerGame, ShooterButtons, runnerBot } from '@fixedstep/games';
 import { dist, num, phonePage, readouts, shots, skip, useLab } from './harness.js';
@@ -22,8 +22,7 @@ let dataDir: string;
 
 beforeAll(async () => {
   dataDir = mkdtempSync(path.join(tmpdir(), 'fixedstep-touch-e2e-'));
-  const { store } = await HighscoreStore.open(path.join(dataDir, 'highscores.json'));
-  api = await startServer({ root: dist, port: 0, api: highscoreApi({ store }) });
+  api = await startServer({ root: dist, port: 0, store: openStore({ dataDir }) });
 });
 
 afterAll(async () => {
