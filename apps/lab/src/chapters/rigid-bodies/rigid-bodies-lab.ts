@@ -779,6 +779,7 @@ export class TowerNet {
         name: `machine${i + 1}`,
         createSimulation: (w: WelcomeMessage) => {
           const d = new DrawnDuel(DUEL_GAME.create(setupFromWelcome(w)), rapier);
+          this.drawn[i]?.sim.dispose(); // a second welcome replaces the simulation
           this.drawn[i] = d;
           return d;
         },

@@ -17,10 +17,11 @@ export const LEDE =
   'The own physics world’s boxes never turn — by design. When a game needs boxes that tip over, Rapier’s deterministic build runs under fixedstep like any other simulation: the same fixed step, the same replays, the same rollback, the same hashes on every machine.';
 
 export const KNOCK_INTRO =
-  'Sixteen boxes that rotate, stepped by Rapier at 60 ticks a second. Fire — the button, the F key, or a tap on the tower — launches the ball at it. The run is recorded as it goes (its inputs, and a state hash every second), and the hash of every tick is kept for the replay to be checked against.';
+  'Sixteen boxes that rotate, stepped by Rapier at 60 ticks a second. Fire — the button, the F key, or a tap on the tower — launches the ball at it; a box turns pink once it has turned more than 10° (a box rolled onto its side counts). The run is recorded as it goes: its inputs, and a state hash every second. Replay plays that recording back by re-simulation in a new Rapier world, and compares its hash after every tick with the hash the live tower had at that tick.';
 
-export const REPLAY_INTRO =
-  'The recording so far, played back by re-simulation: a new Rapier world built from the file’s header, stepped with the recorded inputs. After every tick its hash is compared with the hash the live tower had at that tick.';
+export const LIVE_HEAD = 'Rapier’s tower, stepped by a FixedLoop; each press lands on one tick.';
+
+export const REPLAY_HEAD = 'The recording so far, re-simulated from its inputs in a fresh world.';
 
 export const NET_INTRO =
   'Two machines play the same tower through the relay, each with a rollback session over its own simulated link. Player 1 fires the blue ball from the left, player 2 the violet one from the right — the bots every 4 s, taking turns, and you with the buttons. A machine hears of the other’s shot late, after it has simulated past that tick: it loads its saved state of the tick and steps Rapier again up to now. That is a rollback.';
@@ -63,7 +64,7 @@ export function costText(rapier: WorldReadouts, own: WorldReadouts): string {
     `What rotation costs. A snapshot of this scene, now: Rapier ${fmt.count(rapier.snapshotBytes)} bytes ` +
     `(${fmt.count(rapier.bytesPerBody)} a body), the own world ${fmt.count(own.snapshotBytes)} bytes ` +
     `(${fmt.count(own.bytesPerBody)} a body). Rollback saves one every tick and loads one per correction. ` +
-    `Measured in ${m.doc} (\`${m.command}\`, a pile of circles in a box, on a shared 2-CPU machine): ` +
+    `Measured in ${m.doc} (${m.command}: a pile of circles in a box, on a shared 2-CPU machine): ` +
     `${fmt.count(m.rapierBytesPerBody)} bytes a body against ${fmt.count(m.ownBytesPerBody)} at ${m.n} bodies, ` +
     `and the largest pile whose 8-tick rollback fits in 4 ms was about ${fmt.count(m.rapierRollbackBodies)} bodies ` +
     `in Rapier against about ${fmt.count(m.ownRollbackBodies)} in the own world. ` +

@@ -32,8 +32,9 @@ import {
   CANNOT,
   KNOCK_INTRO,
   LEDE,
+  LIVE_HEAD,
   NET_INTRO,
-  REPLAY_INTRO,
+  REPLAY_HEAD,
   WORLDS_INTRO,
   WORLDS_TITLES,
   costText,
@@ -362,7 +363,7 @@ class RigidBodiesChapter {
           live,
           'rigid-live',
           'Live',
-          'Rapier’s tower, stepped by a FixedLoop from your presses.',
+          LIVE_HEAD,
           [this.fireBtn],
           [
             ...this.row(live, 'knock', 'tick', 'Tick'),
@@ -376,7 +377,7 @@ class RigidBodiesChapter {
         h(
           'div',
           { class: 'panel rigid-replay' },
-          h('div', { class: 'panel-head' }, h('h3', {}, 'Replay'), h('p', {}, REPLAY_INTRO)),
+          h('div', { class: 'panel-head' }, h('h3', {}, 'Replay'), h('p', {}, REPLAY_HEAD)),
           h('div', { class: 'scene-wrap' }, rp.canvas.canvas),
           rp.note,
           h('div', { class: 'rigid-actions' }, this.replayBtn),
