@@ -145,6 +145,8 @@ await stage(
       'packages/fixedstep/package.json',
       'packages/games/src',
       'packages/games/package.json',
+      'packages/rapier/src',
+      'packages/rapier/package.json',
     ],
     outputs: ['apps/lab/dist/index.html'],
   },

@@ -78,6 +78,14 @@ export const CHAPTERS: readonly Chapter[] = [
     summary: 'The talk’s three games: play them, break them under a variable Δt, replay them.',
     load: () => import('./chapters/games/games.js'),
   },
+  {
+    id: 'rigid-bodies',
+    number: 10,
+    title: 'Rigid bodies',
+    summary:
+      'Boxes that rotate, through Rapier: a tower knocked over, replayed and rolled back, equal hashes.',
+    load: () => import('./chapters/rigid-bodies/rigid-bodies.js'),
+  },
 ];
 
 /** The chapter id of a location hash: `#/loop` → `loop`; empty for `#` or `#/`. */
