@@ -6,42 +6,18 @@
  * publint and Are the Types Wrong. Needs the build (`npm run build`): it packs what dist/ holds.
  * The tarball's file list lands in artifacts/pack/.
  */
-import { execFile } from 'node:child_process';
-import { existsSync } from 'node:fs';
 import { mkdir, mkdtemp, readFile, rm, stat, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
 import ts from 'typescript';
 import { build } from 'vite';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import { packWorkspaces, repo, run, type Packed, type Ran } from './pack-helpers.js';
 
-const repo = fileURLToPath(new URL('..', import.meta.url));
 const tscJs = path.join(repo, 'node_modules/typescript/bin/tsc');
 const publintJs = path.join(repo, 'node_modules/publint/src/cli.js');
 const attwJs = path.join(repo, 'node_modules/@arethetypeswrong/cli/dist/index.js');
 const typeRoots = [path.join(repo, 'node_modules/@types')];
-
-interface Ran {
-  code: number;
-  stdout: string;
-  stderr: string;
-}
-
-/** Runs a program to its end (never through a shell); resolves with its exit code and output. */
-function run(file: string, args: readonly string[], cwd: string): Promise<Ran> {
-  return new Promise((resolve) => {
-    execFile(
-      file,
-      args,
-      { cwd, maxBuffer: 64 << 20, env: { ...process.env, NO_COLOR: '1' } },
-      (error, stdout, stderr) => {
-        const code = error === null ? 0 : typeof error.code === 'number' ? error.code : 1;
-        resolve({ code, stdout, stderr });
-      },
-    );
-  });
-}
 
 /** The first ```ts block after the `<!-- readme-example` marker of a README. */
 function readmeExample(readme: string): string {
@@ -59,51 +35,19 @@ function toJs(source: string): string {
   }).outputText;
 }
 
-interface PackedFile {
-  path: string;
-  size: number;
-}
-interface Packed {
-  name: string;
-  filename: string;
-  size: number;
-  unpackedSize: number;
-  files: PackedFile[];
-}
-
 let scratch: string;
 let project: string;
 let example: string;
-const packed = new Map<string, Packed & { tarball: string }>();
+const packed = new Map<string, Packed>();
 
 beforeAll(async () => {
-  if (!existsSync(path.join(repo, 'packages/fixedstep/dist/index.d.ts'))) {
-    throw new Error('packages/fixedstep/dist is not built: run `npm run build` first.');
-  }
   scratch = await mkdtemp(path.join(os.tmpdir(), 'fixedstep-pack-'));
   const tarballs = path.join(scratch, 'tarballs');
   project = path.join(scratch, 'consumer');
   await mkdir(tarballs);
   await mkdir(project);
-  // --ignore-scripts: the build stage has built dist/; the pack must not rebuild it.
-  const pack = await run(
-    'npm',
-    ['pack', '--json', '--ignore-scripts', '--pack-destination', tarballs].concat([
-      '-w',
-      'packages/fixedstep',
-      '-w',
-      'packages/games',
-      '-w',
-      'packages/cli',
-      '-w',
-      'packages/rapier',
-    ]),
-    repo,
-  );
-  if (pack.code !== 0) throw new Error(`npm pack failed:\n${pack.stderr}`);
-  for (const p of JSON.parse(pack.stdout) as Packed[]) {
-    packed.set(p.name, { ...p, tarball: path.join(tarballs, p.filename) });
-  }
+  const workspaces = ['packages/fixedstep', 'packages/games', 'packages/cli', 'packages/rapier'];
+  for (const [name, p] of await packWorkspaces(workspaces, tarballs)) packed.set(name, p);
   await writeFile(
     path.join(project, 'package.json'),
     JSON.stringify({ name: 'consumer', private: true, type: 'module' }),

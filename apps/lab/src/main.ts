@@ -56,7 +56,19 @@ app.append(
       {},
       'Based on the talk “Fixed-Step Simulation”. Everything here is deterministic: the same settings give the same numbers, on any machine.',
     ),
-    h('p', {}, 'The library: ', h('a', { href: './docs/' }, 'API reference'), '.'),
+    h(
+      'p',
+      {},
+      'The library: ',
+      h(
+        'a',
+        { href: 'https://github.com/fixedstep/fixedstep/blob/main/docs/guide/README.md' },
+        'guide',
+      ),
+      ', ',
+      h('a', { href: './docs/' }, 'API reference'),
+      '.',
+    ),
   ),
 );
 

@@ -105,7 +105,9 @@ function finish(): void {
   const check = verifyReplay(bytes, coinDash);
   result = `${check.ok ? 'replay verified' : 'replay did NOT verify'} · ${bytes.length} bytes`;
   const link = document.querySelector<HTMLAnchorElement>('#download')!;
-  link.href = URL.createObjectURL(new Blob([bytes], { type: 'application/octet-stream' }));
+  // finish() is typed Uint8Array<ArrayBufferLike>; Blob wants an ArrayBuffer-backed one, as it is.
+  const blob = new Blob([bytes as Uint8Array<ArrayBuffer>], { type: 'application/octet-stream' });
+  link.href = URL.createObjectURL(blob);
   link.hidden = false;
   Object.assign(window, { coinDashReplay: bytes });
 }

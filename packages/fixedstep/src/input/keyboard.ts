@@ -41,8 +41,14 @@ export function buttonIndex(sampler: InputSampler<unknown>, button: string | num
  * moment, so a key released in another window does not stay down. Returns a function that
  * detaches it.
  *
- * `timeOf` gives an event's time on the loop's time line (default `event.timeStamp`, which shares
- * `performance.now()`'s and `requestAnimationFrame`'s).
+ * `timeOf` gives an event's time in ms on the loop's time line (default `event.timeStamp`, which
+ * shares `performance.now()`'s and `requestAnimationFrame`'s). The time decides which tick sees
+ * the key, so it must be on the same time line as the frames the loop is fed: a `timeOf` on
+ * another one moves presses to other ticks (the loop warns when an event is more than 5 s ahead
+ * of it). Keep the default in a browser — it is when the key was pressed, while
+ * `performance.now()` in the handler is when a busy page got to it, later by the length of a
+ * long frame. Pass `() => performance.now()` only where the two time lines differ, such as a
+ * test under Playwright's `page.clock`, which fakes `performance.now()` but not `event.timeStamp`.
  */
 export function attachKeyboard(
   target: KeyboardHost,

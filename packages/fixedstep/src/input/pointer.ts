@@ -38,6 +38,9 @@ const POINTER_EVENTS = ['pointerdown', 'pointerup', 'pointercancel', 'lostpointe
  * pointer presses it, with the event's timestamp — so a tap reaches exactly one tick, like a key.
  * Several fingers on several buttons work at once. Give the elements `touch-action: none` in CSS
  * so a press never scrolls or zooms the page. Returns a function that detaches them.
+ *
+ * `timeOf` gives an event's time in ms on the loop's time line (default `event.timeStamp`; see
+ * {@link attachKeyboard} for when to pass another).
  */
 export function attachButtons(
   sampler: InputSampler<unknown>,
@@ -100,6 +103,9 @@ export interface StickOptions {
  * (centred on the element, clamped to the radius) and digital directions; release recentres it.
  * Deflection is computed here, on the device side: the sampler quantises it, so the simulation
  * sees the same integer steps in a replay. Returns a function that detaches it.
+ *
+ * `timeOf` gives an event's time in ms on the loop's time line (default `event.timeStamp`; see
+ * {@link attachKeyboard} for when to pass another).
  */
 export function attachStick(
   element: PointerTarget,

@@ -75,6 +75,11 @@ export interface NetSessionOptions<I = ButtonInput> {
    * The local player's input for `tick` — called exactly once per tick, in tick order, some
    * ticks before the tick is simulated (the input delay). `sim` is the current state (read it,
    * never step it). Default: the schema's neutral input (nothing pressed).
+   *
+   * From an `InputSampler` fed by device adapters:
+   * `sampler.sample({ isBeforeUpdateEnd: (t) => t <= clock.now() }, 0)` gives the tick being
+   * issued every event up to now, so each press reaches exactly one tick (as precisely as the
+   * frames that issue ticks allow).
    */
   localInput?: (tick: number, sim: Simulation<I>) => I;
   /**

@@ -156,6 +156,11 @@ export class InterpolationBuffer {
   /**
    * Blend every body stored this tick: `previous + (current − previous) × alpha` (angles along
    * the shorter arc). Returns {@link out}. Bodies not stored this tick are left as they were.
+   *
+   * `alpha` is the loop's interpolation factor, a fraction of a step from 0 (draw the previous
+   * tick) to 1 (the current one); values above 1 count as 1, and below 0 or NaN as 0. Render side
+   * only: what it returns is for drawing, and must never feed back into a simulation (it depends
+   * on the display's frame times, which differ between machines).
    */
   interpolate(alpha: number): Float64Array {
     const t = alpha >= 0 && alpha <= 1 ? alpha : alpha > 1 ? 1 : 0;

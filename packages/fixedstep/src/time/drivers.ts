@@ -16,9 +16,11 @@ export function performanceClock(): Clock {
 /** A clock that only moves when told to: for tests and simulated displays. */
 export class ManualClock implements Clock {
   private t: number;
+  /** A clock that reads `startMs` (ms) until it is moved. */
   constructor(startMs = 0) {
     this.t = startMs;
   }
+  /** The current reading, in ms. */
   now(): number {
     return this.t;
   }
@@ -27,6 +29,7 @@ export class ManualClock implements Clock {
     this.t += ms;
     return this.t;
   }
+  /** Set the reading to `ms` (earlier than now fakes a clock that jumps back). */
   set(ms: number): void {
     this.t = ms;
   }
@@ -122,7 +125,11 @@ export class ManualScheduler implements FrameScheduler {
   }
 }
 
-/** Calls `onFrame` on every frame of `scheduler` between {@link start} and {@link stop}. */
+/**
+ * Calls `onFrame` on every frame of `scheduler` between {@link start} and {@link stop}, with the
+ * frame's clock reading in ms (the `requestAnimationFrame` timestamp for
+ * {@link animationFrameScheduler}): pass it to `FixedLoop.frame` or `FrameStepper.frame` as it is.
+ */
 export class FrameDriver {
   private handle: number | undefined;
   private readonly tickCb: FrameCallback = (now) => {
@@ -133,13 +140,16 @@ export class FrameDriver {
     private readonly scheduler: FrameScheduler,
     private readonly onFrame: FrameCallback,
   ) {}
+  /** Ask for frames (again). Calling it while running does nothing. */
   start(): void {
     this.handle ??= this.scheduler.request(this.tickCb);
   }
+  /** Stop asking for frames: no `onFrame` call after this one returns. */
   stop(): void {
     if (this.handle !== undefined) this.scheduler.cancel(this.handle);
     this.handle = undefined;
   }
+  /** Whether a frame has been asked for. */
   get running(): boolean {
     return this.handle !== undefined;
   }

@@ -100,12 +100,19 @@ const HIDDEN: readonly HiddenPolicy[] = ['pause', 'clamp'];
  * }
  */
 export class FixedLoop implements Loop {
+  /** Which loop this is: the production fixed-step loop. */
   readonly kind = 'fixed' as const;
+  /** The fixed step (exact), from {@link FixedLoopOptions.step}. Never changes. */
   readonly step: Timestep;
+  /** Upper bound of the accumulator, in ms (see {@link FixedLoopOptions.maxAccumulatorMs}). */
   readonly maxAccumulatorMs: number;
+  /** The most steps one frame runs (see {@link FixedLoopOptions.maxStepsPerFrame}). */
   readonly maxStepsPerFrame: number;
+  /** What happens to steps beyond the cap (see {@link OverloadPolicy}). */
   readonly overload: OverloadPolicy;
+  /** What happens to time spent hidden (see {@link HiddenPolicy}). */
   readonly hiddenPolicy: HiddenPolicy;
+  /** Hysteresis, as a fraction of a step in [0, 0.5] (see {@link FixedLoopOptions.hysteresis}). */
   readonly hysteresis: number;
 
   private readonly unitsPerNs: number;
@@ -353,6 +360,7 @@ export class FixedLoop implements Loop {
     this.pendingSingleSteps = 0;
   }
 
+  /** Whether the loop is paused ({@link pause}). */
   get isPaused(): boolean {
     return this.paused;
   }
@@ -375,6 +383,7 @@ export class FixedLoop implements Loop {
     this.scale = scale;
   }
 
+  /** The time scale: simulated seconds per real second (0 to 64; see {@link setTimeScale}). */
   get timeScale(): number {
     return this.scale;
   }
@@ -389,6 +398,7 @@ export class FixedLoop implements Loop {
     this.isHidden = hidden;
   }
 
+  /** Whether the loop was told the page is hidden ({@link setHidden}). */
   get hidden(): boolean {
     return this.isHidden;
   }
@@ -405,6 +415,7 @@ export class FixedLoop implements Loop {
     return this.tickCount;
   }
 
+  /** Steps run so far: the same as {@link tick} (the {@link Loop} interface's name). */
   get updates(): number {
     return this.tickCount;
   }
@@ -483,6 +494,13 @@ export class FixedLoop implements Loop {
     return this.nowNs / 1e6;
   }
 
+  /**
+   * Whether an input event at `timeMs` (ms, on the loop's time line: the readings given to
+   * {@link frame}, or `advance`'s `nowMs`) happened before step `j` (0-based) of the current
+   * frame ends — so a sampler gives each event to the step whose time span holds it, the same on
+   * every display. An event more than 5 s ahead of the time line is reported once through
+   * {@link FixedLoopOptions.onWarning} (it cannot be on it).
+   */
   isBeforeUpdateEnd(timeMs: number, j: number): boolean {
     const t = Math.round(timeMs * 1e6);
     // An event more than 5 s ahead of the frames cannot be on their time line.
