@@ -426,6 +426,7 @@ class Reader extends ByteReader {
     const at = this.pos;
     const v = this.f64(what);
     if (!Number.isFinite(v)) this.fail('invalid', `${what} is not a finite number`, at);
+    if (Object.is(v, -0)) this.fail('invalid', `${what} is -0 (not canonical: +0)`, at);
     return v;
   }
   text(what: string, maxBytes: number): string {
