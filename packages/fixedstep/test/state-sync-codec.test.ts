@@ -98,7 +98,7 @@ const SAMPLES: StateSyncMessage[] = [
     type: 'snapshot',
     tick: 300,
     base: -1,
-    time: 5000.125,
+    sendDelayUs: 1250,
     inputAck: 305,
     filled: 2,
     size: 5,
@@ -109,8 +109,8 @@ const SAMPLES: StateSyncMessage[] = [
     type: 'snapshot',
     tick: 303,
     base: 300,
-    time: 5050,
-    inputAck: 0,
+    sendDelayUs: 0,
+    inputAck: 303,
     filled: 0,
     size: 5,
     hash: 1n,
@@ -217,6 +217,13 @@ describe('delta coding', () => {
         for (const [i, v] of changes) if (next.length > 0) next[i % next.length] = v;
         const d = deltaBytes(base, next);
         expect(applyDelta(base, d, next.length)).toEqual(next);
+        // The same from arrays that do not start on a 4-byte boundary (the byte-wise path).
+        const shifted = (a: Uint8Array, by: number) => {
+          const buf = new Uint8Array(a.length + by);
+          buf.set(a, by);
+          return buf.subarray(by);
+        };
+        expect(deltaBytes(shifted(base, 1), shifted(next, 3))).toEqual(d);
       }),
       { numRuns: 2000, seed: 5 },
     );
@@ -226,9 +233,9 @@ describe('delta coding', () => {
     const base = Uint8Array.from({ length: 4000 }, (_, i) => (i * 31) & 0xff);
     expect(deltaBytes(base, base).length).toBe(0);
     const next = base.slice();
-    next[1000] ^= 1;
-    next[1001] ^= 4;
-    next[3000] ^= 0x80;
+    next[1000] = next[1000]! ^ 1;
+    next[1001] = next[1001]! ^ 4;
+    next[3000] = next[3000]! ^ 0x80;
     // Two runs: (skip 1000, count 2, 2 bytes) and (skip 1998, count 1, 1 byte).
     expect(Array.from(deltaBytes(base, next))).toEqual([0xe8, 0x07, 2, 1, 4, 0xce, 0x0f, 1, 0x80]);
   });
@@ -330,8 +337,8 @@ class FakeServer {
       type: 'snapshot',
       tick,
       base: base ? base.tick : -1,
-      time: this.scheduler.now,
-      inputAck: 0,
+      sendDelayUs: 0,
+      inputAck: tick,
       filled: 0,
       size: state.length,
       hash: fnv1a64(state),
@@ -439,8 +446,10 @@ describe('a client and bytes it cannot trust', () => {
           damaged++;
           const out = b.slice();
           const how = rng.int(3);
-          if (how === 0)
-            for (let k = 0; k < 1 + rng.int(3); k++) out[rng.int(out.length)] ^= 1 << rng.int(8);
+          for (let k = 0; how === 0 && k < 1 + rng.int(3); k++) {
+            const at = rng.int(out.length);
+            out[at] = out[at]! ^ (1 << rng.int(8));
+          }
           if (how === 1) handler(out.subarray(0, rng.int(out.length)));
           else if (how === 2) handler(Uint8Array.from([...out, rng.int(256)]));
           else handler(out);

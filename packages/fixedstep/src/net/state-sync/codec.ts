@@ -217,17 +217,20 @@ export interface StateWelcomeMessage {
 /**
  * Server → client: the world at `tick`, as the game's canonical bytes — whole (`base` -1), or
  * delta-coded against the snapshot of tick `base`, the newest one the client acknowledged — plus
- * the clock: the server time when it was sent.
+ * the clock: the tick, and how long after the tick's time (`startAt + tick × step`) it was sent.
  */
 export interface StateSnapshotMessage {
   type: 'snapshot';
   /** The state's tick (the state after `tick` steps). */
   tick: number;
-  /** The base snapshot's tick for a delta; -1: a full snapshot. */
+  /** The base snapshot's tick for a delta (older than `tick`); -1: a full snapshot. */
   base: number;
-  /** Server time (ms) when the snapshot was sent. */
-  time: number;
-  /** The next tick the server needs an input from you for (0 for spectators). */
+  /**
+   * When it was sent, in whole microseconds after the tick's time `startAt + tick × step` on the
+   * server clock (the server steps a tick when its time has come, then sends at once).
+   */
+  sendDelayUs: number;
+  /** The next tick the server needs an input from you for (at least `tick`; `tick` for spectators). */
   inputAck: number;
   /** How many of your ticks the server stepped without your input (filled by the missing rule). */
   filled: number;
@@ -378,10 +381,12 @@ export function encodeStateSyncMessage(m: StateSyncMessage): Uint8Array {
       check(m.size <= limits.maxStateBytes, 'state too large');
       check(m.base < m.tick, 'base must be older than the snapshot');
       check(m.base >= 0 || m.payload.length === m.size, 'a full snapshot carries the whole state');
+      check(m.inputAck >= m.tick, 'input ack before the tick');
+      // Ticks relative to `tick` (one byte each, however long the match has run).
       w.varint(m.tick);
-      w.varint(m.base + 1);
-      w.f64(m.time);
-      w.varint(m.inputAck);
+      w.varint(m.base < 0 ? 0 : m.tick - m.base);
+      w.varint(m.sendDelayUs);
+      w.varint(m.inputAck - m.tick);
       w.varint(m.filled);
       w.varint(m.size);
       w.u64(m.hash);
@@ -600,10 +605,13 @@ function decodeBody(
     case 'snapshot': {
       const tick = r.varint('tick');
       const baseAt = r.pos;
-      const base = r.varint('base') - 1;
-      if (base >= tick) r.fail('invalid', `base ${base} is not older than tick ${tick}`, baseAt);
-      const time = r.time('send time');
-      const inputAck = r.varint('input ack');
+      const back = r.varint('base distance');
+      if (back > tick) r.fail('invalid', `base ${back} ticks before tick ${tick}`, baseAt);
+      const base = back === 0 ? -1 : tick - back;
+      const sendDelayUs = r.varint('send delay');
+      const ackAt = r.pos;
+      const inputAck = tick + r.varint('input ack');
+      if (inputAck > 0xffffffff) r.fail('invalid', 'input ack past 2^32', ackAt);
       const filled = r.varint('filled inputs');
       const size = r.count('state size', limits.maxStateBytes);
       const hash = r.u64('state hash');
@@ -612,7 +620,7 @@ function decodeBody(
       if (base < 0 && payload.length !== size) {
         r.fail('invalid', `a full snapshot of ${payload.length} bytes says ${size}`, payloadAt);
       }
-      return { type: 'snapshot', tick, base, time, inputAck, filled, size, hash, payload };
+      return { type: 'snapshot', tick, base, sendDelayUs, inputAck, filled, size, hash, payload };
     }
     case 'pong':
       return {

@@ -443,7 +443,8 @@ export class StateSyncRoom<S extends Simulation<unknown> = Simulation<unknown>> 
     });
     this.options.onEvent?.({ type: 'join', room: this.name, slot, rejoin });
     // The first snapshot goes at once: the client can draw the world before the next snapshot tick.
-    this.snapshotTo(member, this.viewFor(slot, new Map()), now);
+    const round = newRound();
+    this.snapshotTo(member, this.viewFor(slot, round), now, round);
   }
 
   /** Close every connection (error `SHUTDOWN`); the room stops. */
@@ -509,10 +510,10 @@ export class StateSyncRoom<S extends Simulation<unknown> = Simulation<unknown>> 
 
   // ---------------------------------------------------------------------------- snapshots
 
-  private viewFor(slot: number, cache: Map<number, Uint8Array>): Uint8Array {
+  private viewFor(slot: number, round: SnapshotRound): Uint8Array {
     const view = this.options.view;
     const key = view ? slot : -2;
-    let bytes = cache.get(key);
+    let bytes = round.views.get(key);
     if (bytes === undefined) {
       bytes = view ? view(this.sim, slot) : this.sim.save();
       if (bytes.length > this.settings.limits.maxStateBytes) {
@@ -520,17 +521,17 @@ export class StateSyncRoom<S extends Simulation<unknown> = Simulation<unknown>> 
           `StateSyncRoom: a state of ${bytes.length} bytes is above maxStateBytes`,
         );
       }
-      cache.set(key, bytes);
+      round.views.set(key, bytes);
     }
     return bytes;
   }
 
   private snapshotAll(now: number): void {
-    const cache = new Map<number, Uint8Array>();
-    for (const m of this.members()) this.snapshotTo(m, this.viewFor(m.slot, cache), now);
+    const round = newRound();
+    for (const m of this.members()) this.snapshotTo(m, this.viewFor(m.slot, round), now, round);
   }
 
-  private snapshotTo(m: Member, state: Uint8Array, now: number): void {
+  private snapshotTo(m: Member, state: Uint8Array, now: number, round: SnapshotRound): void {
     const tick = this.sim.tick;
     let base: Uint8Array | undefined;
     let baseTick = -1;
@@ -541,19 +542,37 @@ export class StateSyncRoom<S extends Simulation<unknown> = Simulation<unknown>> 
       if (base) baseTick = m.ack;
     }
     m.sent.put(tick, state);
-    const w = this.writer.reset();
-    if (base) encodeDelta(base, state, w);
-    const payload = base ? w.peek() : state;
+    // Members that see the same bytes and acknowledged the same base share the work.
+    let hash = round.hashes.get(state);
+    if (hash === undefined) {
+      hash = fnv1a64(state);
+      round.hashes.set(state, hash);
+    }
+    let payload = state;
+    if (base) {
+      let byBase = round.deltas.get(state);
+      if (byBase === undefined) {
+        byBase = new Map();
+        round.deltas.set(state, byBase);
+      }
+      let delta = byBase.get(base);
+      if (delta === undefined) {
+        encodeDelta(base, state, this.writer.reset());
+        delta = this.writer.finish();
+        byBase.set(base, delta);
+      }
+      payload = delta;
+    }
     const slot = m.slot >= 0 ? this.slots[m.slot] : undefined;
     const bytes = this.send(m, {
       type: 'snapshot',
       tick,
       base: baseTick,
-      time: now,
-      inputAck: slot ? this.inputAck(slot) : 0,
+      sendDelayUs: Math.max(0, Math.round((now - (this.startAt + tick * this.tickMs)) * 1000)),
+      inputAck: slot ? this.inputAck(slot) : tick,
       filled: slot?.filled ?? 0,
       size: state.length,
-      hash: fnv1a64(state),
+      hash,
       payload,
     });
     this.stats.snapshotBytes += bytes;
@@ -756,6 +775,18 @@ export class StateSyncRoom<S extends Simulation<unknown> = Simulation<unknown>> 
     for (const s of this.slots) if (s.member) yield s.member;
     yield* [...this.spectators];
   }
+}
+
+/** What one snapshot tick computes once and shares among members: views, hashes, deltas. */
+interface SnapshotRound {
+  views: Map<number, Uint8Array>;
+  hashes: Map<Uint8Array, bigint>;
+  /** By state, then by base: the delta's bytes. */
+  deltas: Map<Uint8Array, Map<Uint8Array, Uint8Array>>;
+}
+
+function newRound(): SnapshotRound {
+  return { views: new Map(), hashes: new Map(), deltas: new Map() };
 }
 
 function equalBytes(a: Uint8Array, b: Uint8Array): boolean {

@@ -378,6 +378,14 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     return this.newest < 0 ? undefined : this.bases.get(this.newest);
   }
 
+  /**
+   * The verified snapshot of `tick`, while it is kept (the last `baseHistory` received), else
+   * undefined: the server's world at that tick, as the game's bytes (do not modify).
+   */
+  snapshotAt(tick: number): Uint8Array | undefined {
+    return this.bases.get(tick);
+  }
+
   /** The estimated server tick at `now` (fractional; -Infinity before the welcome). */
   serverTick(now = this.clock.now()): number {
     const w = this.welcomeMsg;
