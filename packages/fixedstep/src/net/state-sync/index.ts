@@ -51,6 +51,7 @@ export type {
   StateSyncEvent,
   StateSyncSessionOptions,
   StateSyncSessionStats,
+  StateSyncCorrection,
 } from './session.js';
 export { SnapshotTimeline, CorrectionSmoother, LatenessWindow } from './render.js';
 export type { StateSyncRender } from './render.js';

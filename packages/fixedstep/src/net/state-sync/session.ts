@@ -84,6 +84,8 @@ export interface StateSyncSessionOptions<I, S extends Simulation<I>> {
   renderDelay?: number | 'auto';
   /** Half-life of the correction offset, ms (0: corrections show at once). Default 80. */
   smoothingHalfLifeMs?: number;
+  /** Called after every reconciliation that moved the own entities (needs `render`). */
+  onCorrection?: (correction: StateSyncCorrection) => void;
   /**
    * Ticks to predict ahead of the server clock, so an input reaches the server before its tick is
    * stepped. `'auto'` (default): half a high round trip plus two ticks, one tick at a time every
@@ -100,6 +102,20 @@ export interface StateSyncSessionOptions<I, S extends Simulation<I>> {
   baseHistory?: number;
   limits?: Partial<StateSyncLimits>;
   onEvent?: (event: StateSyncEvent) => void;
+}
+
+/** What a reconciliation changed of the own player's drawn numbers. */
+export interface StateSyncCorrection {
+  /** The predicted tick it was corrected at, and the snapshot's tick it replayed from. */
+  tick: number;
+  snapshotTick: number;
+  /** The largest change of any own number (game units). */
+  size: number;
+  /**
+   * Whether it was drawn at once (larger than `render.teleport`: a respawn, a teleport) instead
+   * of gliding.
+   */
+  snapped: boolean;
 }
 
 /** Counters of a state-sync session. */
@@ -398,6 +414,11 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     return Math.max(0, this.delayMs);
   }
 
+  /** The numbers of the last {@link render} (the array it returned; do not modify). */
+  get drawn(): Float64Array {
+    return this.out;
+  }
+
   /** The fractional tick the last {@link render} drew other entities at. */
   get renderTick(): number {
     return this.lastRenderTick;
@@ -589,6 +610,12 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       if (size > 1e-9) {
         this.stats.corrections++;
         if (size > this.stats.maxCorrection) this.stats.maxCorrection = size;
+        this.options.onCorrection?.({
+          tick: predicted,
+          snapshotTick: p.tick,
+          size,
+          snapped: !(size <= (r.teleport ?? Infinity)),
+        });
       }
     }
   }
