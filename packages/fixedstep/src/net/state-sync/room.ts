@@ -447,11 +447,11 @@ export class StateSyncRoom<S extends Simulation<unknown> = Simulation<unknown>> 
     this.snapshotTo(member, this.viewFor(slot, round), now, round);
   }
 
-  /** Close every connection (error `SHUTDOWN`); the room stops. */
-  close(): void {
+  /** Close every connection (error `code`, default `SHUTDOWN`); the room stops. */
+  close(code: StateSyncErrorCode = 'SHUTDOWN', message = 'the server is shutting down'): void {
     if (this.closedRoom) return;
     this.closedRoom = true;
-    for (const m of this.members()) this.drop(m, 'SHUTDOWN', 'the server is shutting down');
+    for (const m of this.members()) this.drop(m, code, message);
   }
 
   // ---------------------------------------------------------------------------- the clock

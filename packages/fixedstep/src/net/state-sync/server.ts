@@ -60,6 +60,8 @@ export type StateSyncServerEvent =
   | StateSyncRoomEvent
   | { type: 'room-created'; room: string; game: string; players: number }
   | { type: 'room-removed'; room: string }
+  /** A room's game threw (in `step`, `save` or a view): the room was closed with `INTERNAL`. */
+  | { type: 'room-failed'; room: string; error: unknown }
   | { type: 'refused'; code: StateSyncErrorCode; message: string };
 
 interface Pending {
@@ -145,7 +147,16 @@ export class StateSyncServer {
     }
     const ttl = this.options.emptyRoomTtlMs ?? 30_000;
     for (const [name, room] of this.roomsByName) {
-      room.update(now);
+      try {
+        room.update(now);
+      } catch (e) {
+        // A bug in one game (a step that throws) costs that room, never the others.
+        this.options.onEvent?.({ type: 'room-failed', room: name, error: e });
+        room.close('INTERNAL', `the room stopped: ${e instanceof Error ? e.message : String(e)}`);
+        this.roomsByName.delete(name);
+        this.options.onEvent?.({ type: 'room-removed', room: name });
+        continue;
+      }
       const empty = room.emptySinceMs;
       if (empty !== undefined && now - empty >= ttl) {
         room.close();
@@ -215,7 +226,17 @@ export class StateSyncServer {
       if (view) options.view = view;
       if (join.seed !== undefined) options.seed = join.seed;
       if (this.options.randomU32) options.randomU32 = this.options.randomU32;
-      room = new StateSyncRoom(options);
+      try {
+        room = new StateSyncRoom(options);
+      } catch (e) {
+        // The game could not be built for this setup: refuse the join, keep serving the rest.
+        this.refused(
+          p.transport,
+          'BAD_JOIN',
+          `${game.id}: ${e instanceof Error ? e.message : String(e)}`,
+        );
+        return;
+      }
       this.roomsByName.set(join.room, room);
       this.options.onEvent?.({ type: 'room-created', room: join.room, game: game.id, players });
     }
@@ -224,7 +245,15 @@ export class StateSyncServer {
       this.refused(p.transport, wrong.code, wrong.message);
       return;
     }
-    room.join(p.transport, join);
+    try {
+      room.join(p.transport, join);
+    } catch (e) {
+      this.refused(
+        p.transport,
+        'INTERNAL',
+        `cannot seat: ${e instanceof Error ? e.message : String(e)}`,
+      );
+    }
   }
 
   private refused(transport: Transport, code: StateSyncErrorCode, message: string): void {
