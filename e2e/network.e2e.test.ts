@@ -1,12 +1,14 @@
 /**
- * Chapter 6 in a real browser: lockstep and rollback over a simulated link agree on the state
- * hash; then two pages play one room through the server's relay and agree on the final hash.
+ * Chapter 6 in a real browser: state sync, lockstep and rollback over a simulated link agree on
+ * the state hash and are compared in one table; then two pages play one room through the server —
+ * state sync through its worker rooms, lockstep through its relay — and agree on the world.
  */
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { chromium, type Browser } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/cli';
 import { attachRelay, type RelayEndpoint } from '../packages/cli/src/net/server.js';
+import { attachStateSync, type StateSyncEndpoint } from '../packages/cli/src/state-sync/index.js';
 import {
   CHROMIUM_ARGS,
   dist,
@@ -24,7 +26,7 @@ import {
 const lab = useLab();
 
 describe('chapter 6, network', () => {
-  it('lockstep and rollback agree on the hashes over a lossy, late link', async () => {
+  it('state sync, lockstep and rollback agree on the hashes over a lossy, late link', async () => {
     const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
     const problems = watch(page);
     await page.goto(`${lab.server.url}#/network`);
@@ -39,7 +41,7 @@ describe('chapter 6, network', () => {
     await page.getByTestId('control-loss').fill('5');
     await skip(page, 2);
     const r = await readouts(page);
-    for (const mode of ['lockstep', 'rollback']) {
+    for (const mode of ['statesync', 'lockstep', 'rollback']) {
       expect(r[`readout-${mode}-hashes-equal`]).toBe('true');
       expect(r[`readout-${mode}-hash-1`]).toMatch(/^[0-9a-f]{16}$/);
       expect(r[`readout-${mode}-hash-1`]).toBe(r[`readout-${mode}-hash-2`]);
@@ -49,6 +51,15 @@ describe('chapter 6, network', () => {
     expect(num(r, 'lockstep-input-delay')).toBeGreaterThanOrEqual(10);
     expect(num(r, 'rollback-rollbacks')).toBeGreaterThan(0);
     expect(num(r, 'rollback-max-depth')).toBeGreaterThan(0);
+    expect(num(r, 'statesync-render-delay')).toBeGreaterThan(120);
+    expect(num(r, 'statesync-snapshots')).toBeGreaterThan(100);
+    // The comparison: state sync shows your input at once, lockstep a round trip later; the
+    // world costs more bytes than the inputs; lockstep never corrects.
+    expect(num(r, 'compare-statesync-own')).toBeLessThan(17);
+    expect(num(r, 'compare-lockstep-own')).toBeGreaterThan(150);
+    expect(num(r, 'compare-statesync-down')).toBeGreaterThan(num(r, 'compare-lockstep-down'));
+    expect(num(r, 'compare-lockstep-corrections')).toBe(0);
+    expect(await page.getByTestId('when-to-use').textContent()).toContain('State sync when');
     await page.screenshot({ path: path.join(shots, 'network.png'), fullPage: true });
     expect(problems).toEqual([]);
     await page.close();
@@ -63,7 +74,7 @@ describe('chapter 6, network', () => {
     // Both machines on this page's animation frames for 2.5 s: they reach checkpoints and agree.
     await realClockRuns(page, 2500);
     const r = await readouts(page);
-    for (const mode of ['lockstep', 'rollback']) {
+    for (const mode of ['statesync', 'lockstep', 'rollback']) {
       expect(num(r, `${mode}-checkpoint`)).toBeGreaterThanOrEqual(60);
       expect(r[`readout-${mode}-hashes-equal`]).toBe('true');
     }
@@ -93,10 +104,13 @@ describe('chapter 6, network', () => {
 describe('chapter 6, play online', () => {
   let server: RunningServer;
   let relay: RelayEndpoint;
+  let stateSync: StateSyncEndpoint;
   let browser: Browser;
   beforeAll(async () => {
     server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
     relay = attachRelay(server.server);
+    stateSync = attachStateSync(server.server, { workers: 1 });
+    await stateSync.ready;
     browser = await chromium.launch({
       executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
       args: CHROMIUM_ARGS,
@@ -104,8 +118,44 @@ describe('chapter 6, play online', () => {
   });
   afterAll(async () => {
     await browser.close();
+    await stateSync.close();
     await relay.close();
     await server.close();
+  });
+
+  it('two pages play state sync through the server’s worker rooms and get the same world', async () => {
+    const pages = await Promise.all([0, 1].map(() => browser.newPage()));
+    const problems = pages.map((p) => watch(p));
+    // The first joins with the button; the second opens the first's "new tab" link, which joins.
+    await pages[0]!.goto(`${server.url}#/network?state=e2e-state&at=300`);
+    const link = await pages[0]!.getByTestId('link-state-room-tab').getAttribute('href');
+    expect(link).toBe('#/network?state=e2e-state&at=300');
+    await pages[1]!.goto(`${server.url}${link}`);
+    const got = await Promise.all(
+      pages.map(async (p) => {
+        await expect
+          .poll(() => p.getByTestId('readout-state-online-hash-at').getAttribute('data-value'), {
+            timeout: 60_000,
+          })
+          .toMatch(/^[0-9a-f]{16}$/);
+        return readouts(p);
+      }),
+    );
+    // Both received the server's world of tick 300, byte for byte.
+    expect(got[0]!['readout-state-online-hash-at']).toBe(got[1]!['readout-state-online-hash-at']);
+    expect(new Set(got.map((r) => r['readout-state-online-slot']))).toEqual(new Set(['1', '2']));
+    for (const r of got) {
+      expect(r['readout-state-online-state']).toBe('running');
+      expect(num(r, 'state-online-snapshot')).toBeGreaterThanOrEqual(300);
+      // Each predicts its own player ahead of the newest snapshot.
+      expect(num(r, 'state-online-tick')).toBeGreaterThan(num(r, 'state-online-snapshot'));
+    }
+    await pages[0]!.screenshot({
+      path: path.join(shots, 'network-state-online.png'),
+      fullPage: true,
+    });
+    expect(problems).toEqual([[], []]);
+    for (const p of pages) await p.close();
   });
 
   it('two pages play one room through the relay and agree on the final hash', async () => {

@@ -1,13 +1,27 @@
-import { describe, expect, it } from 'vitest';
+import { beforeAll, describe, expect, it } from 'vitest';
 import { NetworkLab } from '../src/chapters/network/network-lab.js';
 import { onlineOptions, roomLink } from '../src/chapters/network/network-online.js';
+import { stateOnlineOptions, stateRoomLink } from '../src/chapters/network/network-state-online.js';
+import {
+  NEEDS,
+  WHEN_TO_USE,
+  correctionText,
+  latencyText,
+  verdictText,
+} from '../src/chapters/network/network-text.js';
 
 describe('NetworkLab', () => {
-  it('20 s at 100 ± 30 ms and 5 % loss: both machines agree, lockstep and rollback', () => {
-    const lab = new NetworkLab({ latencyMs: 100, jitterMs: 30, loss: 0.05 });
-    lab.advanceTo(20_000);
+  // One 20 s run at 100 ± 30 ms and 5 % loss, shared by the tests that read it.
+  let lossy: NetworkLab;
+  beforeAll(() => {
+    lossy = new NetworkLab({ latencyMs: 100, jitterMs: 30, loss: 0.05 });
+    lossy.advanceTo(20_000);
+  });
+
+  it('20 s at 100 ± 30 ms and 5 % loss: both machines agree, in all three models', () => {
+    const lab = lossy;
     const r = lab.readouts();
-    for (const m of [r.lockstep, r.rollback]) {
+    for (const m of [r.statesync, r.lockstep, r.rollback]) {
       expect(m.equal).toBe(true);
       expect(m.hashes[0]).toMatch(/^[0-9a-f]{16}$/);
       expect(m.checkpoint).toBeGreaterThanOrEqual(1000);
@@ -17,6 +31,43 @@ describe('NetworkLab', () => {
     expect(r.lockstep.inputDelay).toBeGreaterThanOrEqual(13);
     expect(r.rollback.rollbacks).toBeGreaterThan(0);
     expect(r.rollback.maxDepth).toBeGreaterThan(0);
+    // State sync: both machines hold the server's world at the checkpoint (its hash); the render
+    // delay covers a snapshot interval plus the measured lateness, the lead half a round trip.
+    expect(r.statesync.snapshots).toBeGreaterThan(2 * 300);
+    expect(r.statesync.renderDelayMs).toBeGreaterThan(50 + 100);
+    expect(r.statesync.renderDelayMs).toBeLessThan(50 + 100 + 2 * 30 + 20);
+    expect(r.statesync.lead).toBeGreaterThanOrEqual(Math.ceil(100 / (1000 / 60)));
+  });
+
+  it('measures the three models the same way: bytes, input to screen, corrections', () => {
+    const [state, lock, roll] = lossy.compare();
+    expect([state!.mode, lock!.mode, roll!.mode]).toEqual(['statesync', 'lockstep', 'rollback']);
+    // Your own input: at once with state sync (predicted the frame it is sampled), one tick of
+    // input delay with rollback, a round trip and the jitter buffer with lockstep.
+    expect(state!.ownLatencyMs).toBeLessThan(1000 / 60);
+    expect(roll!.ownLatencyMs).toBeGreaterThanOrEqual(1000 / 60 - 1);
+    expect(roll!.ownLatencyMs).toBeLessThan(3 * (1000 / 60));
+    expect(lock!.ownLatencyMs).toBeGreaterThan(200);
+    // On the other screen: one way up, one way down and the render delay for state sync; the
+    // same order of time for the input-sync models.
+    for (const m of [state!, lock!, roll!]) {
+      expect(m.otherLatencyMs).toBeGreaterThan(150);
+      expect(m.otherLatencyMs).toBeLessThan(600);
+    }
+    // Bytes: the world costs more than the inputs on the way down; up, everyone sends buttons.
+    expect(state!.downBytesPerSecond).toBeGreaterThan(2 * lock!.downBytesPerSecond);
+    for (const m of [state!, lock!, roll!]) {
+      expect(m.upBytesPerSecond).toBeGreaterThan(800);
+      expect(m.upBytesPerSecond).toBeLessThan(2500);
+    }
+    // Corrections: lockstep never guesses; rollback corrects other players (jumps), state sync
+    // only the own player (glides), and less often.
+    expect(lock!.corrections).toBe(0);
+    expect(roll!.corrections).toBeGreaterThan(10);
+    expect(state!.corrections).toBeLessThan(roll!.corrections);
+    expect(state!.smoothed).toBe(true);
+    expect(roll!.smoothed).toBe(false);
+    for (const m of [state!, roll!]) expect(m.largestCorrection).toBeLessThanOrEqual(40);
   });
 
   it('repeats exactly: the same settings give the same numbers', () => {
@@ -49,6 +100,7 @@ describe('NetworkLab on the real clock', () => {
     // Simulated display frames no longer step the machines: 1 s of virtual time, no new ticks.
     lab.advanceTo(3000);
     expect(lab.readouts().lockstep.ticks).toEqual(before.lockstep.ticks);
+    expect(lab.readouts().statesync.ticks).toEqual(before.statesync.ticks);
     // A 144 Hz display with a hitch, from 3 s on.
     let t = 0;
     lab.realFrame(t); // the driver's first frame, at 0, pins the time line to now
@@ -58,7 +110,7 @@ describe('NetworkLab on the real clock', () => {
     }
     expect(lab.timeMs).toBeCloseTo(3000 + t, 6);
     const r = lab.readouts();
-    for (const m of [r.lockstep, r.rollback]) {
+    for (const m of [r.statesync, r.lockstep, r.rollback]) {
       expect(m.equal).toBe(true);
       expect(m.desyncs).toBe(0);
       expect(m.checkpoint).toBeGreaterThanOrEqual(600);
@@ -105,5 +157,74 @@ describe('the online panel’s address', () => {
     const link = roomLink('r.2_x', 600);
     expect(link).toBe('#/network?room=r.2_x&ticks=600&join=1');
     expect(onlineOptions(link)).toEqual({ room: 'r.2_x', ticks: 600, join: true });
+  });
+});
+
+describe('the state-sync online panel’s address', () => {
+  it('joins the room named in the hash, and reports the server world at a checkpoint tick', () => {
+    expect(stateOnlineOptions('#/network')).toEqual({ room: undefined, at: 600 });
+    expect(stateOnlineOptions('#/network?state=abc&at=300')).toEqual({ room: 'abc', at: 300 });
+    // A bad room name is no room; a tick that is not a checkpoint is the default.
+    expect(stateOnlineOptions('#/network?state=a%20b&at=301')).toEqual({
+      room: undefined,
+      at: 600,
+    });
+    const link = stateRoomLink('r-1', 300);
+    expect(link).toBe('#/network?state=r-1&at=300');
+    expect(stateOnlineOptions(link)).toEqual({ room: 'r-1', at: 300 });
+    expect(stateRoomLink('r-1', 600)).toBe('#/network?state=r-1');
+  });
+});
+
+describe('what the chapter says', () => {
+  it('a verdict per model, and the comparison’s cells', () => {
+    expect(verdictText('statesync', { checkpoint: 120, equal: true, desyncs: 0 })).toBe(
+      'Both machines got the server’s world of tick 120, byte for byte.',
+    );
+    expect(verdictText('lockstep', { checkpoint: 120, equal: true, desyncs: 0 })).toBe(
+      'Both machines computed the same world at tick 120.',
+    );
+    expect(verdictText('rollback', { checkpoint: -1, equal: false, desyncs: 0 })).toBe(
+      'Connecting and syncing clocks…',
+    );
+    expect(latencyText(NaN)).toBe('—');
+    expect(latencyText(16.6)).toBe('17 ms');
+    const base = {
+      upBytesPerSecond: 0,
+      downBytesPerSecond: 0,
+      ownLatencyMs: 0,
+      otherLatencyMs: 0,
+    };
+    expect(
+      correctionText({
+        ...base,
+        mode: 'lockstep',
+        corrections: 0,
+        largestCorrection: 0,
+        smoothed: false,
+      }),
+    ).toBe('none (nothing is guessed)');
+    expect(
+      correctionText({
+        ...base,
+        mode: 'statesync',
+        corrections: 3,
+        largestCorrection: 2.25,
+        smoothed: true,
+      }),
+    ).toBe('3, up to 2.3 units (glide)');
+    expect(
+      correctionText({
+        ...base,
+        mode: 'rollback',
+        corrections: 12,
+        largestCorrection: 8,
+        smoothed: false,
+      }),
+    ).toBe('12, up to 8.0 units (jump)');
+    // Every model says what it needs and when to use it.
+    expect(Object.keys(NEEDS).sort()).toEqual(['lockstep', 'rollback', 'statesync']);
+    expect(WHEN_TO_USE.map((w) => w.mode)).toEqual(['statesync', 'lockstep', 'rollback']);
+    expect(NEEDS.statesync).toMatch(/need not be deterministic/);
   });
 });

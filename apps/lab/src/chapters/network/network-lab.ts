@@ -1,8 +1,9 @@
 /**
- * Chapter 6, network — the model, without the DOM. Two players play one game through the real
- * relay core over simulated links (seeded latency, jitter and loss) on a virtual clock: once with
- * lockstep sessions, once with rollback sessions, same game, same seed, same link settings. The
- * page draws both players' machines of each and reads the numbers from here.
+ * Chapter 6, network — the model, without the DOM. Two players play one game over simulated
+ * links (seeded latency, jitter and loss) on a virtual clock, three times: through the relay core
+ * with lockstep sessions, with rollback sessions, and through a state-sync room that runs the game
+ * itself (network-state.ts) — same game, same seed, same link settings. The page draws both
+ * players' machines of each and reads the numbers from here.
  */
 import {
   EventScheduler,
@@ -13,74 +14,53 @@ import {
   SimulatedLink,
   hex64,
   relayGameOf,
+  type Correction,
   type LinkConditions,
   type NetSession,
   type Simulation,
 } from 'fixedstep';
 import type { Game, GameDefinition } from '@fixedstep/games';
 import { gameDef } from '../../games-view/games.js';
+import {
+  BOT_EVERY,
+  CHECKPOINT_TICKS,
+  DEFAULT_NET_SETTINGS,
+  LatencyProbe,
+  NET_MODES,
+  linkOf,
+  lossOf,
+  playerShift,
+  traffic,
+  type MatchReadouts,
+  type ModelMatch,
+  type ModelNumbers,
+  type NetMode,
+  type NetSettings,
+  visibleCorrection,
+} from './network-model.js';
+import { StateSyncMatch } from './network-state.js';
 
-export type NetMode = 'lockstep' | 'rollback';
-export const NET_MODES: readonly NetMode[] = ['lockstep', 'rollback'];
-export const NET_GAMES = ['ctf', 'survival'] as const;
-export type NetGameId = (typeof NET_GAMES)[number];
-
-/** Hashes are compared at checkpoints this many ticks apart (1 s at 60 Hz). */
-export const CHECKPOINT_TICKS = 60;
-/** Bots re-decide every this many ticks and hold in between (a human-like 100 ms). */
-export const BOT_EVERY = 6;
-
-export interface NetSettings {
-  game: NetGameId;
-  seed: number;
-  latencyMs: number;
-  jitterMs: number;
-  /** 0–1. */
-  loss: number;
-  /** Player 0 on the keyboard instead of its bot. */
-  keyboard: boolean;
-}
-
-export const DEFAULT_NET_SETTINGS: Readonly<NetSettings> = {
-  game: 'ctf',
-  seed: 7,
-  latencyMs: 80,
-  jitterMs: 20,
-  loss: 0.02,
-  keyboard: false,
-};
-
-export function linkOf(s: NetSettings): LinkConditions {
-  return { latencyMs: s.latencyMs, jitterMs: s.jitterMs, loss: s.loss };
-}
-
-/** What the page shows of one match. */
-export interface MatchReadouts {
-  mode: NetMode;
-  ticks: [number, number];
-  /** Lockstep: input delay now, ticks (the larger of the two players'). */
-  inputDelay: number;
-  /** Rollback: rollbacks of both players, and the deepest, ticks. */
-  rollbacks: number;
-  maxDepth: number;
-  stalls: number;
-  rttMs: number;
-  /** The last checkpoint both machines have a confirmed state of (-1: none yet). */
-  checkpoint: number;
-  hashes: [string, string];
-  /** Both machines have a hash at the checkpoint, equal, and the relay saw no desync. */
-  equal: boolean;
-  desyncs: number;
-  /** Messages lost on all links so far. */
-  lost: number;
-  sent: number;
-}
+export {
+  BOT_EVERY,
+  CHECKPOINT_TICKS,
+  DEFAULT_NET_SETTINGS,
+  NET_GAMES,
+  NET_MODES,
+  linkOf,
+} from './network-model.js';
+export type {
+  MatchReadouts,
+  ModelNumbers,
+  NetGameId,
+  NetMode,
+  NetSettings,
+} from './network-model.js';
 
 /**
- * One match: the relay and two sessions of one kind, over two simulated links, on its own
- * event scheduler (virtual ms).
+ * One input-sync match: the relay and two sessions of one kind (lockstep or rollback), over two
+ * simulated links, on its own event scheduler (virtual ms).
  */
-export class NetMatch {
+export class NetMatch implements ModelMatch {
   readonly scheduler = new EventScheduler(0);
   readonly relay: Relay;
   readonly sessions: [NetSession, NetSession];
@@ -93,13 +73,20 @@ export class NetMatch {
    * on their simulated 60 Hz displays.
    */
   realFrames = false;
+  private readonly probe = new LatencyProbe();
+  private corrections = 0;
+  private largestCorrection = 0;
+  private readonly before: Game;
+  private readonly after: Game;
 
   constructor(
-    readonly mode: NetMode,
+    readonly mode: 'lockstep' | 'rollback',
     readonly settings: NetSettings,
   ) {
     const def = gameDef(settings.game);
     this.def = def;
+    this.before = def.create({ seed: settings.seed, players: 2 });
+    this.after = def.create({ seed: settings.seed, players: 2 });
     const clock = this.scheduler.clock;
     const random = new Random(settings.seed ^ 0x9e3779b9);
     const game = relayGameOf(def);
@@ -141,15 +128,21 @@ export class NetMatch {
         createSimulation: (w: { config: Uint8Array }) => def.create(def.decodeConfig(w.config)),
         localInput: (tick: number, sim: Simulation) => {
           const me = session.welcome?.slot ?? slot;
+          let input: number;
           if (settings.keyboard && me === 0) {
             // Held buttons in the low half, this tick's new presses in the high half.
             const down = this.keys;
-            const input = (down | ((down & ~prevKeys) << 16)) >>> 0;
+            input = (down | ((down & ~prevKeys) << 16)) >>> 0;
             prevKeys = down;
-            return input;
+          } else {
+            if (tick % BOT_EVERY === 0) held = def.bot(sim as Game, me);
+            input = held;
           }
-          if (tick % BOT_EVERY === 0) held = def.bot(sim as Game, me);
-          return held;
+          if (me === 0) this.probe.sample(tick, clock.now());
+          return input;
+        },
+        onCorrection: (c: Correction) => {
+          this.noteCorrection(c);
         },
       };
       const session: NetSession =
@@ -158,7 +151,7 @@ export class NetMatch {
       this.scheduler.every(
         1000 / 60,
         () => {
-          if (!this.realFrames) session.frame(this.scheduler.now);
+          if (!this.realFrames) this.frame(session);
         },
         slot * 7.3,
       );
@@ -181,16 +174,49 @@ export class NetMatch {
   /** A real display frame at virtual `ms`: the links and the relay run to then, both machines draw. */
   realFrame(ms: number): void {
     this.advanceTo(ms);
-    for (const s of this.sessions) s.frame(this.scheduler.now);
+    for (const s of this.sessions) this.frame(s);
   }
 
   setLink(c: LinkConditions): void {
     for (const l of this.links) l.setConditions(c);
   }
 
+  private frame(session: NetSession): void {
+    const now = this.scheduler.now;
+    session.frame(now);
+    // Player 1 (slot 0) sees its input once its machine stepped past the tick; the other player
+    // once the input is confirmed there and the state after it computed (rollback: the rollback
+    // done).
+    const [a, b] = this.sessions;
+    const own = a.welcome?.slot === 0 ? a : b;
+    const other = own === a ? b : a;
+    const otherTick = this.mode === 'lockstep' ? other.tick : other.confirmedStateTick();
+    this.probe.frame(now, own.tick, otherTick);
+  }
+
+  /** A rollback's correction: how far it moved a drawn player. */
+  private noteCorrection(c: Correction): void {
+    try {
+      this.before.load(c.before);
+      this.after.load(c.after);
+    } catch {
+      return;
+    }
+    const shift = playerShift(this.before, this.after);
+    if (!visibleCorrection(shift)) return;
+    this.corrections++;
+    this.largestCorrection = Math.max(this.largestCorrection, shift);
+  }
+
   /** The game a machine shows (undefined before its welcome). */
   game(i: 0 | 1): Game | undefined {
     return this.sessions[i].simulation as Game | undefined;
+  }
+
+  view(i: 0 | 1): { game: Game; alpha: number; tick: number } | undefined {
+    const g = this.game(i);
+    const s = this.sessions[i];
+    return g ? { game: g, alpha: s.alpha, tick: s.tick } : undefined;
   }
 
   readouts(): MatchReadouts {
@@ -207,14 +233,7 @@ export class NetMatch {
     };
     const hashes: [string, string] = [hashOf(a), hashOf(b)];
     const desyncs = this.relay.room('lab')?.desyncs.length ?? 0;
-    let lost = 0;
-    let sent = 0;
-    for (const l of this.links) {
-      for (const d of l.stats) {
-        lost += d.lost;
-        sent += d.sent;
-      }
-    }
+    const { lost, sent } = lossOf(this.links);
     return {
       mode: this.mode,
       ticks: [a.tick, b.tick],
@@ -229,18 +248,35 @@ export class NetMatch {
       desyncs,
       lost,
       sent,
+      renderDelayMs: 0,
+      lead: Math.max(a.stats.lead, b.stats.lead),
+      snapshots: 0,
+    };
+  }
+
+  numbers(): ModelNumbers {
+    const { up, down } = traffic(this.links, this.scheduler.now);
+    return {
+      mode: this.mode,
+      upBytesPerSecond: up,
+      downBytesPerSecond: down,
+      ownLatencyMs: this.probe.ownMs,
+      otherLatencyMs: this.probe.otherMs,
+      corrections: this.corrections,
+      largestCorrection: this.largestCorrection,
+      smoothed: false,
     };
   }
 }
 
 /**
- * Both matches, side by side, on one virtual clock. The links are always simulated; the machines'
- * displays are simulated 60 Hz ones, or — with {@link realClock} — the page's own animation
- * frames, which move the virtual clock at the page's pace ({@link realFrame}).
+ * The three matches, side by side, on one virtual clock. The links are always simulated; the
+ * machines' displays are simulated 60 Hz ones, or — with {@link realClock} — the page's own
+ * animation frames, which move the virtual clock at the page's pace ({@link realFrame}).
  */
 export class NetworkLab {
   settings: NetSettings;
-  matches: Record<NetMode, NetMatch>;
+  matches: { statesync: StateSyncMatch; lockstep: NetMatch; rollback: NetMatch };
   private time = 0;
   private real = false;
   private realBase: number | undefined;
@@ -250,13 +286,19 @@ export class NetworkLab {
     this.matches = this.build();
   }
 
-  private build(): Record<NetMode, NetMatch> {
+  private build(): NetworkLab['matches'] {
     const matches = {
+      statesync: new StateSyncMatch(this.settings),
       lockstep: new NetMatch('lockstep', this.settings),
       rollback: new NetMatch('rollback', this.settings),
     };
     for (const m of NET_MODES) matches[m].realFrames = this.real;
     return matches;
+  }
+
+  /** The match of a model. */
+  match(mode: NetMode): ModelMatch {
+    return this.matches[mode];
   }
 
   get timeMs(): number {
@@ -293,14 +335,14 @@ export class NetworkLab {
     for (const m of NET_MODES) this.matches[m].realFrame(this.time);
   }
 
-  /** Start both matches again from zero with the current settings. */
+  /** Start the matches again from zero with the current settings. */
   restart(): void {
     this.time = 0;
     this.realBase = undefined;
     this.matches = this.build();
   }
 
-  /** Change the links now (both matches, both players, both directions). */
+  /** Change the links now (every match, both players, both directions). */
   setLink(c: Partial<LinkConditions>): void {
     this.settings = { ...this.settings, ...c };
     for (const m of NET_MODES) this.matches[m].setLink(linkOf(this.settings));
@@ -318,8 +360,14 @@ export class NetworkLab {
 
   readouts(): Record<NetMode, MatchReadouts> {
     return {
+      statesync: this.matches.statesync.readouts(),
       lockstep: this.matches.lockstep.readouts(),
       rollback: this.matches.rollback.readouts(),
     };
+  }
+
+  /** The comparison table's numbers, one row per model. */
+  compare(): ModelNumbers[] {
+    return NET_MODES.map((m) => this.matches[m].numbers());
   }
 }

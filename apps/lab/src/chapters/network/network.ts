@@ -1,20 +1,35 @@
 /**
- * Chapter 6 — Network. Two players in one page, each on a machine of its own, talking to the real
- * relay core through simulated links with latency, jitter and loss: lockstep and rollback side by
- * side, same game, same seed, same link; and online play through the server (network-online.ts).
+ * Chapter 6 — Network. Two players in one page, each on a machine of its own, over simulated links
+ * with latency, jitter and loss, three times side by side — state sync (the server runs the game
+ * and sends the world), lockstep and rollback (the relay orders the inputs) — same game, same
+ * seed, same link, with a table comparing what each sends, how late each shows an input and what
+ * each corrects; and online play through the server (network-online.ts: state sync and lockstep).
  * The numbers come from {@link NetworkLab}; the words from network-text.ts. Everything but the
- * online panel runs on the lab's virtual clock, so the numbers repeat.
+ * online panels runs on the lab's virtual clock, so the numbers repeat.
  */
 import {
   NET_GAMES,
   NET_MODES,
   NetworkLab,
   type MatchReadouts,
+  type ModelNumbers,
   type NetGameId,
   type NetMode,
 } from './network-lab.js';
 import { OnlinePanel } from './network-online.js';
-import { ABOUT, BENCH_INTRO, GUARANTEE, LEDE, verdictText } from './network-text.js';
+import { StateOnlinePanel } from './network-state-online.js';
+import {
+  ABOUT,
+  BENCH_INTRO,
+  COMPARE_INTRO,
+  GUARANTEE,
+  LEDE,
+  NEEDS,
+  WHEN_TO_USE,
+  correctionText,
+  latencyText,
+  verdictText,
+} from './network-text.js';
 import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { clearScene } from '../../ui/canvas.js';
@@ -39,6 +54,7 @@ class NetworkChapter {
   readonly shell: ChapterShell;
   private readonly lab = new NetworkLab();
   private readonly panels = {} as Record<NetMode, PanelView>;
+  private readonly compareOut = {} as Record<NetMode, Record<string, Readout>>;
   private keys = 0;
 
   constructor(root: HTMLElement, head: ChapterHead) {
@@ -65,11 +81,12 @@ class NetworkChapter {
     });
     const shell = this.shell;
     const online = shell.own(new OnlinePanel());
+    const stateOnline = shell.own(new StateOnlinePanel());
     shell.append(
       h(
         'p',
         { class: 'guarantee', 'data-testid': 'guarantee' },
-        h('strong', {}, 'Inputs, never state: '),
+        h('strong', {}, 'Two ways to agree: '),
         GUARANTEE,
       ),
       h(
@@ -83,7 +100,9 @@ class NetworkChapter {
           { class: 'duo net-duo' },
           NET_MODES.map((mode) => this.buildPanel(mode)),
         ),
+        this.buildComparison(),
       ),
+      stateOnline.el,
       online.el,
     );
     const onKey = (down: boolean) => (e: KeyboardEvent) => {
@@ -164,6 +183,68 @@ class NetworkChapter {
     );
   }
 
+  private buildComparison(): HTMLElement {
+    const head = [
+      'Model',
+      'Up, B/s',
+      'Down, B/s',
+      'Input → own screen',
+      'Input → other screen',
+      'Corrections seen',
+    ];
+    const rows = NET_MODES.map((mode) => {
+      const cells: Record<string, Readout> = {};
+      for (const id of ['up', 'down', 'own', 'other', 'corrections']) {
+        cells[id] = new Readout('td', `compare-${mode}-${id}`);
+      }
+      this.compareOut[mode] = cells;
+      return h(
+        'tr',
+        {},
+        h('th', { scope: 'row' }, ABOUT[mode].title),
+        ...['up', 'down', 'own', 'other', 'corrections'].map((id) => cells[id]!.el),
+      );
+    });
+    return h(
+      'section',
+      { class: 'net-compare', 'aria-labelledby': 'net-compare-title' },
+      h('h3', { id: 'net-compare-title' }, 'The three models, measured'),
+      h('p', { class: 'section-intro' }, COMPARE_INTRO),
+      h(
+        'div',
+        { class: 'net-compare-wrap' },
+        h(
+          'table',
+          { class: 'data-table net-compare-table', 'data-testid': 'net-compare' },
+          h(
+            'thead',
+            {},
+            h(
+              'tr',
+              {},
+              head.map((t) => h('th', { scope: 'col' }, t)),
+            ),
+          ),
+          h('tbody', {}, rows),
+        ),
+      ),
+      h(
+        'dl',
+        { class: 'net-needs' },
+        NET_MODES.flatMap((mode) => [
+          h('dt', {}, `${ABOUT[mode].title} needs`),
+          h('dd', { 'data-testid': `needs-${mode}` }, NEEDS[mode]),
+        ]),
+      ),
+      h('h3', {}, 'When to use which'),
+      h(
+        'ul',
+        { class: 'net-when', 'data-testid': 'when-to-use' },
+        WHEN_TO_USE.map((w) => h('li', {}, h('strong', {}, `${ABOUT[w.mode].title}: `), w.text)),
+      ),
+    );
+  }
+
   private buildPanel(mode: NetMode): HTMLElement {
     const canvases = [0, 1].map((i) =>
       this.shell.canvas({
@@ -179,9 +260,16 @@ class NetworkChapter {
       return [h('dt', {}, label), r.el];
     };
     const specific =
-      mode === 'lockstep'
-        ? [row('Input delay, ticks', 'input-delay')]
-        : [row('Rollbacks', 'rollbacks'), row('Deepest rollback, ticks', 'max-depth')];
+      mode === 'statesync'
+        ? [
+            row('Render delay', 'render-delay'),
+            row('Prediction lead, ticks', 'lead'),
+            row('Snapshots received', 'snapshots'),
+          ]
+        : mode === 'lockstep'
+          ? [row('Input delay, ticks', 'input-delay')]
+          : [row('Rollbacks', 'rollbacks'), row('Deepest rollback, ticks', 'max-depth')];
+    const hashLabel = mode === 'statesync' ? 'server world hash' : 'hash';
     const verdict = h('p', { class: 'net-verdict', 'data-testid': `verdict-${mode}` });
     this.panels[mode] = { canvases, out, verdict };
     return h(
@@ -209,8 +297,8 @@ class NetworkChapter {
         ...row('Round trip', 'rtt'),
         ...row('Messages lost', 'lost'),
         ...row('Checkpoint tick', 'checkpoint'),
-        ...row('Player 1 hash', 'hash-1', true),
-        ...row('Player 2 hash', 'hash-2', true),
+        ...row(`Player 1 ${hashLabel}`, 'hash-1', true),
+        ...row(`Player 2 ${hashLabel}`, 'hash-2', true),
         ...row('Hashes equal', 'hashes-equal'),
       ),
     );
@@ -226,20 +314,33 @@ class NetworkChapter {
   private render(): void {
     const all = this.lab.readouts();
     for (const mode of NET_MODES) this.renderPanel(mode, all[mode]);
+    for (const n of this.lab.compare()) this.renderCompare(n);
+  }
+
+  private renderCompare(n: ModelNumbers): void {
+    const o = this.compareOut[n.mode];
+    o.up?.set(fmt.count(Math.round(n.upBytesPerSecond)), n.upBytesPerSecond);
+    o.down?.set(fmt.count(Math.round(n.downBytesPerSecond)), n.downBytesPerSecond);
+    o.own?.set(latencyText(n.ownLatencyMs), Number.isFinite(n.ownLatencyMs) ? n.ownLatencyMs : '');
+    o.other?.set(
+      latencyText(n.otherLatencyMs),
+      Number.isFinite(n.otherLatencyMs) ? n.otherLatencyMs : '',
+    );
+    o.corrections?.set(correctionText(n), n.corrections);
   }
 
   private renderPanel(mode: NetMode, r: MatchReadouts): void {
     const p = this.panels[mode];
-    const match = this.lab.matches[mode];
+    const match = this.lab.match(mode);
     for (const i of [0, 1] as const) {
       const c = p.canvases[i];
       if (!c.fit()) continue;
-      const g = match.game(i);
-      if (g) {
-        drawGame(c, g, {
-          alpha: match.sessions[i].alpha,
+      const v = match.view(i);
+      if (v) {
+        drawGame(c, v.game, {
+          alpha: v.alpha,
           nowMs: match.nowMs,
-          badge: { text: `tick ${r.ticks[i]}`, tone: 'info' },
+          badge: { text: `tick ${v.tick}`, tone: 'info' },
         });
       } else clearScene(c);
     }
@@ -247,6 +348,9 @@ class NetworkChapter {
     o['input-delay']?.set(fmt.count(r.inputDelay), r.inputDelay);
     o.rollbacks?.set(fmt.count(r.rollbacks), r.rollbacks);
     o['max-depth']?.set(fmt.count(r.maxDepth), r.maxDepth);
+    o['render-delay']?.set(fmt.millis(r.renderDelayMs), r.renderDelayMs);
+    o.lead?.set(fmt.count(r.lead), r.lead);
+    o.snapshots?.set(fmt.count(r.snapshots), r.snapshots);
     o.stalls?.set(fmt.count(r.stalls), r.stalls);
     o.rtt?.set(fmt.millis(r.rttMs), r.rttMs);
     o.lost?.set(`${fmt.count(r.lost)} of ${fmt.count(r.sent)}`, r.lost);
@@ -258,7 +362,7 @@ class NetworkChapter {
     o['hashes-equal']?.good(started && r.equal);
     o['hashes-equal']?.warn(started && !r.equal);
     setAttr(p.verdict, 'data-value', String(started && r.equal));
-    setText(p.verdict, verdictText(r));
+    setText(p.verdict, verdictText(mode, r));
     p.verdict.classList.toggle('bad', started && r.desyncs > 0);
   }
 }

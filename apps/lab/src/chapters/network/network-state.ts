@@ -1,0 +1,350 @@
+/**
+ * Chapter 6, network — the talk's own model: a state-sync room runs the game on the "server" and
+ * sends both players' machines the world (delta-coded) and the clock, over the same simulated
+ * links as the other two models. Each machine predicts its own player and draws everything else
+ * between two snapshots, a render delay behind. No DOM.
+ */
+import {
+  EventScheduler,
+  Random,
+  SimulatedLink,
+  StateSyncRoom,
+  StateSyncSession,
+  fnv1a64,
+  hex64,
+  type ButtonInput,
+  type LinkConditions,
+  type StateSyncRender,
+} from 'fixedstep';
+import {
+  ArenaGame,
+  SurvivalGame,
+  type ArenaState,
+  type Game,
+  type GameDefinition,
+} from '@fixedstep/games';
+import { gameDef } from '../../games-view/games.js';
+import {
+  BOT_EVERY,
+  CHECKPOINT_TICKS,
+  LatencyProbe,
+  TELEPORT_UNITS,
+  linkOf,
+  lossOf,
+  traffic,
+  type MatchReadouts,
+  type ModelMatch,
+  type ModelNumbers,
+  type NetSettings,
+  type PlayerState,
+  visibleCorrection,
+} from './network-model.js';
+
+function arenaState(game: Game): ArenaState {
+  if (!(game instanceof ArenaGame)) throw new RangeError(`${game.info.id} is not an arena game`);
+  return (game as ArenaGame<ArenaState>).state;
+}
+
+function players(game: Game): PlayerState {
+  return arenaState(game);
+}
+
+/**
+ * What a state-sync machine draws of an arena game as numbers: every player slot's (x, y). Its own
+ * slot comes from its prediction; the rest between snapshots.
+ */
+export function arenaRender(def: GameDefinition): StateSyncRender<Game> {
+  const slots = players(def.create({ seed: 1, players: def.info.minPlayers })).x.length;
+  return {
+    fields: 2,
+    entities: slots,
+    read(sim, out) {
+      const st = players(sim);
+      for (let p = 0; p < slots; p++) {
+        out[2 * p] = st.x[p]!;
+        out[2 * p + 1] = st.y[p]!;
+      }
+    },
+    teleport: TELEPORT_UNITS,
+  };
+}
+
+/**
+ * The display of a snapshot pair: `display` holds the newer state; its "previous" positions are
+ * set from `older`, for what exists in both (players alive in both, bullets and enemies of the
+ * same serial), so the renderer's blend at `alpha` draws between the two snapshots.
+ */
+export function blendFrom(display: Game, older: Game): void {
+  const d = arenaState(display);
+  const o = arenaState(older);
+  for (let p = 0; p < d.x.length; p++) {
+    const both = d.alive[p] === 1 && o.alive[p] === 1;
+    d.prevX[p] = both ? o.x[p]! : d.x[p]!;
+    d.prevY[p] = both ? o.y[p]! : d.y[p]!;
+  }
+  const db = d.bullets;
+  const ob = o.bullets;
+  for (let i = 0; i < db.capacity; i++) {
+    const both = db.alive[i] === 1 && ob.alive[i] === 1 && db.serial[i] === ob.serial[i];
+    db.prevX[i] = both ? ob.x[i]! : db.x[i]!;
+    db.prevY[i] = both ? ob.y[i]! : db.y[i]!;
+  }
+  if (display instanceof SurvivalGame && older instanceof SurvivalGame) {
+    const ds = display.state;
+    const os = older.state;
+    for (let e = 0; e < ds.ex.length; e++) {
+      const both =
+        ds.enemyAlive[e] === 1 && os.enemyAlive[e] === 1 && ds.enemySerial[e] === os.enemySerial[e];
+      ds.enemyPrevX[e] = both ? os.ex[e]! : ds.ex[e]!;
+      ds.enemyPrevY[e] = both ? os.ey[e]! : ds.ey[e]!;
+    }
+  }
+}
+
+/**
+ * What a state-sync machine draws: the two snapshots around its render tick (the newer loaded, its
+ * "previous" positions from the older, blended at `alpha`), with its own player moved to its
+ * prediction plus the correction offset.
+ */
+export class SnapshotDisplay {
+  private display: Game | undefined;
+  private older: Game | undefined;
+
+  constructor(private readonly def: GameDefinition) {}
+
+  view(
+    s: StateSyncSession<ButtonInput, Game>,
+  ): { game: Game; alpha: number; tick: number } | undefined {
+    const w = s.welcome;
+    if (!w || !s.simulation) return undefined;
+    const every = w.snapshotEvery;
+    const r = s.renderTick;
+    const t0 = Math.floor(r / every) * every;
+    let a = s.snapshotAt(t0);
+    let b = s.snapshotAt(t0 + every);
+    let alpha = (r - t0) / every;
+    if (!a || !b) {
+      // Not both here (the newer is late, or one was lost): hold the newest snapshot.
+      b = s.snapshotState;
+      a = b;
+      alpha = 0;
+    }
+    if (!a || !b) return undefined;
+    const setup = { seed: w.seed, players: w.players };
+    this.display ??= this.def.create(setup);
+    this.older ??= this.def.create(setup);
+    this.display.load(b);
+    this.older.load(a);
+    blendFrom(this.display, this.older);
+    const st = players(this.display);
+    const out = s.drawn;
+    for (const e of s.ownedEntities) {
+      if (st.alive[e] !== 1) continue;
+      st.x[e] = st.prevX[e] = out[2 * e]!;
+      st.y[e] = st.prevY[e] = out[2 * e + 1]!;
+    }
+    return { game: this.display, alpha: Math.min(1, Math.max(0, alpha)), tick: s.tick };
+  }
+}
+
+interface Machine {
+  session: StateSyncSession<ButtonInput, Game>;
+  link: SimulatedLink;
+  display: SnapshotDisplay;
+}
+
+/**
+ * One state-sync match: the room and two machines, over two simulated links, on its own event
+ * scheduler (virtual ms).
+ */
+export class StateSyncMatch implements ModelMatch {
+  readonly mode = 'statesync' as const;
+  readonly scheduler = new EventScheduler(0);
+  readonly room: StateSyncRoom<Game>;
+  readonly machines: [Machine, Machine];
+  readonly def: GameDefinition;
+  keys = 0;
+  realFrames = false;
+  private readonly probe = new LatencyProbe();
+  /** The server's hash at every checkpoint tick. */
+  private readonly serverHashes = new Map<number, string>();
+  private checkpoint = -1;
+  private hashes: [string, string] = ['', ''];
+  private corrections = 0;
+  private largestCorrection = 0;
+
+  constructor(readonly settings: NetSettings) {
+    const def = gameDef(settings.game);
+    this.def = def;
+    const clock = this.scheduler.clock;
+    const random = new Random(settings.seed ^ 0x51a7e5);
+    this.room = new StateSyncRoom<Game>({
+      game: def,
+      name: 'lab',
+      clock,
+      players: 2,
+      seed: settings.seed,
+      randomU32: () => random.nextU32(),
+    });
+    this.scheduler.every(4, () => {
+      this.room.update(clock.now());
+      const t = this.room.tick;
+      if (t % CHECKPOINT_TICKS === 0 && !this.serverHashes.has(t)) {
+        this.serverHashes.set(t, hex64(this.room.simulation.hash()));
+      }
+    });
+    const render = arenaRender(def);
+    const make = (slot: 0 | 1): Machine => {
+      const link = new SimulatedLink({
+        scheduler: this.scheduler,
+        seed: settings.seed * 7919 + slot,
+        ...linkOf(settings),
+      });
+      this.room.accept(link.b);
+      let held = 0;
+      let prevKeys = 0;
+      const session: StateSyncSession<ButtonInput, Game> = new StateSyncSession<ButtonInput, Game>({
+        transport: link.a,
+        clock,
+        room: 'lab',
+        game: def,
+        players: 2,
+        seed: settings.seed,
+        name: `player${slot + 1}`,
+        render,
+        onCorrection: (c) => {
+          if (!visibleCorrection(c.size)) return;
+          this.corrections++;
+          this.largestCorrection = Math.max(this.largestCorrection, c.size);
+        },
+        localInput: (tick, sim) => {
+          const me = session.welcome?.slot ?? slot;
+          let input: number;
+          if (settings.keyboard && me === 0) {
+            const down = this.keys;
+            input = (down | ((down & ~prevKeys) << 16)) >>> 0;
+            prevKeys = down;
+          } else {
+            if (tick % BOT_EVERY === 0) held = def.bot(sim, me);
+            input = held;
+          }
+          if (me === 0) this.probe.sample(tick, clock.now());
+          return input;
+        },
+      });
+      this.scheduler.every(
+        1000 / 60,
+        () => {
+          if (!this.realFrames) this.frame(slot);
+        },
+        // The two machines out of phase, and after the server's first join (slot 0 joins first).
+        slot * 7.3 + 1,
+      );
+      return { session, link, display: new SnapshotDisplay(def) };
+    };
+    const m0 = make(0);
+    const m1 = make(1);
+    this.machines = [m0, m1];
+  }
+
+  get nowMs(): number {
+    return this.scheduler.now;
+  }
+
+  advanceTo(ms: number): void {
+    if (ms > this.scheduler.now) this.scheduler.runUntil(ms);
+  }
+
+  realFrame(ms: number): void {
+    this.advanceTo(ms);
+    this.frame(0);
+    this.frame(1);
+  }
+
+  setLink(c: LinkConditions): void {
+    for (const m of this.machines) m.link.setConditions(c);
+  }
+
+  private frame(i: 0 | 1): void {
+    const s = this.machines[i].session;
+    const now = this.scheduler.now;
+    s.frame(now);
+    s.render(now);
+    // Which machine is player 1's (slot 0): its own screen shows its prediction; the other's
+    // draws slot 0 between snapshots.
+    const [a, b] = this.machines;
+    const own = a.session.welcome?.slot === 0 ? a.session : b.session;
+    const other = own === a.session ? b.session : a.session;
+    this.probe.frame(now, own.simulation ? own.tick : 0, Math.floor(other.renderTick));
+    this.noteCheckpoint();
+  }
+
+  private noteCheckpoint(): void {
+    const [a, b] = this.machines.map((m) => m.session);
+    const newest = Math.min(a!.snapshotTick, b!.snapshotTick);
+    if (newest < CHECKPOINT_TICKS) return;
+    const c = Math.floor(newest / CHECKPOINT_TICKS) * CHECKPOINT_TICKS;
+    if (c <= this.checkpoint) return;
+    const sa = a!.snapshotAt(c);
+    const sb = b!.snapshotAt(c);
+    // A lost snapshot: keep the last checkpoint both machines had.
+    if (!sa || !sb) return;
+    this.checkpoint = c;
+    this.hashes = [hex64(fnv1a64(sa)), hex64(fnv1a64(sb))];
+  }
+
+  readouts(): MatchReadouts {
+    const [a, b] = this.machines.map((m) => m.session) as [
+      StateSyncSession<ButtonInput, Game>,
+      StateSyncSession<ButtonInput, Game>,
+    ];
+    const server = this.serverHashes.get(this.checkpoint);
+    const { lost, sent } = lossOf(this.machines.map((m) => m.link));
+    return {
+      mode: this.mode,
+      ticks: [a.tick, b.tick],
+      inputDelay: 0,
+      rollbacks: 0,
+      maxDepth: 0,
+      stalls: a.stats.stallFrames + b.stats.stallFrames,
+      rttMs: Math.max(a.stats.rtt, b.stats.rtt),
+      checkpoint: this.checkpoint,
+      hashes: this.hashes,
+      equal:
+        this.hashes[0] !== '' && this.hashes[0] === this.hashes[1] && this.hashes[0] === server,
+      desyncs: a.stats.badSnapshots + b.stats.badSnapshots,
+      lost,
+      sent,
+      renderDelayMs: Math.max(a.renderDelayMs, b.renderDelayMs),
+      lead: Math.max(a.stats.lead, b.stats.lead),
+      snapshots:
+        a.stats.fullSnapshots +
+        a.stats.deltaSnapshots +
+        b.stats.fullSnapshots +
+        b.stats.deltaSnapshots,
+    };
+  }
+
+  numbers(): ModelNumbers {
+    const { up, down } = traffic(
+      this.machines.map((m) => m.link),
+      this.scheduler.now,
+    );
+    return {
+      mode: this.mode,
+      upBytesPerSecond: up,
+      downBytesPerSecond: down,
+      ownLatencyMs: this.probe.ownMs,
+      otherLatencyMs: this.probe.otherMs,
+      corrections: this.corrections,
+      largestCorrection: this.largestCorrection,
+      smoothed: true,
+    };
+  }
+
+  /** What machine `i` draws (see {@link SnapshotDisplay}). */
+  view(i: 0 | 1): { game: Game; alpha: number; tick: number } | undefined {
+    const m = this.machines[i];
+    return m.display.view(m.session);
+  }
+}

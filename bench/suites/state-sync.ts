@@ -1,0 +1,647 @@
+/**
+ * State sync (the talk's network model) on capture the flag with 4 players at 60 Hz:
+ *
+ * 1. **Bandwidth per client**, delta-coded snapshots against whole ones, at 60, 30 and 20
+ *    snapshots a second: a real `StateSyncRoom` and four `StateSyncSession`s (bots at the
+ *    controls) over simulated links on simulated time, bytes counted at the server's end (payload,
+ *    and with WebSocket frame headers). Goal of issue 13: delta ≤ 25 % of full, ≤ 4 KB/s a client.
+ * 2. **Server CPU per room-tick**: R rooms of 4, each tick every player's input message delivered
+ *    (decoded, checked, stored) and `update()` (the step, four views, four delta-coded snapshots on
+ *    snapshot ticks, the pongs). Clients are modelled by pre-encoded input messages that acknowledge
+ *    the snapshot of ~100 ms before. Side by side with the bare game step on the same inputs.
+ * 3. **Client prediction + reconciliation per snapshot at 100 ms round trip**: one session's
+ *    snapshot handling (decode, delta, hash, load check, render read) and the frame that
+ *    reconciles (load, replay of the unacknowledged inputs) against frames that do not.
+ */
+import {
+  BaseTransport,
+  EventScheduler,
+  ManualClock,
+  Random,
+  SimulatedLink,
+  StateSyncRoom,
+  StateSyncSession,
+  encodeStateSyncMessage,
+  peekStateSyncType,
+  type ButtonInput,
+  type LinkConditions,
+  type Transport,
+} from 'fixedstep';
+import { ctfGame, type Game } from '@fixedstep/games';
+import { roundOrder, summarize } from '../lib/stats.js';
+import { defineSuite } from '../lib/suite.js';
+
+const TICK_HZ = 60;
+const STEP_MS = 1000 / TICK_HZ;
+const PLAYERS = 4;
+/** Bots re-decide every 6 ticks (100 ms) and hold in between, as in the relay's match tests. */
+const BOT_EVERY = 6;
+
+/** WebSocket frame header for a payload of `n` bytes: server → client (unmasked) or back (+4 mask). */
+export function wsHeader(n: number, fromClient: boolean): number {
+  const base = n < 126 ? 2 : n < 65536 ? 4 : 10;
+  return fromClient ? base + 4 : base;
+}
+
+/** Counts what passes through a transport, both ways, from `since` on (the steady window). */
+class Counter implements Transport {
+  bytesOut = 0;
+  wsOut = 0;
+  messagesOut = 0;
+  bytesIn = 0;
+  wsIn = 0;
+  messagesIn = 0;
+  snapshotsOut = 0;
+  counting = false;
+  constructor(private readonly inner: Transport) {}
+  send(bytes: Uint8Array): void {
+    if (this.counting) {
+      this.bytesOut += bytes.length;
+      this.wsOut += bytes.length + wsHeader(bytes.length, false);
+      this.messagesOut++;
+      if (peekStateSyncType(bytes) === 'snapshot') this.snapshotsOut++;
+    }
+    this.inner.send(bytes);
+  }
+  onMessage(handler: (bytes: Uint8Array) => void): void {
+    this.inner.onMessage((bytes) => {
+      if (this.counting) {
+        this.bytesIn += bytes.length;
+        this.wsIn += bytes.length + wsHeader(bytes.length, true);
+        this.messagesIn++;
+      }
+      handler(bytes);
+    });
+  }
+  onClose(handler: (reason: string) => void): void {
+    this.inner.onClose(handler);
+  }
+  close(reason?: string): void {
+    this.inner.close(reason);
+  }
+  get isOpen(): boolean {
+    return this.inner.isOpen;
+  }
+}
+
+/** A seeded u32 source (a room's seed and tokens). */
+function seededU32(seed: number): () => number {
+  const r = new Random(seed);
+  return () => r.nextU32();
+}
+
+/** The bot's input for `slot`, re-decided every {@link BOT_EVERY} ticks. */
+function heldBot(): (tick: number, sim: Game, slot: number) => ButtonInput {
+  let held = 0;
+  return (tick, sim, slot) => {
+    if (tick % BOT_EVERY === 0) held = ctfGame.bot(sim, slot);
+    return held;
+  };
+}
+
+// ------------------------------------------------------------------------------ 1. bandwidth
+
+export interface BandwidthOptions {
+  snapshotEvery: number;
+  delta: boolean;
+  /** Simulated seconds measured, after 2 s of joining. */
+  seconds: number;
+  link: Partial<LinkConditions>;
+  seed: number;
+}
+
+export interface BandwidthResult {
+  /** Per client, server → client, bytes a second: payload, and with WebSocket headers. */
+  down: number;
+  downWs: number;
+  /** Per client, client → server. */
+  up: number;
+  upWs: number;
+  /** Snapshot messages a second per client, and their mean size. */
+  snapshotsPerSecond: number;
+  meanSnapshotBytes: number;
+  fullSnapshots: number;
+  deltaSnapshots: number;
+  /** Snapshots any client refused (must be 0). */
+  badSnapshots: number;
+  /** Whether every client ended with the server's state at its newest snapshot. */
+  inSync: boolean;
+}
+
+/** A room of four CTF players over simulated links; bytes counted in the steady window. */
+export function measureBandwidth(o: BandwidthOptions): BandwidthResult {
+  const scheduler = new EventScheduler(0);
+  const clock = scheduler.clock;
+  const room = new StateSyncRoom<Game>({
+    game: ctfGame,
+    name: 'bench',
+    clock,
+    players: PLAYERS,
+    seed: o.seed,
+    snapshotEvery: o.snapshotEvery,
+    delta: o.delta,
+    randomU32: seededU32(o.seed),
+  });
+  const history = new Map<number, Uint8Array>();
+  scheduler.every(4, () => {
+    room.update(clock.now());
+    history.set(room.tick, room.simulation.save());
+  });
+  const counters: Counter[] = [];
+  const sessions: StateSyncSession<ButtonInput, Game>[] = [];
+  for (let i = 0; i < PLAYERS; i++) {
+    const link = new SimulatedLink({ scheduler, seed: o.seed * 7919 + i, ...o.link });
+    const counter = new Counter(link.b);
+    counters.push(counter);
+    room.accept(counter);
+    const bot = heldBot();
+    const session: StateSyncSession<ButtonInput, Game> = new StateSyncSession<ButtonInput, Game>({
+      transport: link.a,
+      clock,
+      room: 'bench',
+      game: ctfGame,
+      localInput: (tick, sim) => bot(tick, sim, session.welcome?.slot ?? 0),
+    });
+    sessions.push(session);
+    scheduler.every(STEP_MS, () => session.frame(clock.now()), 1 + i * 3.7);
+  }
+  scheduler.runUntil(2000);
+  for (const c of counters) c.counting = true;
+  scheduler.runFor(o.seconds * 1000);
+  const n = PLAYERS * o.seconds;
+  const sum = (f: (c: Counter) => number) => counters.reduce((a, c) => a + f(c), 0);
+  const snapshots = sum((c) => c.snapshotsOut);
+  let inSync = true;
+  for (const s of sessions) {
+    const state = s.snapshotState;
+    const server = history.get(s.snapshotTick);
+    const same =
+      state !== undefined &&
+      server?.length === state.length &&
+      state.every((b, k) => b === server[k]);
+    if (!same) inSync = false;
+  }
+  return {
+    down: sum((c) => c.bytesOut) / n,
+    downWs: sum((c) => c.wsOut) / n,
+    up: sum((c) => c.bytesIn) / n,
+    upWs: sum((c) => c.wsIn) / n,
+    snapshotsPerSecond: snapshots / n,
+    meanSnapshotBytes:
+      room.stats.snapshotBytes / (room.stats.fullSnapshots + room.stats.deltaSnapshots),
+    fullSnapshots: room.stats.fullSnapshots,
+    deltaSnapshots: room.stats.deltaSnapshots,
+    badSnapshots: sessions.reduce((a, s) => a + s.stats.badSnapshots, 0),
+    inSync,
+  };
+}
+
+// ------------------------------------------------------------------------------ 2. server CPU
+
+/** A transport end on the server's side: `push` delivers to the room; sends are counted only. */
+class ServerEnd extends BaseTransport {
+  bytes = 0;
+  send(bytes: Uint8Array): void {
+    if (this.isOpen) this.bytes += bytes.length;
+  }
+  push(bytes: Uint8Array): void {
+    this.deliver(bytes);
+  }
+  protected doClose(): void {
+    // Nothing to release.
+  }
+}
+
+export interface ServerLoad {
+  rooms: number;
+  /** Ticks timed per round (after `warmup` untimed ones). */
+  ticks: number;
+  warmup: number;
+  /** Snapshot interval, ticks. */
+  snapshotEvery: number;
+  /** Ticks between a snapshot and the client's acknowledgement of it reaching the server (RTT). */
+  ackLagTicks: number;
+}
+
+/** Every player's input per tick (the bots of a reference run), and the pre-encoded messages. */
+export interface ServerScript {
+  load: ServerLoad;
+  /** `inputs[t][p]`. */
+  inputs: ButtonInput[][];
+  /** `messages[t][p]`: player p's input message sent for tick t (with its acknowledgement). */
+  messages: Uint8Array[][];
+  joins: Uint8Array[];
+}
+
+export function serverScript(load: ServerLoad, seed: number): ServerScript {
+  const total = load.warmup + load.ticks;
+  const sim = ctfGame.create({ seed, players: PLAYERS });
+  const bots = Array.from({ length: PLAYERS }, () => heldBot());
+  const inputs: ButtonInput[][] = [];
+  for (let t = 0; t < total; t++) {
+    const row = bots.map((b, p) => b(t, sim, p));
+    inputs.push(row);
+    sim.step(row);
+  }
+  const every = load.snapshotEvery;
+  const messages = inputs.map((row, t) =>
+    row.map((input, p) => {
+      // The newest snapshot the client holds when it sends tick t's input ~ half a round trip
+      // ahead: the one of ackLagTicks before.
+      const seen = t - load.ackLagTicks;
+      const ack = seen < 0 ? -1 : Math.floor(seen / every) * every;
+      return encodeStateSyncMessage({
+        type: 'input',
+        player: p,
+        ack,
+        tick: t,
+        words: 1,
+        inputs: Uint32Array.of(input),
+      });
+    }),
+  );
+  const joins = Array.from({ length: PLAYERS }, (_, p) =>
+    encodeStateSyncMessage({
+      type: 'join',
+      room: 'bench',
+      role: 'player',
+      game: ctfGame.id,
+      gameVersion: ctfGame.version,
+      input: ctfGame.input.id,
+      players: PLAYERS,
+      seed,
+      name: `p${p}`,
+    }),
+  );
+  return { load, inputs, messages, joins };
+}
+
+interface ServerRig {
+  clock: ManualClock;
+  rooms: StateSyncRoom[];
+  ends: ServerEnd[][];
+}
+
+function serverRig(s: ServerScript, seed: number): ServerRig {
+  const clock = new ManualClock(0);
+  const rooms: StateSyncRoom[] = [];
+  const ends: ServerEnd[][] = [];
+  for (let r = 0; r < s.load.rooms; r++) {
+    const room = new StateSyncRoom({
+      game: ctfGame,
+      name: 'bench',
+      clock,
+      players: PLAYERS,
+      seed,
+      snapshotEvery: s.load.snapshotEvery,
+      randomU32: seededU32(seed + r),
+    });
+    const e: ServerEnd[] = [];
+    for (let p = 0; p < PLAYERS; p++) {
+      const end = new ServerEnd();
+      room.accept(end);
+      end.push(s.joins[p]!);
+      e.push(end);
+    }
+    rooms.push(room);
+    ends.push(e);
+  }
+  return { clock, rooms, ends };
+}
+
+/** Deliver tick t's inputs to every room and update it to the end of tick t; returns the ticks stepped. */
+function serverTicks(rig: ServerRig, s: ServerScript, from: number, to: number): number {
+  let stepped = 0;
+  for (let t = from; t < to; t++) {
+    const row = s.messages[t]!;
+    rig.clock.set((t + 1) * STEP_MS);
+    for (let r = 0; r < rig.rooms.length; r++) {
+      const ends = rig.ends[r]!;
+      for (let p = 0; p < PLAYERS; p++) ends[p]!.push(row[p]!);
+      stepped += rig.rooms[r]!.update();
+    }
+  }
+  return stepped;
+}
+
+/** Times the rooms over the script's timed ticks: ns, and bytes sent a room-tick. */
+export function timeServer(
+  s: ServerScript,
+  seed: number,
+): { ns: number; roomTicks: number; bytesPerRoomTick: number; filled: number } {
+  const rig = serverRig(s, seed);
+  serverTicks(rig, s, 0, s.load.warmup);
+  const before = rig.ends.flat().reduce((a, e) => a + e.bytes, 0);
+  const t0 = process.hrtime.bigint();
+  const roomTicks = serverTicks(rig, s, s.load.warmup, s.load.warmup + s.load.ticks);
+  const ns = Number(process.hrtime.bigint() - t0);
+  const after = rig.ends.flat().reduce((a, e) => a + e.bytes, 0);
+  const filled = rig.rooms.reduce((a, r) => a + r.stats.filledInputs, 0);
+  return { ns, roomTicks, bytesPerRoomTick: (after - before) / roomTicks, filled };
+}
+
+/** Times the bare game: one simulation per room stepped with the same inputs. */
+export function timeBare(s: ServerScript, seed: number): { ns: number; roomTicks: number } {
+  const sims = Array.from({ length: s.load.rooms }, () =>
+    ctfGame.create({ seed, players: PLAYERS }),
+  );
+  for (let t = 0; t < s.load.warmup; t++) for (const sim of sims) sim.step(s.inputs[t]!);
+  const t0 = process.hrtime.bigint();
+  let roomTicks = 0;
+  for (let t = s.load.warmup; t < s.load.warmup + s.load.ticks; t++) {
+    for (const sim of sims) {
+      sim.step(s.inputs[t]!);
+      roomTicks++;
+    }
+  }
+  return { ns: Number(process.hrtime.bigint() - t0), roomTicks };
+}
+
+// ------------------------------------------------------------------------------ 3. the client
+
+export interface ClientCost {
+  /** Snapshots handled, frames with and without a reconciliation. */
+  snapshots: number;
+  reconcileFrames: number;
+  plainFrames: number;
+  /** Median ns: receiving a snapshot; a frame that reconciled; a frame that did not (both 1 forward tick). */
+  receiveNs: number;
+  reconcileFrameNs: number;
+  plainFrameNs: number;
+  /** Mean ticks replayed per reconciliation. */
+  depth: number;
+  /** Median ns of one bare CTF step (the replay's own floor: depth × this). */
+  stepNs: number;
+}
+
+function medianOf(v: number[]): number {
+  const s = [...v].sort((a, b) => a - b);
+  return s.length === 0 ? NaN : s[s.length >> 1]!;
+}
+
+/** One measured client among four, at `oneWayMs` each way (round trip twice that). */
+export function measureClient(seconds: number, oneWayMs: number, seed: number): ClientCost {
+  const scheduler = new EventScheduler(0);
+  const clock = scheduler.clock;
+  const room = new StateSyncRoom<Game>({
+    game: ctfGame,
+    name: 'bench',
+    clock,
+    players: PLAYERS,
+    seed,
+    randomU32: seededU32(seed),
+  });
+  scheduler.every(4, () => room.update(clock.now()));
+  let depthFrom = { re: 0, n: 0 };
+  let depthTo = { re: 0, n: 0 };
+  const receive: number[] = [];
+  const reconcileFrames: number[] = [];
+  const plainFrames: number[] = [];
+  for (let i = 0; i < PLAYERS; i++) {
+    const link = new SimulatedLink({ scheduler, seed: seed + i, latencyMs: oneWayMs });
+    room.accept(link.b);
+    const measured = i === 0;
+    // Time the session's handling of each snapshot on the measured client.
+    const transport: Transport = measured
+      ? {
+          send: (b) => {
+            link.a.send(b);
+          },
+          onMessage: (h) => {
+            link.a.onMessage((b) => {
+              const snap = peekStateSyncType(b) === 'snapshot';
+              const t0 = snap ? process.hrtime.bigint() : 0n;
+              h(b);
+              if (snap && clock.now() > 2000) receive.push(Number(process.hrtime.bigint() - t0));
+            });
+          },
+          onClose: (h) => {
+            link.a.onClose(h);
+          },
+          close: (r) => {
+            link.a.close(r);
+          },
+          get isOpen() {
+            return link.a.isOpen;
+          },
+        }
+      : link.a;
+    const bot = heldBot();
+    const session: StateSyncSession<ButtonInput, Game> = new StateSyncSession<ButtonInput, Game>({
+      transport,
+      clock,
+      room: 'bench',
+      game: ctfGame,
+      localInput: (tick, sim) => bot(tick, sim, session.welcome?.slot ?? 0),
+    });
+    scheduler.every(
+      STEP_MS,
+      () => {
+        if (!measured) {
+          session.frame(clock.now());
+          return;
+        }
+        const before = session.stats.reconciliations;
+        const t0 = process.hrtime.bigint();
+        const n = session.frame(clock.now());
+        const ns = Number(process.hrtime.bigint() - t0);
+        if (clock.now() < 2000 || n !== 1) return;
+        (session.stats.reconciliations > before ? reconcileFrames : plainFrames).push(ns);
+      },
+      1 + i * 3.7,
+    );
+    if (measured) {
+      scheduler.at(2000, () => {
+        depthFrom = { re: session.stats.resimulatedTicks, n: session.stats.reconciliations };
+      });
+      scheduler.at(2000 + seconds * 1000 - 1, () => {
+        depthTo = { re: session.stats.resimulatedTicks, n: session.stats.reconciliations };
+      });
+    }
+  }
+  scheduler.runUntil(2000 + seconds * 1000);
+  // The bare step, on the same game, for the floor of a replay.
+  const sim = ctfGame.create({ seed, players: PLAYERS });
+  const steps: number[] = [];
+  for (let t = 0; t < 600; t++) {
+    const t0 = process.hrtime.bigint();
+    sim.step([0, 0, 0, 0]);
+    steps.push(Number(process.hrtime.bigint() - t0));
+  }
+  return {
+    snapshots: receive.length,
+    reconcileFrames: reconcileFrames.length,
+    plainFrames: plainFrames.length,
+    receiveNs: medianOf(receive),
+    reconcileFrameNs: medianOf(reconcileFrames),
+    plainFrameNs: medianOf(plainFrames),
+    depth: (depthTo.re - depthFrom.re) / Math.max(1, depthTo.n - depthFrom.n),
+    stepNs: medianOf(steps),
+  };
+}
+
+// ------------------------------------------------------------------------------ the suite
+
+const kb = (b: number) => (b / 1024).toFixed(2);
+const f = (x: number, d = 1) => x.toFixed(d);
+
+export default defineSuite({
+  name: 'state-sync',
+  description:
+    'State sync, CTF 4 players at 60 Hz: bytes/s per client (delta vs full), server CPU per room-tick, client reconcile cost',
+  run(ctx) {
+    const quick = ctx.quick;
+    const seconds = quick ? 3 : 20;
+    const link = { latencyMs: 50, jitterMs: 10, loss: 0 };
+    ctx.note(
+      `capture the flag, ${PLAYERS} players (+4 AI bots), ${TICK_HZ} Hz; bots re-decide every ` +
+        `${BOT_EVERY} ticks; links ${link.latencyMs} ± ${link.jitterMs} ms each way; ${seconds} s ` +
+        'measured after 2 s of joining, simulated time; bytes counted at the server.',
+    );
+
+    // 1. Bandwidth.
+    const rows: string[][] = [];
+    const goals: string[] = [];
+    for (const every of [1, 2, 3]) {
+      const full = measureBandwidth({
+        snapshotEvery: every,
+        delta: false,
+        seconds,
+        link,
+        seed: 11,
+      });
+      const delta = measureBandwidth({
+        snapshotEvery: every,
+        delta: true,
+        seconds,
+        link,
+        seed: 11,
+      });
+      if (!full.inSync || !delta.inSync || full.badSnapshots + delta.badSnapshots > 0) {
+        throw new Error(`snapshots ${every}: a client was not in step with the server`);
+      }
+      const ratio = delta.downWs / full.downWs;
+      rows.push([
+        `${f(TICK_HZ / every, 0)} Hz`,
+        kb(full.downWs),
+        kb(delta.downWs),
+        `${f(100 * ratio)} %`,
+        f(delta.meanSnapshotBytes, 0),
+        f(full.meanSnapshotBytes, 0),
+        kb(delta.upWs),
+        `${delta.fullSnapshots} + ${delta.deltaSnapshots}`,
+      ]);
+      goals.push(
+        `${f(TICK_HZ / every, 0)} Hz: delta ${f(100 * ratio)} % of full (goal ≤ 25 %: ${ratio <= 0.25 ? 'met' : 'NOT met'}), ` +
+          `${kb(delta.downWs)} KB/s (goal ≤ 4 KB/s: ${delta.downWs <= 4096 ? 'met' : 'NOT met'})`,
+      );
+    }
+    const lossy = measureBandwidth({
+      snapshotEvery: 3,
+      delta: true,
+      seconds,
+      link: { ...link, loss: 0.05 },
+      seed: 11,
+    });
+    rows.push([
+      '20 Hz, 5 % loss',
+      '—',
+      kb(lossy.downWs),
+      '—',
+      f(lossy.meanSnapshotBytes, 0),
+      '—',
+      kb(lossy.upWs),
+      `${lossy.fullSnapshots} + ${lossy.deltaSnapshots}`,
+    ]);
+    ctx.table(
+      'Bandwidth per client, server → client (KB/s with WebSocket headers; 1 KB = 1024 B)',
+      [
+        'snapshots',
+        'full KB/s',
+        'delta KB/s',
+        'delta / full',
+        'delta msg B',
+        'full msg B',
+        'up KB/s',
+        'full + delta sent',
+      ],
+      rows,
+    );
+    for (const g of goals) ctx.note(g);
+
+    // 2. Server CPU per room-tick.
+    const load: ServerLoad = {
+      rooms: quick ? 4 : 32,
+      ticks: quick ? 120 : 600,
+      warmup: 60,
+      snapshotEvery: 3,
+      ackLagTicks: 6,
+    };
+    const script = serverScript(load, 21);
+    const rounds = quick ? 3 : 7;
+    const check = timeServer(script, 21);
+    if (check.filled > 0)
+      throw new Error(`the server filled ${check.filled} inputs: the script is late`);
+    timeBare(script, 21);
+    const samples: number[][] = [[], []];
+    for (let round = 0; round < rounds; round++) {
+      globalThis.gc?.();
+      for (const c of roundOrder(2, round)) {
+        const r = c === 0 ? timeBare(script, 21) : timeServer(script, 21);
+        samples[c]!.push(r.ns / r.roomTicks);
+      }
+    }
+    const [bare, server] = summarize(['bare CTF step', 'state-sync room'], samples, 0);
+    const perTick = server!.ns.median;
+    ctx.table(
+      `Server CPU per room-tick, ${load.rooms} rooms of ${PLAYERS}, ${load.ticks} ticks, ${rounds} interleaved rounds (median)`,
+      ['candidate', 'µs per room-tick', 'range µs', 'vs bare step', 'rooms per core at 60 Hz'],
+      [
+        [
+          bare!.name,
+          f(bare!.ns.median / 1000, 2),
+          `${f(bare!.ns.min / 1000, 2)}–${f(bare!.ns.max / 1000, 2)}`,
+          '1',
+          f(1e9 / (bare!.ns.median * TICK_HZ), 0),
+        ],
+        [
+          server!.name,
+          f(perTick / 1000, 2),
+          `${f(server!.ns.min / 1000, 2)}–${f(server!.ns.max / 1000, 2)}`,
+          `${f(server!.ratio!.median, 2)}× (${f(server!.ratio!.min, 2)}–${f(server!.ratio!.max, 2)})`,
+          f(1e9 / (perTick * TICK_HZ), 0),
+        ],
+      ],
+    );
+    ctx.note(
+      `A room-tick: 4 input messages decoded and checked, one step, and every ${load.snapshotEvery}rd tick a view and a ` +
+        `delta-coded snapshot (acknowledged ${load.ackLagTicks} ticks before) per player; ` +
+        `${f(check.bytesPerRoomTick, 0)} bytes sent a room-tick. Rooms per core = 1 s / (60 × µs per room-tick): ` +
+        'CPU only, one core, no sockets.',
+    );
+
+    // 3. The client.
+    const c = measureClient(quick ? 3 : 20, 50, 31);
+    const reconcile = c.reconcileFrameNs - c.plainFrameNs;
+    ctx.table(
+      'Client per snapshot at 100 ms round trip (medians; frames that stepped 1 tick forward)',
+      ['what', 'µs', 'count'],
+      [
+        [
+          'receive a snapshot (decode, delta, hash, load check)',
+          f(c.receiveNs / 1000, 1),
+          `${c.snapshots}`,
+        ],
+        ['frame with a reconciliation', f(c.reconcileFrameNs / 1000, 1), `${c.reconcileFrames}`],
+        ['frame without', f(c.plainFrameNs / 1000, 1), `${c.plainFrames}`],
+        ['reconciliation (difference)', f(reconcile / 1000, 1), `depth ${f(c.depth, 1)} ticks`],
+        ['receive + reconciliation per snapshot', f((c.receiveNs + reconcile) / 1000, 1), ''],
+        [
+          'floor: depth × bare CTF step',
+          f((c.depth * c.stepNs) / 1000, 1),
+          `step ${f(c.stepNs / 1000, 1)} µs`,
+        ],
+      ],
+    );
+  },
+});

@@ -1,0 +1,37 @@
+/**
+ * What the main thread and a state-sync worker tell each other (structured clones; the bytes of a
+ * message travel as a transferred ArrayBuffer). One list for both sides.
+ * @internal
+ */
+import type { StateSyncRoomDefaults } from 'fixedstep';
+
+/** What a worker is started with (`workerData`). */
+export interface WorkerSetup {
+  /** Module the worker imports its games from: its `GAMES`, `games` or default export. */
+  games: string;
+  /** Room options (plain data only: no functions cross threads). */
+  room: Omit<StateSyncRoomDefaults, 'view'>;
+  updateIntervalMs: number;
+  maxRooms: number;
+  maxConnections: number;
+  joinTimeoutMs: number;
+  emptyRoomTtlMs: number;
+}
+
+/** Main thread → worker. */
+export type ToWorker =
+  | { t: 'open'; id: number; room: string }
+  | { t: 'data'; id: number; bytes: ArrayBuffer }
+  | { t: 'close'; id: number; reason: string }
+  | { t: 'stop' };
+
+/** Worker → main thread. */
+export type FromWorker =
+  | { t: 'ready'; games: string[] }
+  | { t: 'fatal'; message: string }
+  | { t: 'send'; id: number; bytes: ArrayBuffer }
+  | { t: 'close'; id: number; reason: string }
+  | { t: 'room-created'; room: string; game: string; players: number }
+  | { t: 'room-removed'; room: string }
+  | { t: 'room-failed'; room: string; message: string }
+  | { t: 'stopped' };

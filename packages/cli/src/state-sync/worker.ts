@@ -1,0 +1,131 @@
+/**
+ * A state-sync worker thread: many rooms (a `StateSyncServer`) on the thread's own clock, fed
+ * the bytes of the WebSocket connections the main thread assigned to it. The main thread never
+ * runs a game, so a busy room never holds up the HTTP server.
+ * @internal
+ */
+import { parentPort, workerData } from 'node:worker_threads';
+import { BaseTransport, StateSyncServer, performanceClock, type StateSyncGame } from 'fixedstep';
+import type { FromWorker, ToWorker, WorkerSetup } from './messages.js';
+
+const port = parentPort;
+if (port === null) throw new Error('state-sync worker: not started as a worker thread');
+const setup = workerData as WorkerSetup;
+
+function post(m: FromWorker, transfer: ArrayBuffer[] = []): void {
+  port!.postMessage(m, transfer);
+}
+
+/** One connection, as the rooms see it: bytes from the main thread in, bytes back out. */
+class PortTransport extends BaseTransport {
+  constructor(readonly id: number) {
+    super();
+  }
+  send(bytes: Uint8Array): void {
+    if (!this.isOpen) return;
+    // The caller may reuse its bytes: send a copy, and move (not copy) that to the main thread.
+    const copy = bytes.slice();
+    post({ t: 'send', id: this.id, bytes: copy.buffer }, [copy.buffer]);
+  }
+  receive(bytes: Uint8Array): void {
+    this.deliver(bytes);
+  }
+  remoteClose(reason: string): void {
+    this.closedRemotely(reason);
+  }
+  protected doClose(reason: string): void {
+    post({ t: 'close', id: this.id, reason });
+  }
+}
+
+/** The games of the module: its `GAMES`, `games` or default export, checked. */
+async function loadGames(specifier: string): Promise<StateSyncGame[]> {
+  const mod = (await import(specifier)) as Record<string, unknown>;
+  const list = mod.GAMES ?? mod.games ?? mod.default;
+  if (!Array.isArray(list) || list.length === 0) {
+    throw new Error(
+      `${specifier} exports no games (GAMES, games or default: an array of game definitions)`,
+    );
+  }
+  for (const g of list as unknown[]) {
+    const d = g as Partial<StateSyncGame> | null;
+    if (
+      typeof d?.id !== 'string' ||
+      typeof d.create !== 'function' ||
+      typeof d.input !== 'object'
+    ) {
+      throw new Error(`${specifier}: ${JSON.stringify(d?.id ?? g)} is not a game definition`);
+    }
+  }
+  return list as StateSyncGame[];
+}
+
+const connections = new Map<number, PortTransport>();
+let server: StateSyncServer | undefined;
+let timer: ReturnType<typeof setInterval> | undefined;
+const early: ToWorker[] = [];
+
+function handle(m: ToWorker): void {
+  if (server === undefined) {
+    early.push(m);
+    return;
+  }
+  switch (m.t) {
+    case 'open': {
+      const c = new PortTransport(m.id);
+      connections.set(m.id, c);
+      c.onClose(() => connections.delete(m.id));
+      server.accept(c, { room: m.room });
+      break;
+    }
+    case 'data':
+      connections.get(m.id)?.receive(new Uint8Array(m.bytes));
+      break;
+    case 'close':
+      connections.get(m.id)?.remoteClose(m.reason);
+      connections.delete(m.id);
+      break;
+    case 'stop':
+      if (timer !== undefined) clearInterval(timer);
+      server.close();
+      post({ t: 'stopped' });
+      break;
+  }
+}
+
+port.on('message', (m: ToWorker) => {
+  try {
+    handle(m);
+  } catch (e) {
+    // A bug in handling one message costs that connection, never the worker.
+    if (m.t === 'open' || m.t === 'data') connections.get(m.id)?.close(`INTERNAL: ${String(e)}`);
+  }
+});
+
+try {
+  const games = await loadGames(setup.games);
+  server = new StateSyncServer({
+    clock: performanceClock(),
+    games,
+    room: setup.room,
+    maxRooms: setup.maxRooms,
+    maxConnections: setup.maxConnections,
+    joinTimeoutMs: setup.joinTimeoutMs,
+    emptyRoomTtlMs: setup.emptyRoomTtlMs,
+    onEvent: (e) => {
+      if (e.type === 'room-created')
+        post({ t: 'room-created', room: e.room, game: e.game, players: e.players });
+      else if (e.type === 'room-removed') post({ t: 'room-removed', room: e.room });
+      else if (e.type === 'room-failed')
+        post({ t: 'room-failed', room: e.room, message: String(e.error) });
+    },
+  });
+  const s = server;
+  timer = setInterval(() => {
+    s.update();
+  }, setup.updateIntervalMs);
+  post({ t: 'ready', games: games.map((g) => g.id) });
+  for (const m of early.splice(0)) handle(m);
+} catch (e) {
+  post({ t: 'fatal', message: e instanceof Error ? e.message : String(e) });
+}
