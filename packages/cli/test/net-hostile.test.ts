@@ -17,7 +17,11 @@ import { gameCatalog } from '../src/net/index.js';
 class Raw {
   readonly got: NetMessage[] = [];
   closed: string | undefined;
-  constructor(readonly t: Transport) {
+  constructor(
+    readonly t: Transport,
+    /** A room's invite token, which a spectator's hello carries unless told otherwise. */
+    private readonly inviteOf: (room: string) => Uint8Array | undefined = () => undefined,
+  ) {
     t.onMessage((b) => this.got.push(decodeMessage(b)));
     t.onClose((r) => (this.closed = r));
   }
@@ -32,10 +36,12 @@ class Raw {
     role: 'player' | 'spectator' = 'spectator',
     extra: Partial<NetMessage> = {},
   ): void {
+    const invite = role === 'spectator' ? this.inviteOf(room) : undefined;
     this.send({
       type: 'hello',
       room,
       role,
+      ...(invite ? { token: invite } : {}),
       game: 'ctf',
       gameVersion: ctfGame.info.version,
       input: ctfGame.input.id,
@@ -74,7 +80,7 @@ describe('hostile traffic is refused; the other rooms play on', () => {
     });
     const s = match.scheduler;
     const raw = (link = { latencyMs: 10, jitterMs: 0, loss: 0 }) =>
-      new Raw(match.connect(link).transport);
+      new Raw(match.connect(link).transport, (room) => match.relay.invite(room));
 
     // Two hostile players fill room A so it starts.
     const spoofer = raw();
@@ -258,10 +264,13 @@ describe('hostile traffic is refused; the other rooms play on', () => {
       game: ctfGame,
       seed: 6,
       ticks: 1200,
-      relay: { historyTicks: 600 },
+      // Silent members are dropped after 10 s by default: this one is heard from, but never acks.
+      relay: { historyTicks: 600, silenceTimeoutMs: 60_000 },
       clients: [{ kind: 'lockstep', players: 1 }],
     });
-    const mute = new Raw(match.connect({ latencyMs: 5 }).transport);
+    const mute = new Raw(match.connect({ latencyMs: 5 }).transport, (room) =>
+      match.relay.invite(room),
+    );
     match.scheduler.at(100, () => {
       mute.hello('match');
     });

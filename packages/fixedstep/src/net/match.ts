@@ -56,7 +56,10 @@ export interface MatchClientSpec {
   input?: (tick: number, sim: Simulation<unknown>, slot: number) => unknown;
   /** Builds its simulation (default: the game from the welcome's setup). */
   createSimulation?: (welcome: WelcomeMessage) => Simulation<unknown>;
-  /** Extra session options (input delay, prediction window, forensics window …). */
+  /**
+   * Extra session options (input delay, prediction window, forensics window …). A spectator's
+   * `invite` defaults to the room's, asked of the relay once a player has created the room.
+   */
   session?: Partial<
     Omit<NetSessionOptions<unknown>, 'transport' | 'clock' | 'room' | 'game' | 'gameVersion'>
   > &
@@ -211,6 +214,19 @@ export class SimulatedMatch {
   private startClient(client: Client, index: number): void {
     const spec = client.spec;
     const def = this.def;
+    const roomName = spec.room ?? this.roomName;
+    // A spectator brings the room's invite token (a player would hand it over; here the match
+    // asks the relay): wait until a player has created the room.
+    let invite: Uint8Array | undefined;
+    if (spec.kind === 'spectator' && spec.session?.invite === undefined) {
+      invite = this.relay.invite(roomName);
+      if (invite === undefined) {
+        this.scheduler.at(this.scheduler.now + 50, () => {
+          this.startClient(client, index);
+        });
+        return;
+      }
+    }
     const { transport, link } = this.connect(spec.link);
     client.link = link;
     const botEvery = this.options.botEvery ?? 6;
@@ -224,13 +240,14 @@ export class SimulatedMatch {
     const base: NetSessionOptions<unknown> = {
       transport,
       clock: this.scheduler.clock,
-      room: spec.room ?? this.roomName,
+      room: roomName,
       game: def,
       players:
         spec.players ??
         this.options.players ??
         this.options.clients.filter((c) => c.kind !== 'spectator').length,
       seed: this.options.seed,
+      ...(invite ? { invite } : {}),
       name: `client${index}`,
       stopAt: this.options.ticks,
       ...(spec.createSimulation ? { createSimulation: spec.createSimulation } : {}),
