@@ -87,7 +87,10 @@ interface Spec {
   glitch?: { from: number; extra: () => number };
 }
 
-function world(relayOptions: Partial<RelayOptions> = {}, link: Partial<LinkConditions> = {}) {
+function world(
+  relayOptions: Partial<RelayOptions> = {},
+  link: Partial<LinkConditions> & { ordered?: boolean } = {},
+) {
   const scheduler = new EventScheduler();
   const rng = new Random(99);
   const relay = new Relay({
@@ -194,6 +197,50 @@ function playScripted(kind: 'lockstep' | 'rollback') {
   expect(room.desyncs).toHaveLength(0);
   return w.sessions[0]!.stats;
 }
+
+describe('over a stream (a WebSocket: ordered, nothing lost)', () => {
+  it('each confirmed tick goes once, XOR-coded; everyone is on the offline hash at < 1 KB/s down', () => {
+    for (const kind of ['lockstep', 'rollback'] as const) {
+      const w = world({}, { latencyMs: 25, jitterMs: 5, ordered: true });
+      const ticks = 1800;
+      for (let i = 0; i < 4; i++) void w.add({ kind }, 4, ticks);
+      void w.add({ kind: 'spectator' }, 4, ticks);
+      expect(w.scheduler.runUntilDone(done(w.sessions), 120_000)).toBe(true);
+      expect(w.links.every((l) => l.a.reliable === true && l.b.reliable === true)).toBe(true);
+      const truth = offline(4, ticks);
+      for (const s of w.sessions) expect(s.hashAt(ticks)).toBe(truth);
+      expect(w.relay.stats.filledInputs).toBe(0);
+      const seconds = ticks / 60;
+      for (const s of w.sessions.slice(0, 4)) {
+        // About one confirmed message a tick, plus 4 pongs a second; each input message one tick.
+        const down = (s.stats.bytesReceived + 2 * s.stats.messagesReceived) / seconds;
+        expect(down, `${kind} downstream B/s with WebSocket headers`).toBeLessThan(1000);
+        expect(s.stats.messagesReceived / seconds).toBeLessThan(70);
+        expect(s.stats.bytesSent / s.stats.messagesSent).toBeLessThan(16);
+      }
+    }
+  });
+
+  it('a receiver that missed a tick ignores the XOR-coded rest and is resent from its ack, uncoded', () => {
+    const w = world({}, { latencyMs: 20, ordered: true });
+    const ticks = 900;
+    for (let i = 0; i < 2; i++) void w.add({ kind: 'lockstep' }, 2, ticks);
+    // One confirmed message to the first client is lost on its way: a break in the stream.
+    let dropped = false;
+    w.scheduler.at(5000, () => {
+      const link = w.links[0]!;
+      link.setConditions({ loss: 1 }, 1);
+      w.scheduler.at(5030, () => {
+        link.setConditions({ loss: 0 }, 1);
+        dropped = link.stats[1].lost > 0;
+      });
+    });
+    expect(w.scheduler.runUntilDone(done(w.sessions), 60_000)).toBe(true);
+    expect(dropped).toBe(true);
+    const truth = offline(2, ticks);
+    for (const s of w.sessions) expect(s.hashAt(ticks)).toBe(truth);
+  });
+});
 
 describe('lockstep and rollback over a lossy link, against the relay', () => {
   it('lockstep: 3 players and a spectator end on the offline hash (100 ± 30 ms, 5 % loss)', () => {

@@ -7,6 +7,7 @@ import {
   Relay,
   relayCatalog,
   type RelayCatalog,
+  type RelayConnectionInfo,
   type RelayGame,
   type RelayOptions,
   type RelayStats,
@@ -44,6 +45,8 @@ export interface MatchClientSpec {
   players?: number;
   /** Its link to the server (both directions). Default: the match's link. */
   link?: Partial<LinkConditions>;
+  /** Where it connects from, as the relay sees it (address, URL room). Default: nothing said. */
+  connection?: RelayConnectionInfo;
   /** When it connects, in ms of simulated time (a late joiner). Default 0. */
   joinAtMs?: number;
   /** When it leaves (closes its transport), in ms. Default: never. */
@@ -164,15 +167,21 @@ export class SimulatedMatch {
     for (const spec of options.clients) this.addClient(spec);
   }
 
-  /** A link to the relay; returns the client's end (for raw or hostile traffic). */
-  connect(link: Partial<LinkConditions> = {}): { transport: Transport; link: SimulatedLink } {
+  /**
+   * A link to the relay, accepted with `info` (the client's address, the room its URL names);
+   * returns the client's end (for raw or hostile traffic).
+   */
+  connect(
+    link: Partial<LinkConditions> = {},
+    info: RelayConnectionInfo = {},
+  ): { transport: Transport; link: SimulatedLink } {
     const l = new SimulatedLink({
       scheduler: this.scheduler,
       seed: (this.options.linkSeed ?? 1) * 7919 + this.linkCount++,
       ...this.options.link,
       ...link,
     });
-    this.relay.accept(l.b);
+    this.relay.accept(l.b, info);
     return { transport: l.a, link: l };
   }
 
@@ -227,7 +236,7 @@ export class SimulatedMatch {
         return;
       }
     }
-    const { transport, link } = this.connect(spec.link);
+    const { transport, link } = this.connect(spec.link, spec.connection);
     client.link = link;
     const botEvery = this.options.botEvery ?? 6;
     let held: unknown = def.input.neutral();
