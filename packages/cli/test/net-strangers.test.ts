@@ -314,3 +314,57 @@ describe('spectators', () => {
     expect(told[0]!.groups[1]!.peers).toEqual([liar.welcome!.peer]);
   });
 });
+
+describe('drain: graceful shutdown', () => {
+  it('closes waiting rooms, refuses new ones, lets the running match end, then resolves', async () => {
+    const m = match(1200, [honest('198.51.100.1'), honest('198.51.100.2')]);
+    const lonely = new Raw(m.connect(quiet, { address: '198.51.100.3' }).transport, true);
+    lonely.hello('lonely', 'player');
+    let drained: Promise<void> | undefined;
+    let resolved = false;
+    m.scheduler.at(5000, () => {
+      drained = m.relay.drain({ timeoutMs: 60_000 });
+      void drained.then(() => (resolved = true));
+    });
+    let late!: Raw;
+    m.scheduler.at(6000, () => {
+      late = new Raw(m.connect(quiet, { address: '198.51.100.4' }).transport);
+      late.hello('late', 'player');
+    });
+    m.scheduler.runUntil(7000);
+    expect(m.relay.draining).toBe(true);
+    expect(lonely.error?.code).toBe('SHUTDOWN');
+    expect(late.error?.code).toBe('SHUTDOWN');
+    expect(late.error?.message).toMatch(/no new rooms here/);
+    expect(m.relay.roomList().map((r) => r.name)).toEqual(['honest']);
+    // The match plays to its end; then its players leave.
+    const r = m.run(60_000);
+    expect(r.finished).toBe(true);
+    expect(r.hashesAgree).toBe(true);
+    await Promise.resolve();
+    expect(resolved).toBe(false);
+    for (const s of m.sessions) s!.leave();
+    m.scheduler.runFor(200);
+    await drained;
+    expect(m.relay.stats.rooms).toBe(0);
+    // Shutdowns are not counted as drops.
+    expect(m.relay.stats.dropped.SHUTDOWN).toBeUndefined();
+  });
+
+  it('tells a match still running at the timeout SHUTDOWN, and resolves', async () => {
+    const m = match(6000, [honest('198.51.100.1'), honest('198.51.100.2')]);
+    let drained: Promise<void> | undefined;
+    m.scheduler.at(5000, () => {
+      drained = m.relay.drain({ timeoutMs: 3000 });
+    });
+    m.scheduler.runUntil(7900);
+    expect(m.relay.stats.rooms).toBe(1);
+    m.scheduler.runUntil(8100);
+    await drained;
+    expect(m.relay.stats.rooms).toBe(0);
+    for (const s of m.sessions) {
+      expect(s!.phase).toBe('closed');
+      expect(s!.errors.at(-1)?.code).toBe('SHUTDOWN');
+    }
+  });
+});
