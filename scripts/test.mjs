@@ -9,6 +9,8 @@ ensureDependencies();
 const chromium = ensureChromium();
 // Firefox ESR and WebKitGTK for the cross-engine determinism suite (skipped, with the reason, when absent).
 (await import('./engines.mjs')).ensureEngines();
+// HAProxy for the load-balancer tests (skipped, with the reason, when absent).
+(await import('./haproxy.mjs')).ensureHaproxy();
 const results = join(root, 'artifacts', 'test-results');
 mkdirSync(results, { recursive: true });
 

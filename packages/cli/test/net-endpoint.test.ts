@@ -155,9 +155,10 @@ describe('the client address', () => {
     expect(fourth.message).toMatch(/too many connections from one address/);
     expect((await helloReply(url, { room: 'other' }, from('198.51.100.8'))).type).toBe('welcome');
     expect(endpoint!.relay.stats.addresses).toBe(2);
-    // From a trusted proxy, a missing or malformed header is refused.
-    expect(await upgrade(url)).toBe(400);
+    // From a trusted proxy, a malformed header is refused; none at all is the proxy's own client.
     expect(await upgrade(url, { 'X-Forwarded-For': 'not an address' })).toBe(400);
+    expect(await upgrade(url)).toBe(101);
+    expect(endpoint!.relay.stats.addresses).toBe(3);
   });
 
   it('is the socket’s own when the peer is not a trusted proxy (the header is ignored)', async () => {

@@ -218,7 +218,10 @@ function trustedProxyList(trust: TrustedProxy): net.BlockList {
   return list;
 }
 
-/** The client address of an upgrade request, or a reason to refuse it (400). */
+/**
+ * The client address of an upgrade request, or a reason to refuse it (400: a trusted proxy's
+ * header that does not end with an address).
+ */
 function clientAddress(
   req: http.IncomingMessage,
   trust: TrustedProxy | undefined,
@@ -231,7 +234,8 @@ function clientAddress(
   if (!net.isIP(plain) || !proxies.check(plain, family)) return { address: addressKey(plain) };
   const raw = req.headers[trust.header.toLowerCase()];
   const value = Array.isArray(raw) ? raw.join(',') : raw;
-  if (value === undefined) return { error: `no ${trust.header} header from the proxy` };
+  // A trusted peer that sends no header is a local tool, not a client behind the proxy.
+  if (value === undefined) return { address: addressKey(plain) };
   const entries = value.split(',').map((e) => e.trim());
   const entry = entries[entries.length - (trust.hops ?? 1)];
   // An IPv6 entry may come bracketed, an IPv4 one with a port.
