@@ -270,7 +270,7 @@ describe.skipIf(haproxy === undefined)('three relays behind HAProxy', () => {
       // Every room: both players on one final hash, no desync reported.
       for (const [name, players] of rooms) {
         const hashes = players.map((p) => hex64(p.session.hashAt(ticks)!));
-        expect(new Set(hashes).size, name).toBe(1);
+        expect(new Set(hashes).size, `${name}: final hashes`).toBe(1);
         for (const p of players) expect(p.session.desyncs).toEqual([]);
       }
       expect(survivors.length + orphans.length).toBe(names.length);
