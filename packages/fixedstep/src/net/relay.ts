@@ -230,11 +230,11 @@ export type RelayEvent =
 export interface RelayStats {
   connections: number;
   rooms: number;
-  /** Rooms waiting for players. */
+  /** Rooms waiting for players (refreshed every 250 ms of the relay's clock). */
   waitingRooms: number;
   /** Distinct client addresses connected. */
   addresses: number;
-  /** Players and spectators in rooms now. */
+  /** Players and spectators in rooms (refreshed every 250 ms of the relay's clock). */
   members: number;
   messagesIn: number;
   messagesOut: number;
@@ -639,7 +639,8 @@ export class Relay {
    * forensics, remove empty rooms, and move a drain along.
    */
   update(now = this.clock.now()): void {
-    if (now - this.lastLivenessCheck >= LIVENESS_CHECK_MS) {
+    const housekeeping = now - this.lastLivenessCheck >= LIVENESS_CHECK_MS;
+    if (housekeeping) {
       this.lastLivenessCheck = now;
       this.checkLiveness(now);
     }
@@ -650,7 +651,7 @@ export class Relay {
         this.emit({ type: 'internal-error', connection: -1, error });
       }
     }
-    this.countRooms();
+    if (housekeeping) this.countRooms();
     const d = this.drainState;
     if (d) {
       if (now >= d.deadline) {
