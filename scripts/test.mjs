@@ -19,6 +19,8 @@ const chromium = ensureChromium();
 (await import('./engines.mjs')).ensureEngines();
 // PostgreSQL for the two-process store test (skipped, with the reason, when absent).
 const postgres = ensurePostgres();
+// HAProxy for the load-balancer tests (skipped, with the reason, when absent).
+(await import('./haproxy.mjs')).ensureHaproxy();
 const results = join(root, 'artifacts', 'test-results');
 mkdirSync(results, { recursive: true });
 

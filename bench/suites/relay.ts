@@ -15,21 +15,37 @@
  *    fan-out to transports that only count. Side by side, interleaved by round, with a bare
  *    decode + encode of the same messages as the baseline.
  */
+import { spawn, type ChildProcess } from 'node:child_process';
+import { existsSync, readFileSync } from 'node:fs';
+import { mkdtemp, rm, writeFile } from 'node:fs/promises';
+import net from 'node:net';
+import os, { cpus } from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
 import {
   BUTTON_WORD,
   BaseTransport,
+  LockstepSession,
   ManualClock,
   Random,
   Relay,
   decodeMessage,
   encodeMessage,
+  peekMessageType,
+  performanceClock,
+  type ConfirmedMessage,
   type NetMessage,
   type RelayCatalog,
   type RelayGame,
+  type Simulation,
+  type Transport,
 } from 'fixedstep';
+import { ctfGame } from '@fixedstep/games';
+// The CLI's Node WebSocket client (the bench runs the sources, like the e2e tests).
+import { connectNodeWebSocket } from '../../packages/cli/src/net/client.js';
 import { formatRatio } from '../lib/format.js';
 import { roundOrder, spread, summarize } from '../lib/stats.js';
-import { defineSuite } from '../lib/suite.js';
+import { defineSuite, type SuiteContext } from '../lib/suite.js';
 
 const TICK_HZ = 60;
 const STEP_MS = 1000 / TICK_HZ;
@@ -96,9 +112,15 @@ const GAME: RelayGame = {
 };
 const CATALOG: RelayCatalog = () => GAME;
 
-/** A transport end on the relay's side: `push` delivers to the relay, sends go to `sink`. */
+/**
+ * A transport end on the relay's side: `push` delivers to the relay, sends go to `sink`.
+ * `reliable`: a WebSocket (the relay streams each tick once) or not (it repeats unacked ticks).
+ */
 class BenchTransport extends BaseTransport {
-  constructor(public sink: (bytes: Uint8Array) => void) {
+  constructor(
+    public sink: (bytes: Uint8Array) => void,
+    readonly reliable: boolean,
+  ) {
     super();
   }
   send(bytes: Uint8Array): void {
@@ -137,6 +159,12 @@ function newRelay(clock: ManualClock, seed: number): Relay {
 export interface TraceOptions {
   rooms: number;
   players: number;
+  /**
+   * Over a stream (a WebSocket, protocol 3): each input and each confirmed tick is sent once.
+   * False: every message repeats the unacknowledged ticks, as protocol 2 did over WebSockets
+   * (and protocol 3 still does over lossy links).
+   */
+  stream: boolean;
   /** Simulated seconds of play after tick 0. */
   seconds: number;
   oneWayMs: number;
@@ -174,6 +202,11 @@ export interface Trace {
   waitOthers: Float64Array;
   /** The part spent waiting for the next `update()` after the last input arrived. */
   waitUpdate: Float64Array;
+  /**
+   * Per player-tick, at the client (simulated ms): its input for the tick sent → the confirmed
+   * tick received. The round trip plus the relay's wait for the room's other inputs.
+   */
+  clientDelay: Float64Array;
 }
 
 interface Client {
@@ -185,6 +218,10 @@ interface Client {
   startAt: number | undefined;
   issueNext: number;
   issued: Uint32Array;
+  /** Stream: every issued input before this tick has been sent. */
+  sentTo: number;
+  /** When its input for each tick was first sent (NaN: not yet). */
+  sentAt: Float64Array;
   serverInputAck: number;
   confirmedEnd: number;
   nextReport: number;
@@ -270,6 +307,7 @@ export function recordTrace(o: TraceOptions): Trace {
   const delay: number[] = [];
   const waitOthers: number[] = [];
   const waitUpdate: number[] = [];
+  const clientDelay: number[] = [];
 
   const clients: Client[] = [];
   for (let r = 0; r < o.rooms; r++) {
@@ -279,7 +317,7 @@ export function recordTrace(o: TraceOptions): Trace {
     nextUnsent.push(0);
     for (let p = 0; p < o.players; p++) {
       const index = clients.length;
-      const relayEnd = new BenchTransport(() => undefined);
+      const relayEnd = new BenchTransport(() => undefined, o.stream);
       const c: Client = {
         index,
         room: r,
@@ -289,6 +327,8 @@ export function recordTrace(o: TraceOptions): Trace {
         startAt: undefined,
         issueNext: 0,
         issued: new Uint32Array(maxTicks + MAX_WINDOW),
+        sentTo: 0,
+        sentAt: new Float64Array(maxTicks + MAX_WINDOW).fill(NaN),
         serverInputAck: 0,
         confirmedEnd: 0,
         nextReport: HASH_EVERY,
@@ -301,7 +341,7 @@ export function recordTrace(o: TraceOptions): Trace {
         q.push(clock.now() + link(), 3, index, b);
       };
       clients.push(c);
-      relay.accept(relayEnd);
+      relay.accept(relayEnd, { address: `client${index}` });
       const hello = encodeMessage({
         type: 'hello',
         room: `r${r}`,
@@ -324,7 +364,7 @@ export function recordTrace(o: TraceOptions): Trace {
     const m = decodeMessage(b);
     if (steadyFrom >= 0 && clock.now() < endAt) sent.push(m);
     if (m.type !== 'confirmed') return;
-    const n = m.inputs.length / m.players;
+    const n = m.inputs.length / (m.players * m.words);
     const now = clock.now();
     const arr = arrival[c.room]!;
     for (let t = Math.max(m.tick, nextUnsent[c.room]!); t < m.tick + n; t++) {
@@ -345,7 +385,7 @@ export function recordTrace(o: TraceOptions): Trace {
     q.push(now + link(), 1, c.index, encodeMessage(m));
   }
 
-  function onClientMessage(c: Client, m: NetMessage): void {
+  function onClientMessage(c: Client, m: NetMessage, now: number): void {
     switch (m.type) {
       case 'welcome':
         c.roomNumber = m.room;
@@ -355,12 +395,19 @@ export function recordTrace(o: TraceOptions): Trace {
       case 'start':
         c.startAt = m.startAt;
         break;
-      case 'confirmed':
-        if (m.tick <= c.confirmedEnd) {
-          c.confirmedEnd = Math.max(c.confirmedEnd, m.tick + m.inputs.length / m.players);
+      case 'confirmed': {
+        // A stream's XOR-coded message continues exactly where the last one ended.
+        const end = m.tick + m.inputs.length / (m.players * m.words);
+        if (m.tick <= c.confirmedEnd && !(m.delta && m.tick !== c.confirmedEnd)) {
+          for (let t = c.confirmedEnd; t < end; t++) {
+            const sent = c.sentAt[t]!;
+            if (!Number.isNaN(sent) && now >= startAt) clientDelay.push(now - sent);
+          }
+          c.confirmedEnd = Math.max(c.confirmedEnd, end);
         }
         c.serverInputAck = Math.max(c.serverInputAck, m.inputAck);
         break;
+      }
       default:
         break;
     }
@@ -375,8 +422,10 @@ export function recordTrace(o: TraceOptions): Trace {
       c.issued[c.issueNext++] = c.buttons.next();
       fresh = true;
     }
-    const from = Math.max(c.serverInputAck, c.issueNext - MAX_WINDOW);
+    const from = Math.max(c.serverInputAck, c.issueNext - MAX_WINDOW, o.stream ? c.sentTo : 0);
     if (fresh && from < c.issueNext) {
+      for (let t = from; t < c.issueNext; t++) if (Number.isNaN(c.sentAt[t]!)) c.sentAt[t] = now;
+      c.sentTo = c.issueNext;
       clientSend(c, now, {
         type: 'input',
         room: c.roomNumber,
@@ -450,7 +499,7 @@ export function recordTrace(o: TraceOptions): Trace {
       q.push(e.at + STEP_MS / 2, 2, -1);
     } else {
       const c = clients[e.client]!;
-      onClientMessage(c, decodeMessage(e.bytes!));
+      onClientMessage(c, decodeMessage(e.bytes!), e.at);
       if (startAt === Infinity && c.startAt !== undefined) {
         startAt = c.startAt;
         endAt = startAt + o.seconds * 1000;
@@ -480,6 +529,7 @@ export function recordTrace(o: TraceOptions): Trace {
     delay: Float64Array.from(delay),
     waitOthers: Float64Array.from(waitOthers),
     waitUpdate: Float64Array.from(waitUpdate),
+    clientDelay: Float64Array.from(clientDelay),
   };
 }
 
@@ -503,9 +553,10 @@ function prepareReplay(trace: Trace, onSend?: (bytes: Uint8Array) => void): Repl
         ((b) => {
           r.bytesOut += b.length;
         }),
+      trace.options.stream,
     );
     r.ends.push(end);
-    relay.accept(end);
+    relay.accept(end, { address: `client${i}` });
   }
   runEvents(r, trace, 0, trace.steadyFrom);
   return r;
@@ -522,18 +573,30 @@ function runEvents(r: Replay, trace: Trace, from: number, to: number): void {
 }
 
 /** Times the relay over the trace's timed part, in ns. */
-export function timeRelay(trace: Trace): { ns: number; bytesOut: number } {
+/** CPU time (user + system) of this process so far, in ns. */
+function cpuNs(): number {
+  const u = process.cpuUsage();
+  return (u.user + u.system) * 1000;
+}
+
+/**
+ * Times the relay over the trace's timed part: wall ns, and CPU ns (user + system of this
+ * process: on a machine shared with other jobs, only the relay's own work).
+ */
+export function timeRelay(trace: Trace): { ns: number; cpuNs: number; bytesOut: number } {
   const r = prepareReplay(trace);
+  const c0 = cpuNs();
   const t0 = process.hrtime.bigint();
   runEvents(r, trace, trace.steadyFrom, trace.at.length);
   const ns = Number(process.hrtime.bigint() - t0);
-  return { ns, bytesOut: r.relay.stats.bytesOut };
+  return { ns, cpuNs: cpuNs() - c0, bytesOut: r.relay.stats.bytesOut };
 }
 
 /** Times a bare decode of every delivered message and encode of every sent one, in ns. */
-export function timeCodec(trace: Trace): { ns: number; sink: number } {
+export function timeCodec(trace: Trace): { ns: number; cpuNs: number; sink: number } {
   const { bytes } = trace;
   let sink = 0;
+  const c0 = cpuNs();
   const t0 = process.hrtime.bigint();
   for (let i = trace.steadyFrom; i < bytes.length; i++) {
     const b = bytes[i];
@@ -541,7 +604,7 @@ export function timeCodec(trace: Trace): { ns: number; sink: number } {
   }
   for (const m of trace.sent) sink += encodeMessage(m).length;
   const ns = Number(process.hrtime.bigint() - t0);
-  return { ns, sink };
+  return { ns, cpuNs: cpuNs() - c0, sink };
 }
 
 /**
@@ -582,8 +645,9 @@ const fmt = (x: number, digits = 1) => x.toFixed(digits);
 
 export default defineSuite({
   name: 'relay',
-  description: 'Relay capacity (players per core at 60 Hz), added latency, bandwidth per player',
-  run(ctx) {
+  description:
+    'Relay capacity (players per core at 60 Hz), added latency, bandwidth per player; 3 processes behind HAProxy',
+  async run(ctx) {
     const quick = ctx.quick;
     const players = quick ? 40 : 400;
     const seconds = quick ? 1 : 4;
@@ -593,92 +657,111 @@ export default defineSuite({
       `lockstep at ${TICK_HZ} Hz, ~${players} players per configuration, ${seconds} s simulated; ` +
         `one-way latency ${link.oneWayMs} ms + 0–${link.jitterMs} ms jitter, no loss; held ` +
         `buttons, one change per ~20 ticks; hash every ${HASH_EVERY} ticks, ping every ${PING_MS} ms; ` +
-        `update() every half step. Timed: a fresh relay replaying the recorded trace (decode, ` +
-        `update, encode, fan-out), ${rounds} interleaved rounds, median.`,
+        `update() every half step. Two ways to send over a WebSocket: "stream" (protocol 3: each ` +
+        `input and each confirmed tick once, XOR-coded against the tick before) and "redundant" ` +
+        `(every message repeats the unacknowledged ticks, as protocol 2 did; protocol 3 still ` +
+        `does it over lossy links). Timed: a fresh relay replaying the recorded trace (decode, ` +
+        `update, encode, fan-out), ${rounds} interleaved rounds, median of the process's CPU time ` +
+        `(user + system), so other jobs on the machine do not count.`,
     );
 
+    const modes = [
+      { name: 'stream', stream: true },
+      { name: 'redundant', stream: false },
+    ] as const;
     const capacity: string[][] = [];
     const latency: string[][] = [];
     const bandwidth: string[][] = [];
     const compare: string[][] = [];
     for (const n of [2, 4]) {
       const rooms = Math.max(1, Math.round(players / n));
-      const trace = recordTrace({ rooms, players: n, seconds, seed: 0x5eed + n, ...link });
+      const traces = modes.map((m) =>
+        recordTrace({ rooms, players: n, seconds, seed: 0x5eed + n, stream: m.stream, ...link }),
+      );
       const p = rooms * n;
-      const simS = trace.steadyMs / 1000;
-      const check = timeRelay(trace);
-      if (trace.dropped > 0 || check.bytesOut !== trace.bytesOutTotal) {
-        throw new Error(
-          `replay differs from the recording (dropped ${trace.dropped}, bytes ${check.bytesOut} vs ${trace.bytesOutTotal})`,
-        );
+      for (const trace of traces) {
+        const check = timeRelay(trace);
+        if (trace.dropped > 0 || check.bytesOut !== trace.bytesOutTotal) {
+          throw new Error(
+            `replay differs from the recording (dropped ${trace.dropped}, bytes ${check.bytesOut} vs ${trace.bytesOutTotal})`,
+          );
+        }
+        timeCodec(trace);
       }
-      timeCodec(trace);
-      const samples: number[][] = [[], []];
+      // Candidates: the bare codec of the stream's messages, then the relay in each mode.
+      const samples: number[][] = [[], [], []];
       for (let round = 0; round < rounds; round++) {
         globalThis.gc?.();
-        for (const c of roundOrder(2, round)) {
-          samples[c]!.push(c === 0 ? timeCodec(trace).ns : timeRelay(trace).ns);
+        for (const c of roundOrder(3, round)) {
+          samples[c]!.push(c === 0 ? timeCodec(traces[0]!).cpuNs : timeRelay(traces[c - 1]!).cpuNs);
         }
       }
-      const [codec, relay] = summarize(['bare codec', 'relay'], samples, 0);
-      const nsPerSimS = relay!.ns.median / simS;
-      const ppc = playersPerCore(p, nsPerSimS);
-      const msgs = trace.messagesIn + trace.messagesOut;
-      capacity.push([
-        `${n}`,
-        `${rooms} × ${n}`,
-        fmt((nsPerSimS / 1e9) * 100, 2) + ' %',
-        fmt(nsPerSimS / p / 1000, 1),
-        fmt(ppc, 0),
-        fmt(ppc / n, 0),
-      ]);
-      compare.push([
-        `${n}`,
-        fmt(codec!.ns.median / msgs, 0),
-        fmt(relay!.ns.median / msgs, 0),
-        `${formatRatio(relay!.ratio!.median)} (${formatRatio(relay!.ratio!.min)}–${formatRatio(relay!.ratio!.max)})`,
-      ]);
-
-      const proc = processingLatency(trace);
-      const handleP99 = percentile(proc.handle, 99);
-      const flushP99 = percentile(proc.flush, 99);
-      latency.push([
-        `${n}`,
-        fmt(handleP99 / 1000, 1),
-        fmt(flushP99 / 1000, 1),
-        fmt(percentile(trace.delay, 50), 1),
-        fmt(percentile(trace.delay, 99), 1),
-        fmt(percentile(trace.waitOthers, 99), 1),
-        fmt(percentile(trace.waitUpdate, 99), 1),
-        `${trace.inputDelay}`,
-      ]);
-
-      const upMsgs = trace.messagesIn / p / simS;
-      const downMsgs = trace.messagesOut / p / simS;
-      const up = trace.bytesIn / p / simS;
-      const down = trace.bytesOut / p / simS;
-      bandwidth.push([
-        `${n}`,
-        fmt(upMsgs, 1),
-        fmt(up, 0),
-        fmt(up + upMsgs * WS_UP_HEADER, 0),
-        fmt(downMsgs, 1),
-        fmt(down, 0),
-        fmt(down + downMsgs * WS_DOWN_HEADER, 0),
-        `${trace.filledInputs}`,
-      ]);
-      const spreadNs = spread(samples[1]!);
-      ctx.note(
-        `N=${n}: ${rooms} rooms, ${msgs} messages in ${fmt(simS, 2)} s simulated; relay replay ` +
-          `${fmt(spreadNs.median / 1e6, 1)} ms (${fmt(spreadNs.min / 1e6, 1)}–${fmt(spreadNs.max / 1e6, 1)}), ` +
-          `${trace.closedTicks} ticks closed per room, ${trace.filledInputs} filled inputs, ${trace.dropped} drops`,
-      );
+      const summary = summarize(['bare codec', 'stream', 'redundant'], samples, 0);
+      modes.forEach((mode, k) => {
+        const trace = traces[k]!;
+        const simS = trace.steadyMs / 1000;
+        const relay = summary[k + 1]!;
+        const nsPerSimS = relay.ns.median / simS;
+        const ppc = playersPerCore(p, nsPerSimS);
+        const msgs = trace.messagesIn + trace.messagesOut;
+        capacity.push([
+          `${n}`,
+          mode.name,
+          `${rooms} × ${n}`,
+          fmt((nsPerSimS / 1e9) * 100, 2) + ' %',
+          fmt(nsPerSimS / p / 1000, 1),
+          fmt(ppc, 0),
+          fmt(ppc / n, 0),
+        ]);
+        if (k === 0) {
+          compare.push([
+            `${n}`,
+            fmt(summary[0]!.ns.median / msgs, 0),
+            fmt(relay.ns.median / msgs, 0),
+            `${formatRatio(relay.ratio!.median)} (${formatRatio(relay.ratio!.min)}–${formatRatio(relay.ratio!.max)})`,
+          ]);
+        }
+        const proc = processingLatency(trace);
+        latency.push([
+          `${n}`,
+          mode.name,
+          fmt(percentile(proc.handle, 99) / 1000, 1),
+          fmt(percentile(proc.flush, 99) / 1000, 1),
+          fmt(percentile(trace.delay, 50), 1),
+          fmt(percentile(trace.delay, 99), 1),
+          fmt(percentile(trace.clientDelay, 50), 1),
+          fmt(percentile(trace.clientDelay, 99), 1),
+          `${trace.inputDelay}`,
+        ]);
+        const upMsgs = trace.messagesIn / p / simS;
+        const downMsgs = trace.messagesOut / p / simS;
+        const up = trace.bytesIn / p / simS;
+        const down = trace.bytesOut / p / simS;
+        bandwidth.push([
+          `${n}`,
+          mode.name,
+          fmt(upMsgs, 1),
+          fmt(up, 0),
+          fmt(up + upMsgs * WS_UP_HEADER, 0),
+          fmt(downMsgs, 1),
+          fmt(down, 0),
+          fmt(down + downMsgs * WS_DOWN_HEADER, 0),
+          `${trace.filledInputs}`,
+        ]);
+        const spreadNs = spread(samples[k + 1]!);
+        ctx.note(
+          `N=${n} ${mode.name}: ${rooms} rooms, ${msgs} messages in ${fmt(simS, 2)} s simulated; relay replay ` +
+            `${fmt(spreadNs.median / 1e6, 1)} ms (${fmt(spreadNs.min / 1e6, 1)}–${fmt(spreadNs.max / 1e6, 1)}), ` +
+            `${trace.closedTicks} ticks closed per room, ${trace.filledInputs} filled inputs, ${trace.dropped} drops`,
+        );
+      });
     }
 
     ctx.table(
       'Relay capacity at 60 Hz (one core = relay CPU per real second < 1 s)',
       [
         'N',
+        'sending',
         'rooms × players',
         'core at this load',
         'µs per player-second',
@@ -688,37 +771,370 @@ export default defineSuite({
       capacity,
     );
     ctx.table(
-      'Per message: bare decode+encode of the same messages vs the relay (ratio per round)',
+      'Per message (stream): bare decode+encode of the same messages vs the relay (ratio per round)',
       ['N', 'codec ns/msg', 'relay ns/msg', 'relay / codec'],
       compare,
     );
     ctx.table(
-      'Latency the server adds: processing (hrtime, µs) and tick-closing design (simulated ms)',
+      'Latency: server processing (hrtime, µs), tick closing at the relay and input → confirmed at the client (simulated ms)',
       [
         'N',
+        'sending',
         'p99 input handling µs',
         'p99 update→confirmed sent µs',
-        'design p50 ms',
-        'design p99 ms',
-        'p99 wait for others ms',
-        'p99 wait for update() ms',
+        'relay p50 ms',
+        'relay p99 ms',
+        'client p50 ms',
+        'client p99 ms',
         'input delay ticks',
       ],
       latency,
     );
     ctx.table(
       'Bandwidth per player (payload, and with WebSocket frame headers; no TCP/IP)',
-      ['N', 'up msg/s', 'up B/s', 'up B/s +ws', 'down msg/s', 'down B/s', 'down B/s +ws', 'filled'],
+      [
+        'N',
+        'sending',
+        'up msg/s',
+        'up B/s',
+        'up B/s +ws',
+        'down msg/s',
+        'down B/s',
+        'down B/s +ws',
+        'filled',
+      ],
       bandwidth,
     );
     ctx.note(
-      "Design delay: a tick closes when every player's input is in (or at its deadline, 100 ms " +
-        'after its time), then goes out at the next update() (every half step, 8.3 ms). With the ' +
-        'input delay the client picks, inputs arrive ahead of their tick, so this delay is hidden ' +
-        "from play unless a player is late. Processing latency: p99 of one input message's " +
-        "handling, plus p99 of the time from the start of update() to a room's confirmed send " +
-        '(rooms earlier in the same update go first); their sum bounds the p99 server processing ' +
-        'time. Real-socket run: skipped (time box).',
+      "Relay delay: a player's input arrives → the confirmed message carrying it leaves (a tick " +
+        "closes when every player's input is in, or at its deadline 100 ms after its time, and " +
+        'goes out at the next update(), every half step). Client delay: the client sends its ' +
+        'input → receives it confirmed: the round trip plus the wait for the other inputs. With ' +
+        'the input delay the client picks, inputs arrive ahead of their tick, so these delays are ' +
+        'hidden from play unless a player is late. Processing latency: p99 of one input ' +
+        "message's handling, plus p99 of the time from the start of update() to a room's " +
+        'confirmed send (rooms earlier in the same update go first).',
     );
+
+    await balancerSection(ctx);
   },
 });
+
+// ------------------------------------------------------------------------------ behind HAProxy
+
+const ROOT = fileURLToPath(new URL('../../', import.meta.url));
+
+/** User + system CPU seconds of a process so far (Linux /proc), or NaN. */
+function cpuSeconds(pid: number): number {
+  try {
+    const stat = readFileSync(`/proc/${pid}/stat`, 'utf8');
+    // Fields after the command name (which may hold spaces): utime is the 14th, stime the 15th.
+    const f = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
+    return (Number(f[11]) + Number(f[12])) / 100;
+  } catch {
+    return Number.NaN;
+  }
+}
+
+async function waitFor<T>(what: string, f: () => T | Promise<T>, ms = 60_000): Promise<T> {
+  const end = performance.now() + ms;
+  for (;;) {
+    const v = await f();
+    if (v) return v;
+    if (performance.now() > end) throw new Error(`bench: timed out waiting for ${what}`);
+    await new Promise((r) => setTimeout(r, 50));
+  }
+}
+
+function freePort(): Promise<number> {
+  return new Promise((resolve, reject) => {
+    const s = net.createServer();
+    s.once('error', reject);
+    s.listen(0, '127.0.0.1', () => {
+      const port = (s.address() as net.AddressInfo).port;
+      s.close(() => {
+        resolve(port);
+      });
+    });
+  });
+}
+
+/** A counter: the cheapest simulation that still has a state, a save and a hash. */
+class Counter implements Simulation {
+  tick = 0;
+  private acc = 0;
+  step(inputs: readonly unknown[]): void {
+    for (const i of inputs) this.acc = (Math.imul(this.acc, 31) + (i as number)) | 0;
+    this.tick++;
+  }
+  save(): Uint8Array {
+    const b = new Uint8Array(8);
+    const v = new DataView(b.buffer);
+    v.setUint32(0, this.tick, true);
+    v.setInt32(4, this.acc, true);
+    return b;
+  }
+  load(bytes: Uint8Array): void {
+    const v = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+    this.tick = v.getUint32(0, true);
+    this.acc = v.getInt32(4, true);
+  }
+  hash(): bigint {
+    return BigInt(this.tick) * 0x9e3779b1n + BigInt(this.acc >>> 0);
+  }
+}
+
+interface BalancedRun {
+  processes: number;
+  players: number;
+  seconds: number;
+  relayCpu: number[];
+  haproxyCpu: number;
+  generatorCpu: number;
+  clientDelay: Float64Array;
+  lateInputs: number;
+  inputs: number;
+  agree: boolean;
+}
+
+/**
+ * `players` lockstep players (rooms of 2, a trivial client-side game, held buttons) through
+ * HAProxy with deploy/haproxy/haproxy.cfg to `processes` `fixedstep serve` processes (1: all three
+ * server lines point at the same process), for `seconds` of real time after every room started.
+ */
+async function runBalanced(
+  haproxy: string,
+  processes: number,
+  players: number,
+  seconds: number,
+): Promise<BalancedRun> {
+  const dir = await mkdtemp(path.join(os.tmpdir(), 'fixedstep-bench-'));
+  const children: ChildProcess[] = [];
+  const sessions: LockstepSession<unknown>[] = [];
+  let timer: ReturnType<typeof setInterval> | undefined;
+  try {
+    await writeFile(path.join(dir, 'index.html'), '<!doctype html><title>lab</title>');
+    const relays = await Promise.all(
+      Array.from({ length: processes }, async () => {
+        const child = spawn(
+          process.execPath,
+          ['--conditions=source', '--import', 'tsx', 'packages/cli/src/cli.ts', 'serve'].concat([
+            '--port',
+            '0',
+            '--root',
+            dir,
+            '--data',
+            dir,
+          ]),
+          {
+            cwd: ROOT,
+            env: {
+              ...process.env,
+              FIXEDSTEP_PROXY_HEADER: 'x-forwarded-for',
+              // Every bench client comes from 127.0.0.1: lift the per-address caps.
+              FIXEDSTEP_MAX_CONNECTIONS_PER_ADDRESS: '100000',
+              FIXEDSTEP_MAX_ROOMS_PER_ADDRESS: '100000',
+            },
+            stdio: ['ignore', 'pipe', 'inherit'],
+          },
+        );
+        children.push(child);
+        let out = '';
+        child.stdout.on('data', (b: Buffer) => (out += b.toString()));
+        const port = Number(await waitFor('a relay', () => /localhost:(\d+)\//.exec(out)?.[1]));
+        return { pid: child.pid!, port };
+      }),
+    );
+    const lbPort = await freePort();
+    const statsPort = await freePort();
+    const extra = path.join(dir, 'stats.cfg');
+    await writeFile(
+      extra,
+      `frontend bench_stats\n  bind 127.0.0.1:${statsPort}\n` +
+        `  http-request return status 200 content-type text/plain lf-string "%[nbsrv(relays_by_room)]"\n`,
+    );
+    const server = (i: number) => `127.0.0.1:${relays[i % processes]!.port}`;
+    const lb = spawn(
+      haproxy,
+      ['-db', '-f', path.join(ROOT, 'deploy/haproxy/haproxy.cfg'), '-f', extra],
+      {
+        env: {
+          PATH: process.env.PATH ?? '',
+          FIXEDSTEP_BIND: `127.0.0.1:${lbPort}`,
+          FIXEDSTEP_RELAY1: server(0),
+          FIXEDSTEP_RELAY2: server(1),
+          FIXEDSTEP_RELAY3: server(2),
+          FIXEDSTEP_CHECK_PATH: '/',
+        },
+        stdio: 'ignore',
+      },
+    );
+    children.push(lb);
+    await waitFor('HAProxy', async () => {
+      try {
+        return (await (await fetch(`http://127.0.0.1:${statsPort}/`)).text()) === '3';
+      } catch {
+        return false;
+      }
+    });
+
+    const clock = performanceClock();
+    const delays: number[] = [];
+    let measuring = false;
+    for (let i = 0; i < players; i++) {
+      const room = `bench-${i >> 1}`;
+      const t = await connectNodeWebSocket(`ws://127.0.0.1:${lbPort}/ws/${room}`);
+      const issuedAt = new Float64Array(1 << 16).fill(Number.NaN);
+      let slot = -1;
+      let confirmedEnd = 0;
+      // Watch the confirmed stream: when each of this player's inputs comes back confirmed.
+      const observed: Transport = {
+        reliable: true,
+        send: (b) => {
+          t.send(b);
+        },
+        onMessage: (h) => {
+          t.onMessage((b) => {
+            if (measuring && slot >= 0 && peekMessageType(b) === 'confirmed') {
+              const m = decodeMessage(b) as ConfirmedMessage;
+              const end = m.tick + m.inputs.length / (m.players * m.words);
+              const now = clock.now();
+              for (let k = Math.max(m.tick, confirmedEnd); k < end; k++) {
+                const at = issuedAt[k & 0xffff]!;
+                if (!Number.isNaN(at)) delays.push(now - at);
+              }
+              confirmedEnd = Math.max(confirmedEnd, end);
+            }
+            h(b);
+          });
+        },
+        onClose: (h) => {
+          t.onClose(h);
+        },
+        close: (r) => {
+          t.close(r);
+        },
+        get isOpen() {
+          return t.isOpen;
+        },
+      };
+      const buttons = new HeldButtons(new Random(i + 1), 20, 4);
+      sessions.push(
+        new LockstepSession({
+          transport: observed,
+          clock,
+          room,
+          game: ctfGame,
+          players: 2,
+          seed: 1,
+          createSimulation: (w) => {
+            slot = w.slot;
+            return new Counter();
+          },
+          localInput: (tick) => {
+            issuedAt[tick & 0xffff] = clock.now();
+            return buttons.next();
+          },
+        }),
+      );
+    }
+    timer = setInterval(() => {
+      for (const s of sessions) s.frame();
+    }, 1000 / TICK_HZ);
+    await waitFor('every room to start', () => sessions.every((s) => s.phase === 'running'));
+    // Settle for a second (input delay, jitter buffers), then measure.
+    await new Promise((r) => setTimeout(r, 1000));
+    const late0 = sessions.reduce((a, s) => a + s.stats.replacedInputs, 0);
+    const ticks0 = sessions.reduce((a, s) => a + s.tick, 0);
+    const cpu0 = relays.map((r) => cpuSeconds(r.pid));
+    const lb0 = cpuSeconds(lb.pid!);
+    const gen0 = process.cpuUsage();
+    const t0 = performance.now();
+    measuring = true;
+    await new Promise((r) => setTimeout(r, seconds * 1000));
+    measuring = false;
+    const wall = (performance.now() - t0) / 1000;
+    const gen = process.cpuUsage(gen0);
+    const run: BalancedRun = {
+      processes,
+      players,
+      seconds: wall,
+      relayCpu: relays.map((r, i) => (cpuSeconds(r.pid) - cpu0[i]!) / wall),
+      haproxyCpu: (cpuSeconds(lb.pid!) - lb0) / wall,
+      generatorCpu: (gen.user + gen.system) / 1e6 / wall,
+      clientDelay: Float64Array.from(delays),
+      lateInputs: sessions.reduce((a, s) => a + s.stats.replacedInputs, 0) - late0,
+      inputs: sessions.reduce((a, s) => a + s.tick, 0) - ticks0,
+      agree: true,
+    };
+    // Both players of each room on one state at a tick they both have.
+    for (let i = 0; i + 1 < sessions.length; i += 2) {
+      const a = sessions[i]!;
+      const b = sessions[i + 1]!;
+      const t = Math.min(a.confirmedStateTick(), b.confirmedStateTick()) - 1;
+      if (a.hashAt(t) !== b.hashAt(t)) run.agree = false;
+    }
+    return run;
+  } finally {
+    if (timer) clearInterval(timer);
+    for (const s of sessions) s.leave();
+    for (const c of children) if (c.exitCode === null && c.signalCode === null) c.kill('SIGKILL');
+    await rm(dir, { recursive: true, force: true });
+  }
+}
+
+async function balancerSection(ctx: SuiteContext): Promise<void> {
+  const title = 'Behind HAProxy: 1 relay process vs 3 (real sockets on 127.0.0.1)';
+  if (ctx.quick) {
+    ctx.note(`${title}: not in --quick (npm run bench -- relay runs it).`);
+    return;
+  }
+  const haproxy = ['/usr/sbin/haproxy', '/usr/local/sbin/haproxy'].find((p) => existsSync(p));
+  if (haproxy === undefined) {
+    ctx.note(`${title}: skipped, no haproxy (Debian: apt-get install haproxy).`);
+    return;
+  }
+  const players = 200;
+  const seconds = 8;
+  const runs: BalancedRun[] = [];
+  for (const processes of [1, 3])
+    runs.push(await runBalanced(haproxy, processes, players, seconds));
+  const perCore = runs.map((r) => r.players / r.relayCpu.reduce((a, b) => a + b, 0));
+  ctx.table(
+    title,
+    [
+      'relays',
+      'players',
+      'relay CPU (each, % of a core)',
+      'HAProxy CPU',
+      'load generator CPU',
+      'client p50 / p99 ms',
+      'late inputs',
+      'players per relay core',
+      'projected players at 60 Hz',
+    ],
+    runs.map((r, i) => [
+      `${r.processes}`,
+      `${r.players}`,
+      r.relayCpu.map((c) => `${fmt(c * 100, 1)} %`).join(', '),
+      `${fmt(r.haproxyCpu * 100, 1)} %`,
+      `${fmt(r.generatorCpu * 100, 1)} %`,
+      `${fmt(percentile(r.clientDelay, 50), 1)} / ${fmt(percentile(r.clientDelay, 99), 1)}`,
+      `${fmt((100 * r.lateInputs) / Math.max(1, r.inputs), 2)} %${r.agree ? '' : ' DISAGREE'}`,
+      fmt(perCore[i]!, 0),
+      fmt(perCore[i]! * r.processes, 0),
+    ]),
+  );
+  const cores = cpus().length;
+  const ratio = (perCore[1]! * 3) / perCore[0]!;
+  ctx.note(
+    `${players} players in rooms of 2 for ${seconds} s after every room started; the clients are ` +
+      `LockstepSessions with a trivial game in this process (the load generator), all from ` +
+      `127.0.0.1 (the per-address caps lifted). Players per relay ` +
+      `core = players / relay CPU (all relays together); projected = that × relays, i.e. with a ` +
+      `core per relay. 3 relays vs 1: ${fmt(ratio, 2)}× (goal ≥ 2.7× with a core per relay). This ` +
+      `machine has ${cores} cores shared by the relays, HAProxy, the load generator and anything ` +
+      `else running (load average ${os.loadavg()[0]!.toFixed(1)}), so the 3 relays here cannot ` +
+      `together get more than ${cores} cores: the projection, not a measured 3-core run.`,
+  );
+}

@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { Random, decodeMessage, peekMessageType } from 'fixedstep';
+import { Random, decodeMessage, peekMessageType, type ConfirmedMessage } from 'fixedstep';
 import {
   HeldButtons,
   inputDelayTicks,
@@ -43,21 +43,18 @@ describe('relay suite helpers', () => {
 });
 
 describe('relay suite trace', () => {
-  const trace = recordTrace({
-    rooms: 3,
-    players: 2,
-    seconds: 1,
-    oneWayMs: 25,
-    jitterMs: 5,
-    seed: 9,
-  });
+  const options = { rooms: 3, players: 2, seconds: 1, oneWayMs: 25, jitterMs: 5, seed: 9 };
+  const trace = recordTrace({ ...options, stream: false });
+  const stream = recordTrace({ ...options, stream: true });
 
   it('plays the match without drops or filled inputs, and the replay matches', () => {
-    expect(trace.dropped).toBe(0);
-    expect(trace.filledInputs).toBe(0);
-    expect(trace.closedTicks).toBeGreaterThanOrEqual(60);
-    expect(timeRelay(trace).bytesOut).toBe(trace.bytesOutTotal);
-    expect(timeCodec(trace).ns).toBeGreaterThan(0);
+    for (const t of [trace, stream]) {
+      expect(t.dropped).toBe(0);
+      expect(t.filledInputs).toBe(0);
+      expect(t.closedTicks).toBeGreaterThanOrEqual(60);
+      expect(timeRelay(t).bytesOut).toBe(t.bytesOutTotal);
+      expect(timeCodec(t).ns).toBeGreaterThan(0);
+    }
   });
 
   it('clients send one input message a tick, plus hashes and pings', () => {
@@ -77,5 +74,34 @@ describe('relay suite trace', () => {
     // The relay's counters cover the same window: 66 messages a player-second up.
     expect(trace.messagesIn / 6 / (trace.steadyMs / 1000)).toBeCloseTo(66, -1);
     expect(m.type === 'input' && m.inputs.length).toBeLessThanOrEqual(8);
+  });
+
+  it('over a stream each input goes once, each tick comes back once, XOR-coded, under 1 KB/s', () => {
+    const inputs = stream.bytes
+      .slice(stream.steadyFrom)
+      .filter((b) => b !== undefined && peekMessageType(b) === 'input')
+      .map((b) => decodeMessage(b!));
+    expect(inputs.every((m) => m.type === 'input' && m.inputs.length === 1)).toBe(true);
+    const confirmed = stream.sent.filter((m): m is ConfirmedMessage => m.type === 'confirmed');
+    expect(confirmed.length).toBeGreaterThan(0);
+    // After each member's first message, every one continues the previous: XOR-coded.
+    expect(confirmed.filter((m) => !m.delta).length).toBeLessThanOrEqual(6);
+    const perPlayerSecond = (x: number) => x / 6 / (stream.steadyMs / 1000);
+    const down = perPlayerSecond(stream.bytesOut + 2 * stream.messagesOut);
+    const before = perPlayerSecond(trace.bytesOut + 2 * trace.messagesOut);
+    expect(down).toBeLessThan(1000);
+    expect(down).toBeLessThan(before * 0.75);
+    // The same number of messages down (one a tick): nothing waits for a batch.
+    expect(stream.messagesOut).toBeCloseTo(trace.messagesOut, -2);
+  });
+
+  it('the client sees its inputs confirmed as soon as without the stream', () => {
+    const p50 = (t: typeof trace) => percentile(t.clientDelay, 50);
+    const p99 = (t: typeof trace) => percentile(t.clientDelay, 99);
+    expect(stream.clientDelay.length).toBeGreaterThan(300);
+    // The round trip (50–60 ms) plus the wait for the other player's input.
+    expect(p50(stream)).toBeGreaterThan(50);
+    expect(Math.abs(p50(stream) - p50(trace))).toBeLessThan(2);
+    expect(Math.abs(p99(stream) - p99(trace))).toBeLessThan(5);
   });
 });

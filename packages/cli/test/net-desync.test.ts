@@ -109,7 +109,8 @@ describe('a non-deterministic game is caught at the right tick', () => {
     expect(d.exact).toBe(true);
     const bad = match.sessions[2]!.welcome!.slot;
     expect(d.majority).toBeGreaterThanOrEqual(0);
-    expect(d.groups[d.majority]!.peers).toHaveLength(3);
+    // The spectator's hash is no evidence: the sides are the three players only.
+    expect(d.groups[d.majority]!.peers).toHaveLength(2);
     expect(d.groups[d.majority]!.peers).not.toContain(bad);
     expect(d.groups[1 - d.majority]!.peers).toEqual([bad]);
     // Forensics: both sides' snapshots of tick 1001, differing only in the clock's last byte.
@@ -153,5 +154,82 @@ describe('a non-deterministic game is caught at the right tick', () => {
     expect(d.groups.map((g) => g.peers[0]!).sort((a, b) => a - b)).toEqual([0, 1]);
     expect(d.groups.every((g) => g.peers.length === 1)).toBe(true);
     expect(d.diffs[0]!.diff.firstOffset).toBe(CLOCK_OFFSET);
+  });
+});
+
+/** Capture the flag whose `save()` lies at one tick: a fake report, the state itself is fine. */
+class LiesOnce implements Simulation {
+  constructor(
+    readonly inner: Simulation,
+    private readonly at: number,
+  ) {}
+  get tick(): number {
+    return this.inner.tick;
+  }
+  step(inputs: readonly number[]): void {
+    this.inner.step(inputs);
+  }
+  save(): Uint8Array {
+    const b = this.inner.save();
+    if (this.inner.tick === this.at) b[b.length - 1] = b[b.length - 1]! ^ 0xff;
+    return b;
+  }
+  load(bytes: Uint8Array): void {
+    this.inner.load(bytes);
+  }
+  hash(): bigint {
+    return this.inner.hash();
+  }
+}
+
+describe('every desync is diagnosed, not only the first', () => {
+  it('a fake early report does not switch detection off: a real divergence later is pinned too', () => {
+    const create = (w: WelcomeMessage) => ctfGame.create(ctfGame.decodeConfig(w.config));
+    const inner = (g: Simulation): Simulation =>
+      g instanceof Glitchy ? g.inner : g instanceof LiesOnce ? inner(g.inner) : g;
+    const play = (_t: number, sim: Simulation, slot: number) => bot(inner(sim), slot);
+    const match = new SimulatedMatch({
+      game: ctfGame,
+      seed: 21,
+      ticks: 1400,
+      // No loss: a desync message is not repeated, and every client should hear both.
+      link: { latencyMs: 30, jitterMs: 5 },
+      relay: { hashEvery: 60 },
+      players: 3,
+      clients: [
+        { kind: 'lockstep', input: play },
+        // Reports a wrong hash of tick 300 (and only that one).
+        { kind: 'lockstep', input: play, createSimulation: (w) => new LiesOnce(create(w), 300) },
+        // Really diverges from tick 1000 on.
+        {
+          kind: 'rollback',
+          input: play,
+          createSimulation: (w) => new Glitchy(create(w), 1000, () => true),
+        },
+        { kind: 'spectator' },
+      ],
+    });
+    const r = match.run(120_000);
+    expect(r.finished).toBe(true);
+    const [fake, real] = r.room!.desyncs;
+    const liar = match.sessions[1]!.welcome!.slot;
+    const drifter = match.sessions[2]!.welcome!.slot;
+    // The fake one: pinned to tick 300 exactly, the liar alone against the majority.
+    expect(fake!.reportTick).toBe(300);
+    expect(fake!.tick).toBe(300);
+    expect(fake!.exact).toBe(true);
+    expect(fake!.groups[fake!.majority]!.peers).not.toContain(liar);
+    expect(fake!.groups.find((_g, i) => i !== fake!.majority)!.peers).toEqual([liar]);
+    // At 360 all agreed again; the real divergence is diagnosed like the first.
+    expect(real).toBeDefined();
+    expect(real!.reportTick).toBe(1020);
+    expect(real!.tick).toBe(1001);
+    expect(real!.exact).toBe(true);
+    expect(real!.groups.find((_g, i) => i !== real!.majority)!.peers).toEqual([drifter]);
+    expect(real!.diffs[0]!.diff.firstOffset).toBe(CLOCK_OFFSET);
+    // It persists from then on without being reported again: two desyncs in all.
+    expect(r.room!.desyncs).toHaveLength(2);
+    expect(r.relay.desyncs).toBe(2);
+    for (const s of match.sessions) expect(s!.desyncs.map((d) => d.tick)).toEqual([300, 1001]);
   });
 });

@@ -17,7 +17,11 @@ import { gameCatalog } from '../src/net/index.js';
 class Raw {
   readonly got: NetMessage[] = [];
   closed: string | undefined;
-  constructor(readonly t: Transport) {
+  constructor(
+    readonly t: Transport,
+    /** A room's invite token, which a spectator's hello carries unless told otherwise. */
+    private readonly inviteOf: (room: string) => Uint8Array | undefined = () => undefined,
+  ) {
     t.onMessage((b) => this.got.push(decodeMessage(b)));
     t.onClose((r) => (this.closed = r));
   }
@@ -32,10 +36,12 @@ class Raw {
     role: 'player' | 'spectator' = 'spectator',
     extra: Partial<NetMessage> = {},
   ): void {
+    const invite = role === 'spectator' ? this.inviteOf(room) : undefined;
     this.send({
       type: 'hello',
       room,
       role,
+      ...(invite ? { token: invite } : {}),
       game: 'ctf',
       gameVersion: ctfGame.info.version,
       input: ctfGame.input.id,
@@ -74,7 +80,7 @@ describe('hostile traffic is refused; the other rooms play on', () => {
     });
     const s = match.scheduler;
     const raw = (link = { latencyMs: 10, jitterMs: 0, loss: 0 }) =>
-      new Raw(match.connect(link).transport);
+      new Raw(match.connect(link).transport, (room) => match.relay.invite(room));
 
     // Two hostile players fill room A so it starts.
     const spoofer = raw();
@@ -258,10 +264,13 @@ describe('hostile traffic is refused; the other rooms play on', () => {
       game: ctfGame,
       seed: 6,
       ticks: 1200,
-      relay: { historyTicks: 600 },
+      // Silent members are dropped after 10 s by default: this one is heard from, but never acks.
+      relay: { historyTicks: 600, silenceTimeoutMs: 60_000 },
       clients: [{ kind: 'lockstep', players: 1 }],
     });
-    const mute = new Raw(match.connect({ latencyMs: 5 }).transport);
+    const mute = new Raw(match.connect({ latencyMs: 5 }).transport, (room) =>
+      match.relay.invite(room),
+    );
     match.scheduler.at(100, () => {
       mute.hello('match');
     });
@@ -269,5 +278,106 @@ describe('hostile traffic is refused; the other rooms play on', () => {
     expect(r.finished).toBe(true);
     expect(mute.error?.code).toBe('NO_SNAPSHOT');
     expect(r.clients[0]!.closed).toBe(false);
+  });
+});
+
+describe('strangers all at once, beside a well-behaved room', () => {
+  it('idle sockets, squatters, fake hashes and floods: the honest room finishes and agrees', () => {
+    const ticks = 3600;
+    const match = new SimulatedMatch({
+      game: ctfGame,
+      seed: 31,
+      ticks,
+      catalog: gameCatalog(),
+      link: { latencyMs: 40, jitterMs: 10, loss: 0.02 },
+      room: 'honest',
+      players: 3,
+      clients: [
+        { kind: 'rollback', connection: { address: '198.51.100.1' } },
+        { kind: 'lockstep', connection: { address: '198.51.100.2' } },
+        { kind: 'rollback', connection: { address: '198.51.100.3' } },
+        { kind: 'spectator', connection: { address: '198.51.100.4' } },
+      ],
+    });
+    const s = match.scheduler;
+    const quiet = { latencyMs: 10, jitterMs: 0, loss: 0 };
+    const raw = (address: string) =>
+      new Raw(match.connect(quiet, { address }).transport, (room) => match.relay.invite(room));
+    const strangers: Raw[] = [];
+    // 300 idle sockets from 10 addresses: hello, then nothing.
+    for (let i = 0; i < 300; i++) {
+      const r = raw(`203.0.113.${i % 10}`);
+      r.hello(`idle${i}`, 'player', { players: 2 });
+      strangers.push(r);
+    }
+    // 100 squatters from 100 addresses that keep their waiting rooms alive with pings.
+    const squatters: Raw[] = [];
+    for (let i = 0; i < 100; i++) {
+      const r = raw(`10.1.${i}.1`);
+      r.hello(`squat${i}`, 'player', { players: 4 });
+      squatters.push(r);
+      s.every(
+        800,
+        () => {
+          r.send({ type: 'ping', id: i, time: s.now });
+        },
+        800,
+      );
+    }
+    // Fake hashes: an invited spectator reports nonsense for every report tick.
+    let liar: Raw | undefined;
+    s.at(3000, () => {
+      liar = raw('203.0.113.50');
+      liar.hello('honest', 'spectator');
+    });
+    s.every(
+      400,
+      () => {
+        const w = liar?.welcome;
+        const room = match.relay.room('honest');
+        if (!w || !room || room.closedTick < 30) return;
+        liar!.send({
+          type: 'hash',
+          room: w.room,
+          tick: Math.floor(room.closedTick / 30) * 30,
+          hash: 1n,
+        });
+      },
+      3500,
+    );
+    // A stranger without the invite tries to watch; floods of pings from a few more.
+    const peeker = raw('203.0.113.51');
+    s.at(3000, () => {
+      peeker.hello('honest', 'spectator', { token: new Uint8Array(16) });
+    });
+    const flooders = [0, 1, 2].map((i) => raw(`203.0.113.${60 + i}`));
+    s.at(4000, () => {
+      for (const f of flooders)
+        for (let i = 0; i < 1000; i++) f.send({ type: 'ping', id: i, time: 0 });
+    });
+
+    const r = match.run(300_000);
+    expect(r.finished).toBe(true);
+    expect(r.hashesAgree).toBe(true);
+    for (const c of r.clients) {
+      expect(c.closed).toBe(false);
+      expect(c.tick).toBe(ticks);
+    }
+    for (const session of match.sessions) {
+      expect(session!.errors).toEqual([]);
+      expect(session!.desyncs).toEqual([]);
+    }
+    expect(r.room!.desyncs).toHaveLength(0);
+    expect(r.relay.spectatorDesyncs).toBeGreaterThan(0);
+    // Every idle socket timed out; each of the 10 addresses was capped at 8 rooms first.
+    const idle = strangers.map((x) => x.error?.code);
+    expect(idle.filter((c) => c === 'TIMEOUT')).toHaveLength(80);
+    expect(idle.filter((c) => c === 'SERVER_FULL')).toHaveLength(220);
+    // The squatters outlived the silence rule, not the waiting-room limit (the match ran 60 s).
+    expect(squatters.every((x) => x.error === undefined)).toBe(true);
+    match.scheduler.runUntil(121_000);
+    expect(squatters.every((x) => x.error?.code === 'TIMEOUT')).toBe(true);
+    expect(peeker.error?.code).toBe('BAD_TOKEN');
+    for (const f of flooders) expect(f.error?.code).toBe('RATE_LIMIT');
   });
 });

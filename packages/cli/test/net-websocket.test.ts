@@ -42,8 +42,20 @@ describe('the relay over real WebSockets on 127.0.0.1', () => {
     const ticks = 240;
     const clock = performanceClock();
     const sessions: NetSession[] = [];
+    // Frames from a timer, as a Node client (or a throttled tab) would run them.
+    const timer = setInterval(() => {
+      for (const s of sessions) s.frame();
+    }, 8);
+    const welcomed = async () => {
+      while (sessions[0]!.welcome === undefined) await new Promise((r) => setTimeout(r, 10));
+    };
     for (const kind of ['lockstep', 'rollback', 'spectator'] as const) {
-      const transport = await connectNodeWebSocket(wsUrl());
+      // The spectator brings the invite token a player got in its welcome.
+      if (kind === 'spectator') await welcomed();
+      const transport = await connectNodeWebSocket(
+        // The room in the URL, as a load balancer routes it.
+        kind === 'rollback' ? `${wsUrl()}/ws-match` : wsUrl(),
+      );
       let slot = 0;
       const options: NetSessionOptions = {
         transport,
@@ -60,6 +72,7 @@ describe('the relay over real WebSockets on 127.0.0.1', () => {
           return ctfGame.create(ctfGame.decodeConfig(w.config));
         },
         localInput: (_tick, sim) => ctfGame.bot(sim as Game, slot),
+        ...(kind === 'spectator' ? { invite: sessions[0]!.welcome!.invite } : {}),
       };
       sessions.push(
         kind === 'lockstep'
@@ -69,10 +82,6 @@ describe('the relay over real WebSockets on 127.0.0.1', () => {
             : new SpectatorSession(options),
       );
     }
-    // Frames from a timer, as a Node client (or a throttled tab) would run them.
-    const timer = setInterval(() => {
-      for (const s of sessions) s.frame();
-    }, 8);
     try {
       await expect
         .poll(() => sessions.every((s) => s.finished), { timeout: 20_000, interval: 50 })

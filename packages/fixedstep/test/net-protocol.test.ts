@@ -65,6 +65,7 @@ const message: fc.Arbitrary<NetMessage> = fc.oneof(
       startTick: u32,
       config: bytes(256),
       token: fc.oneof(token, fc.constant(new Uint8Array(0))),
+      invite: fc.oneof(token, fc.constant(new Uint8Array(0))),
       startAt: fc.option(time, { nil: undefined }),
       snapshot: fc.option(bytes(2000), { nil: undefined }),
       slotSeed: fc.nat(),
@@ -91,19 +92,23 @@ const message: fc.Arbitrary<NetMessage> = fc.oneof(
     }),
   fc
     .record({
-      room: u32,
-      inputAck: u32,
+      ahead: fc.integer({ min: 0, max: 1e6 }),
       tick: fc.integer({ min: 0, max: 1e9 }),
       players: fc.integer({ min: 1, max: 16 }),
-      words: fc.integer({ min: 1, max: 3 }),
+      words: fc.integer({ min: 1, max: 16 }),
       ticks: fc.integer({ min: 0, max: 64 }),
-      seed: fc.array(u32, { minLength: 3 * 16 * 64, maxLength: 3 * 16 * 64 }),
+      delta: fc.boolean(),
+      seed: fc.array(u32, { minLength: 4 * 16 * 8, maxLength: 4 * 16 * 8 }),
     })
-    .map(({ ticks, seed, ...m }): NetMessage => ({
-      type: 'confirmed',
-      ...m,
-      inputs: Uint32Array.from(seed.slice(0, ticks * m.players * m.words)),
-    })),
+    .map(({ ticks, seed, ahead, ...m }): NetMessage => {
+      const n = Math.min(ticks, Math.floor(seed.length / (m.players * m.words)));
+      return {
+        type: 'confirmed',
+        ...m,
+        inputAck: m.tick + n + ahead,
+        inputs: Uint32Array.from(seed.slice(0, n * m.players * m.words)),
+      };
+    }),
   fc.record({ room: u32, ack: u32 }).map((m): NetMessage => ({ type: 'ack', ...m })),
   fc.record({ room: u32, tick: u32, hash }).map((m): NetMessage => ({ type: 'hash', ...m })),
   fc
@@ -229,11 +234,12 @@ describe('protocol codec', () => {
     const err = (b: number[]) => decodeOrProtocolError(Uint8Array.from(b)) as ProtocolError;
     expect(err([]).code).toBe('TRUNCATED');
     expect(err([1, 1]).code).toBe('BAD_VERSION'); // protocol 1 (no input schema) is refused
-    expect(err([3, 1]).code).toBe('BAD_VERSION');
-    expect(err([2, 0x7f]).code).toBe('BAD_TYPE');
-    expect(err([2, 0x7f]).offset).toBe(1);
+    expect(err([2, 1]).code).toBe('BAD_VERSION'); // protocol 2 (the redundant confirmed stream) too
+    expect(err([4, 1]).code).toBe('BAD_VERSION');
+    expect(err([3, 0x7f]).code).toBe('BAD_TYPE');
+    expect(err([3, 0x7f]).offset).toBe(1);
     // A varint with a redundant zero byte is not canonical.
-    expect(err([2, MessageType.ack, 0x80, 0x00, 0]).code).toBe('BAD_VALUE');
+    expect(err([3, MessageType.ack, 0x80, 0x00, 0]).code).toBe('BAD_VALUE');
     // Room names are 1-32 of A-Z a-z 0-9 _ - .
     const hello = encodeMessage({
       type: 'hello',
@@ -251,26 +257,32 @@ describe('protocol codec', () => {
 
   it('checks sizes before allocating', () => {
     // A snapshot claiming 2^32 - 1 bytes in a 12-byte message: refused, nothing allocated.
-    const huge = Uint8Array.of(2, MessageType.snapshot, 1, 1, 1, 0xff, 0xff, 0xff, 0xff, 0x0f);
+    const huge = Uint8Array.of(3, MessageType.snapshot, 1, 1, 1, 0xff, 0xff, 0xff, 0xff, 0x0f);
     const e1 = decodeOrProtocolError(huge) as ProtocolError;
     expect(e1.code).toBe('TOO_LARGE');
-    // A confirmed message claiming 64 ticks × 16 players × 16 words with no bytes behind it.
+    // A confirmed message claiming 64 ticks × 16 players × 16 words (shape 255 = 0xff 0x01) with
+    // no bytes behind it.
     const e2 = decodeOrProtocolError(
-      Uint8Array.of(2, MessageType.confirmed, 1, 0, 0, 16, 16, 64),
+      Uint8Array.of(3, MessageType.confirmed, 0, 0, 0xff, 0x01, 128, 1),
     ) as ProtocolError;
     expect(e2.code).toBe('TRUNCATED');
+    // 17 players (shape 256) is over the limit whatever follows.
+    const e2b = decodeOrProtocolError(
+      Uint8Array.of(3, MessageType.confirmed, 0, 0, 0x80, 0x02, 2, 0),
+    ) as ProtocolError;
+    expect(e2b.code).toBe('TOO_LARGE');
     // 65 ticks is over the limit whatever follows; so are 17 words a tick.
     const e3 = decodeOrProtocolError(
-      Uint8Array.of(2, MessageType.input, 1, 0, 0, 0, 1, 65),
+      Uint8Array.of(3, MessageType.input, 1, 0, 0, 0, 1, 65),
     ) as ProtocolError;
     expect(e3.code).toBe('TOO_LARGE');
     const e4 = decodeOrProtocolError(
-      Uint8Array.of(2, MessageType.input, 1, 0, 0, 0, 17, 1),
+      Uint8Array.of(3, MessageType.input, 1, 0, 0, 0, 17, 1),
     ) as ProtocolError;
     expect(e4.code).toBe('TOO_LARGE');
     // The whole message is checked first.
     const big = new Uint8Array(DEFAULT_PROTOCOL_LIMITS.maxMessageBytes + 1);
-    big.set([2, MessageType.snapshot]);
+    big.set([3, MessageType.snapshot]);
     expect((decodeOrProtocolError(big) as ProtocolError).code).toBe('TOO_LARGE');
     // Custom, tighter limits.
     const snap = encodeMessage({
@@ -300,14 +312,28 @@ describe('protocol codec', () => {
     const held = new Uint32Array(16 * 4).fill(0x0001);
     const confirmed = encodeMessage({
       type: 'confirmed',
-      room: 1,
-      inputAck: 5000,
+      inputAck: 5016,
       tick: 5000,
       players: 4,
       words: 1,
       inputs: held,
+      delta: false,
     });
-    expect(confirmed.length).toBe(2 + 1 + 2 + 2 + 1 + 1 + 1 + 64);
+    // version, type, tick (2), input ack offset, players and words, count; the inputs.
+    expect(confirmed.length).toBe(2 + 2 + 1 + 1 + 1 + 64);
+    // One tick of 4 players holding their buttons, XOR-coded against the tick before (held: 0),
+    // at tick 100 000 (28 min at 60 Hz): 11 bytes, 13 with a WebSocket frame header.
+    const oneTick = encodeMessage({
+      type: 'confirmed',
+      inputAck: 100_006,
+      tick: 100_000,
+      players: 4,
+      words: 1,
+      inputs: new Uint32Array(4),
+      delta: true,
+    });
+    expect(oneTick.length).toBe(2 + 3 + 1 + 1 + 1 + 4);
+    expect(decodeMessage(oneTick)).toMatchObject({ inputAck: 100_006, delta: true, players: 4 });
     // A schema with an axis: the axis word is XOR-delta coded too, a byte a tick while it holds.
     const aimed = new Uint32Array(16 * 2);
     for (let t = 0; t < 16; t++) aimed.set([0x0001, 700], t * 2);
@@ -349,6 +375,17 @@ describe('protocol codec', () => {
         name: '',
       }),
     ).toThrow(RangeError);
+    expect(() =>
+      encodeMessage({
+        type: 'confirmed',
+        inputAck: 9,
+        tick: 9,
+        players: 1,
+        words: 1,
+        inputs: new Uint32Array(1),
+        delta: false,
+      }),
+    ).toThrow(/input ack/);
     expect(() => encodeMessage({ type: 'ping', id: -1, time: 0 })).toThrow(RangeError);
     expect(() => encodeMessage({ type: 'ping', id: 1, time: Number.NaN })).toThrow(RangeError);
   });

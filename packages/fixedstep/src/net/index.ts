@@ -6,6 +6,7 @@
  */
 export {
   PROTOCOL_VERSION,
+  MAX_WIRE_INPUT_WORDS,
   MessageType,
   DEFAULT_PROTOCOL_LIMITS,
   NAME_PATTERN,
@@ -65,6 +66,8 @@ export type {
   RelayGame,
   RelayCatalog,
   RelayOptions,
+  RelayConnectionInfo,
+  RelayDrainOptions,
   RelayRateLimits,
   RelayEvent,
   RelayStats,

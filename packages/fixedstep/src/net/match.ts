@@ -7,6 +7,7 @@ import {
   Relay,
   relayCatalog,
   type RelayCatalog,
+  type RelayConnectionInfo,
   type RelayGame,
   type RelayOptions,
   type RelayStats,
@@ -44,6 +45,8 @@ export interface MatchClientSpec {
   players?: number;
   /** Its link to the server (both directions). Default: the match's link. */
   link?: Partial<LinkConditions>;
+  /** Where it connects from, as the relay sees it (address, URL room). Default: nothing said. */
+  connection?: RelayConnectionInfo;
   /** When it connects, in ms of simulated time (a late joiner). Default 0. */
   joinAtMs?: number;
   /** When it leaves (closes its transport), in ms. Default: never. */
@@ -56,7 +59,10 @@ export interface MatchClientSpec {
   input?: (tick: number, sim: Simulation<unknown>, slot: number) => unknown;
   /** Builds its simulation (default: the game from the welcome's setup). */
   createSimulation?: (welcome: WelcomeMessage) => Simulation<unknown>;
-  /** Extra session options (input delay, prediction window, forensics window …). */
+  /**
+   * Extra session options (input delay, prediction window, forensics window …). A spectator's
+   * `invite` defaults to the room's, asked of the relay once a player has created the room.
+   */
   session?: Partial<
     Omit<NetSessionOptions<unknown>, 'transport' | 'clock' | 'room' | 'game' | 'gameVersion'>
   > &
@@ -161,15 +167,21 @@ export class SimulatedMatch {
     for (const spec of options.clients) this.addClient(spec);
   }
 
-  /** A link to the relay; returns the client's end (for raw or hostile traffic). */
-  connect(link: Partial<LinkConditions> = {}): { transport: Transport; link: SimulatedLink } {
+  /**
+   * A link to the relay, accepted with `info` (the client's address, the room its URL names);
+   * returns the client's end (for raw or hostile traffic).
+   */
+  connect(
+    link: Partial<LinkConditions> = {},
+    info: RelayConnectionInfo = {},
+  ): { transport: Transport; link: SimulatedLink } {
     const l = new SimulatedLink({
       scheduler: this.scheduler,
       seed: (this.options.linkSeed ?? 1) * 7919 + this.linkCount++,
       ...this.options.link,
       ...link,
     });
-    this.relay.accept(l.b);
+    this.relay.accept(l.b, info);
     return { transport: l.a, link: l };
   }
 
@@ -211,7 +223,20 @@ export class SimulatedMatch {
   private startClient(client: Client, index: number): void {
     const spec = client.spec;
     const def = this.def;
-    const { transport, link } = this.connect(spec.link);
+    const roomName = spec.room ?? this.roomName;
+    // A spectator brings the room's invite token (a player would hand it over; here the match
+    // asks the relay): wait until a player has created the room.
+    let invite: Uint8Array | undefined;
+    if (spec.kind === 'spectator' && spec.session?.invite === undefined) {
+      invite = this.relay.invite(roomName);
+      if (invite === undefined) {
+        this.scheduler.at(this.scheduler.now + 50, () => {
+          this.startClient(client, index);
+        });
+        return;
+      }
+    }
+    const { transport, link } = this.connect(spec.link, spec.connection);
     client.link = link;
     const botEvery = this.options.botEvery ?? 6;
     let held: unknown = def.input.neutral();
@@ -224,13 +249,14 @@ export class SimulatedMatch {
     const base: NetSessionOptions<unknown> = {
       transport,
       clock: this.scheduler.clock,
-      room: spec.room ?? this.roomName,
+      room: roomName,
       game: def,
       players:
         spec.players ??
         this.options.players ??
         this.options.clients.filter((c) => c.kind !== 'spectator').length,
       seed: this.options.seed,
+      ...(invite ? { invite } : {}),
       name: `client${index}`,
       stopAt: this.options.ticks,
       ...(spec.createSimulation ? { createSimulation: spec.createSimulation } : {}),

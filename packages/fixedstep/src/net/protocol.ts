@@ -16,9 +16,18 @@ import { deinterleave, interleave } from '../sim/buttons.js';
 /**
  * The protocol version this code writes and reads (byte 0 of every message). Version 2 added the
  * input schema: the hello names it, inputs carry `words` u32 words per player per tick, and the
- * welcome carries the room's seed.
+ * welcome carries the room's seed. Version 3 made the confirmed stream lean (no room number, the
+ * input ack relative to the message's end, players and words in one varint, and over a reliable
+ * transport each tick sent once, XOR-coded against the tick before it), added the room's invite
+ * token to the welcome (spectators join only with it), and lets the server ping a silent client.
  */
-export const PROTOCOL_VERSION = 2;
+export const PROTOCOL_VERSION = 3;
+
+/**
+ * Most u32 words of one player's input per tick, on the wire: `confirmed` packs players and words
+ * into one varint `(players − 1) × 16 + (words − 1)`.
+ */
+export const MAX_WIRE_INPUT_WORDS = 16;
 
 /** Message type bytes (byte 1 of every message). */
 export const MessageType = {
@@ -156,7 +165,10 @@ export interface HelloMessage {
   players: number;
   /** The game's seed when this hello creates it (absent: the server picks one). */
   seed?: number;
-  /** A reconnect token from an earlier `welcome`: take back that player slot. */
+  /**
+   * Players: a reconnect token from an earlier `welcome` (take back that slot). Spectators: the
+   * room's invite token (`welcome.invite` of one of its players) — required.
+   */
   token?: Uint8Array;
   /** Display name, at most 32 UTF-8 bytes. */
   name: string;
@@ -189,6 +201,11 @@ export interface WelcomeMessage {
   config: Uint8Array;
   /** Your reconnect token (players only; empty for spectators). */
   token: Uint8Array;
+  /**
+   * The room's invite token (players only; empty for spectators): a spectator's hello must carry
+   * it. Hand it only to people you invite: room names are often guessable.
+   */
+  invite: Uint8Array;
   /** Server time (ms) when tick 0 began, once the match has started. */
   startAt?: number;
   /** A late joiner's initial state (`save()` bytes at {@link startTick}). */
@@ -218,21 +235,34 @@ export interface InputMessage {
   inputs: Uint32Array;
 }
 
-/** Server → client: the final inputs of every player, for ticks `tick …`, tick-major. */
+/**
+ * Server → client: the final inputs of every player, for ticks `tick …`, tick-major. It names no
+ * room: a connection is in one room only.
+ */
 export interface ConfirmedMessage {
   type: 'confirmed';
-  room: number;
-  /** The next tick the server needs an input from you for (0 for spectators). */
+  /**
+   * The next tick the server needs an input from you for; never before the end of this message
+   * (`tick + ticks`), which is what spectators are sent.
+   */
   inputAck: number;
   tick: number;
   players: number;
-  /** u32 words per player per tick: the input schema's `words`. */
+  /** u32 words per player per tick: the input schema's `words` (1–16). */
   words: number;
   /**
    * `ticks × players × words` words: player p's input for tick `tick + k` starts at
-   * `inputs[(k * players + p) * words]`.
+   * `inputs[(k * players + p) * words]`. When {@link delta} is set, each word is XORed with the
+   * same word of tick `tick − 1`.
    */
   inputs: Uint32Array;
+  /**
+   * The words are XORed with tick `tick − 1`'s, which the receiver already has: the server sends
+   * this only over a reliable transport, continuing the previous confirmed message on the same
+   * connection. A receiver without tick `tick − 1` ignores the message; the server resends from
+   * its ack, uncoded, when the ack stops moving.
+   */
+  delta: boolean;
 }
 
 /** Client → server: I have every confirmed tick before `ack` (spectators; idle players). */
@@ -266,14 +296,21 @@ export interface DesyncMessage {
   groups: { hash: bigint; peers: number[] }[];
 }
 
-/** Client → server: clock sync probe; `time` is the client's clock (ms). */
+/**
+ * Clock sync probe; `time` is the sender's clock (ms). Client → server, answered with a pong; and
+ * server → client, a liveness probe of a member that has been silent (the client answers with a
+ * pong whose `serverTime` is its own clock).
+ */
 export interface PingMessage {
   type: 'ping';
   id: number;
   time: number;
 }
 
-/** Server → client: the probe's `id` and `time`, with the server's clock (ms) when it answered. */
+/**
+ * The answer to a ping: the probe's `id` and `time`, with the answering side's clock (ms) as
+ * `serverTime`.
+ */
 export interface PongMessage {
   type: 'pong';
   id: number;
@@ -508,6 +545,7 @@ export function encodeMessage(m: NetMessage): Uint8Array {
     case 'welcome': {
       check(m.config.length <= limits.maxConfigBytes, 'config too large');
       check(m.token.length === 0 || m.token.length === TOKEN_BYTES, 'token length');
+      check(m.invite.length === 0 || m.invite.length === TOKEN_BYTES, 'invite length');
       check(m.players >= 1 && m.players <= limits.maxPlayers, 'players');
       check(m.slot >= -1 && m.slot < m.players, 'slot');
       w.varint(m.room);
@@ -522,6 +560,7 @@ export function encodeMessage(m: NetMessage): Uint8Array {
       w.varint(m.startTick);
       w.field(m.config);
       w.field(m.token);
+      w.field(m.invite);
       w.u8((m.startAt !== undefined ? 1 : 0) | (m.snapshot !== undefined ? 2 : 0));
       if (m.startAt !== undefined) w.f64(m.startAt);
       if (m.snapshot !== undefined) {
@@ -548,16 +587,21 @@ export function encodeMessage(m: NetMessage): Uint8Array {
       break;
     }
     case 'confirmed': {
+      // The hottest message (one a tick to every member): no room number, the input ack as an
+      // offset from the message's end, players and words in one varint, the delta flag in the
+      // count. Six bytes of header for a tick of held buttons.
       check(m.players >= 1 && m.players <= limits.maxPlayers, 'players');
-      check(m.words >= 1 && m.words <= limits.maxInputWords, 'words');
+      check(
+        m.words >= 1 && m.words <= Math.min(MAX_WIRE_INPUT_WORDS, limits.maxInputWords),
+        'words',
+      );
       const ticks = m.inputs.length / (m.players * m.words);
       check(Number.isInteger(ticks) && ticks <= limits.maxConfirmedTicks, 'tick count');
-      w.varint(m.room);
-      w.varint(m.inputAck);
+      check(m.inputAck >= m.tick + ticks, 'input ack before the end of the message');
       w.varint(m.tick);
-      w.varint(m.players);
-      w.varint(m.words);
-      w.varint(ticks);
+      w.varint(m.inputAck - m.tick - ticks);
+      w.varint((m.players - 1) * MAX_WIRE_INPUT_WORDS + (m.words - 1));
+      w.varint(ticks * 2 + (m.delta ? 1 : 0));
       writeInputs(w, m.inputs, m.players * m.words, m.words);
       break;
     }
@@ -761,6 +805,11 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
       if (token.length !== 0 && token.length !== TOKEN_BYTES) {
         r.fail('invalid', `token of ${token.length} bytes`, tokenAt);
       }
+      const inviteAt = r.pos;
+      const invite = r.field('invite', TOKEN_BYTES);
+      if (invite.length !== 0 && invite.length !== TOKEN_BYTES) {
+        r.fail('invalid', `invite of ${invite.length} bytes`, inviteAt);
+      }
       const flagsAt = r.pos;
       const flags = r.u8('flags');
       if (flags > 3) r.fail('invalid', `welcome flags 0x${flags.toString(16)}`, flagsAt);
@@ -778,6 +827,7 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
         startTick,
         config,
         token,
+        invite,
       };
       if (flags & 1) m.startAt = r.time('start time');
       if (flags & 2) m.snapshot = r.field('snapshot', limits.maxSnapshotBytes);
@@ -797,21 +847,30 @@ function decodeBody(kind: MessageKind, r: Reader, limits: Readonly<ProtocolLimit
       return { type: 'input', room, player, ack, tick, words, inputs };
     }
     case 'confirmed': {
-      const room = r.varint('room');
-      const inputAck = r.varint('input ack');
       const tick = r.varint('tick');
-      const players = r.count('players', limits.maxPlayers, 1);
-      const words = r.count('words', limits.maxInputWords, 1);
-      const n = r.count('tick count', limits.maxConfirmedTicks);
-      if (tick + n > 0xffffffff) r.fail('invalid', 'tick range past 2^32');
+      const ahead = r.varint('input ack offset');
+      const shapeAt = r.pos;
+      const shape = r.varint('players and words');
+      const players = Math.floor(shape / MAX_WIRE_INPUT_WORDS) + 1;
+      const words = (shape % MAX_WIRE_INPUT_WORDS) + 1;
+      if (players > limits.maxPlayers) {
+        r.fail('too-large', `${players} players, at most ${limits.maxPlayers}`, shapeAt);
+      }
+      if (words > limits.maxInputWords) {
+        r.fail('too-large', `${words} input words, at most ${limits.maxInputWords}`, shapeAt);
+      }
+      const countAt = r.pos;
+      const count = r.count('tick count', limits.maxConfirmedTicks * 2 + 1);
+      const n = count >>> 1;
+      if (tick + n + ahead > 0xffffffff) r.fail('invalid', 'tick range past 2^32', countAt);
       return {
         type: 'confirmed',
-        room,
-        inputAck,
+        inputAck: tick + n + ahead,
         tick,
         players,
         words,
         inputs: r.inputs('inputs', n, players * words, words),
+        delta: (count & 1) === 1,
       };
     }
     case 'ack':

@@ -75,8 +75,8 @@ export interface RelayOptions {
   /** The games rooms may play. */
   catalog: RelayCatalog;
   /**
-   * A source of random u32s for seeds and reconnect tokens. Default: `crypto.getRandomValues`.
-   * Inject a seeded one in tests.
+   * A source of random u32s for seeds, reconnect and invite tokens. Default:
+   * `crypto.getRandomValues`. Inject a seeded one in tests (tokens then become guessable).
    */
   randomU32?: () => number;
   /**
@@ -104,18 +104,56 @@ export interface RelayOptions {
   maxRooms?: number;
   /** Connections at once. Default 4000. */
   maxConnections?: number;
+  /**
+   * Connections at once from one client address (see `accept`'s `address`). Default 32: one
+   * address cannot take the server's connections, and a household or LAN party still fits.
+   */
+  maxConnectionsPerAddress?: number;
+  /** Rooms that connections from one address created and that still exist. Default 8. */
+  maxRoomsPerAddress?: number;
   /** Spectators per room. Default 16. */
   maxSpectators?: number;
   /** Violations (tick window, bad hash ticks …) a connection may commit before it is dropped. Default 8. */
   maxStrikes?: number;
   /** A connection must say hello within this time. Default 5000 ms. */
   helloTimeoutMs?: number;
+  /**
+   * A member (or a connection joining a room) that has sent nothing — no input, ack, ping or
+   * pong — for this long is dropped (`TIMEOUT`) and its slot becomes vacant. Default 10000 ms.
+   */
+  silenceTimeoutMs?: number;
+  /**
+   * A member silent for this long is pinged (at most once per this interval); a live client
+   * answers with a pong from its message handler, even in a background tab. Default 1000 ms.
+   */
+  probeAfterMs?: number;
+  /**
+   * A full room starts only when every player has been heard from within this time: a frozen
+   * peer never starts a newcomer's match (it is dropped at `silenceTimeoutMs`, and the room
+   * waits for another player). Default 2000 ms.
+   */
+  startLivenessMs?: number;
+  /**
+   * A room whose player slots are not all filled within this time after it was created is
+   * closed (`TIMEOUT` to its members): waiting rooms cannot be squatted. Default 120000 ms.
+   */
+  waitingRoomTtlMs?: number;
   /** A snapshot donor must answer within this time, else the next member is asked. Default 3000 ms. */
   snapshotTimeoutMs?: number;
   /** Forensics requests (per-tick hashes, snapshots) wait this long for answers. Default 5000 ms. */
   forensicsTimeoutMs?: number;
   /** Hash reports of a tick are compared after this long even if someone has not reported. Default 10000 ms. */
   hashTimeoutMs?: number;
+  /**
+   * Desyncs recorded (and diagnosed) per room; later ones are still counted in `stats.desyncs`.
+   * Default 64.
+   */
+  maxDesyncRecords?: number;
+  /**
+   * Bytes of forensics snapshots a room keeps, all records together; past it a record gets its
+   * exact tick but no snapshots. Default 8 MiB.
+   */
+  maxForensicsBytes?: number;
   /** An empty room is removed after this long. Default 30000 ms. */
   emptyRoomTtlMs?: number;
   /** Messages other than snapshots larger than this are refused. Default 4096 bytes. */
@@ -124,6 +162,35 @@ export interface RelayOptions {
   limits?: Partial<ProtocolLimits>;
   /** Where the relay reports drops, desyncs and room life (default: nowhere). */
   onEvent?: (event: RelayEvent) => void;
+}
+
+/** Where a connection comes from, for {@link Relay.accept}. */
+export interface RelayConnectionInfo {
+  /**
+   * The client's address (its IP, or any key: the per-address caps count connections and rooms by
+   * it). Default: one shared key, `"unknown"` — give it whenever you know it.
+   */
+  address?: string;
+  /**
+   * The room the connection's URL names (`/ws/<room>`): its hello must be for this room, else it
+   * is dropped (`WRONG_ROOM`). Lets a load balancer route by room without reading the protocol.
+   */
+  room?: string;
+  /**
+   * Whether the transport delivers every message in order or closes (a WebSocket). Default: the
+   * transport's own `reliable`. Over a reliable transport each confirmed tick is sent once,
+   * XOR-coded against the tick before it; otherwise every message repeats the unacknowledged ticks.
+   */
+  reliable?: boolean;
+}
+
+/** Options of {@link Relay.drain}. */
+export interface RelayDrainOptions {
+  /**
+   * Running matches may go on this long; then their members are told `SHUTDOWN` and closed.
+   * Default 25000 ms (inside Kubernetes' default 30 s grace period).
+   */
+  timeoutMs?: number;
 }
 
 /** A desync the relay found, with its forensics. */
@@ -155,22 +222,35 @@ export type RelayEvent =
   | { type: 'leave'; room: string; peer: number; reason: LeaveReason }
   | { type: 'drop'; connection: number; code: NetErrorCode; message: string }
   | { type: 'desync'; record: DesyncRecord }
+  /** A spectator's state hash differs from the players' agreed one: only that spectator is told. */
+  | { type: 'spectator-desync'; room: string; peer: number; tick: number }
   | { type: 'internal-error'; connection: number; error: unknown };
 
 /** Counters of a relay. */
 export interface RelayStats {
   connections: number;
   rooms: number;
+  /** Rooms waiting for players (refreshed every 250 ms of the relay's clock). */
+  waitingRooms: number;
+  /** Distinct client addresses connected. */
+  addresses: number;
+  /** Players and spectators in rooms (refreshed every 250 ms of the relay's clock). */
+  members: number;
   messagesIn: number;
   messagesOut: number;
   bytesIn: number;
   bytesOut: number;
-  /** Connections dropped for misbehaviour, by code. */
+  /** Connections dropped for misbehaviour, silence or caps, by code. */
   dropped: Partial<Record<NetErrorCode, number>>;
   /** Ticks closed with at least one input filled after its deadline. */
   filledInputs: number;
   hashChecks: number;
+  /** Divergences between players (each split of a group that agreed before). */
   desyncs: number;
+  /** Spectators whose hash differed from the players' agreed one (never evidence of a desync). */
+  spectatorDesyncs: number;
+  /** Liveness pings sent to silent members. */
+  probes: number;
 }
 
 /** A read-only view of a room. */
@@ -182,10 +262,12 @@ export interface RoomInfo {
   players: number;
   seed: number;
   state: 'waiting' | 'running' | 'ended';
+  /** Server time (ms) the room was created. */
+  createdAt: number;
   startAt: number | undefined;
   /** Every tick before this one is closed (its inputs final and sent). */
   closedTick: number;
-  /** The newest hash report tick on which every reporter agreed. */
+  /** The newest hash report tick on which every reporting player agreed. */
   lastAgreedTick: number;
   /** Hash report ticks compared. */
   hashChecks: number;
@@ -212,6 +294,10 @@ interface Slot {
 interface Conn {
   id: number;
   transport: Transport;
+  address: string;
+  /** The room its URL names, if any: its hello must be for it. */
+  urlRoom: string | undefined;
+  reliable: boolean;
   state: 'new' | 'joining' | 'member' | 'closed';
   room: Room | undefined;
   peer: number;
@@ -222,9 +308,18 @@ interface Conn {
   ack: number;
   ackMovedAt: number;
   sentUpTo: number;
+  /**
+   * Reliable transports: the tick after the last row of the previous confirmed message, which it
+   * holds (the next message may be XOR-coded against that row); -1 when there is none.
+   */
+  deltaFrom: number;
   bucket: Bucket;
   strikes: number;
   openedAt: number;
+  /** When it last sent anything (liveness). */
+  heardAt: number;
+  /** When it was last pinged for liveness. */
+  probedAt: number;
   /**
    * Request ids it may answer (snapshot / hashes). An entry stays after its request timed out —
    * a late answer is ignored, not punished — and only the last 16 are kept.
@@ -245,17 +340,36 @@ interface JoinRequest {
   deadline: number;
 }
 
+/** A split found by the hash comparison, waiting for its forensics. */
+interface Split {
+  reportTick: number;
+  /** The first tick to compare per-tick hashes from. */
+  from: number;
+  /** Whether the sides agreed at `from - 1` (the previous compared report). */
+  agreedBefore: boolean;
+  groups: { hash: bigint; peers: number[] }[];
+}
+
 interface Forensics {
   record: DesyncRecord;
   phase: 'hashes' | 'snapshots' | 'done';
   reps: Conn[];
-  groupOf: Map<number, number>;
   from: number;
+  agreedBefore: boolean;
   requestId: number;
   hashes: Map<number, { from: number; hashes: BigUint64Array }>;
   snaps: Map<number, Uint8Array>;
   deadline: number;
-  memberPeers: number[][];
+  /** Whether the snapshots are collected (the room's forensics byte budget allows). */
+  withSnapshots: boolean;
+}
+
+interface Report {
+  at: number;
+  /** Players' hashes: the evidence. */
+  hashes: Map<number, bigint>;
+  /** Spectators' hashes: checked against the players' agreed hash only. */
+  spectators: Map<number, bigint>;
 }
 
 class Room {
@@ -267,16 +381,28 @@ class Room {
   log: InputRing;
   nextSpectatorPeer = 64;
   nextRequestId = 1;
-  reports = new Map<number, { at: number; hashes: Map<number, bigint> }>();
+  reports = new Map<number, Report>();
+  /** Newest report tick on which every reporting player agreed. */
   lastAgreed = 0;
+  /** The previous compared report tick (every group of the partition agreed within there). */
+  lastCompared = 0;
+  /** Which side each player was on at the last compared report (one label: all agree). */
+  partition = new Map<number, number>();
+  nextLabel = 1;
+  /** The players' agreed hash of recent report ticks, to check spectators' late reports. */
+  agreed = new Map<number, bigint>();
   hashChecks = 0;
   desyncs: DesyncRecord[] = [];
   forensics: Forensics | undefined;
+  splits: Split[] = [];
+  forensicsBytes = 0;
   joins: JoinRequest[] = [];
   emptySince: number | undefined;
   readonly tickMs: number;
   /** u32 words per player per tick. */
   readonly words: number;
+  /** The room's invite token: spectators must bring it. */
+  readonly invite: Uint8Array;
 
   constructor(
     readonly name: string,
@@ -285,12 +411,15 @@ class Room {
     readonly players: number,
     readonly seed: number,
     readonly config: Uint8Array,
+    readonly creator: string,
+    readonly createdAt: number,
     historyTicks: number,
     tokens: () => Uint8Array,
   ) {
     this.tickMs = 1000 / game.tickRate;
     this.words = game.input.words;
     this.log = new InputRing(historyTicks, players * this.words);
+    this.invite = tokens();
     for (let s = 0; s < players; s++) {
       this.slots.push({
         conn: undefined,
@@ -308,12 +437,29 @@ class Room {
     for (const c of this.spectators) if (c.state === 'member') yield c;
   }
 
+  /** Player members. */
+  *playerMembers(): Generator<Conn> {
+    for (const s of this.slots) if (s.conn?.state === 'member') yield s.conn;
+  }
+
+  /** Every connection in the room, joining or member. */
+  *conns(): Generator<Conn> {
+    for (const s of this.slots) if (s.conn !== undefined) yield s.conn;
+    yield* this.spectators;
+  }
+
   get empty(): boolean {
     return this.slots.every((s) => s.conn === undefined) && this.spectators.size === 0;
+  }
+
+  get hasPlayers(): boolean {
+    return this.slots.some((s) => s.conn !== undefined);
   }
 }
 
 const FATAL = true;
+/** How often silence is checked (ms of relay clock). */
+const LIVENESS_CHECK_MS = 250;
 
 /**
  * The server core: rooms of any game, a tick clock per room, and server-ordered input relay
@@ -322,10 +468,15 @@ const FATAL = true;
  *
  * The relay closes tick t when every connected, active player's input for t is in, or when its
  * clock passes `startAt + t × step + deadlineMs`: a missing input then becomes the player's last
- * input with held buttons only (a vacant slot's is 0). Closed ticks go to every member, resent
- * until acknowledged. Clients report a hash every `hashEvery` ticks; on disagreement the relay
- * asks one member of each side for per-tick hashes to find the first differing tick, tells
- * everyone, and collects both sides' snapshots of that tick for a byte diff.
+ * input with held buttons only (a vacant slot's is 0). Closed ticks go to every member — over a
+ * reliable transport once each, otherwise resent until acknowledged. Players report a hash every
+ * `hashEvery` ticks; whenever players who agreed before disagree, the relay asks one member of each
+ * side for per-tick hashes to find the first differing tick, tells everyone, and collects the
+ * sides' snapshots of that tick for a byte diff. Spectators' hashes are never evidence.
+ *
+ * Strangers cannot hold it hostage: silent members are pinged and then dropped, waiting rooms
+ * expire, a full room starts only with live players, connections and rooms are capped per client
+ * address and in total, and spectators need the room's invite token.
  *
  * Call {@link update} at least twice per tick (the CLI does it every half step).
  */
@@ -333,6 +484,9 @@ export class Relay {
   readonly stats: RelayStats = {
     connections: 0,
     rooms: 0,
+    waitingRooms: 0,
+    addresses: 0,
+    members: 0,
     messagesIn: 0,
     messagesOut: 0,
     bytesIn: 0,
@@ -341,6 +495,8 @@ export class Relay {
     filledInputs: 0,
     hashChecks: 0,
     desyncs: 0,
+    spectatorDesyncs: 0,
+    probes: 0,
   };
 
   private readonly clock: Clock;
@@ -354,9 +510,14 @@ export class Relay {
   private readonly onEvent: ((e: RelayEvent) => void) | undefined;
   private readonly conns = new Map<number, Conn>();
   private readonly rooms = new Map<string, Room>();
+  private readonly connsByAddress = new Map<string, number>();
+  private readonly roomsByAddress = new Map<string, number>();
   private nextConnId = 1;
   private nextRoomNumber = 1;
+  private nextProbeId = 1;
+  private lastLivenessCheck = -Infinity;
   private closedRelay = false;
+  private drainState: { deadline: number; resolve: () => void; done: Promise<void> } | undefined;
 
   constructor(options: RelayOptions) {
     this.clock = options.clock;
@@ -372,15 +533,28 @@ export class Relay {
       maxMatchTicks: options.maxMatchTicks ?? 216_000,
       maxRooms: options.maxRooms ?? 500,
       maxConnections: options.maxConnections ?? 4000,
+      maxConnectionsPerAddress: options.maxConnectionsPerAddress ?? 32,
+      maxRoomsPerAddress: options.maxRoomsPerAddress ?? 8,
       maxSpectators: options.maxSpectators ?? 16,
       maxStrikes: options.maxStrikes ?? 8,
       helloTimeoutMs: options.helloTimeoutMs ?? 5000,
+      silenceTimeoutMs: options.silenceTimeoutMs ?? 10_000,
+      probeAfterMs: options.probeAfterMs ?? 1000,
+      startLivenessMs: options.startLivenessMs ?? 2000,
+      waitingRoomTtlMs: options.waitingRoomTtlMs ?? 120_000,
       snapshotTimeoutMs: options.snapshotTimeoutMs ?? 3000,
       forensicsTimeoutMs: options.forensicsTimeoutMs ?? 5000,
       hashTimeoutMs: options.hashTimeoutMs ?? 10_000,
+      maxDesyncRecords: options.maxDesyncRecords ?? 64,
+      maxForensicsBytes: options.maxForensicsBytes ?? 8 << 20,
       emptyRoomTtlMs: options.emptyRoomTtlMs ?? 30_000,
       maxSmallMessageBytes: options.maxSmallMessageBytes ?? 4096,
     };
+    for (const [k, v] of Object.entries(this.o)) {
+      if (!(typeof v === 'number' && v >= 0 && !Number.isNaN(v))) {
+        throw new RangeError(`Relay: ${k} must be a number >= 0, got ${String(v)}`);
+      }
+    }
     this.rate = {
       messagesPerSecond: 240,
       messageBurst: 480,
@@ -394,19 +568,32 @@ export class Relay {
 
   // ------------------------------------------------------------------------------ public
 
-  /** Take a new connection. Returns its id (used in drop events). */
-  accept(transport: Transport): number {
+  /**
+   * Take a new connection. `info` says where it comes from (its address, for the per-address
+   * caps; the room its URL names). Returns its id (used in drop events), or -1 when it was
+   * refused (`SERVER_FULL`: the relay is closed, or the global or per-address cap is reached).
+   */
+  accept(transport: Transport, info: RelayConnectionInfo = {}): number {
     const now = this.clock.now();
-    if (this.closedRelay || this.conns.size >= this.o.maxConnections) {
-      transport.send(
-        encodeMessage({ type: 'error', code: 'SERVER_FULL', message: 'server full', fatal: true }),
-      );
-      transport.close('server full');
+    const address = info.address ?? 'unknown';
+    const refuse = (message: string): number => {
+      this.stats.dropped.SERVER_FULL = (this.stats.dropped.SERVER_FULL ?? 0) + 1;
+      this.emit({ type: 'drop', connection: -1, code: 'SERVER_FULL', message });
+      transport.send(encodeMessage({ type: 'error', code: 'SERVER_FULL', message, fatal: true }));
+      transport.close(`SERVER_FULL: ${message}`);
       return -1;
+    };
+    if (this.closedRelay) return refuse('server shut down');
+    if (this.conns.size >= this.o.maxConnections) return refuse('too many connections');
+    if ((this.connsByAddress.get(address) ?? 0) >= this.o.maxConnectionsPerAddress) {
+      return refuse(`too many connections from one address (${this.o.maxConnectionsPerAddress})`);
     }
     const conn: Conn = {
       id: this.nextConnId++,
       transport,
+      address,
+      urlRoom: info.room,
+      reliable: info.reliable ?? transport.reliable === true,
       state: 'new',
       room: undefined,
       peer: -1,
@@ -416,16 +603,21 @@ export class Relay {
       ack: 0,
       ackMovedAt: now,
       sentUpTo: 0,
+      deltaFrom: -1,
       bucket: { tokens: this.rate.messageBurst, bytes: this.rate.byteBurst, at: now },
       strikes: 0,
       openedAt: now,
+      heardAt: now,
+      probedAt: now,
       owes: new Map(),
       welcome: undefined,
       welcomeSentAt: -Infinity,
       started: false,
     };
     this.conns.set(conn.id, conn);
+    bump(this.connsByAddress, address, 1);
     this.stats.connections = this.conns.size;
+    this.stats.addresses = this.connsByAddress.size;
     transport.onMessage((bytes) => {
       try {
         this.onBytes(conn, bytes);
@@ -443,13 +635,14 @@ export class Relay {
 
   /**
    * Advance every room to `now`: close ticks whose inputs are in or whose deadline passed, send
-   * confirmed ticks, time out hellos, donors and forensics, remove empty rooms.
+   * confirmed ticks, probe and drop silent connections, expire waiting rooms, time out donors and
+   * forensics, remove empty rooms, and move a drain along.
    */
   update(now = this.clock.now()): void {
-    for (const conn of this.conns.values()) {
-      if (conn.state === 'new' && now - conn.openedAt > this.o.helloTimeoutMs) {
-        this.drop(conn, 'TIMEOUT', 'no hello in time');
-      }
+    const housekeeping = now - this.lastLivenessCheck >= LIVENESS_CHECK_MS;
+    if (housekeeping) {
+      this.lastLivenessCheck = now;
+      this.checkLiveness(now);
     }
     for (const room of [...this.rooms.values()]) {
       try {
@@ -457,6 +650,15 @@ export class Relay {
       } catch (error) {
         this.emit({ type: 'internal-error', connection: -1, error });
       }
+    }
+    if (housekeeping) this.countRooms();
+    const d = this.drainState;
+    if (d) {
+      if (now >= d.deadline) {
+        for (const room of [...this.rooms.values()])
+          this.closeRoom(room, 'SHUTDOWN', 'server shutting down');
+      }
+      if (this.rooms.size === 0) d.resolve();
     }
   }
 
@@ -471,12 +673,50 @@ export class Relay {
     return [...this.rooms.values()].map((r) => this.info(r));
   }
 
+  /**
+   * The invite token of a room (what its players get in their welcome), for the server's owner:
+   * e.g. to hand a spectator link to an audience. A secret: anyone with it may watch the room.
+   */
+  invite(name: string): Uint8Array | undefined {
+    return this.rooms.get(name)?.invite.slice();
+  }
+
+  /** Whether {@link drain} was called: no new rooms are created. */
+  get draining(): boolean {
+    return this.drainState !== undefined;
+  }
+
+  /**
+   * Graceful shutdown: from now on no room is created (a hello that would create one gets a fatal
+   * `SHUTDOWN`: the client should try another server); waiting rooms are closed at once
+   * (`SHUTDOWN` to their members); running matches go on — reconnects and invited spectators
+   * still join them — until their players have all left, or until `timeoutMs` has passed, when
+   * their members are told `SHUTDOWN` and closed. Resolves when no room is left. {@link update}
+   * must keep being called (the CLI's timer does).
+   */
+  drain(options: RelayDrainOptions = {}): Promise<void> {
+    if (this.drainState) return this.drainState.done;
+    const timeoutMs = options.timeoutMs ?? 25_000;
+    if (!(timeoutMs >= 0)) throw new RangeError(`drain: timeoutMs must be >= 0, got ${timeoutMs}`);
+    let resolve!: () => void;
+    const done = new Promise<void>((r) => (resolve = r));
+    this.drainState = { deadline: this.clock.now() + timeoutMs, resolve, done };
+    for (const room of [...this.rooms.values()]) {
+      if (room.state === 'waiting') this.closeRoom(room, 'SHUTDOWN', 'server shutting down');
+    }
+    this.countRooms();
+    if (this.rooms.size === 0) resolve();
+    return done;
+  }
+
   /** Close every connection (error SHUTDOWN) and refuse new ones. */
   close(): void {
     this.closedRelay = true;
     for (const conn of [...this.conns.values()]) {
       this.drop(conn, 'SHUTDOWN', 'server shutting down', false);
     }
+    for (const room of [...this.rooms.values()]) this.removeRoom(room);
+    this.drainState?.resolve();
   }
 
   // ------------------------------------------------------------------------------ receiving
@@ -513,6 +753,7 @@ export class Relay {
       this.drop(conn, 'BAD_MESSAGE', error.message);
       return;
     }
+    conn.heardAt = now;
     this.onMessage(conn, m, now);
   }
 
@@ -521,6 +762,7 @@ export class Relay {
       this.send(conn, { type: 'pong', id: m.id, time: m.time, serverTime: now });
       return;
     }
+    if (m.type === 'pong') return; // The answer to a liveness probe: being heard is all.
     if (m.type === 'hello') {
       if (conn.state === 'new') {
         this.onHello(conn, m, now);
@@ -539,7 +781,11 @@ export class Relay {
       return;
     }
     if (!('room' in m) || m.room !== room.number) {
-      this.drop(conn, 'WRONG_ROOM', `${m.type} for another room`);
+      this.drop(
+        conn,
+        'room' in m ? 'WRONG_ROOM' : 'UNEXPECTED',
+        'room' in m ? `${m.type} for another room` : `${m.type} is a server-to-client message`,
+      );
       return;
     }
     switch (m.type) {
@@ -573,6 +819,10 @@ export class Relay {
   }
 
   private onHello(conn: Conn, m: HelloMessage, now: number): void {
+    if (conn.urlRoom !== undefined && conn.urlRoom !== m.room) {
+      this.drop(conn, 'WRONG_ROOM', `this connection is for room ${conn.urlRoom}, not ${m.room}`);
+      return;
+    }
     const found = this.catalog(m.game, m.gameVersion);
     if ('code' in found) {
       this.drop(conn, found.code, found.message);
@@ -589,8 +839,24 @@ export class Relay {
     }
     let room = this.rooms.get(m.room);
     if (room === undefined) {
+      if (m.role === 'spectator') {
+        this.drop(conn, 'BAD_HELLO', `no room ${m.room} to watch`);
+        return;
+      }
+      if (this.drainState) {
+        this.drop(conn, 'SHUTDOWN', 'server draining: no new rooms here', false);
+        return;
+      }
       if (this.rooms.size >= this.o.maxRooms) {
         this.drop(conn, 'SERVER_FULL', 'too many rooms');
+        return;
+      }
+      if ((this.roomsByAddress.get(conn.address) ?? 0) >= this.o.maxRoomsPerAddress) {
+        this.drop(
+          conn,
+          'SERVER_FULL',
+          `too many rooms from one address (${this.o.maxRoomsPerAddress})`,
+        );
         return;
       }
       const players = m.players === 0 ? game.minPlayers : m.players;
@@ -610,11 +876,14 @@ export class Relay {
         players,
         seed,
         game.options ? game.options(players, seed) : new Uint8Array(0),
+        conn.address,
+        now,
         this.o.historyTicks,
         () => this.token(),
       );
       this.rooms.set(m.room, room);
-      this.stats.rooms = this.rooms.size;
+      bump(this.roomsByAddress, conn.address, 1);
+      this.countRooms();
       this.emit({ type: 'room-created', room: room.name, game: game.id, players });
     } else if (room.game.id !== game.id || room.game.version !== game.version) {
       this.drop(
@@ -624,11 +893,12 @@ export class Relay {
       );
       return;
     }
-    room.emptySince = undefined;
-    conn.name = m.name;
-    conn.room = room;
 
     if (m.role === 'spectator') {
+      if (m.token === undefined || !equalBytes(m.token, room.invite)) {
+        this.drop(conn, 'BAD_TOKEN', `watching room ${room.name} takes its invite token`);
+        return;
+      }
       if (room.spectators.size >= this.o.maxSpectators) {
         this.drop(conn, 'ROOM_FULL', 'no room for another spectator');
         return;
@@ -660,13 +930,18 @@ export class Relay {
       s.active = false;
       conn.slot = slot;
       conn.peer = slot;
+      // A (re)joining player's state comes from a donor: it is on the donor's side of any split.
+      room.partition.delete(slot);
     }
+    room.emptySince = undefined;
+    conn.name = m.name;
+    conn.room = room;
     conn.state = 'joining';
 
     if (room.state === 'waiting') {
       this.welcome(conn, room, 0, undefined);
       this.emit({ type: 'join', room: room.name, peer: conn.peer, slot: conn.slot, late: false });
-      if (room.slots.every((s) => s.conn?.state === 'member')) this.start(room, now);
+      this.tryStart(room, now);
       return;
     }
     // Late join or reconnect: a snapshot from a member, then the ticks since.
@@ -711,6 +986,7 @@ export class Relay {
     conn.joinTick = tick;
     conn.ack = tick;
     conn.sentUpTo = tick;
+    conn.deltaFrom = -1;
     conn.ackMovedAt = this.clock.now();
     const slot = conn.slot >= 0 ? room.slots[conn.slot] : undefined;
     const m: NetMessage = {
@@ -727,6 +1003,7 @@ export class Relay {
       startTick: tick,
       config: room.config,
       token: slot ? slot.token : new Uint8Array(0),
+      invite: slot ? room.invite : new Uint8Array(0),
     };
     if (room.startAt !== undefined) m.startAt = room.startAt;
     if (snapshot !== undefined) m.snapshot = snapshot;
@@ -736,7 +1013,13 @@ export class Relay {
     this.sendBytes(conn, conn.welcome);
   }
 
-  private start(room: Room, now: number): void {
+  /** Start a full waiting room, if every player in it has been heard from lately. */
+  private tryStart(room: Room, now: number): void {
+    if (room.state !== 'waiting') return;
+    for (const s of room.slots) {
+      const c = s.conn;
+      if (c?.state !== 'member' || now - c.heardAt > this.o.startLivenessMs) return;
+    }
     room.state = 'running';
     room.startAt = now + this.o.startDelayMs;
     for (const s of room.slots) s.active = true;
@@ -822,15 +1105,32 @@ export class Relay {
       this.strike(conn, 'TICK_WINDOW', `hash for tick ${tick}`);
       return;
     }
-    if (tick <= room.lastAgreed || room.desyncs.length > 0) return;
-    let r = room.reports.get(tick);
-    if (r === undefined) {
-      if (room.reports.size >= 64) return;
-      r = { at: now, hashes: new Map() };
-      room.reports.set(tick, r);
+    if (conn.slot < 0) {
+      // A spectator's hash is checked against the players' agreement, never counted as evidence.
+      const agreed = room.agreed.get(tick);
+      if (agreed !== undefined) {
+        this.checkSpectator(conn, room, tick, hash, agreed);
+        return;
+      }
+      const r = tick > room.lastCompared ? this.report(room, tick, now) : undefined;
+      r?.spectators.set(conn.peer, hash);
+      return;
     }
+    if (tick <= room.lastCompared) return;
+    const r = this.report(room, tick, now);
+    if (r === undefined) return;
     r.hashes.set(conn.peer, hash);
     this.checkReports(room, now);
+  }
+
+  private report(room: Room, tick: number, now: number): Report | undefined {
+    let r = room.reports.get(tick);
+    if (r === undefined) {
+      if (room.reports.size >= 64) return undefined;
+      r = { at: now, hashes: new Map(), spectators: new Map() };
+      room.reports.set(tick, r);
+    }
+    return r;
   }
 
   private onSnapshot(
@@ -876,8 +1176,13 @@ export class Relay {
       f.reps.includes(conn) &&
       tick === f.record.tick
     ) {
-      f.snaps.set(conn.peer, bytes);
-      if (f.snaps.size === f.reps.length) this.finishForensics(room, f);
+      if (room.forensicsBytes + bytes.length <= this.o.maxForensicsBytes) {
+        room.forensicsBytes += bytes.length;
+        f.snaps.set(conn.peer, bytes);
+      } else {
+        f.snaps.set(conn.peer, new Uint8Array(0));
+      }
+      if (f.snaps.size === f.reps.length) this.finishForensics(room, f, now);
     }
   }
 
@@ -901,6 +1206,27 @@ export class Relay {
     }
   }
 
+  // ------------------------------------------------------------------------------ liveness
+
+  private checkLiveness(now: number): void {
+    for (const conn of this.conns.values()) {
+      if (conn.state === 'new') {
+        if (now - conn.openedAt > this.o.helloTimeoutMs) {
+          this.drop(conn, 'TIMEOUT', 'no hello in time');
+        }
+        continue;
+      }
+      const silent = now - conn.heardAt;
+      if (silent >= this.o.silenceTimeoutMs) {
+        this.drop(conn, 'TIMEOUT', `silent for ${Math.round(silent / 1000)} s`, FATAL, 'timeout');
+      } else if (silent >= this.o.probeAfterMs && now - conn.probedAt >= this.o.probeAfterMs) {
+        conn.probedAt = now;
+        this.stats.probes++;
+        this.send(conn, { type: 'ping', id: this.nextProbeId++ >>> 0, time: now });
+      }
+    }
+  }
+
   // ------------------------------------------------------------------------------ the tick clock
 
   private updateRoom(room: Room, now: number): void {
@@ -908,22 +1234,64 @@ export class Relay {
       if (req.conn.state !== 'joining') room.joins = room.joins.filter((j) => j !== req);
       else if (now >= req.deadline) this.nextDonor(room, req, now);
     }
+    if (room.state === 'waiting') {
+      if (now - room.createdAt >= this.o.waitingRoomTtlMs) {
+        this.closeRoom(
+          room,
+          'TIMEOUT',
+          `no match: the room waited ${Math.round(this.o.waitingRoomTtlMs / 1000)} s for players`,
+        );
+        return;
+      }
+      if (room.slots.every((s) => s.conn !== undefined)) this.tryStart(room, now);
+    }
     if (room.state === 'running') this.closeTicks(room, now);
     this.flush(room, now);
     if (room.reports.size > 0) this.checkReports(room, now);
     const f = room.forensics;
     if (f && f.phase !== 'done' && now >= f.deadline) {
       if (f.phase === 'hashes') this.pinDesync(room, f, now);
-      else this.finishForensics(room, f);
+      else this.finishForensics(room, f, now);
+    }
+    if (this.drainState && !room.hasPlayers) {
+      this.closeRoom(room, 'SHUTDOWN', 'server shutting down');
+      return;
     }
     if (room.empty) {
       room.emptySince ??= now;
       if (room.state === 'waiting' || now - room.emptySince >= this.o.emptyRoomTtlMs) {
-        this.rooms.delete(room.name);
-        this.stats.rooms = this.rooms.size;
-        this.emit({ type: 'room-removed', room: room.name });
+        this.removeRoom(room);
       }
     }
+  }
+
+  /** Tell every connection of the room `code` (fatal), close them, and remove the room. */
+  private closeRoom(room: Room, code: NetErrorCode, message: string): void {
+    for (const c of [...room.conns()]) {
+      this.drop(c, code, message, code !== 'SHUTDOWN', code === 'TIMEOUT' ? 'timeout' : 'closed');
+    }
+    this.removeRoom(room);
+  }
+
+  private removeRoom(room: Room): void {
+    if (this.rooms.get(room.name) !== room) return;
+    this.rooms.delete(room.name);
+    bump(this.roomsByAddress, room.creator, -1);
+    this.countRooms();
+    this.emit({ type: 'room-removed', room: room.name });
+  }
+
+  private countRooms(): void {
+    this.stats.rooms = this.rooms.size;
+    let waiting = 0;
+    let members = 0;
+    for (const r of this.rooms.values()) {
+      if (r.state === 'waiting') waiting++;
+      for (const s of r.slots) if (s.conn?.state === 'member') members++;
+      for (const c of r.spectators) if (c.state === 'member') members++;
+    }
+    this.stats.waitingRooms = waiting;
+    this.stats.members = members;
   }
 
   private closeTicks(room: Room, now: number): void {
@@ -968,10 +1336,17 @@ export class Relay {
     if (room.closedEnd >= this.o.maxMatchTicks) room.state = 'ended';
   }
 
+  /**
+   * Send each member the closed ticks it lacks. Over a reliable transport each tick goes once,
+   * XOR-coded against the tick before it (a held button costs one byte a player, and the header
+   * six); otherwise every message repeats every unacknowledged tick, so a lost one costs nothing
+   * but the next. Either way a member whose ack stops moving is rewound to its ack.
+   */
   private flush(room: Room, now: number): void {
     const newest = room.closedEnd;
     const maxTicks = this.limits.maxConfirmedTicks;
     const oldest = Math.max(0, newest - room.log.capacity + 1);
+    const lanes = room.players * room.words;
     for (const c of room.members()) {
       if (c.ack < oldest) {
         // Fell out of the history: it cannot catch up from here.
@@ -979,28 +1354,40 @@ export class Relay {
         continue;
       }
       if (c.sentUpTo < c.ack) c.sentUpTo = c.ack;
-      const rewind = c.ack < c.sentUpTo && now - c.ackMovedAt > 250;
+      const rewind = c.ack < c.sentUpTo && now - c.ackMovedAt > (c.reliable ? 1000 : 250);
       if (!(newest > c.sentUpTo || rewind)) continue;
       // Small gap: every message carries every unacknowledged tick (loss costs nothing).
       // Large gap (a late joiner catching up): stream onwards; go back to the ack on a timeout.
-      let from = newest - c.ack <= maxTicks || rewind ? c.ack : c.sentUpTo;
-      if (rewind) c.ackMovedAt = now;
+      let from = rewind || (!c.reliable && newest - c.ack <= maxTicks) ? c.ack : c.sentUpTo;
+      if (rewind) {
+        c.ackMovedAt = now;
+        c.deltaFrom = -1;
+      }
       const inputAck = this.inputAck(room, c);
-      const lanes = room.players * room.words;
       for (let k = 0; k < 8 && from < newest; k++) {
         const n = Math.min(maxTicks, newest - from);
         const inputs = new Uint32Array(n * lanes);
         for (let i = 0; i < n; i++) room.log.copy(from + i, inputs, i * lanes);
+        const delta = c.reliable && from > 0 && c.deltaFrom === from;
+        if (delta) {
+          // XOR every row with tick from − 1's (which it holds): unchanged inputs become zeros.
+          for (let p = 0; p < lanes; p++) {
+            const base = room.log.get(from - 1, p);
+            for (let i = 0; i < n; i++)
+              inputs[i * lanes + p] = (inputs[i * lanes + p]! ^ base) >>> 0;
+          }
+        }
         this.send(c, {
           type: 'confirmed',
-          room: room.number,
-          inputAck,
+          inputAck: c.slot < 0 ? from + n : Math.max(inputAck, from + n),
           tick: from,
           players: room.players,
           words: room.words,
           inputs,
+          delta,
         });
         from += n;
+        if (c.reliable) c.deltaFrom = from;
       }
       c.sentUpTo = Math.max(c.sentUpTo, from);
     }
@@ -1017,89 +1404,184 @@ export class Relay {
 
   // ------------------------------------------------------------------------------ desync forensics
 
+  /**
+   * Compare the players' reports of each tick once every player member that joined before it has
+   * reported (or it timed out). Players who agreed at the previous comparison and now disagree
+   * are a new desync — every one is diagnosed, not only the room's first — while a divergence
+   * that persists (the same sides as before) is not reported again. Sides that agree again merge.
+   */
   private checkReports(room: Room, now: number): void {
     const ticks = [...room.reports.keys()].sort((a, b) => a - b);
     for (const tick of ticks) {
       const r = room.reports.get(tick)!;
       let all = true;
-      for (const c of room.members()) {
+      for (const c of room.playerMembers()) {
         if (c.joinTick >= tick) continue;
         if (!r.hashes.has(c.peer)) all = false;
       }
       const timedOut = now - r.at >= this.o.hashTimeoutMs || room.reports.size > 48;
       if (!(all || timedOut)) continue;
       room.reports.delete(tick);
+      if (r.hashes.size === 0) continue;
       room.hashChecks++;
       this.stats.hashChecks++;
       const groups = groupByHash(r.hashes);
+      const previous = room.lastCompared;
+      room.lastCompared = tick;
       if (groups.length === 1) {
-        if (tick > room.lastAgreed) room.lastAgreed = tick;
-        continue;
+        room.lastAgreed = tick;
+        const agreed = groups[0]!.hash;
+        room.agreed.set(tick, agreed);
+        if (room.agreed.size > 16) room.agreed.delete(room.agreed.keys().next().value!);
+        for (const [peer, hash] of r.spectators) {
+          const c = [...room.spectators].find((x) => x.peer === peer);
+          if (c) this.checkSpectator(c, room, tick, hash, agreed);
+        }
       }
-      if (room.desyncs.length === 0 && room.forensics === undefined)
-        this.beginForensics(room, tick, groups, now);
-      room.reports.clear();
-      return;
+      this.repartition(room, tick, previous, groups, now);
     }
   }
 
-  private beginForensics(
+  /** Compare the new grouping with the previous one: splits are desyncs; relabel every player. */
+  private repartition(
     room: Room,
-    reportTick: number,
+    tick: number,
+    previous: number,
     groups: { hash: bigint; peers: number[] }[],
     now: number,
   ): void {
+    // A player without a side yet (the first report, a newcomer) is on the most common side.
+    const counts = new Map<number, number>();
+    for (const l of room.partition.values()) counts.set(l, (counts.get(l) ?? 0) + 1);
+    let common = 0;
+    let best = -1;
+    for (const [l, n] of counts) {
+      if (n > best || (n === best && l < common)) {
+        best = n;
+        common = l;
+      }
+    }
+    const labelOf = (peer: number) => room.partition.get(peer) ?? common;
+    // For each old side: the new groups its players went to.
+    const sides = new Map<number, Map<number, number[]>>();
+    groups.forEach((g, gi) => {
+      for (const p of g.peers) {
+        const l = labelOf(p);
+        let m = sides.get(l);
+        if (!m) sides.set(l, (m = new Map<number, number[]>()));
+        let list = m.get(gi);
+        if (!list) m.set(gi, (list = []));
+        list.push(p);
+      }
+    });
+    const newLabel = groups.map(() => room.nextLabel++);
+    const oldToNew = new Map<number, number>();
+    for (const [l, m] of sides) {
+      if (m.size === 1) {
+        oldToNew.set(l, newLabel[m.keys().next().value!]!);
+        continue;
+      }
+      // A split: players who agreed at `previous` disagree now.
+      const split = [...m.entries()].map(([gi, peers]) => ({ hash: groups[gi]!.hash, peers }));
+      split.sort((a, b) => b.peers.length - a.peers.length || a.peers[0]! - b.peers[0]!);
+      this.stats.desyncs++;
+      if (
+        room.desyncs.length + room.splits.length + (room.forensics ? 1 : 0) <
+        this.o.maxDesyncRecords
+      ) {
+        const from = Math.max(previous + 1, tick - this.limits.maxHashes + 1);
+        room.splits.push({
+          reportTick: tick,
+          from,
+          agreedBefore: from === previous + 1,
+          groups: split,
+        });
+      }
+    }
+    // Players who did not report keep their side if it did not split.
+    for (const [peer, l] of [...room.partition]) {
+      const next = oldToNew.get(l);
+      if (next !== undefined) room.partition.set(peer, next);
+    }
+    groups.forEach((g, gi) => {
+      for (const p of g.peers) room.partition.set(p, newLabel[gi]!);
+    });
+    if (room.forensics === undefined) this.nextForensics(room, now);
+  }
+
+  private checkSpectator(c: Conn, room: Room, tick: number, hash: bigint, agreed: bigint): void {
+    if (hash === agreed) return;
+    this.stats.spectatorDesyncs++;
+    const players = [...room.playerMembers()].map((p) => p.peer);
+    this.send(c, {
+      type: 'desync',
+      room: room.number,
+      tick,
+      exact: false,
+      reportTick: tick,
+      majority: 0,
+      groups: [
+        { hash: agreed, peers: players },
+        { hash, peers: [c.peer] },
+      ],
+    });
+    this.emit({ type: 'spectator-desync', room: room.name, peer: c.peer, tick });
+  }
+
+  private nextForensics(room: Room, now: number): void {
+    const split = room.splits.shift();
+    if (split) this.beginForensics(room, split, now);
+  }
+
+  private beginForensics(room: Room, split: Split, now: number): void {
     const byPeer = new Map<number, Conn>();
-    for (const c of room.members()) byPeer.set(c.peer, c);
+    for (const c of room.playerMembers()) byPeer.set(c.peer, c);
     const reps: Conn[] = [];
-    const groupOf = new Map<number, number>();
-    groups.forEach((g, i) => {
-      for (const p of g.peers) groupOf.set(p, i);
+    for (const g of split.groups) {
       const rep = g.peers.map((p) => byPeer.get(p)).find((c) => c !== undefined);
       if (rep) reps.push(rep);
-    });
-    const total = groups.reduce((n, g) => n + g.peers.length, 0);
+    }
+    const total = split.groups.reduce((n, g) => n + g.peers.length, 0);
     const record: DesyncRecord = {
       room: room.name,
-      reportTick,
-      tick: reportTick,
+      reportTick: split.reportTick,
+      tick: split.reportTick,
       exact: false,
-      groups: groups.map((g) => ({
+      groups: split.groups.map((g) => ({
         hash: g.hash,
         peers: g.peers,
         slots: g.peers.filter((p) => p < 64),
       })),
-      majority: majorityOf(groups, total),
+      majority: majorityOf(split.groups, total),
       snapshots: [],
       diffs: [],
       complete: false,
     };
-    const from = Math.max(room.lastAgreed + 1, reportTick - this.limits.maxHashes + 1);
     const f: Forensics = {
       record,
       phase: 'hashes',
       reps,
-      groupOf,
-      from,
+      from: split.from,
+      agreedBefore: split.agreedBefore,
       requestId: room.nextRequestId++,
       hashes: new Map(),
       snaps: new Map(),
       deadline: now + this.o.forensicsTimeoutMs,
-      memberPeers: groups.map((g) => g.peers),
+      withSnapshots: room.forensicsBytes < this.o.maxForensicsBytes,
     };
     room.forensics = f;
     room.desyncs.push(record);
-    this.stats.desyncs++;
     for (const c of reps) {
       this.owe(c, f.requestId, 'hashes');
       this.send(c, {
         type: 'hashes-request',
         room: room.number,
         id: f.requestId,
-        from,
-        count: reportTick - from + 1,
+        from: split.from,
+        count: split.reportTick - split.from + 1,
       });
     }
+    if (reps.length === 0) this.pinDesync(room, f, now);
   }
 
   /** Per-tick hashes are in (or timed out): find the first differing tick and tell everyone. */
@@ -1118,10 +1600,10 @@ export class Relay {
     }
     if (first >= 0) {
       rec.tick = first;
-      // Exact when every side's hashes reach back to the last agreed tick, or agree just before.
+      // Exact when the sides agree just before (or it is the first tick they were compared from).
       const before = peers.map((p) => hashAt(p, first - 1));
       rec.exact =
-        first === room.lastAgreed + 1 ||
+        (first === f.from && f.agreedBefore) ||
         (before.every((h) => h !== undefined) && before.every((h) => h === before[0]));
       // Regroup the representatives by their hash at the first differing tick.
       rec.groups = rec.groups.map((g, i) => {
@@ -1141,6 +1623,10 @@ export class Relay {
         groups: rec.groups.map((g) => ({ hash: g.hash, peers: g.peers })),
       });
     }
+    if (!f.withSnapshots) {
+      this.finishForensics(room, f, now);
+      return;
+    }
     f.phase = 'snapshots';
     f.requestId = room.nextRequestId++;
     f.deadline = now + this.o.forensicsTimeoutMs;
@@ -1156,7 +1642,7 @@ export class Relay {
     }
   }
 
-  private finishForensics(room: Room, f: Forensics): void {
+  private finishForensics(room: Room, f: Forensics, now: number): void {
     const rec = f.record;
     rec.snapshots = f.reps.map((c) => ({
       peer: c.peer,
@@ -1173,6 +1659,7 @@ export class Relay {
     f.phase = 'done';
     room.forensics = undefined;
     this.emit({ type: 'desync', record: rec });
+    this.nextForensics(room, now);
   }
 
   // ------------------------------------------------------------------------------ connections
@@ -1214,7 +1701,9 @@ export class Relay {
     const wasMember = conn.state === 'member';
     conn.state = 'closed';
     this.conns.delete(conn.id);
+    bump(this.connsByAddress, conn.address, -1);
     this.stats.connections = this.conns.size;
+    this.stats.addresses = this.connsByAddress.size;
     const room = conn.room;
     if (!room) return;
     if (conn.slot >= 0) {
@@ -1279,6 +1768,7 @@ export class Relay {
       players: r.players,
       seed: r.seed,
       state: r.state,
+      createdAt: r.createdAt,
       startAt: r.startAt,
       closedTick: r.closedEnd,
       lastAgreedTick: r.lastAgreed,
@@ -1296,6 +1786,12 @@ export class Relay {
   private emit(e: RelayEvent): void {
     this.onEvent?.(e);
   }
+}
+
+function bump(counts: Map<string, number>, key: string, by: number): void {
+  const n = (counts.get(key) ?? 0) + by;
+  if (n <= 0) counts.delete(key);
+  else counts.set(key, n);
 }
 
 function groupByHash(hashes: Map<number, bigint>): { hash: bigint; peers: number[] }[] {

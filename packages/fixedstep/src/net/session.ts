@@ -67,6 +67,11 @@ export interface NetSessionOptions<I = ButtonInput> {
   /** Reconnect token from an earlier welcome: take back that slot. */
   token?: Uint8Array;
   /**
+   * Spectators: the room's invite token (`welcome.invite` of one of its players). The relay lets
+   * no spectator in without it.
+   */
+  invite?: Uint8Array;
+  /**
    * Builds the simulation from the welcome (its seed, `players` and `config` bytes). Default, with
    * a game definition: `game.create(setupFromWelcome(welcome))`.
    */
@@ -142,6 +147,11 @@ export interface NetSessionStats {
 
 /** Messages the session has buffered and may resend: never more than this many ticks. */
 const MAX_INPUT_WINDOW = DEFAULT_PROTOCOL_LIMITS.maxInputTicks;
+/**
+ * A session that has sent nothing for this long acks from its message handler, which still runs
+ * when frames stop (a background tab): the relay drops members that stay silent.
+ */
+const KEEPALIVE_MS = 1000;
 const CONFIRMED_CAPACITY = 4096;
 const ISSUED_CAPACITY = 512;
 
@@ -193,6 +203,8 @@ export abstract class NetSession<I = ButtonInput> {
   protected readonly clockSync = new ClockSync();
   protected readonly maxTicksPerFrame: number;
   protected readonly forensicsWindow: number;
+  /** The transport is a stream: inputs go once, not in a redundant window. */
+  protected readonly reliable: boolean;
   protected readonly stopAt: number;
 
   protected sim: Simulation<I> | undefined;
@@ -225,6 +237,9 @@ export abstract class NetSession<I = ButtonInput> {
   private nextPingAt = -Infinity;
   private newInputs = false;
   private lastInputSendAt = -Infinity;
+  /** Reliable transports: every issued input before this tick has been sent. */
+  private inputsSentTo = 0;
+  private lastSendAt = -Infinity;
   private lastAckSent = -1;
   private lastAckSendAt = -Infinity;
   private nextReport = 0;
@@ -269,6 +284,7 @@ export abstract class NetSession<I = ButtonInput> {
     }
     this.forensicsWindow = options.forensicsWindow ?? 180;
     this.stopAt = options.stopAt ?? Infinity;
+    this.reliable = this.transport.reliable === true;
     this.transport.onMessage((bytes) => {
       this.receive(bytes);
     });
@@ -286,7 +302,8 @@ export abstract class NetSession<I = ButtonInput> {
       name: options.name ?? '',
     };
     if (options.seed !== undefined) hello.seed = options.seed;
-    if (options.token !== undefined) hello.token = options.token;
+    const token = role === 'spectator' ? options.invite : options.token;
+    if (token !== undefined) hello.token = token;
     this.hello = hello;
     this.send(hello);
     this.helloSentAt = this.clock.now();
@@ -488,6 +505,7 @@ export abstract class NetSession<I = ButtonInput> {
     const bytes = encodeMessage(m);
     this.stats.messagesSent++;
     this.stats.bytesSent += bytes.length;
+    this.lastSendAt = this.clock.now();
     this.transport.send(bytes);
   }
 
@@ -521,6 +539,10 @@ export abstract class NetSession<I = ButtonInput> {
         if (m.time <= now && now - m.time < 60_000)
           this.clockSync.addSample(m.time, m.serverTime, now);
         break;
+      case 'ping':
+        // The relay checks that a silent member is alive: answer at once.
+        this.send({ type: 'pong', id: m.id, time: m.time, serverTime: now });
+        break;
       case 'confirmed':
         this.onConfirmedMessage(m, now);
         break;
@@ -546,6 +568,12 @@ export abstract class NetSession<I = ButtonInput> {
       default:
         // Client-bound traffic only; anything else from the server is ignored.
         this.stats.badMessages++;
+    }
+    // Frames may have stopped (a background tab) while messages still arrive: stay heard.
+    if (this.welcomeMsg && this.phaseValue !== 'closed' && now - this.lastSendAt >= KEEPALIVE_MS) {
+      this.send({ type: 'ack', room: this.welcomeMsg.room, ack: this.confirmedEnd });
+      this.lastAckSent = this.confirmedEnd;
+      this.lastAckSendAt = now;
     }
   }
 
@@ -576,6 +604,7 @@ export abstract class NetSession<I = ButtonInput> {
     this.lastConfirmed = new Uint32Array(w.players * this.words);
     this.issueFrom = Math.max(w.inputFrom, w.startTick);
     this.issueNext = this.issueFrom;
+    this.inputsSentTo = this.issueFrom;
     this.serverInputAck = this.issueFrom;
     this.ring = new SnapshotRing(this.ringCapacity());
     this.ring.put(sim.tick, w.snapshot ?? sim.save());
@@ -595,17 +624,19 @@ export abstract class NetSession<I = ButtonInput> {
   }
 
   private onConfirmedMessage(m: ConfirmedMessage, now: number): void {
-    const w = this.welcomeMsg;
-    if (
-      m.room !== w?.room ||
-      m.players !== this.players ||
-      m.words !== this.words ||
-      this.sim === undefined
-    ) {
-      return;
-    }
+    if (m.players !== this.players || m.words !== this.words || this.sim === undefined) return;
     // Until the start time is known nothing is acked: the server sees that and repeats the start.
     if (this.phaseValue !== 'running') return;
+    if (m.delta) {
+      // XOR-coded against tick − 1: only a continuation of what we hold can be read. Otherwise
+      // wait: our ack stops moving, and the relay resends from it uncoded.
+      if (m.tick !== this.confirmedEnd || m.tick === 0) return;
+      const lanes = m.players * m.words;
+      const base = this.lastConfirmed;
+      for (let i = 0; i < m.inputs.length; i++) {
+        m.inputs[i] = (m.inputs[i]! ^ base[i % lanes]!) >>> 0;
+      }
+    }
     if (m.inputAck > this.serverInputAck) this.serverInputAck = m.inputAck;
     const lanes = m.players * m.words;
     const n = m.inputs.length / lanes;
@@ -676,10 +707,18 @@ export abstract class NetSession<I = ButtonInput> {
 
   private flushInputs(now: number): void {
     if (this.slot < 0 || this.welcomeMsg === undefined) return;
-    const from = Math.max(this.serverInputAck, this.issueNext - MAX_INPUT_WINDOW, this.issueFrom);
+    // Over a stream each input goes once; otherwise the window from the relay's input ack is
+    // repeated (a lost message costs nothing but the next).
+    const from = Math.max(
+      this.serverInputAck,
+      this.issueNext - MAX_INPUT_WINDOW,
+      this.issueFrom,
+      this.reliable ? this.inputsSentTo : 0,
+    );
     if (from >= this.issueNext) return;
     // New inputs go at once; unacknowledged ones are resent every 50 ms (they may have been lost).
     if (!this.newInputs && now - this.lastInputSendAt < 50) return;
+    this.inputsSentTo = this.issueNext;
     const w = this.words;
     const inputs = new Uint32Array((this.issueNext - from) * w);
     for (let t = from; t < this.issueNext; t++) this.issued.copy(t, inputs, (t - from) * w);

@@ -21,6 +21,12 @@ export interface Transport {
   close(reason?: string): void;
   /** Whether messages can still be sent. */
   readonly isOpen: boolean;
+  /**
+   * Whether every message sent arrives, in order, unless the pipe closes (a WebSocket, TCP). The
+   * relay and the sessions then send each tick once instead of repeating unacknowledged ones; it
+   * is read once, when the connection starts. Default: false (the protocol's redundancy on).
+   */
+  readonly reliable?: boolean;
 }
 
 const MAX_QUEUED = 1024;
@@ -87,6 +93,7 @@ export abstract class BaseTransport implements Transport {
 }
 
 class MemoryEnd extends BaseTransport {
+  readonly reliable = true;
   peer: MemoryEnd | undefined;
   send(bytes: Uint8Array): void {
     if (!this.isOpen) return;
@@ -157,6 +164,10 @@ class LinkEnd extends BaseTransport {
   ) {
     super();
   }
+  /** Ordered and lossless in this direction now: a stream. */
+  get reliable(): boolean {
+    return this.link.isReliable(this.side);
+  }
   send(bytes: Uint8Array): void {
     if (this.isOpen) this.link.carry(this.side, bytes.slice());
   }
@@ -215,6 +226,11 @@ export class SimulatedLink {
       checkConditions(next);
       this.conditions[d] = next;
     }
+  }
+
+  /** @internal Whether the direction out of `side` is ordered and lossless. */
+  isReliable(side: 0 | 1): boolean {
+    return this.ordered && this.conditions[side].loss === 0;
   }
 
   /** @internal */

@@ -19,6 +19,7 @@ function closeReason(reason: string): string {
 }
 
 class BrowserWebSocketTransport extends BaseTransport {
+  readonly reliable = true;
   private pending: Uint8Array[] = [];
   constructor(
     private readonly ws: WebSocket,
@@ -147,6 +148,7 @@ function toBytes(data: unknown): Uint8Array | undefined {
 }
 
 class NodeWebSocketTransport extends BaseTransport {
+  readonly reliable = true;
   private pending: Uint8Array[] = [];
   constructor(
     private readonly ws: NodeWebSocketLike,
