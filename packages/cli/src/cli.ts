@@ -419,8 +419,12 @@ export interface CliIo {
   err(text: string): void;
   /** Progress of long work (e.g. `done` of `total` cells); the default draws a bar on stderr. */
   progress?(done: number, total: number): void;
-  /** Resolves when the process is asked to stop (Ctrl-C). Default: SIGINT or SIGTERM. */
-  stopSignal?: Promise<void>;
+  /**
+   * Resolves when the process is asked to stop. Default: SIGINT (Ctrl-C: stop at once) or SIGTERM
+   * (resolves with `'SIGTERM'`: running relay matches get up to `FIXEDSTEP_DRAIN_MS`, default
+   * 25 000 ms, to end first — a rolling update or a scale-down).
+   */
+  stopSignal?: Promise<unknown>;
 }
 
 const processIo: CliIo = {
@@ -436,16 +440,27 @@ const processIo: CliIo = {
   },
 };
 
-function signals(): Promise<void> {
+function signals(): Promise<NodeJS.Signals> {
   return new Promise((resolve) => {
-    const stop = () => {
+    const stop = (signal: NodeJS.Signals) => {
       process.off('SIGINT', stop);
       process.off('SIGTERM', stop);
-      resolve();
+      resolve(signal);
     };
     process.on('SIGINT', stop);
     process.on('SIGTERM', stop);
   });
+}
+
+/** How long a SIGTERM lets running relay matches go on: `FIXEDSTEP_DRAIN_MS`, default 25 s. */
+function drainTimeoutMs(env: Readonly<Record<string, string | undefined>>): number {
+  const raw = env.FIXEDSTEP_DRAIN_MS?.trim();
+  if (raw === undefined || raw === '') return 25_000;
+  const ms = Number(raw);
+  if (!(Number.isInteger(ms) && ms >= 0 && ms <= 3_600_000)) {
+    throw new Error(`FIXEDSTEP_DRAIN_MS: "${raw}" is not a whole number of ms from 0 to 3600000`);
+  }
+  return ms;
 }
 
 /**
@@ -512,7 +527,9 @@ export async function run(
       }
       const dataDir = path.resolve(command.data ?? 'fixedstep-data');
       let server;
+      let drainMs: number;
       try {
+        drainMs = drainTimeoutMs(process.env);
         const games = await loadGames(command.games === undefined ? [] : [command.games]);
         // Fast: checks and locks the data folder (or names the PostgreSQL server); the database
         // opens while the server already listens (the highscore API answers 503 until then).
@@ -559,7 +576,13 @@ export async function run(
       if (command.host === '0.0.0.0' || command.host === '::') {
         io.out(`(listening on every interface, port ${server.port})\n`);
       }
-      await (io.stopSignal ?? signals());
+      const signal = await (io.stopSignal ?? signals());
+      if (signal === 'SIGTERM') {
+        io.out(
+          `fixedstep: draining (no new rooms; running matches get up to ${drainMs} ms), then stopping\n`,
+        );
+        await server.drain(drainMs);
+      }
       io.out('fixedstep: stopping (finishing queued verifications, closing rooms and the store)\n');
       await server.close();
       return EXIT_OK;

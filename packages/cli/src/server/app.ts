@@ -9,6 +9,11 @@ import fastifyStatic from '@fastify/static';
 import type { AnyGameDefinition } from 'fixedstep';
 import { highscoreApi, highscoreRoutes, type HighscoreApi } from '../highscores.js';
 import { attachRelay, type RelayEndpoint, type RelayEndpointOptions } from '../net/server.js';
+import {
+  attachStateSync,
+  type StateSyncEndpoint,
+  type StateSyncEndpointOptions,
+} from '../state-sync/attach.js';
 import { gameCatalog } from '../net/catalog.js';
 import type { HighscoreStore } from '../store/store.js';
 import { VerifierPool } from '../verify/pool.js';
@@ -44,6 +49,15 @@ export interface ServerOptions {
   /** The relay at `/ws` (`false`: none). Default: on, over the same games. */
   relay?: boolean | RelayEndpointOptions;
   /**
+   * State-sync rooms at `/state/<room>` (the talk's network model: the server runs the game and
+   * sends the world), in worker threads (`false`: none). Default: on, one worker, over the same
+   * games when they came from `loadGames` (workers import games from modules; plain definitions
+   * given as `games` cannot cross into a worker, so then state sync is off unless this names its
+   * `games` modules).
+   */
+  stateSync?: boolean | StateSyncEndpointOptions;
+
+  /**
    * Browser origins allowed to open a WebSocket to the relay (the `Origin` header), e.g.
    * `['https://game.example']`. Default: any.
    */
@@ -75,12 +89,20 @@ export interface FixedstepServer {
   readonly app: FastifyInstance;
   /** The relay, unless `relay: false`. */
   readonly relay: RelayEndpoint | undefined;
+  /** The state-sync rooms, unless off (see {@link ServerOptions.stateSync}). */
+  readonly stateSync: StateSyncEndpoint | undefined;
   /** The Prometheus metrics served at `/metrics`. */
   readonly metrics: ServerMetrics;
   /** Resolves once the highscore store is open (rejects if it failed; no-op without a store). */
   readonly storeReady: Promise<void>;
   /** True from the start of {@link close} on (readiness then answers 503). */
   readonly draining: boolean;
+  /**
+   * Drain before a shutdown: readiness goes false (a balancer takes the server off), the relay
+   * refuses new rooms and closes waiting ones, and running matches go on until they end or
+   * `timeoutMs` has passed (then `SHUTDOWN`). HTTP keeps answering. Call {@link close} after.
+   */
+  drain(timeoutMs: number): Promise<void>;
   /**
    * Graceful shutdown: readiness goes false, no new connections, new submissions get 503, the queued
    * verifications finish and are answered, the relay tells its clients (SHUTDOWN), the store closes.
@@ -372,6 +394,35 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     metrics.watchRelay(relay.relay);
   }
 
+  // State-sync rooms on the same port, their games in worker threads.
+  let stateSync: StateSyncEndpoint | undefined;
+  if (options.stateSync !== false) {
+    const given: StateSyncEndpointOptions =
+      typeof options.stateSync === 'object' ? options.stateSync : {};
+    const modules =
+      given.games ??
+      (options.games === undefined
+        ? undefined
+        : 'modules' in options.games
+          ? options.games.modules
+          : null);
+    if (modules !== null) {
+      stateSync = attachStateSync(server, {
+        workers: 1,
+        ...(options.allowedOrigins !== undefined ? { allowedOrigins: options.allowedOrigins } : {}),
+        ...given,
+        ...(modules !== undefined ? { games: modules } : {}),
+        log: (message) => {
+          log(`state sync: ${message}`);
+        },
+      });
+      // A worker that cannot load its games is reported; HTTP and the relay keep serving.
+      stateSync.ready.catch((error: unknown) => {
+        log('state sync: the workers could not load their games', error);
+      });
+    }
+  }
+
   await app.ready();
   await new Promise<void>((resolve, reject) => {
     const onError = (error: NodeJS.ErrnoException) => {
@@ -397,6 +448,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     server.listen(port, host);
   }).catch(async (error: unknown) => {
     await relay?.close();
+    await stateSync?.close();
     await app.close().catch(() => undefined);
     throw error;
   });
@@ -415,6 +467,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
       server.closeIdleConnections();
       await api?.drain();
       await relay?.close();
+      await stateSync?.close();
       await api?.close();
       server.closeAllConnections();
       await stopped;
@@ -430,10 +483,15 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     server,
     app,
     relay,
+    stateSync,
     metrics,
     storeReady,
     get draining() {
       return draining;
+    },
+    async drain(timeoutMs: number) {
+      draining = true;
+      await relay?.drain(timeoutMs);
     },
     close,
   };

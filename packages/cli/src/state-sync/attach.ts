@@ -17,11 +17,12 @@ export interface StateSyncEndpointOptions {
   /** URL path prefix: a room is at `<path>/<room>`. Default `/state`. */
   path?: string;
   /**
-   * The module the workers load their games from (a package name, or a `file:` URL): its `GAMES`,
-   * `games` or default export, an array of game definitions (a `stateView` on one is its interest
-   * management). Default `@fixedstep/games` — the talk's games.
+   * The module (or modules) the workers load their games from (package names, or `file:` URLs):
+   * each one's `GAMES`, `games` or default export, an array of game definitions (a `stateView` on
+   * one is its interest management); a later module's game replaces an earlier one's of the same
+   * id. Default `@fixedstep/games` — the talk's games.
    */
-  games?: string;
+  games?: string | readonly string[];
   /** Worker threads. Default: the cores but one, from 1 to 4. */
   workers?: number;
   /** How often each worker advances its rooms, in ms. Default 4 (a 60 Hz tick is stepped within 4 ms of its time). */
@@ -110,7 +111,12 @@ export function attachStateSync(
     });
   const maxConnections = options.maxConnections ?? 4000;
   const setup: WorkerSetup = {
-    games: options.games ?? '@fixedstep/games',
+    games:
+      options.games === undefined
+        ? ['@fixedstep/games']
+        : typeof options.games === 'string'
+          ? [options.games]
+          : options.games,
     room: options.room ?? {},
     updateIntervalMs: options.updateIntervalMs ?? 4,
     maxRooms: options.maxRoomsPerWorker ?? 500,

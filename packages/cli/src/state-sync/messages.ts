@@ -7,8 +7,11 @@ import type { StateSyncRoomDefaults } from 'fixedstep';
 
 /** What a worker is started with (`workerData`). */
 export interface WorkerSetup {
-  /** Module the worker imports its games from: its `GAMES`, `games` or default export. */
-  games: string;
+  /**
+   * Modules the worker imports its games from (each one's `GAMES`, `games` or default export); a
+   * later module's game replaces an earlier one's of the same id.
+   */
+  games: readonly string[];
   /** Room options (plain data only: no functions cross threads). */
   room: Omit<StateSyncRoomDefaults, 'view'>;
   updateIntervalMs: number;

@@ -103,7 +103,11 @@ port.on('message', (m: ToWorker) => {
 });
 
 try {
-  const games = await loadGames(setup.games);
+  const byId = new Map<string, StateSyncGame>();
+  for (const specifier of setup.games) {
+    for (const game of await loadGames(specifier)) byId.set(game.id, game);
+  }
+  const games = [...byId.values()];
   server = new StateSyncServer({
     clock: performanceClock(),
     games,
