@@ -25,11 +25,11 @@ export type RunningServer = FixedstepServer;
 /**
  * Serves a built lab (static files: GET and HEAD, no path traversal nor symlinks out of the root,
  * ETag revalidation, security headers) with `/healthz`, `/readyz` and `/metrics`, and the
- * highscore API when a store is given — no relay (attach one with `attachRelay(server.server)`).
- * {@link createServer} with `relay: false`.
+ * highscore API when a store is given — no relay, no state sync (attach them with `attachRelay(server.server)`, `attachStateSync(server.server)`).
+ * {@link createServer} with `relay: false, stateSync: false`.
  */
 export function startServer(options: ServeOptions): Promise<RunningServer> {
-  return createServer({ ...options, relay: false });
+  return createServer({ ...options, relay: false, stateSync: false });
 }
 
 export { displayHost, DOCS_NOT_BUILT } from './server/app.js';

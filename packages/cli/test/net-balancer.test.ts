@@ -44,12 +44,17 @@ function freePort(): Promise<number> {
 }
 
 /** Resolves with what `f` returns once it is truthy; polls every 50 ms, rejects after `ms`. */
-async function until<T>(what: string, f: () => T | Promise<T>, ms = 30_000): Promise<T> {
+async function until<T>(
+  what: string,
+  f: () => T | Promise<T>,
+  ms = 30_000,
+  detail: () => string = () => '',
+): Promise<T> {
   const end = performance.now() + ms;
   for (;;) {
     const v = await f();
     if (v) return v;
-    if (performance.now() > end) throw new Error(`timed out waiting for ${what}`);
+    if (performance.now() > end) throw new Error(`timed out waiting for ${what} ${detail()}`);
     await new Promise((r) => setTimeout(r, 50));
   }
 }
@@ -66,7 +71,12 @@ let relays: Relay[] = [];
 let lbPort = 0;
 let statsPort = 0;
 
+let started = 0;
+
 async function startRelay(): Promise<Relay> {
+  // Each process its own data folder: a data folder belongs to one process (it locks it); several
+  // processes share scores through one PostgreSQL (DATABASE_URL), as deploy/ does.
+  const data = path.join(dir, `data-${started++}`);
   const child = spawn(
     process.execPath,
     [
@@ -80,7 +90,7 @@ async function startRelay(): Promise<Relay> {
       '--root',
       dir,
       '--data',
-      dir,
+      data,
     ],
     {
       cwd: root,
@@ -94,7 +104,12 @@ async function startRelay(): Promise<Relay> {
   child.stdout.on('data', (b: Buffer) => (r.out += b.toString()));
   child.stderr.on('data', (b: Buffer) => (r.out += b.toString()));
   r.port = Number(
-    await until(`a relay to listen (${r.out})`, () => /localhost:(\d+)\//.exec(r.out)?.[1], 60_000),
+    await until(
+      'a relay to listen',
+      () => /localhost:(\d+)\//.exec(r.out)?.[1],
+      60_000,
+      () => r.out,
+    ),
   );
   return r;
 }
@@ -133,8 +148,9 @@ beforeAll(async () => {
         FIXEDSTEP_RELAY1: `127.0.0.1:${relays[0]!.port}`,
         FIXEDSTEP_RELAY2: `127.0.0.1:${relays[1]!.port}`,
         FIXEDSTEP_RELAY3: `127.0.0.1:${relays[2]!.port}`,
-        // These servers have no /readyz of their own: the lab page tells that they are up.
-        FIXEDSTEP_CHECK_PATH: '/',
+        // The deployed check: /readyz answers 200 once the store is open (PGlite's start-up holds
+        // the event loop for seconds; a relay taking rooms then would drop them as silent).
+        FIXEDSTEP_CHECK_PATH: '/readyz',
       },
       stdio: ['ignore', 'ignore', 'pipe'],
     },
@@ -193,6 +209,13 @@ async function playRoom(room: string, ticks: number): Promise<Player[]> {
         new Promise<Player>((resolve, reject) => {
           const ws = new WebSocket(`ws://127.0.0.1:${lbPort}/ws/${room}`);
           ws.on('error', reject);
+          ws.on('unexpected-response', (_req, res) => {
+            let body = '';
+            res.on('data', (b: Buffer) => (body += b.toString()));
+            res.on('end', () => {
+              reject(new Error(`${room}: the upgrade got ${res.statusCode} ${body.trim()}`));
+            });
+          });
           ws.on('open', () => {
             let slot = 0;
             const p: Player = { session: undefined!, closedAt: undefined, closeReason: undefined };
@@ -228,13 +251,23 @@ describe.skipIf(haproxy === undefined)('three relays behind HAProxy', () => {
     const ticks = 600;
     const names = Array.from({ length: 12 }, (_, i) => `room-${i}`);
     const rooms = new Map<string, Player[]>();
-    for (const name of names) rooms.set(name, await playRoom(name, ticks));
     const all = () => [...rooms.values()].flat();
+    // Frames from the start: a member that does not answer the relay's pings is dropped as silent,
+    // so the first rooms must be served while the later ones connect.
     const timer = setInterval(() => {
       for (const p of all()) p.session.frame();
     }, 8);
     try {
-      await until('every room to start', () => all().every((p) => p.session.phase === 'running'));
+      for (const name of names) rooms.set(name, await playRoom(name, ticks));
+      await until(
+        'every room to start',
+        () => all().every((p) => p.session.phase === 'running'),
+        30_000,
+        () =>
+          all()
+            .map((p) => `${p.session.phase}:${p.closeReason ?? ''}`)
+            .join(' '),
+      );
       // Where each room is: on exactly one of the three processes.
       const home = new Map<string, number>();
       for (const name of names) {

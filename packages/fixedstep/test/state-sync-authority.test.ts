@@ -228,7 +228,7 @@ describe('the server is the authority', () => {
     h2.sendBytes(encodeMessage({ type: 'snapshot', room: 0, id: 0, tick: 1, bytes: state }));
     w.run(50);
     expect(h2.errors()).toEqual([
-      'BAD_MESSAGE!: BAD_VERSION: version byte 0x2, state sync speaks 0x81 (at byte 0)',
+      'BAD_MESSAGE!: BAD_VERSION: version byte 0x3, state sync speaks 0x81 (at byte 0)',
     ]);
     expect(w.room.simulation.x[h.slot]).not.toBe(99);
   });

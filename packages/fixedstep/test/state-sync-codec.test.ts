@@ -137,7 +137,7 @@ describe('state-sync messages', () => {
     expect(() => decodeMessage(ours)).toThrow(/BAD_VERSION/);
     const relays = encodeMessage({ type: 'ping', id: 1, time: 5 });
     expect(() => decodeStateSyncMessage(relays)).toThrow(
-      /BAD_VERSION: version byte 0x2, state sync speaks 0x81/,
+      /BAD_VERSION: version byte 0x3, state sync speaks 0x81/,
     );
   });
 

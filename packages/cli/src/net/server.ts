@@ -12,6 +12,7 @@ import {
   type RelayOptions,
 } from 'fixedstep';
 import { createRelay } from './catalog.js';
+import { claimUpgradePaths, shouldRefuseUpgrade } from '../server/upgrade-paths.js';
 
 /**
  * Where the client address of a connection is read when the relay sits behind a proxy (HAProxy,
@@ -302,6 +303,8 @@ export function attachRelay(
     );
     socket.destroy();
   };
+  const ownsPath = (pathname: string) => pathname === path || pathname.startsWith(`${path}/`);
+  const releasePaths = claimUpgradePaths(server, ownsPath, `${path}/room`);
   const onUpgrade = (req: http.IncomingMessage, socket: Duplex, head: Buffer) => {
     let url: URL;
     try {
@@ -316,8 +319,8 @@ export function attachRelay(
     } else if (url.pathname.startsWith(`${path}/`)) {
       room = url.pathname.slice(path.length + 1);
     } else {
-      // Another handler may own this path; answer only when nobody else listens.
-      if (server.listenerCount('upgrade') === 1) refuse(socket, '404 Not Found');
+      // Another endpoint may own this path; answer only when none does.
+      if (shouldRefuseUpgrade(server, ownsPath, url.pathname)) refuse(socket, '404 Not Found');
       return;
     }
     if (room !== undefined && !NAME_PATTERN.test(room)) {
@@ -354,6 +357,7 @@ export function attachRelay(
       (closed ??= new Promise<void>((resolve) => {
         clearInterval(timer);
         server.off('upgrade', onUpgrade);
+        releasePaths();
         relay.close();
         for (const ws of wss.clients) ws.terminate();
         wss.close(() => {

@@ -11,6 +11,7 @@ import { Worker } from 'node:worker_threads';
 import { WebSocketServer, type WebSocket } from 'ws';
 import { NAME_PATTERN, type StateSyncRoomDefaults } from 'fixedstep';
 import type { FromWorker, ToWorker, WorkerSetup } from './messages.js';
+import { claimUpgradePaths, shouldRefuseUpgrade } from '../server/upgrade-paths.js';
 
 /** Options of {@link attachStateSync}. */
 export interface StateSyncEndpointOptions {
@@ -212,10 +213,13 @@ export function attachStateSync(
     socket.destroy();
   };
 
+  const ownsPath = (pathname: string) => pathname.startsWith(`${path}/`);
+  const releasePaths = claimUpgradePaths(server, ownsPath, `${path}/room`);
   const onUpgrade = (req: http.IncomingMessage, socket: Duplex, head: Buffer) => {
     const pathname = (req.url ?? '/').split('?')[0] ?? '/';
-    if (!pathname.startsWith(`${path}/`)) {
-      if (server.listenerCount('upgrade') === 1) refuse(socket, '404 Not Found');
+    if (!ownsPath(pathname)) {
+      // Another endpoint may own this path; answer only when none does.
+      if (shouldRefuseUpgrade(server, ownsPath, pathname)) refuse(socket, '404 Not Found');
       return;
     }
     let room: string;
@@ -292,6 +296,7 @@ export function attachStateSync(
       (closed ??= (async () => {
         closing = true;
         server.off('upgrade', onUpgrade);
+        releasePaths();
         // Each worker says SHUTDOWN to its rooms' members, then ends.
         await Promise.all(
           slots.map(
