@@ -1,7 +1,8 @@
 /**
- * @fixedstep/cli — the `fixedstep` command and its server: host your games (the relay, highscores
- * verified by re-simulation in worker threads, scores and replays in PostgreSQL), or attach just the
- * relay or just the highscore API to a `node:http`, express or fastify server of your own.
+ * @fixedstep/cli — the `fixedstep` command and its server: host your games (the relay, state-sync
+ * rooms, highscores verified by re-simulation in worker threads, scores and replays in
+ * PostgreSQL), or attach just the relay, just the state-sync rooms or just the highscore API to a
+ * `node:http`, express or fastify server of your own.
  * @packageDocumentation
  */
 export { createServer, displayHost, DOCS_NOT_BUILT } from './server/app.js';
@@ -66,4 +67,6 @@ export {
 export type { LoadedGames } from './games/load.js';
 export { attachRelay, gameCatalog, createRelay, connectNodeWebSocket } from './net/index.js';
 export type { RelayEndpoint, RelayEndpointOptions } from './net/index.js';
+export { attachStateSync } from './state-sync/index.js';
+export type { StateSyncEndpoint, StateSyncEndpointOptions } from './state-sync/index.js';
 export { printable, cleanName } from './text.js';
