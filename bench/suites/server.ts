@@ -76,7 +76,9 @@ async function underLoad(
     result.get.push(performance.now() - t0);
     const t1 = performance.now();
     await new Promise<void>((resolve) => {
-      ws.once('pong', () => { resolve(); });
+      ws.once('pong', () => {
+        resolve();
+      });
       ws.ping();
     });
     result.ping.push(performance.now() - t1);
