@@ -1,6 +1,6 @@
 // `npm test`: every test. Installs what the tests need (dependencies; Debian's chromium, and
-// firefox-esr, webkit2gtk-driver and xvfb for the determinism suite, when absent and we are
-// root), then: format, lint, typecheck, unit tests, build, the e2e tests (browser, packed
+// firefox-esr, webkit2gtk-driver and xvfb for the determinism suite, and coturn for the loss
+// harness, when absent and we are root), then: format, lint, typecheck, unit tests, build, the e2e tests (browser, packed
 // packages, API reference), and a smoke run of the benchmarks. Runs every stage even when one fails, then prints a summary.
 import { existsSync, mkdirSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
@@ -10,6 +10,8 @@ ensureDependencies();
 const chromium = ensureChromium();
 // Firefox ESR and WebKitGTK for the cross-engine determinism suite (skipped, with the reason, when absent).
 (await import('./engines.mjs')).ensureEngines();
+// coturn for the loss harness (e2e/netem) and the transport benchmark (skipped, with the reason, when absent).
+(await import('./coturn.mjs')).ensureCoturn();
 const results = join(root, 'artifacts', 'test-results');
 mkdirSync(results, { recursive: true });
 

@@ -79,3 +79,4 @@ export type {
   MatchClientResult,
   MatchResult,
 } from './match.js';
+export * from './webrtc/index.js';
