@@ -9,6 +9,7 @@ import {
   type SignalMessage,
 } from './signalling.js';
 import type {
+  DataChannelInitLike,
   DataChannelLike,
   IceCandidateLike,
   PeerConnectionConstructor,
@@ -143,6 +144,13 @@ export interface PeerToPeerOptions {
   fallback?: boolean;
   /** Options of the data channel transport. */
   dataChannel?: DataChannelTransportOptions;
+  /**
+   * How the joiner creates the unreliable channel (the host takes what the offer says). Default
+   * `{ ordered: false, maxRetransmits: 0 }`: never retransmitted. werift 0.24 treats
+   * `maxRetransmits: 0` as unlimited and never expires `maxPacketLifeTime`, so a werift joiner
+   * passes `{ ordered: false, maxRetransmits: 1 }` (at most one retransmission) — docs/webrtc.md.
+   */
+  unreliableChannel?: DataChannelInitLike;
 }
 
 /** A connection to or from one peer. */
