@@ -178,11 +178,9 @@ describe.runIf(found.ok)('loss harness: WebRTC vs WebSocket between two Chromium
 });
 
 if (!found.ok) {
-  describe('loss harness (skipped)', () => {
-    it('needs coturn', (ctx) => {
-      ctx.skip(
-        `loss harness skipped: ${found.ok ? '' : found.reason} (npm test installs Debian's coturn when run as root)`,
-      );
-    });
-  });
+  // Printed rather than a skipped placeholder test (the lint refuses those); the suite above is
+  // reported as skipped.
+  console.log(
+    `loss harness skipped: ${found.reason} (npm test installs Debian's coturn when run as root)`,
+  );
 }

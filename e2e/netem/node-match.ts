@@ -110,13 +110,17 @@ export async function runNodeMatch(o: NodeMatchOptions): Promise<NodeMatchResult
         signal: new SignalClient(hostEnd),
         onPeer: (link) => relay.accept(link.transport),
       });
-      cleanup.push(() => host.close());
+      cleanup.push(() => {
+        host.close();
+      });
       await host.ready;
       const link = await joinPeer({ ...rtc, signal: new SignalClient(joinEnd) });
       joinerTransport = link.transport;
       // The link is impaired from the datagrams' side: each peer's packets to the TURN relay get
       // the one-way conditions (so A → B and B → A each cross one impaired hop).
-      impair = () => proxy.setConditions(o.link, CLEAN);
+      impair = () => {
+        proxy.setConditions(o.link, CLEAN);
+      };
       wire = () => {
         // The joiner's pc allocates on the relay first (the host makes its own on the offer), so
         // the proxy's first client is the joiner: its packets up are joiner → host, the other's
@@ -141,7 +145,9 @@ export async function runNodeMatch(o: NodeMatchOptions): Promise<NodeMatchResult
           new Promise<void>((resolve) => {
             for (const c of wss.clients) c.terminate();
             wss.close();
-            server.close(() => resolve());
+            server.close(() => {
+              resolve();
+            });
           }),
       );
       const port = (server.address() as { port: number }).port;
@@ -150,13 +156,17 @@ export async function runNodeMatch(o: NodeMatchOptions): Promise<NodeMatchResult
       const ws = new WebSocket(`ws://127.0.0.1:${proxy.port}/`, { perMessageDeflate: false });
       ws.binaryType = 'nodebuffer';
       await new Promise<void>((resolve, reject) => {
-        ws.once('open', () => resolve());
+        ws.once('open', () => {
+          resolve();
+        });
         ws.once('error', reject);
       });
       ws.on('open', () => undefined);
       (ws as unknown as { _socket?: { setNoDelay(b: boolean): void } })._socket?.setNoDelay(true);
       joinerTransport = nodeWebSocketTransport(ws);
-      impair = () => proxy.setConditions(o.link);
+      impair = () => {
+        proxy.setConditions(o.link);
+      };
       wire = () => {
         const c = proxy.connections;
         const sum = (f: (x: (typeof c)[number]) => number) => c.reduce((n, x) => n + f(x), 0);
@@ -199,7 +209,7 @@ export async function runNodeMatch(o: NodeMatchOptions): Promise<NodeMatchResult
       const frame = () => {
         for (const [i, s] of sessions.entries()) {
           s.frame();
-          probes[i]!.afterFrame(s as never);
+          probes[i]!.afterFrame(s);
         }
         if (sessions.every((s) => s.finished)) {
           resolve();

@@ -12,6 +12,11 @@
  */
 import type { Correction, NetSession, Simulation } from 'fixedstep';
 
+/** `PROBE_DEBUG=1` (Node only) logs each stall as it begins. */
+const PROBE_DEBUG =
+  (globalThis as { process?: { env: Record<string, string | undefined> } }).process?.env
+    .PROBE_DEBUG !== undefined;
+
 export function wallNow(): number {
   return performance.timeOrigin + performance.now();
 }
@@ -91,7 +96,7 @@ export class Probe {
     if (session.stats.stalls > this.lastStalls) {
       this.lastStalls = session.stats.stalls;
       if (this.stallTicks.length < 1000) this.stallTicks.push(session.tick);
-      if (globalThis.process?.env.PROBE_DEBUG)
+      if (PROBE_DEBUG)
         console.log(
           `stall slot ${this.slot} tick ${session.tick} confirmed ${session.confirmedTick} server ${session.serverTick().toFixed(1)} lead ${session.stats.lead} rtt ${session.stats.rtt.toFixed(0)} rttHigh ${session.stats.rttHigh.toFixed(0)}`,
         );

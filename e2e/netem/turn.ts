@@ -37,7 +37,11 @@ async function freeUdpPort(): Promise<number> {
   const s = dgram.createSocket('udp4');
   await new Promise<void>((resolve) => s.bind(0, '127.0.0.1', resolve));
   const port = s.address().port;
-  await new Promise<void>((resolve) => s.close(() => resolve()));
+  await new Promise<void>((resolve) =>
+    s.close(() => {
+      resolve();
+    }),
+  );
   return port;
 }
 
@@ -54,9 +58,15 @@ function stunPing(port: number, timeoutMs: number): Promise<boolean> {
       s.close();
       resolve(ok);
     };
-    const timer = setTimeout(() => done(false), timeoutMs);
-    s.on('message', () => done(true));
-    s.on('error', () => done(false));
+    const timer = setTimeout(() => {
+      done(false);
+    }, timeoutMs);
+    s.on('message', () => {
+      done(true);
+    });
+    s.on('error', () => {
+      done(false);
+    });
     s.send(req, port, '127.0.0.1');
   });
 }
@@ -101,7 +111,11 @@ export async function startTurnServer(binary: string): Promise<TurnServer> {
   child.stderr?.on('data', (d: Buffer) => {
     log = (log + d.toString()).slice(-4000);
   });
-  const exited = new Promise<void>((resolve) => child.once('exit', () => resolve()));
+  const exited = new Promise<void>((resolve) =>
+    child.once('exit', () => {
+      resolve();
+    }),
+  );
   const stop = async () => {
     if (child.exitCode === null && child.signalCode === null) child.kill('SIGTERM');
     await exited;

@@ -127,7 +127,7 @@ window.netem = {
       name: `page${slot + 1}`,
       stopAt: ticks,
       localInput: p.input((tick, sim) => {
-        if (tick % 6 === 0) held = ctfGame.bot!(sim as never, slot);
+        if (tick % 6 === 0) held = ctfGame.bot(sim as never, slot);
         return held;
       }),
       onCorrection: p.onCorrection,
@@ -137,7 +137,7 @@ window.netem = {
     let next = clock.now();
     const frame = () => {
       s.frame();
-      p.afterFrame(s as never);
+      p.afterFrame(s);
       if (s.finished) {
         say(`finished at tick ${s.tick}`);
         return;
@@ -150,12 +150,12 @@ window.netem = {
   finished: () => session?.finished ?? false,
   report(): string {
     if (!session || !probe) throw new Error('report: no match');
-    const r: ProbeReport = probe.report(session as never);
+    const r: ProbeReport = probe.report(session);
     return JSON.stringify(r);
   },
   status: () =>
     session
       ? `tick ${session.tick}, confirmed ${session.confirmedTick}, phase ${session.phase}`
-      : (status.textContent ?? ''),
+      : status.textContent,
 };
 say('ready');

@@ -109,7 +109,7 @@ class DataChannelTransport extends BaseTransport {
   send(bytes: Uint8Array): void {
     if (!this.isOpen) return;
     const big = bytes.length > this.maxUnreliable && this.reliable !== undefined;
-    const ch = big ? this.reliable! : this.unreliable;
+    const ch = big ? this.reliable : this.unreliable;
     if (ch.readyState !== 'open') return;
     if (ch.bufferedAmount > this.maxBuffered) {
       this.close('send buffer overflow');

@@ -216,7 +216,7 @@ export function encodeSignal(m: SignalMessage, limits: Partial<SignalLimits> = {
       break;
     case 'error': {
       const code = ERROR_CODES.indexOf(m.code);
-      if (code < 0) throw new SignalError('bad-value', `unknown error code ${String(m.code)}`);
+      if (code < 0) throw new SignalError('bad-value', `unknown error code ${m.code}`);
       let text = m.message;
       while (utf8Length(text) > MAX_ERROR_BYTES) text = text.slice(0, -1);
       w.u8(code + 1).str(text);
