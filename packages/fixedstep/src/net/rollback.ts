@@ -54,7 +54,8 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
   /** The last rollback's correction. */
   lastCorrection: Correction | undefined;
 
-  private readonly inputDelay: number;
+  private inputDelay: number;
+  private pendingDelay: { delay: number; atTick: number } | undefined;
   private readonly maxPrediction: number;
   private readonly autoLead: boolean;
   private readonly predict: ((last: I, player: number) => I) | undefined;
@@ -89,6 +90,31 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
   confirmedStateTick(): number {
     if (!this.sim) return 0;
     return Math.min(this.confirmedEnd, this.sim.tick, this.pendingRollback);
+  }
+
+  /** The local input delay in force, in ticks. */
+  get inputDelayTicks(): number {
+    return this.inputDelay;
+  }
+
+  /**
+   * Change the local input delay during a match, from the frame on which the simulation reaches
+   * `atTick` (default: the next frame). Give every player the same `atTick` — e.g. a tick derived
+   * from a confirmed game event — and their delays change together.
+   *
+   * Deterministic whatever the tick: the delay only decides which tick a local input is sent for,
+   * and the relay's confirmed inputs are what every machine simulates. Growing the delay by k
+   * issues k more ticks at once (each asks `localInput`, so a press lands on the first of them and
+   * is never doubled); shrinking it by k issues nothing for k ticks (inputs wait; none is lost).
+   */
+  setInputDelay(delay: number, atTick = this.tick): void {
+    if (!(Number.isInteger(delay) && delay >= 0 && delay <= 60)) {
+      throw new RangeError(`setInputDelay: delay must be an integer from 0 to 60, got ${delay}`);
+    }
+    if (!(Number.isInteger(atTick) && atTick >= 0)) {
+      throw new RangeError(`setInputDelay: atTick must be a tick (an integer >= 0), got ${atTick}`);
+    }
+    this.pendingDelay = { delay, atTick };
   }
 
   /** Ticks the simulation is ahead of the confirmed inputs. */
@@ -132,6 +158,11 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
     const sim = this.sim!;
     this.ensureRows();
     if (!Number.isFinite(serverTick)) return 0;
+    const pending = this.pendingDelay;
+    if (pending && sim.tick >= pending.atTick) {
+      this.inputDelay = pending.delay;
+      this.pendingDelay = undefined;
+    }
     this.adaptLead(now);
     const target = Math.min(Math.floor(serverTick) + this.leadTicks, this.stopAt);
     this.issueUntil(target + this.inputDelay);
