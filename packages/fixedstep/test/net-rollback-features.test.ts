@@ -137,6 +137,86 @@ describe('input delay changed during a match', () => {
   });
 });
 
+describe('several local players on one machine', () => {
+  /**
+   * Three players: sessions 0 and 1 share one machine (their inputs change every 8 ticks),
+   * session 2 is remote and holds nothing (predicting it is always right). Slots go by arrival. Returns each session's rollbacks
+   * and hash at the end.
+   */
+  function play(link: boolean) {
+    const scheduler = new EventScheduler();
+    const rng = new Random(4);
+    const relay = new Relay({ clock: scheduler.clock, catalog, randomU32: () => rng.nextU32() });
+    scheduler.every(1000 / 120, () => {
+      relay.update();
+    });
+    const ticks = 600;
+    const sessions = [0, 1, 2].map((i) => {
+      const l = new SimulatedLink({ scheduler, seed: 20 + i, latencyMs: 30, jitterMs: 5 });
+      relay.accept(l.b);
+      let slot = -1;
+      const s: RollbackSession = new RollbackSession({
+        transport: l.a,
+        clock: scheduler.clock,
+        room: 'r',
+        game: 'toy',
+        gameVersion: 1,
+        players: 3,
+        seed: 9,
+        stopAt: ticks,
+        createSimulation: (w) => {
+          slot = w.slot;
+          return new Toy(3, 9);
+        },
+        localInput: (tick) => (i === 2 ? 0 : ((tick >> 3) + slot) & 3),
+      });
+      scheduler.every(1000 / 60, () => {
+        s.frame();
+      });
+      return s;
+    });
+    if (link) RollbackSession.linkLocalPlayers([sessions[0]!, sessions[1]!]);
+    expect(scheduler.runUntilDone(() => sessions.every((s) => s.finished), 60_000)).toBe(true);
+    expect(sessions.map((s) => s.welcome?.slot).sort((a, b) => (a ?? -1) - (b ?? -1))).toEqual([
+      0, 1, 2,
+    ]);
+    expect(relay.room('r')!.desyncs).toHaveLength(0);
+    return {
+      rollbacks: sessions.map((s) => s.stats.rollbacks),
+      hashes: sessions.map((s) => s.hashAt(ticks)),
+    };
+  }
+
+  it("linked sessions use each other's issued inputs: no rollbacks between them, same hashes", () => {
+    const apart = play(false);
+    const linked = play(true);
+    // Apart, each local player mispredicts the other one every time it changes its input.
+    expect(apart.rollbacks[0]).toBeGreaterThan(30);
+    expect(apart.rollbacks[1]).toBeGreaterThan(30);
+    // Linked, nothing is left to mispredict: the remote player never changes its input.
+    expect(linked.rollbacks.slice(0, 2)).toEqual([0, 0]);
+    // The remote player still predicts the local ones (rollbacks as before), and every machine
+    // simulated the same confirmed inputs either way.
+    expect(linked.rollbacks[2]).toBeGreaterThan(30);
+    expect(linked.hashes[0]).toBeDefined();
+    expect(new Set([...apart.hashes, ...linked.hashes]).size).toBe(1);
+  });
+
+  it('refuses a session listed twice', () => {
+    const s = new RollbackSession({
+      transport: new SimulatedLink({ scheduler: new EventScheduler() }).a,
+      clock: { now: () => 0 },
+      room: 'r',
+      game: 'toy',
+      gameVersion: 1,
+      createSimulation: () => new Toy(1, 1),
+    });
+    expect(() => {
+      RollbackSession.linkLocalPlayers([s, s]);
+    }).toThrow(/listed twice/);
+  });
+});
+
 describe('CorrectionSmoother', () => {
   it('blends the drawn position from the mispredicted to the corrected over the frames', () => {
     const s = new CorrectionSmoother({ frames: 4 });
