@@ -22,6 +22,7 @@ import {
   memoryPair,
   performanceClock,
   relayCatalog,
+  type DataChannelInitLike,
   type DataChannelLike,
   type PeerConnectionConstructor,
   type PeerConnectionLike,
@@ -102,6 +103,7 @@ async function peerToPeer(o: {
   connectTimeoutMs: number;
   ticks: number;
   joinerGlitchFrom?: number;
+  unreliableChannel?: DataChannelInitLike;
 }) {
   const relay = new Relay({ clock, catalog, randomU32: () => 0x9e3779b9 });
   const relayTimer = setInterval(() => {
@@ -123,6 +125,7 @@ async function peerToPeer(o: {
     PeerConnection: o.PeerConnection,
     room: 'p2p',
     connectTimeoutMs: o.connectTimeoutMs,
+    ...(o.unreliableChannel ? { unreliableChannel: o.unreliableChannel } : {}),
   };
   const host = new PeerHost({
     ...rtc,
@@ -189,12 +192,15 @@ describe('peer-to-peer rollback: the host runs the relay, the joiner connects ov
 
 /** A peer connection whose channels never open: no route between the peers. */
 class Unreachable implements PeerConnectionLike {
+  /** Every channel created: label and options. */
+  static readonly created: [string, DataChannelInitLike | undefined][] = [];
   connectionState = 'new';
   localDescription: { type: string; sdp: string } | undefined;
   onicecandidate = null;
   ondatachannel = null;
   onconnectionstatechange = null;
-  createDataChannel(label: string): DataChannelLike {
+  createDataChannel(label: string, init?: DataChannelInitLike): DataChannelLike {
+    Unreachable.created.push([label, init]);
     return {
       label,
       readyState: 'connecting',
@@ -234,8 +240,14 @@ describe('peer-to-peer fallback: no direct route, the game goes through the serv
       PeerConnection: Unreachable,
       connectTimeoutMs: 200,
       ticks,
+      unreliableChannel: { ordered: false, maxRetransmits: 1 },
     });
     expect(link.via).toBe('server');
+    // The joiner asked for the unreliable channel it was told to (werift needs this, see docs).
+    expect(Unreachable.created).toEqual([
+      ['fixedstep-u', { ordered: false, maxRetransmits: 1 }],
+      ['fixedstep-r', { ordered: true }],
+    ]);
     await until(() => sessions.every((s) => s.finished), 'the end of the match');
     const hashes = sessions.map((s) => s.hashAt(ticks));
     expect(hashes[0]).toBeDefined();

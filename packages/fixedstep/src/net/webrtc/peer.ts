@@ -236,7 +236,8 @@ class PeerConnectionSide {
 
   /** Create both channels (the offering side). */
   createChannels(): void {
-    this.adopt(this.pc.createDataChannel(UNRELIABLE_LABEL, { ordered: false, maxRetransmits: 0 }));
+    const unreliable = this.options.unreliableChannel ?? { ordered: false, maxRetransmits: 0 };
+    this.adopt(this.pc.createDataChannel(UNRELIABLE_LABEL, unreliable));
     this.adopt(this.pc.createDataChannel(RELIABLE_LABEL, { ordered: true }));
   }
 
