@@ -33,11 +33,15 @@ interface Blend {
  * call {@link frame} once per rendered frame.
  */
 export class CorrectionSmoother {
+  /** Rendered frames over which a correction blends out. */
   readonly frames: number;
+  /** Corrections longer than this (game units) are drawn at once. */
   readonly snapDistance: number;
+  /** Values per entity. */
   readonly dimensions: number;
   private readonly blends = new Map<number, Blend>();
 
+  /** Throws a RangeError naming a bad option. */
   constructor(options: CorrectionSmootherOptions = {}) {
     this.frames = options.frames ?? 6;
     this.snapDistance = options.snapDistance ?? Infinity;
