@@ -1,6 +1,6 @@
 // `npm test`: every test. Installs what the tests need (dependencies; Debian's chromium, and
-// firefox-esr, webkit2gtk-driver and xvfb for the determinism suite, and postgresql for the
-// store test, when absent and we are root), then: format, lint, typecheck, unit tests, build, the e2e tests (browser, packed
+// firefox-esr, webkit2gtk-driver and xvfb for the determinism suite, postgresql for the
+// store test, haproxy for the balancer test and coturn for the loss harness, when absent and we are root), then: format, lint, typecheck, unit tests, build, the e2e tests (browser, packed
 // packages, API reference), and a smoke run of the benchmarks. Runs every stage even when one fails, then prints a summary.
 import { existsSync, mkdirSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';

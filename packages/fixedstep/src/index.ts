@@ -65,6 +65,8 @@ export { InputSampler, ButtonSampler } from './sim/input.js';
 export { FrameStepper } from './sim/stepper.js';
 export type { FrameStepperOptions } from './sim/stepper.js';
 export { InterpolationBuffer } from './sim/interpolation.js';
+export { CorrectionSmoother } from './sim/smoothing.js';
+export type { CorrectionSmootherOptions } from './sim/smoothing.js';
 export { defineGame, gameOptions, gameSetup, findGameById } from './sim/game.js';
 export type { GameDefinition, GameSetup, AnyGameDefinition } from './sim/game.js';
 export * from './input/index.js';

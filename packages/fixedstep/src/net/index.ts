@@ -83,3 +83,4 @@ export type {
   MatchResult,
 } from './match.js';
 export * from './state-sync/index.js';
+export * from './webrtc/index.js';

@@ -54,7 +54,10 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
   /** The last rollback's correction. */
   lastCorrection: Correction | undefined;
 
-  private readonly inputDelay: number;
+  private inputDelay: number;
+  /** Sessions of other players on this machine, whose issued inputs this one uses. */
+  private localPeers: readonly RollbackSession<I>[] = [];
+  private pendingDelay: { delay: number; atTick: number } | undefined;
   private readonly maxPrediction: number;
   private readonly autoLead: boolean;
   private readonly predict: ((last: I, player: number) => I) | undefined;
@@ -89,6 +92,52 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
   confirmedStateTick(): number {
     if (!this.sim) return 0;
     return Math.min(this.confirmedEnd, this.sim.tick, this.pendingRollback);
+  }
+
+  /** The local input delay in force, in ticks. */
+  get inputDelayTicks(): number {
+    return this.inputDelay;
+  }
+
+  /**
+   * Change the local input delay during a match, from the frame on which the simulation reaches
+   * `atTick` (default: the next frame). Give every player the same `atTick` — e.g. a tick derived
+   * from a confirmed game event — and their delays change together.
+   *
+   * Deterministic whatever the tick: the delay only decides which tick a local input is sent for,
+   * and the relay's confirmed inputs are what every machine simulates. Growing the delay by k
+   * issues k more ticks at once (each asks `localInput`, so a press lands on the first of them and
+   * is never doubled); shrinking it by k issues nothing for k ticks (inputs wait; none is lost).
+   */
+  setInputDelay(delay: number, atTick = this.tick): void {
+    if (!(Number.isInteger(delay) && delay >= 0 && delay <= 60)) {
+      throw new RangeError(`setInputDelay: delay must be an integer from 0 to 60, got ${delay}`);
+    }
+    if (!(Number.isInteger(atTick) && atTick >= 0)) {
+      throw new RangeError(`setInputDelay: atTick must be a tick (an integer >= 0), got ${atTick}`);
+    }
+    this.pendingDelay = { delay, atTick };
+  }
+
+  /**
+   * Several players on one machine (a shared keyboard, two gamepads): give each its own session —
+   * its own transport to the relay, so its own slot — and link them. Each linked session then
+   * simulates the others' locally issued inputs (sampling one early, if its session has not yet
+   * issued it this frame) instead of predicting them and rolling back when they are confirmed:
+   * rollbacks come only from remote players.
+   *
+   * Deterministic: only predictions change; every machine still simulates the relay's confirmed
+   * inputs (an issued input the relay replaced, e.g. one that arrived after its tick's deadline,
+   * is corrected by a rollback like any misprediction). Each session still runs its own
+   * simulation and receives the confirmed stream, so the cost is one simulation and one
+   * connection per local player; draw any one of them. Every session must be in the same room and
+   * game; linking again replaces the links.
+   */
+  static linkLocalPlayers<I>(sessions: readonly RollbackSession<I>[]): void {
+    if (new Set(sessions).size !== sessions.length) {
+      throw new RangeError('linkLocalPlayers: a session is listed twice');
+    }
+    for (const s of sessions) s.localPeers = sessions.filter((o) => o !== s);
   }
 
   /** Ticks the simulation is ahead of the confirmed inputs. */
@@ -132,6 +181,11 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
     const sim = this.sim!;
     this.ensureRows();
     if (!Number.isFinite(serverTick)) return 0;
+    const pending = this.pendingDelay;
+    if (pending && sim.tick >= pending.atTick) {
+      this.inputDelay = pending.delay;
+      this.pendingDelay = undefined;
+    }
     this.adaptLead(now);
     const target = Math.min(Math.floor(serverTick) + this.leadTicks, this.stopAt);
     this.issueUntil(target + this.inputDelay);
@@ -167,7 +221,20 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
     this.ring.put(sim.tick, sim.save());
   }
 
-  /** The words of `tick`: confirmed, else this player's own, else predicted. */
+  /** Whether a linked local session has issued player `p`'s input for `tick` (copied to `out`). */
+  private localPeerInput(p: number, tick: number, out: Uint32Array, at: number): boolean {
+    const room = this.welcomeMsg?.room;
+    for (const s of this.localPeers) {
+      if (s.slot !== p || s.welcomeMsg?.room !== room || s.words !== this.words) continue;
+      // Not issued yet (it frames after this one): sample it now. No further ahead than this
+      // session's own issued inputs, so within what the relay accepts.
+      if (s.phase === 'running') s.issueUntil(tick + 1);
+      if (s.issuedInput(tick, out, at)) return true;
+    }
+    return false;
+  }
+
+  /** The words of `tick`: confirmed, else a local player's issued one, else predicted. */
   private inputsFor(tick: number, words: Uint32Array): void {
     if (tick < this.confirmedEnd) {
       this.confirmed.copy(tick, words);
@@ -176,6 +243,7 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
     const w = this.words;
     for (let p = 0; p < this.players; p++) {
       if (p === this.slot && this.issuedInput(tick, words, p * w)) continue;
+      if (this.localPeers.length > 0 && this.localPeerInput(p, tick, words, p * w)) continue;
       if (this.predict) {
         const last = this.schema.decode(this.lastConfirmed, p * w);
         this.schema.encode(this.predict(last, p), words, p * w);

@@ -1,0 +1,37 @@
+/**
+ * WebRTC: a {@link Transport} over data channels (unreliable for the game, reliable for large
+ * messages), peer-to-peer rooms whose creator runs the relay, and the signalling protocol that
+ * introduces peers through the server. The `RTCPeerConnection` constructor is injected (the
+ * browser's, or `werift`'s in Node). See docs/webrtc.md.
+ * @module
+ */
+export { dataChannelTransport } from './data-channel.js';
+export type { DataChannelTransportOptions } from './data-channel.js';
+export { SignalClient, PeerHost, joinPeer, UNRELIABLE_LABEL, RELIABLE_LABEL } from './peer.js';
+export type { PeerToPeerOptions, PeerLink, PeerHostOptions, PeerHostEvent } from './peer.js';
+export {
+  SIGNAL_VERSION,
+  SIGNAL_ROOM_PATTERN,
+  MAX_SIGNAL_PEERS,
+  DEFAULT_SIGNAL_LIMITS,
+  SignalError,
+  encodeSignal,
+  decodeSignal,
+} from './signalling.js';
+export type {
+  SignalLimits,
+  IceServerConfig,
+  SignalKind,
+  SignalErrorCode,
+  SignalMessage,
+} from './signalling.js';
+export type {
+  SessionDescriptionLike,
+  IceCandidateLike,
+  DataChannelMessageLike,
+  DataChannelLike,
+  DataChannelInitLike,
+  PeerConnectionLike,
+  PeerConnectionConfigLike,
+  PeerConnectionConstructor,
+} from './types.js';

@@ -1,0 +1,79 @@
+/**
+ * The parts of the WebRTC API the library uses, typed structurally: the browser's
+ * `RTCPeerConnection` fits, and so does a Node implementation such as `werift` (pure TypeScript,
+ * from the npm registry). The library never imports one: the constructor is injected, so it keeps
+ * no runtime dependency and its declarations need no DOM library.
+ */
+import type { IceServerConfig } from './signalling.js';
+
+/** A session description (offer or answer). */
+export interface SessionDescriptionLike {
+  type: string;
+  sdp?: string;
+}
+
+/** An ICE candidate as `toJSON()` gives it and `addIceCandidate` takes it. */
+export interface IceCandidateLike {
+  candidate?: string;
+  sdpMid?: string | null;
+  sdpMLineIndex?: number | null;
+}
+
+/** The message event of a data channel: `data` is an ArrayBuffer (browser), a Buffer or a string. */
+export interface DataChannelMessageLike {
+  data: unknown;
+}
+
+/** The part of an `RTCDataChannel` the transport uses. */
+export interface DataChannelLike {
+  readonly label: string;
+  readonly readyState: string;
+  readonly bufferedAmount: number;
+  binaryType?: string;
+  send(data: Uint8Array): void;
+  close(): void;
+  onopen: ((...args: never[]) => unknown) | null | undefined;
+  onclose: ((...args: never[]) => unknown) | null | undefined;
+  onmessage: ((event: DataChannelMessageLike) => unknown) | null | undefined;
+}
+
+/** Options of `createDataChannel`. */
+export interface DataChannelInitLike {
+  ordered?: boolean;
+  maxRetransmits?: number;
+}
+
+/** The part of an `RTCPeerConnection` the library uses. */
+export interface PeerConnectionLike {
+  readonly connectionState: string;
+  createDataChannel(label: string, init?: DataChannelInitLike): DataChannelLike;
+  createOffer(): Promise<SessionDescriptionLike>;
+  createAnswer(): Promise<SessionDescriptionLike>;
+  setLocalDescription(description: SessionDescriptionLike): Promise<unknown>;
+  setRemoteDescription(description: SessionDescriptionLike): Promise<unknown>;
+  readonly localDescription: SessionDescriptionLike | null | undefined;
+  addIceCandidate(candidate: IceCandidateLike): Promise<unknown>;
+  close(): unknown;
+  onicecandidate:
+    | ((event: {
+        candidate?: { toJSON?(): IceCandidateLike } | IceCandidateLike | null;
+      }) => unknown)
+    | null
+    | undefined;
+  ondatachannel: ((event: { channel: DataChannelLike }) => unknown) | null | undefined;
+  onconnectionstatechange: ((...args: never[]) => unknown) | null | undefined;
+}
+
+/** What `new RTCPeerConnection(config)` takes, as far as the library sets it. */
+export interface PeerConnectionConfigLike {
+  iceServers: IceServerConfig[];
+  iceTransportPolicy?: 'all' | 'relay';
+}
+
+/**
+ * An `RTCPeerConnection` constructor: `globalThis.RTCPeerConnection` in a browser, `werift`'s in
+ * Node (`import { RTCPeerConnection } from 'werift'`).
+ */
+export type PeerConnectionConstructor = new (
+  config: PeerConnectionConfigLike,
+) => PeerConnectionLike;
