@@ -69,4 +69,6 @@ export { attachRelay, gameCatalog, createRelay, connectNodeWebSocket } from './n
 export type { RelayEndpoint, RelayEndpointOptions } from './net/index.js';
 export { attachStateSync } from './state-sync/index.js';
 export type { StateSyncEndpoint, StateSyncEndpointOptions } from './state-sync/index.js';
+export { attachSignalling, SignallingHub } from './signalling/index.js';
+export type { SignallingEndpoint, SignallingEndpointOptions } from './signalling/index.js';
 export { printable, cleanName } from './text.js';

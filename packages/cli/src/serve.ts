@@ -26,10 +26,10 @@ export type RunningServer = FixedstepServer;
  * Serves a built lab (static files: GET and HEAD, no path traversal nor symlinks out of the root,
  * ETag revalidation, security headers) with `/healthz`, `/readyz` and `/metrics`, and the
  * highscore API when a store is given — no relay, no state sync (attach them with `attachRelay(server.server)`, `attachStateSync(server.server)`).
- * {@link createServer} with `relay: false, stateSync: false`.
+ * {@link createServer} with `relay: false, stateSync: false, signalling: false`.
  */
 export function startServer(options: ServeOptions): Promise<RunningServer> {
-  return createServer({ ...options, relay: false, stateSync: false });
+  return createServer({ ...options, relay: false, stateSync: false, signalling: false });
 }
 
 export { displayHost, DOCS_NOT_BUILT } from './server/app.js';

@@ -14,6 +14,11 @@ import {
   type StateSyncEndpoint,
   type StateSyncEndpointOptions,
 } from '../state-sync/attach.js';
+import {
+  attachSignalling,
+  type SignallingEndpoint,
+  type SignallingEndpointOptions,
+} from '../signalling/server.js';
 import { gameCatalog } from '../net/catalog.js';
 import type { HighscoreStore } from '../store/store.js';
 import { VerifierPool } from '../verify/pool.js';
@@ -56,6 +61,11 @@ export interface ServerOptions {
    * `games` modules).
    */
   stateSync?: boolean | StateSyncEndpointOptions;
+  /**
+   * WebRTC signalling at `/signal` (offers, answers and ICE candidates between peers, and a tunnel
+   * when no direct route is found; see docs/webrtc.md), `false`: none. Default: on.
+   */
+  signalling?: boolean | SignallingEndpointOptions;
 
   /**
    * Browser origins allowed to open a WebSocket to the relay (the `Origin` header), e.g.
@@ -91,6 +101,8 @@ export interface FixedstepServer {
   readonly relay: RelayEndpoint | undefined;
   /** The state-sync rooms, unless off (see {@link ServerOptions.stateSync}). */
   readonly stateSync: StateSyncEndpoint | undefined;
+  /** WebRTC signalling, unless `signalling: false`. */
+  readonly signalling: SignallingEndpoint | undefined;
   /** The Prometheus metrics served at `/metrics`. */
   readonly metrics: ServerMetrics;
   /** Resolves once the highscore store is open (rejects if it failed; no-op without a store). */
@@ -423,6 +435,15 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     }
   }
 
+  // WebRTC signalling on the same port, for peer-to-peer matches.
+  let signalling: SignallingEndpoint | undefined;
+  if (options.signalling !== false) {
+    signalling = attachSignalling(server, {
+      ...(options.allowedOrigins !== undefined ? { allowedOrigins: options.allowedOrigins } : {}),
+      ...(typeof options.signalling === 'object' ? options.signalling : {}),
+    });
+  }
+
   await app.ready();
   await new Promise<void>((resolve, reject) => {
     const onError = (error: NodeJS.ErrnoException) => {
@@ -449,6 +470,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
   }).catch(async (error: unknown) => {
     await relay?.close();
     await stateSync?.close();
+    await signalling?.close();
     await app.close().catch(() => undefined);
     throw error;
   });
@@ -468,6 +490,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
       await api?.drain();
       await relay?.close();
       await stateSync?.close();
+      await signalling?.close();
       await api?.close();
       server.closeAllConnections();
       await stopped;
@@ -484,6 +507,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     app,
     relay,
     stateSync,
+    signalling,
     metrics,
     storeReady,
     get draining() {

@@ -3,6 +3,7 @@ import type { Duplex } from 'node:stream';
 import { WebSocketServer } from 'ws';
 import { DEFAULT_SIGNAL_LIMITS, nodeWebSocketTransport, performanceClock } from 'fixedstep';
 import { SignallingHub, type SignallingHubOptions } from './hub.js';
+import { claimUpgradePaths, shouldRefuseUpgrade } from '../server/upgrade-paths.js';
 
 /** Options of {@link attachSignalling}: the hub's, plus where. */
 export interface SignallingEndpointOptions extends Partial<SignallingHubOptions> {
@@ -43,10 +44,13 @@ export function attachSignalling(
     socket.write(`HTTP/1.1 ${status}\r\nConnection: close\r\nContent-Length: 0\r\n\r\n`);
     socket.destroy();
   };
+  const ownsPath = (pathname: string) => pathname === path;
+  const releasePaths = claimUpgradePaths(server, ownsPath, path);
   const onUpgrade = (req: http.IncomingMessage, socket: Duplex, head: Buffer) => {
-    const pathname = (req.url ?? '/').split('?')[0];
-    if (pathname !== path) {
-      if (server.listenerCount('upgrade') === 1) refuse(socket, '404 Not Found');
+    const pathname = (req.url ?? '/').split('?')[0] ?? '/';
+    if (!ownsPath(pathname)) {
+      // Another endpoint may own this path; answer only when none does.
+      if (shouldRefuseUpgrade(server, ownsPath, pathname)) refuse(socket, '404 Not Found');
       return;
     }
     const origin = req.headers.origin;
@@ -71,6 +75,7 @@ export function attachSignalling(
       (closed ??= new Promise<void>((resolve) => {
         clearInterval(timer);
         server.off('upgrade', onUpgrade);
+        releasePaths();
         hub.close();
         for (const ws of wss.clients) ws.terminate();
         wss.close(() => {

@@ -42,7 +42,7 @@ class DataChannelTransport extends BaseTransport {
 
   constructor(
     private readonly unreliable: DataChannelLike,
-    private readonly reliable: DataChannelLike | undefined,
+    private readonly reliableChannel: DataChannelLike | undefined,
     options: DataChannelTransportOptions,
   ) {
     super();
@@ -55,7 +55,7 @@ class DataChannelTransport extends BaseTransport {
         `maxUnreliableBytes must be a positive integer, got ${this.maxUnreliable}`,
       );
     }
-    for (const ch of reliable ? [unreliable, reliable] : [unreliable]) {
+    for (const ch of reliableChannel ? [unreliable, reliableChannel] : [unreliable]) {
       ch.binaryType = 'arraybuffer';
       ch.onclose = () => {
         this.closedRemotely(`data channel ${ch.label} closed`);
@@ -68,8 +68,8 @@ class DataChannelTransport extends BaseTransport {
       else if (bytes.length > this.maxMessage) this.close(`message of ${bytes.length} bytes`);
       else this.deliver(bytes);
     };
-    if (reliable) {
-      reliable.onmessage = (event) => {
+    if (reliableChannel) {
+      reliableChannel.onmessage = (event) => {
         const bytes = toBytes(event.data);
         if (bytes === undefined || bytes.length < 1) {
           this.close('bad chunk on the reliable channel');
@@ -108,8 +108,8 @@ class DataChannelTransport extends BaseTransport {
 
   send(bytes: Uint8Array): void {
     if (!this.isOpen) return;
-    const big = bytes.length > this.maxUnreliable && this.reliable !== undefined;
-    const ch = big ? this.reliable : this.unreliable;
+    const big = bytes.length > this.maxUnreliable && this.reliableChannel !== undefined;
+    const ch = big ? this.reliableChannel : this.unreliable;
     if (ch.readyState !== 'open') return;
     if (ch.bufferedAmount > this.maxBuffered) {
       this.close('send buffer overflow');
@@ -133,7 +133,9 @@ class DataChannelTransport extends BaseTransport {
   }
 
   protected doClose(reason: string): void {
-    for (const ch of this.reliable ? [this.unreliable, this.reliable] : [this.unreliable]) {
+    for (const ch of this.reliableChannel
+      ? [this.unreliable, this.reliableChannel]
+      : [this.unreliable]) {
       ch.onmessage = null;
       ch.onclose = null;
       try {
