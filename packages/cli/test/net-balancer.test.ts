@@ -70,6 +70,8 @@ let dir: string;
 let relays: Relay[] = [];
 let lbPort = 0;
 let statsPort = 0;
+/** The end of HAProxy's log (servers going down and up), shown when an upgrade is refused. */
+let lbLog = '';
 
 let started = 0;
 
@@ -129,6 +131,16 @@ beforeAll(async () => {
   dir = await mkdtemp(path.join(os.tmpdir(), 'fixedstep-balancer-'));
   await writeFile(path.join(dir, 'index.html'), '<!doctype html><title>lab</title>');
   relays = await Promise.all([startRelay(), startRelay(), startRelay()]);
+  // Ready (store open) before HAProxy starts: it counts a server as up until its checks fail, so
+  // "three up" is only true once each /readyz answers 200.
+  for (const r of relays) {
+    await until(
+      `relay ${r.port} to be ready`,
+      async () => (await fetch(`http://127.0.0.1:${r.port}/readyz`).catch(() => undefined))?.ok,
+      60_000,
+      () => r.out,
+    );
+  }
   lbPort = await freePort();
   statsPort = await freePort();
   // The test's window into HAProxy: how many relays it counts as up.
@@ -156,6 +168,7 @@ beforeAll(async () => {
     },
   );
   procs.push(lb);
+  lb.stderr.on('data', (b: Buffer) => (lbLog = (lbLog + b.toString()).slice(-4000)));
   await until('HAProxy to see three relays up', async () => (await usableRelays()) === 3);
 }, 120_000);
 
@@ -213,7 +226,9 @@ async function playRoom(room: string, ticks: number): Promise<Player[]> {
             let body = '';
             res.on('data', (b: Buffer) => (body += b.toString()));
             res.on('end', () => {
-              reject(new Error(`${room}: the upgrade got ${res.statusCode} ${body.trim()}`));
+              reject(
+                new Error(`${room}: the upgrade got ${res.statusCode} ${body.trim()}\n${lbLog}`),
+              );
             });
           });
           ws.on('open', () => {
