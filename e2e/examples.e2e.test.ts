@@ -314,8 +314,11 @@ async function playOn(url: string, e: Example, hz: number): Promise<Measured> {
     await page.clock.pauseAt(1000);
     await page.addInitScript(display, hz);
     await page.goto(url + e.url);
-    for (let i = 0; i < 100; i++) {
-      if (await page.evaluate((h) => h in window, e.hook)) break;
+    // The engine boots (some of it on real time: module loads, a WebGL context): wait on the
+    // hook, moving the page's clock along, for up to a minute of real time on a busy machine.
+    const deadline = performance.now() + 60_000;
+    while (!(await page.evaluate((h) => h in window, e.hook))) {
+      if (performance.now() > deadline) throw new Error(`${e.name}: the page never set ${e.hook}`);
       await page.clock.runFor(100);
     }
     await recordTicks(page, e.hook);

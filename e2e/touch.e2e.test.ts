@@ -23,6 +23,8 @@ let dataDir: string;
 beforeAll(async () => {
   dataDir = mkdtempSync(path.join(tmpdir(), 'fixedstep-touch-e2e-'));
   api = await startServer({ root: dist, port: 0, store: openStore({ dataDir }) });
+  // The chapter asks for the table on load: the store must be open (until then it answers 503).
+  await api.storeReady;
 });
 
 afterAll(async () => {

@@ -36,7 +36,7 @@ const NEAR = 1e-6;
  *
  * Every query here is `+ − × /` and `Math.sqrt` only, so it gives the same bits in every engine.
  *
- * A grid ({@link WallGrid}) tells each query which walls can matter; the per-wall tests are those
+ * A grid (`WallGrid`) tells each query which walls can matter; the per-wall tests are those
  * of the all-walls loops, so every answer is theirs, bit for bit. Each query also has a
  * *register form* (`clearQuery`, `sweepQuery`, `crossesQuery`, `pushOutQuery`, `overlapsQuery`)
  * that reads its coordinates from {@link query} and takes only small integers: V8 boxes a
