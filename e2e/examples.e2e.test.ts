@@ -318,7 +318,9 @@ async function playOn(url: string, e: Example, hz: number): Promise<Measured> {
     // hook, moving the page's clock along, for up to a minute of real time on a busy machine.
     const deadline = performance.now() + 60_000;
     while (!(await page.evaluate((h) => h in window, e.hook))) {
-      if (performance.now() > deadline) throw new Error(`${e.name}: the page never set ${e.hook}`);
+      if (performance.now() > deadline) {
+        throw new Error(`${e.name}: the page never set ${e.hook}; ${problems.join('; ')}`);
+      }
       await page.clock.runFor(100);
     }
     await recordTicks(page, e.hook);

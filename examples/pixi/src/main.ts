@@ -2,6 +2,9 @@
  * PixiJS 8 draws, fixedstep steps: the ball of ball.ts at its 60 ticks a second on any display,
  * the arrow keys sampled by timestamp, the ball drawn between its last two ticks.
  */
+// PixiJS builds its shader code with `new Function` unless this module is loaded first: with it,
+// the page runs under a Content-Security-Policy without 'unsafe-eval' — `fixedstep serve`'s.
+import 'pixi.js/unsafe-eval';
 import { Application, Graphics } from 'pixi.js';
 import {
   FixedLoop,

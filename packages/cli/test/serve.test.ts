@@ -225,6 +225,30 @@ describe('hardening', () => {
     expect(SECURITY_HEADERS['X-Frame-Options']).toBe('DENY');
   });
 
+  it('takes a game’s own CSP; the API reference allows its inline theme script, the lab does not', async () => {
+    const own = "default-src 'self' https://cdn.example";
+    const s = await createServer({
+      port: 0,
+      root,
+      docs: root,
+      relay: false,
+      stateSync: false,
+      signalling: false,
+      contentSecurityPolicy: own,
+    });
+    try {
+      expect((await get(s.port, '/')).headers['content-security-policy']).toBe(own);
+      const docsCsp = (await get(s.port, '/docs/')).headers['content-security-policy'];
+      expect(docsCsp).toContain("script-src 'self' 'unsafe-inline'");
+      expect(docsCsp).toContain("frame-ancestors 'none'");
+    } finally {
+      await s.close();
+    }
+    expect(SECURITY_HEADERS['Content-Security-Policy']).toMatch(
+      /script-src 'self' 'wasm-unsafe-eval';/,
+    );
+  });
+
   it('says it is alive and ready, and serves Prometheus metrics', async () => {
     expect((await get(server.port, '/healthz')).status).toBe(200);
     const ready = await get(server.port, '/readyz');

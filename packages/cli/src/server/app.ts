@@ -24,7 +24,7 @@ import type { HighscoreStore } from '../store/store.js';
 import { VerifierPool } from '../verify/pool.js';
 import { DEFAULT_HTTP_LIMITS, type HttpLimits } from './limits.js';
 import { ServerMetrics } from './metrics.js';
-import { SECURITY_HEADERS } from './security.js';
+import { DOCS_CONTENT_SECURITY_POLICY, SECURITY_HEADERS } from './security.js';
 
 /** Options of {@link createServer}. */
 export interface ServerOptions {
@@ -81,6 +81,11 @@ export interface ServerOptions {
   submissionsPerMinute?: number;
   /** Verification workers and queue. Default: cores − 1 workers (at least 1), 32 waiting. */
   verification?: { workers?: number; maxQueue?: number } | VerifierPool;
+  /**
+   * The `Content-Security-Policy` of every answer. Default `CONTENT_SECURITY_POLICY` (the
+   * lab's: scripts, styles and WebAssembly from this origin, WebSockets, no framing, no eval).
+   */
+  contentSecurityPolicy?: string;
   /** HTTP limits and timeouts; missing fields take {@link DEFAULT_HTTP_LIMITS}. */
   limits?: Partial<HttpLimits>;
   /** Where unexpected errors are reported. Default `console.error`. */
@@ -230,6 +235,11 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
 
   app.addHook('onSend', async (request, reply, payload) => {
     for (const [k, v] of Object.entries(SECURITY_HEADERS)) reply.header(k, v);
+    if (docs !== undefined && request.url.startsWith('/docs/')) {
+      reply.header('Content-Security-Policy', DOCS_CONTENT_SECURITY_POLICY);
+    } else if (options.contentSecurityPolicy !== undefined) {
+      reply.header('Content-Security-Policy', options.contentSecurityPolicy);
+    }
     // JavaScript is text/javascript (RFC 9239), whatever the static server's table says.
     if (String(reply.getHeader('content-type')).startsWith('application/javascript')) {
       reply.header('Content-Type', 'text/javascript; charset=utf-8');

@@ -18,6 +18,16 @@ export const CONTENT_SECURITY_POLICY = [
   "frame-ancestors 'none'",
 ].join('; ');
 
+/**
+ * The CSP of the API reference at `/docs/`: TypeDoc's pages run a small inline script (the theme,
+ * before the page paints) that the lab's policy would block. The reference is our own static
+ * build, never user content, so inline scripts are allowed there and only there.
+ */
+export const DOCS_CONTENT_SECURITY_POLICY = CONTENT_SECURITY_POLICY.replace(
+  "script-src 'self' 'wasm-unsafe-eval'",
+  "script-src 'self' 'unsafe-inline'",
+);
+
 /** Header name → value, added to every answer of the server. */
 export const SECURITY_HEADERS: Readonly<Record<string, string>> = Object.freeze({
   'Content-Security-Policy': CONTENT_SECURITY_POLICY,
