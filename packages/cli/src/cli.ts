@@ -153,9 +153,14 @@ const SERVE_OPTIONS: OptionSpec[] = [
 export const SERVE_HELP = `fixedstep serve — serve the lab
 
 Serves the built lab, the highscore API (replays re-simulated in worker threads; scores and
-their replays in PostgreSQL) and, on the same port at /ws, the multiplayer relay (WebSocket;
-rooms for every game, server-ordered lockstep inputs, desync detection); /healthz, /readyz
-and /metrics (Prometheus).
+their replays in PostgreSQL) and, on the same port: the multiplayer relay at /ws/<room>
+(WebSocket; server-ordered inputs for lockstep and rollback, desync detection), state-sync
+rooms at /state/<room> (the server runs the game and sends the world), WebRTC signalling for
+peer-to-peer matches at /signal; /healthz, /readyz and /metrics (Prometheus).
+
+Ctrl-C stops at once; SIGTERM drains first (no new rooms; running matches get
+$FIXEDSTEP_DRAIN_MS, default 25000 ms). The relay reads its caps, allowed origins and trusted
+proxy from FIXEDSTEP_* variables (docs/deploy.md).
 
 Scores go to the embedded PostgreSQL (PGlite) in <data>/pglite, or to the PostgreSQL server
 of $DATABASE_URL when it is set (then any number of server processes may share it).
