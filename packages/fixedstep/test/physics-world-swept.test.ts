@@ -190,6 +190,17 @@ describe('swept tests agree with brute force', () => {
     );
   });
 
+  it('point vs capsule, starting inside one end cap and moving along: no contact at the far cap', () => {
+    // fast-check's counterexample (seed 226310879): inside cap A, moving out of it but along the
+    // capsule; the far cap's entry at u ≈ 1 was taken as a first contact.
+    const [px, py, dx, dy] = [0.80526, 2.82805, -0.841578, -1.2140874];
+    const [ax, ay, bx, by, r] = [1.999936, 1.999928, 0.375812, -0.343088, 1.99997612];
+    expect(capsuleSdf(ax, ay, bx, by, r)(px, py)).toBeLessThan(0);
+    const u = toiPointCapsule(px, py, dx, dy, ax, ay, bx, by, r, out);
+    expect(check(u, out, capsuleSdf(ax, ay, bx, by, r), px, py, dx, dy)).toBe('');
+    expect(u).toBe(-1); // moving out of the nearest cap: no new contact
+  });
+
   it('box vs segment', () => {
     fc.assert(
       fc.property(

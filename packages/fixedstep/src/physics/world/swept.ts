@@ -225,6 +225,15 @@ export function hitPointCapsule(
       out[2] = 0;
       return true;
     }
+    // Overlapping an end cap at the start: the nearest cap alone decides, as the flat part does
+    // above (asking both caps, the far one's entry could be taken as a first contact although the
+    // point never left the capsule).
+    const cap = along < 0 ? 0 : len;
+    const cx = rx - cap * tx;
+    const cy = ry - cap * ty;
+    if (cx * cx + cy * cy <= radius * radius) {
+      return hitPointCircle(cx, cy, dx, dy, radius, out);
+    }
   } else {
     const side = s > 0 ? 1 : -1;
     if (side * ds < 0) {
