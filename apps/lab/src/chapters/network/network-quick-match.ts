@@ -65,7 +65,8 @@ export class QuickMatchControl {
     })
       .then((match) => {
         if (this.abort !== abort) return;
-        this.done(`Matched: you are player ${match.order + 1} of ${match.players}.`);
+        // The relay gives slots in the order hellos arrive: the panel shows which one is yours.
+        this.done(`Matched with ${match.players - 1} other player(s): joining the room.`);
         this.onMatch(match);
       })
       .catch((error: unknown) => {
