@@ -369,6 +369,45 @@ describe('quick match over real sockets through createServer', () => {
     await expect.poll(() => server.matchmaking?.queue.size).toBe(0);
   });
 
+  it('caps waiting players per address with a message, and connections with HTTP 429', async () => {
+    const four = JSON.stringify(
+      req({
+        game: 'ctf',
+        gameVersion: ctfGame.version,
+        input: ctfGame.input.id,
+        minPlayers: 4,
+        maxPlayers: 4,
+      }),
+    );
+    // maxWaitingPerAddress is 3 on this server: three wait, the fourth hears why.
+    const waiting = [raw([four]), raw([four]), raw([four])];
+    await expect.poll(() => server.matchmaking?.queue.size).toBe(3);
+    const fourth = raw([four]);
+    expect(await fourth.closed).toBe(1000);
+    expect(fourth.got).toEqual([
+      {
+        type: 'error',
+        code: 'TOO_MANY_FROM_ADDRESS',
+        message: 'at most 3 players wait from one address',
+      },
+    ]);
+    await expect.poll(() => server.matchmaking?.connections).toBe(3);
+    // Connections are capped at twice that: 3 more idle ones fit, the next upgrade gets 429.
+    const idle = [raw([]), raw([]), raw([])];
+    await Promise.all(idle.map((c) => new Promise((resolve) => c.ws.once('open', resolve))));
+    const status = await new Promise<number>((resolve) => {
+      const ws = new WebSocket(`${base}/match`);
+      ws.on('unexpected-response', (_req, res) => {
+        resolve(res.statusCode ?? 0);
+      });
+      ws.on('error', () => undefined);
+    });
+    expect(status).toBe(429);
+    for (const c of [...waiting, ...idle]) c.ws.terminate();
+    await Promise.all([...waiting, ...idle].map((c) => c.closed));
+    await expect.poll(() => server.matchmaking?.queue.size).toBe(0);
+  });
+
   it('refuses garbage, unknown games and a second request with a clear error', async () => {
     const cases: [(string | Uint8Array)[], string, string][] = [
       [['hello?'], 'BAD_MESSAGE', 'a matchmaking message is JSON; this frame is not'],

@@ -50,7 +50,10 @@ export interface MatchmakingEndpointOptions {
 export interface MatchmakingEndpoint {
   /** The queue (e.g. its `size` for a dashboard). */
   readonly queue: MatchQueue<unknown>;
+  /** The URL path it answers, e.g. `/match`. */
   readonly path: string;
+  /** Open matchmaking connections (waiting or not yet sent their request). */
+  readonly connections: number;
   /** Tell every waiting client (error `SHUTDOWN`), close every connection, detach. */
   close(): Promise<void>;
 }
@@ -228,6 +231,9 @@ export function attachMatchmaking(
   return {
     queue,
     path,
+    get connections() {
+      return total;
+    },
     close: () =>
       (closed ??= new Promise<void>((resolve) => {
         clearInterval(sweep);

@@ -55,7 +55,9 @@ export interface Match<T> {
   room: string;
   /** How many players: within every member's range and the game's. */
   players: number;
+  /** The game's id. */
   game: string;
+  /** The game's version. */
   gameVersion: number;
   /** The members, by `order`. */
   members: MatchMember<T>[];
@@ -65,13 +67,20 @@ export interface Match<T> {
 export type JoinResult<T> =
   | {
       ok: true;
+      /** The player's ticket (to {@link MatchQueue.cancel} it). */
       ticket: number;
       /** The wait granted, in ms (the request's, at most `maxTimeoutMs`). */
       timeoutMs: number;
       /** The match this join completed, if it did (the new player is among its members). */
       match?: Match<T>;
     }
-  | { ok: false; code: MatchErrorCode; message: string };
+  | {
+      ok: false;
+      /** Why, as the `error` message's code. */
+      code: MatchErrorCode;
+      /** Why, in words naming the value or cap. */
+      message: string;
+    };
 
 interface Entry<T> {
   ticket: number;

@@ -40,6 +40,7 @@ export type MatchErrorCode =
 
 /** Client → server: wait for a match. One per connection. */
 export interface MatchQueueRequest {
+  /** The message kind. */
   type: 'queue';
   /** Game id (see {@link NAME_PATTERN}). */
   game: string;
@@ -57,6 +58,7 @@ export interface MatchQueueRequest {
 
 /** Client → server: stop waiting (closing the connection does the same). */
 export interface MatchCancelRequest {
+  /** The message kind. */
   type: 'cancel';
 }
 
@@ -65,7 +67,9 @@ export type MatchClientMessage = MatchQueueRequest | MatchCancelRequest;
 
 /** Server → client: the request is in the queue; `timeoutMs` is the wait the server granted. */
 export interface MatchQueuedMessage {
+  /** The message kind. */
   type: 'queued';
+  /** The wait granted, in ms (the request's, or the server's cap if lower). */
   timeoutMs: number;
 }
 
@@ -76,26 +80,35 @@ export interface MatchQueuedMessage {
  * room name is random (18 bytes from a cryptographic source): knowing it is what lets one in.
  */
 export interface MatchFoundMessage {
+  /** The message kind. */
   type: 'matched';
+  /** The relay room to join (see {@link NAME_PATTERN}). */
   room: string;
+  /** Player slots of the room (the hello's `players`). */
   players: number;
+  /** This client's place, 0 to `players` − 1. */
   order: number;
 }
 
 /** Server → client: nobody compatible came within the wait. */
 export interface MatchNoneMessage {
+  /** The message kind. */
   type: 'no-match';
 }
 
 /** Server → client: the request was cancelled, as asked. */
 export interface MatchCancelledMessage {
+  /** The message kind. */
   type: 'cancelled';
 }
 
 /** Server → client: the request was refused; the server closes the connection after it. */
 export interface MatchErrorMessage {
+  /** The message kind. */
   type: 'error';
+  /** Why, as a code. */
   code: MatchErrorCode;
+  /** Why, in words: names the field, value or cap. */
   message: string;
 }
 
