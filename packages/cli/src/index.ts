@@ -71,4 +71,10 @@ export { attachStateSync } from './state-sync/index.js';
 export type { StateSyncEndpoint, StateSyncEndpointOptions } from './state-sync/index.js';
 export { attachSignalling, SignallingHub } from './signalling/index.js';
 export type { SignallingEndpoint, SignallingEndpointOptions } from './signalling/index.js';
+export { attachMatchmaking, MatchQueue, DEFAULT_MATCHMAKING_LIMITS } from './matchmaking/index.js';
+export type {
+  MatchmakingEndpoint,
+  MatchmakingEndpointOptions,
+  MatchmakingLimits,
+} from './matchmaking/index.js';
 export { printable, cleanName } from './text.js';

@@ -25,11 +25,17 @@ export type RunningServer = FixedstepServer;
 /**
  * Serves a built lab (static files: GET and HEAD, no path traversal nor symlinks out of the root,
  * ETag revalidation, security headers) with `/healthz`, `/readyz` and `/metrics`, and the
- * highscore API when a store is given — no relay, no state sync (attach them with `attachRelay(server.server)`, `attachStateSync(server.server)`).
- * {@link createServer} with `relay: false, stateSync: false, signalling: false`.
+ * highscore API when a store is given — no relay, no state sync, no matchmaking (attach them with `attachRelay(server.server)`, `attachStateSync(server.server)`, `attachMatchmaking(server.server)`).
+ * {@link createServer} with `relay: false, stateSync: false, signalling: false, matchmaking: false`.
  */
 export function startServer(options: ServeOptions): Promise<RunningServer> {
-  return createServer({ ...options, relay: false, stateSync: false, signalling: false });
+  return createServer({
+    ...options,
+    relay: false,
+    stateSync: false,
+    signalling: false,
+    matchmaking: false,
+  });
 }
 
 export { displayHost, DOCS_NOT_BUILT } from './server/app.js';

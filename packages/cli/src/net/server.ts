@@ -200,7 +200,8 @@ function expandIPv6(ip: string): string[] {
   return [...h, ...zeros, ...t];
 }
 
-function trustedProxyList(trust: TrustedProxy): net.BlockList {
+/** The proxies of `trust` as a block list (throws on an entry that is no address or range). */
+export function trustedProxyList(trust: TrustedProxy): net.BlockList {
   const list = new net.BlockList();
   for (const p of trust.proxies ?? ['127.0.0.0/8', '::1']) {
     const [addr = '', bits] = p.split('/');
@@ -223,7 +224,7 @@ function trustedProxyList(trust: TrustedProxy): net.BlockList {
  * The client address of an upgrade request, or a reason to refuse it (400: a trusted proxy's
  * header that does not end with an address).
  */
-function clientAddress(
+export function clientAddress(
   req: http.IncomingMessage,
   trust: TrustedProxy | undefined,
   proxies: net.BlockList | undefined,
@@ -249,7 +250,8 @@ function clientAddress(
   return { address: addressKey(ip) };
 }
 
-function originAllowed(req: http.IncomingMessage, policy: OriginPolicy): boolean {
+/** Whether an upgrade's `Origin` passes `policy` (see {@link RelayEndpointOptions.allowedOrigins}). */
+export function originAllowed(req: http.IncomingMessage, policy: OriginPolicy): boolean {
   const origin = req.headers.origin;
   if (origin === undefined || policy === 'any') return true;
   if (policy === 'same-origin') {

@@ -20,6 +20,11 @@ import {
   type SignallingEndpointOptions,
 } from '../signalling/server.js';
 import { gameCatalog } from '../net/catalog.js';
+import {
+  attachMatchmaking,
+  type MatchmakingEndpoint,
+  type MatchmakingEndpointOptions,
+} from '../matchmaking/endpoint.js';
 import type { HighscoreStore } from '../store/store.js';
 import { VerifierPool } from '../verify/pool.js';
 import { DEFAULT_HTTP_LIMITS, type HttpLimits } from './limits.js';
@@ -66,6 +71,8 @@ export interface ServerOptions {
    * when no direct route is found; see docs/webrtc.md), `false`: none. Default: on.
    */
   signalling?: boolean | SignallingEndpointOptions;
+  /** The quick-match queue at `/match` (see docs/network.md), `false`: none. Default: on. */
+  matchmaking?: boolean | MatchmakingEndpointOptions;
 
   /**
    * Browser origins allowed to open a WebSocket to the relay (the `Origin` header), e.g.
@@ -108,6 +115,8 @@ export interface FixedstepServer {
   readonly stateSync: StateSyncEndpoint | undefined;
   /** WebRTC signalling, unless `signalling: false`. */
   readonly signalling: SignallingEndpoint | undefined;
+  /** The quick-match queue, unless `matchmaking: false`. */
+  readonly matchmaking: MatchmakingEndpoint | undefined;
   /** The Prometheus metrics served at `/metrics`. */
   readonly metrics: ServerMetrics;
   /** Resolves once the highscore store is open (rejects if it failed; no-op without a store). */
@@ -454,6 +463,16 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     });
   }
 
+  // Quick match on the same port: matched players get a fresh room of the relay.
+  let matchmaking: MatchmakingEndpoint | undefined;
+  if (options.matchmaking !== false) {
+    matchmaking = attachMatchmaking(server, {
+      games: gameList,
+      ...(options.allowedOrigins !== undefined ? { allowedOrigins: options.allowedOrigins } : {}),
+      ...(typeof options.matchmaking === 'object' ? options.matchmaking : {}),
+    });
+  }
+
   await app.ready();
   await new Promise<void>((resolve, reject) => {
     const onError = (error: NodeJS.ErrnoException) => {
@@ -481,6 +500,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     await relay?.close();
     await stateSync?.close();
     await signalling?.close();
+    await matchmaking?.close();
     await app.close().catch(() => undefined);
     throw error;
   });
@@ -501,6 +521,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
       await relay?.close();
       await stateSync?.close();
       await signalling?.close();
+      await matchmaking?.close();
       await api?.close();
       server.closeAllConnections();
       await stopped;
@@ -518,6 +539,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     relay,
     stateSync,
     signalling,
+    matchmaking,
     metrics,
     storeReady,
     get draining() {

@@ -1,7 +1,8 @@
 /**
  * Networking: a compact binary protocol, transports (in-memory, a simulated lossy link, WebSocket),
  * client sessions (lockstep, rollback, spectator, sync test), NTP-style clock sync, and the relay
- * server core with desync forensics. See docs/network.md.
+ * server core with desync forensics, and a quick-match client ({@link quickMatch}). See
+ * docs/network.md.
  * @module
  */
 export {
@@ -82,5 +83,29 @@ export type {
   MatchClientResult,
   MatchResult,
 } from './match.js';
+export {
+  MAX_MATCH_MESSAGE_BYTES,
+  MAX_MATCH_PLAYERS,
+  MAX_MATCH_TIMEOUT_MS,
+  MatchmakingError,
+  encodeMatchMessage,
+  decodeMatchClientMessage,
+  decodeMatchServerMessage,
+  quickMatch,
+} from './matchmaking.js';
+export type {
+  MatchErrorCode,
+  MatchQueueRequest,
+  MatchCancelRequest,
+  MatchClientMessage,
+  MatchQueuedMessage,
+  MatchFoundMessage,
+  MatchNoneMessage,
+  MatchCancelledMessage,
+  MatchErrorMessage,
+  MatchServerMessage,
+  QuickMatchOptions,
+  QuickMatchResult,
+} from './matchmaking.js';
 export * from './state-sync/index.js';
 export * from './webrtc/index.js';

@@ -21,6 +21,7 @@ import { Readout } from '../../ui/readout.js';
 import { gameDef } from '../../games-view/games.js';
 import { ASPECT, drawGame, drawMessage } from '../../games-view/render.js';
 import { BOT_EVERY, CHECKPOINT_TICKS } from './network-lab.js';
+import { QuickMatchControl } from './network-quick-match.js';
 
 /** A room name the relay accepts. */
 const ROOM_NAME = /^[A-Za-z0-9_.-]{1,32}$/;
@@ -65,6 +66,13 @@ export class OnlinePanel {
   private raf = 0;
   private state = 'offline';
   private stopAt: number;
+  // Quick match: the server names a fresh room for two waiting tabs; join it as if typed.
+  private readonly quick = new QuickMatchControl((match) => {
+    if (this.session) this.leave();
+    this.roomInput.value = match.room;
+    this.updateLink();
+    this.join();
+  });
 
   constructor() {
     const opts = onlineOptions(location.hash);
@@ -131,6 +139,7 @@ export class OnlinePanel {
           this.roomInput,
           this.joinBtn,
           this.tabLink,
+          this.quick.el,
         ),
       ),
       h(
@@ -286,6 +295,7 @@ export class OnlinePanel {
   }
 
   destroy(): void {
+    this.quick.cancel();
     this.leave();
     this.canvas.destroy();
   }
