@@ -137,7 +137,8 @@ describe('NetworkLab on the real clock', () => {
 
 describe('the online panel’s address', () => {
   it('reads the room, the match length and join from the hash', () => {
-    expect(onlineOptions('#/network')).toEqual({ room: undefined, ticks: 3600, join: false });
+    // No ticks: the match lasts until the game ends it.
+    expect(onlineOptions('#/network')).toEqual({ room: undefined, ticks: undefined, join: false });
     expect(onlineOptions('#/network?room=abc&ticks=600&join=1')).toEqual({
       room: 'abc',
       ticks: 600,
@@ -146,14 +147,14 @@ describe('the online panel’s address', () => {
     // A bad room name is no room, and never joined; a match shorter than a checkpoint is refused.
     expect(onlineOptions('#/network?room=a%20b&join=1')).toEqual({
       room: undefined,
-      ticks: 3600,
+      ticks: undefined,
       join: false,
     });
-    expect(onlineOptions('#/network?room=x&ticks=5').ticks).toBe(3600);
+    expect(onlineOptions('#/network?room=x&ticks=5').ticks).toBe(undefined);
   });
 
   it('links a room for a second tab that joins it, and reads back', () => {
-    expect(roomLink('room-1', 3600)).toBe('#/network?room=room-1&join=1');
+    expect(roomLink('room-1', undefined)).toBe('#/network?room=room-1&join=1');
     const link = roomLink('r.2_x', 600);
     expect(link).toBe('#/network?room=r.2_x&ticks=600&join=1');
     expect(onlineOptions(link)).toEqual({ room: 'r.2_x', ticks: 600, join: true });

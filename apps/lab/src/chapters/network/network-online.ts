@@ -1,38 +1,47 @@
 /**
  * Chapter 6, "Play online": a lockstep session over a real WebSocket to the relay of
  * `fixedstep serve` (`/ws`). Open the same room in two tabs (the room name is in the address:
- * `#/network?room=…`); a bot plays each side. Shows the connection, the round trip, the tick and
- * the hash of the state at the last checkpoint, and whether the relay saw a desync.
+ * `#/network?room=…`); a person plays each side — by keyboard, or by the on-screen controls on a
+ * touch screen, both through one `InputSampler` — or, when asked, a bot. Each screen marks its own
+ * player "YOU" and shows that player's HUD. The match ends when the game does (see
+ * `network-online-end.ts`), with the same final screen and hash in both tabs. Shows the
+ * connection, the round trip, the tick, the hash of the state at the last checkpoint and at the
+ * end, and whether the relay saw a desync.
  */
 import {
+  InputSampler,
   LockstepSession,
+  attachKeyboard,
   connectWebSocket,
   hex64,
   performanceClock,
+  type ButtonInput,
   type NetSession,
   type Simulation,
 } from 'fixedstep';
-import type { Game } from '@fixedstep/games';
+import { CtfGame, type Game } from '@fixedstep/games';
 import { SceneCanvas } from '../../ui/canvas.js';
-import { button } from '../../ui/controls.js';
+import { button, toggle } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
-import { gameDef } from '../../games-view/games.js';
+import { gameDef, keyLabel, keyMap } from '../../games-view/games.js';
 import { ASPECT, drawGame, drawMessage } from '../../games-view/render.js';
+import { attachTouchPad } from '../../games-view/touch-pad.js';
 import { BOT_EVERY, CHECKPOINT_TICKS } from './network-lab.js';
+import { watchEnd, type MatchEnd } from './network-online-end.js';
 
 /** A room name the relay accepts. */
 const ROOM_NAME = /^[A-Za-z0-9_.-]{1,32}$/;
-const DEFAULT_TICKS = 3600;
 
 /**
- * Room, match length and whether to join at once, from the address:
- * `#/network?room=abc&ticks=600&join=1`.
+ * Room, a shorter match and whether to join at once, from the address:
+ * `#/network?room=abc&ticks=600&join=1`. Without `ticks` (or with one shorter than a checkpoint)
+ * the match lasts until the game ends it (`ticks: undefined`).
  */
 export function onlineOptions(hash: string): {
   room: string | undefined;
-  ticks: number;
+  ticks: number | undefined;
   join: boolean;
 } {
   const q = hash.includes('?') ? new URLSearchParams(hash.slice(hash.indexOf('?') + 1)) : undefined;
@@ -41,17 +50,22 @@ export function onlineOptions(hash: string): {
   const valid = room !== undefined && ROOM_NAME.test(room);
   return {
     room: valid ? room : undefined,
-    ticks: Number.isInteger(ticks) && ticks >= CHECKPOINT_TICKS ? ticks : DEFAULT_TICKS,
+    ticks: Number.isInteger(ticks) && ticks >= CHECKPOINT_TICKS ? ticks : undefined,
     join: valid && q?.get('join') === '1',
   };
 }
 
-/** The address that opens `room` in another tab and joins it there. */
-export function roomLink(room: string, ticks: number): string {
+/** The address that opens `room` (a match of `ticks`, if shorter than the game) in another tab and joins it there. */
+export function roomLink(room: string, ticks: number | undefined): string {
   const q = new URLSearchParams({ room });
-  if (ticks !== DEFAULT_TICKS) q.set('ticks', String(ticks));
+  if (ticks !== undefined) q.set('ticks', String(ticks));
   q.set('join', '1');
   return `#/network?${q.toString()}`;
+}
+
+/** The game's buttons and their keys, as printed on the keys: `Fire: Space / J`. */
+function keysText(def: ReturnType<typeof gameDef>): string[] {
+  return def.info.buttons.map((b) => `${b.name}: ${b.keys.map(keyLabel).join(' / ')}`);
 }
 
 export class OnlinePanel {
@@ -64,7 +78,17 @@ export class OnlinePanel {
   private session: NetSession | undefined;
   private raf = 0;
   private state = 'offline';
-  private stopAt: number;
+  private readonly stopAt: number | undefined;
+  private readonly def = gameDef('ctf');
+  /** This player's buttons, from the keyboard and the on-screen controls, stamped with their time. */
+  private readonly sampler = new InputSampler<ButtonInput>(this.def.input);
+  private readonly touch: HTMLElement;
+  private readonly detachTouch: () => void;
+  private detachKeys: (() => void) | undefined;
+  /** Whether a bot plays this side (an explicit choice; people play by default). */
+  private bot = false;
+  /** Where the match ended, and its final state to draw. */
+  private end: { end: MatchEnd; game: Game } | undefined;
 
   constructor() {
     const opts = onlineOptions(location.hash);
@@ -93,10 +117,27 @@ export class OnlinePanel {
       },
       'Open this room in a new tab ↗',
     );
+    const bot = toggle('A bot plays my side', 'control-online-bot', false, (on) => {
+      this.bot = on;
+    });
     this.roomInput.addEventListener('input', () => {
       this.updateLink();
     });
     this.updateLink();
+    // On-screen controls: shown on touch screens (and with `?touch=1`), through the same sampler.
+    this.touch = h('div', {
+      class: 'touch-controls net-touch',
+      'data-testid': 'online-touch-controls',
+    });
+    if (new URLSearchParams(location.hash.split('?')[1] ?? '').get('touch') === '1') {
+      this.touch.classList.add('always');
+    }
+    this.detachTouch = attachTouchPad(
+      this.touch,
+      this.def.info.id,
+      this.sampler,
+      (e) => e.timeStamp,
+    );
     this.canvas = new SceneCanvas({
       class: 'scene net-online-scene',
       label: 'Your machine in the online room',
@@ -107,6 +148,8 @@ export class OnlinePanel {
       },
     });
     this.canvas.canvas.style.setProperty('--aspect', String(ASPECT.ctf ?? 1.5));
+    // Focusable: the keys work while the focus is in this panel (click the game).
+    this.canvas.canvas.tabIndex = 0;
     const row = (label: string, id: string, hash = false) => {
       const r = new Readout('dd', `online-${id}`, { hash });
       this.out[id] = r;
@@ -119,7 +162,7 @@ export class OnlinePanel {
       h(
         'p',
         { class: 'section-intro' },
-        'The same lockstep session over a real WebSocket to this server’s relay. Join a room here, then open this page with the same room in another tab or on another computer: the match starts when both players are in. A bot plays each side; the hashes at each checkpoint must be the same in both tabs.',
+        'The same lockstep session over a real WebSocket to this server’s relay, played by two people. Join a room here, then open this page with the same room in another tab or on another computer: the match starts when both players are in and ends when the game does (the clock runs out or a team captures 5 flags). Each screen marks its own player YOU; the hashes at each checkpoint and at the end must be the same in both tabs.',
       ),
       h(
         'div',
@@ -132,21 +175,34 @@ export class OnlinePanel {
           this.joinBtn,
           this.tabLink,
         ),
+        h('div', { class: 'control-group' }, bot),
+      ),
+      h(
+        'ul',
+        { class: 'net-keys', 'data-testid': 'online-keys', 'aria-label': 'Keys' },
+        h(
+          'li',
+          {},
+          'Click the game, then play with the keys (or the controls under it on a phone):',
+        ),
+        ...keysText(this.def).map((t) => h('li', {}, t)),
       ),
       h(
         'div',
         { class: 'net-online-body' },
-        h('figure', { class: 'net-machine' }, this.canvas.canvas),
+        h('figure', { class: 'net-machine' }, this.canvas.canvas, this.touch),
         h(
           'dl',
           { class: 'readouts' },
           ...row('Connection', 'state'),
-          ...row('Player', 'slot'),
+          ...row('You are', 'slot'),
+          ...row('Your kills, flags', 'you'),
           ...row('Round trip', 'rtt'),
           ...row('Tick', 'tick'),
           ...row('Checkpoint tick', 'checkpoint'),
           ...row('Hash there', 'hash', true),
-          ...row(`Hash at tick ${this.stopAt} (end)`, 'final-hash', true),
+          ...row('The end', 'end'),
+          ...row('Hash at the end', 'final-hash', true),
           ...row('Desyncs reported', 'desyncs'),
         ),
       ),
@@ -169,15 +225,20 @@ export class OnlinePanel {
       this.render();
       return;
     }
-    const def = gameDef('ctf');
+    const def = this.def;
     const url = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`;
     this.state = 'connecting';
     setText(this.joinBtn, 'Leave');
     this.roomInput.disabled = true;
+    this.end = undefined;
     this.render();
     connectWebSocket(url)
       .then((transport) => {
         let held = 0;
+        // Every event stamped up to now belongs to the tick being issued now.
+        const now = { isBeforeUpdateEnd: (t: number) => t <= performance.now() };
+        this.sampler.clear();
+        this.detachKeys = attachKeyboard(this.el, this.sampler, keyMap(def.info));
         const session: NetSession = new LockstepSession({
           transport,
           clock: performanceClock(),
@@ -186,9 +247,18 @@ export class OnlinePanel {
           gameVersion: def.info.version,
           input: def.input,
           players: 2,
-          stopAt: this.stopAt,
-          createSimulation: (w) => def.create(def.decodeConfig(w.config)),
+          ...(this.stopAt === undefined ? {} : { stopAt: this.stopAt }),
+          createSimulation: (w) => {
+            const config = def.decodeConfig(w.config);
+            return watchEnd(def.create(config), this.stopAt ?? Infinity, (end) => {
+              const game = def.create(config);
+              game.load(end.bytes);
+              this.end = { end, game };
+            });
+          },
           localInput: (tick: number, sim: Simulation) => {
+            const input = this.sampler.sample(now, 0);
+            if (!this.bot) return input;
             if (tick % BOT_EVERY === 0) held = def.bot(sim as Game, session.welcome?.slot ?? 0);
             return held;
           },
@@ -198,9 +268,13 @@ export class OnlinePanel {
           },
         });
         this.session = session;
+        this.canvas.canvas.focus({ preventScroll: true });
         const frame = () => {
           this.raf = requestAnimationFrame(frame);
           session.frame();
+          // Over: the relay already has every input up to the end, so the other player reaches
+          // the same end without us. Leave the room; the final screen stays.
+          if (this.end) this.finish();
           this.render();
         };
         this.raf = requestAnimationFrame(frame);
@@ -213,10 +287,23 @@ export class OnlinePanel {
       });
   }
 
+  /** The game is over: stop playing and leave the room, keeping the numbers and the final screen. */
+  private finish(): void {
+    cancelAnimationFrame(this.raf);
+    this.detachKeys?.();
+    this.detachKeys = undefined;
+    this.session?.leave();
+    this.state = 'finished';
+  }
+
   private leave(): void {
     cancelAnimationFrame(this.raf);
+    this.detachKeys?.();
+    this.detachKeys = undefined;
+    this.sampler.clear();
     this.session?.leave();
     this.session = undefined;
+    this.end = undefined;
     this.state = 'offline';
     setText(this.joinBtn, 'Join room');
     this.roomInput.disabled = false;
@@ -227,18 +314,30 @@ export class OnlinePanel {
   private render(): void {
     const s = this.session;
     const o = this.out;
-    const state = s
-      ? s.phase === 'closed'
-        ? this.state
-        : s.finished
-          ? 'finished'
+    const end = this.end;
+    const state = end
+      ? 'finished'
+      : s
+        ? s.phase === 'closed'
+          ? this.state
           : s.phase === 'waiting'
             ? 'waiting for the other player'
             : s.phase
-      : this.state;
+        : this.state;
     o.state?.set(state, state);
     const slot = s?.welcome?.slot;
-    o.slot?.set(slot === undefined ? '—' : String(slot + 1), slot === undefined ? '' : slot + 1);
+    o.slot?.set(
+      slot === undefined ? '—' : `player ${slot + 1} (${slot % 2 === 0 ? 'red' : 'blue'})`,
+      slot === undefined ? '' : slot + 1,
+    );
+    const g = end?.game ?? (s?.simulation as Game | undefined);
+    const st = g instanceof CtfGame && slot !== undefined ? g.state : undefined;
+    const kills = st?.kills[slot ?? 0];
+    const flags = st?.captures[slot ?? 0];
+    o.you?.set(
+      kills === undefined ? '—' : `${fmt.count(kills)} kills, ${fmt.count(flags ?? 0)} flags`,
+      kills === undefined ? '' : `${kills},${flags ?? 0}`,
+    );
     o.rtt?.set(s ? fmt.millis(s.stats.rtt) : '—', s?.stats.rtt ?? '');
     o.tick?.set(s ? fmt.count(s.tick) : '—', s?.tick ?? '');
     const confirmed = s ? s.confirmedStateTick() : -1;
@@ -249,19 +348,26 @@ export class OnlinePanel {
     o.checkpoint?.set(checkpoint < 0 ? '—' : fmt.count(checkpoint), checkpoint);
     const hash = s && checkpoint >= 0 ? s.hashAt(checkpoint) : undefined;
     o.hash?.set(hash === undefined ? '—' : hex64(hash), hash === undefined ? '' : hex64(hash));
-    const fin = s?.finished ? s.hashAt(this.stopAt) : undefined;
-    o['final-hash']?.set(fin === undefined ? '—' : hex64(fin), fin === undefined ? '' : hex64(fin));
+    o.end?.set(
+      end ? `tick ${fmt.count(end.end.tick)}, ${end.end.reason}` : '—',
+      end ? end.end.tick : '',
+    );
+    o['final-hash']?.set(end?.end.hash ?? '—', end?.end.hash ?? '');
     const desyncs = s?.desyncs.length ?? 0;
     o.desyncs?.set(fmt.count(desyncs), desyncs);
     o.desyncs?.warn(desyncs > 0);
-    setAttr(this.el, 'data-state', s?.phase ?? 'offline');
+    setAttr(this.el, 'data-state', end ? 'finished' : (s?.phase ?? 'offline'));
+    // The player this screen marks "YOU" (1-based), for a reader of the page.
+    setAttr(this.canvas.canvas, 'data-you', slot === undefined ? '' : String(slot + 1));
+    const x = st?.x[slot ?? 0];
+    setAttr(this.canvas.canvas, 'data-you-x', x === undefined ? '' : x.toFixed(1));
     if (this.canvas.fit()) {
-      const g = s?.simulation as Game | undefined;
       if (g && s) {
         drawGame(this.canvas, g, {
-          alpha: s.alpha,
+          alpha: end ? 1 : s.alpha,
           nowMs: performance.now(),
-          badge: { text: `tick ${s.tick}`, tone: 'info' },
+          badge: { text: `tick ${end ? end.end.tick : s.tick}`, tone: end ? 'good' : 'info' },
+          you: slot ?? 0,
         });
       } else {
         drawMessage(this.canvas, this.message());
@@ -287,6 +393,7 @@ export class OnlinePanel {
 
   destroy(): void {
     this.leave();
+    this.detachTouch();
     this.canvas.destroy();
   }
 }
