@@ -379,15 +379,17 @@ export class OnlinePanel {
   private message(): string[] {
     const s = this.session;
     if (s?.phase === 'closed') return ['The connection closed.', 'Join the room again to play.'];
-    if (s) return ['Waiting for the other player…', 'Open this room in a second tab to start.'];
+    if (s) return ['Waiting for the other player…', 'Open this room in a second tab.'];
     if (this.state === 'connecting') return ['Connecting to the server…'];
     if (this.state !== 'offline') {
       return [`Could not join: ${this.state}.`, 'Check the room name and the server.'];
     }
+    // Short lines: they fit the canvas of a 390 px phone.
     return [
       'Not in a room.',
-      'Press “Join room”, then open the room in a second tab:',
-      'the match starts when both players are in.',
+      'Press “Join room”, then open',
+      'the room in a second tab: the',
+      'match starts when both are in.',
     ];
   }
 
