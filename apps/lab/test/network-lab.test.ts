@@ -135,6 +135,18 @@ describe('NetworkLab on the real clock', () => {
   });
 });
 
+describe('each machine’s screen is its own player’s', () => {
+  it('the two machines of every model draw their own slot (one is player 1, the other player 2)', () => {
+    const lab = new NetworkLab();
+    lab.advanceTo(3000);
+    for (const mode of ['statesync', 'lockstep', 'rollback'] as const) {
+      const m = lab.match(mode);
+      const slots = [m.view(0)?.slot, m.view(1)?.slot];
+      expect(new Set(slots), mode).toEqual(new Set([0, 1]));
+    }
+  });
+});
+
 describe('the online panel’s address', () => {
   it('reads the room, the match length and join from the hash', () => {
     // No ticks: the match lasts until the game ends it.
