@@ -142,7 +142,7 @@ describe('each machine’s screen is its own player’s', () => {
     for (const mode of ['statesync', 'lockstep', 'rollback'] as const) {
       const m = lab.match(mode);
       const slots = [m.view(0)?.slot, m.view(1)?.slot];
-      expect(new Set(slots), mode).toEqual(new Set([0, 1]));
+      expect({ mode, slots: new Set(slots) }).toEqual({ mode, slots: new Set([0, 1]) });
     }
   });
 });
