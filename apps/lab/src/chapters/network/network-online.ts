@@ -16,6 +16,8 @@ import {
   hex64,
   performanceClock,
   type ButtonInput,
+  type KeyboardEventLike,
+  type KeyboardHost,
   type NetSession,
   type Simulation,
 } from 'fixedstep';
@@ -66,6 +68,47 @@ export function roomLink(room: string, ticks: number | undefined): string {
 /** The game's buttons and their keys, as printed on the keys: `Fire: Space / J`. */
 function keysText(def: ReturnType<typeof gameDef>): string[] {
   return def.info.buttons.map((b) => `${b.name}: ${b.keys.map(keyLabel).join(' / ')}`);
+}
+
+type KeyListener = (e: KeyboardEventLike) => void;
+
+/**
+ * The panel `el` as a keyboard host: its keys while the focus is inside it, and a "blur" (every
+ * held key let go) when the focus leaves it or the window loses focus — so a key released
+ * elsewhere never stays down in the match.
+ */
+function panelKeys(el: HTMLElement): KeyboardHost {
+  const blurs = new Map<KeyListener, { out: (e: FocusEvent) => void; win: (e: Event) => void }>();
+  return {
+    addEventListener(type: 'keydown' | 'keyup' | 'blur', fn: KeyListener): void {
+      if (type !== 'blur') {
+        el.addEventListener(type, fn);
+        return;
+      }
+      const pair = {
+        out: (e: FocusEvent) => {
+          if (!(e.relatedTarget instanceof Node && el.contains(e.relatedTarget))) fn(e as never);
+        },
+        win: (e: Event) => {
+          fn(e as never);
+        },
+      };
+      blurs.set(fn, pair);
+      el.addEventListener('focusout', pair.out);
+      window.addEventListener('blur', pair.win);
+    },
+    removeEventListener(type: 'keydown' | 'keyup' | 'blur', fn: KeyListener): void {
+      if (type !== 'blur') {
+        el.removeEventListener(type, fn);
+        return;
+      }
+      const pair = blurs.get(fn);
+      if (!pair) return;
+      blurs.delete(fn);
+      el.removeEventListener('focusout', pair.out);
+      window.removeEventListener('blur', pair.win);
+    },
+  };
 }
 
 export class OnlinePanel {
@@ -238,7 +281,7 @@ export class OnlinePanel {
         // Every event stamped up to now belongs to the tick being issued now.
         const now = { isBeforeUpdateEnd: (t: number) => t <= performance.now() };
         this.sampler.clear();
-        this.detachKeys = attachKeyboard(this.el, this.sampler, keyMap(def.info));
+        this.detachKeys = attachKeyboard(panelKeys(this.el), this.sampler, keyMap(def.info));
         const session: NetSession = new LockstepSession({
           transport,
           clock: performanceClock(),
