@@ -10,6 +10,10 @@ import { chromium, type Browser, type Page } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/cli';
 import { attachRelay, type RelayEndpoint } from '../packages/cli/src/net/server.js';
 import {
+  attachSignalling,
+  type SignallingEndpoint,
+} from '../packages/cli/src/signalling/server.js';
+import {
   CHROMIUM_ARGS,
   dist,
   horizontalOverflow,
@@ -45,10 +49,12 @@ async function finals(pages: Page[]): Promise<Record<string, string>[]> {
 describe('chapter 6, people play people online', () => {
   let server: RunningServer;
   let relay: RelayEndpoint;
+  let signalling: SignallingEndpoint;
   let browser: Browser;
   beforeAll(async () => {
     server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
     relay = attachRelay(server.server);
+    signalling = attachSignalling(server.server);
     browser = await chromium.launch({
       executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
       args: CHROMIUM_ARGS,
@@ -56,6 +62,7 @@ describe('chapter 6, people play people online', () => {
   });
   afterAll(async () => {
     await browser.close();
+    await signalling.close();
     await relay.close();
     await server.close();
   });
@@ -176,5 +183,41 @@ describe('chapter 6, people play people online', () => {
     expect(deskProblems).toEqual([]);
     await desk.close();
     await context.close();
+  });
+
+  it('peer to peer (WebRTC): page 1 hosts the relay, page 2 joins it; the same end on both', async () => {
+    const ticks = 600;
+    const pages = await Promise.all([0, 1].map(() => browser.newPage()));
+    const problems = pages.map((p) => watch(p));
+    const [one, two] = pages as [Page, Page];
+    await one.goto(`${server.url}#/network?room=people-p2p&ticks=${ticks}&p2p=1`);
+    expect(await one.getByTestId('control-online-p2p').getAttribute('aria-pressed')).toBe('true');
+    await one.getByTestId('control-join').click();
+    await expect.poll(() => state(one)).toBe('waiting for the other player');
+    expect(await one.getByTestId('readout-online-via').getAttribute('data-value')).toBe(
+      'WebRTC, hosting',
+    );
+    const link = await one.getByTestId('link-room-tab').getAttribute('href');
+    expect(link).toBe(`#/network?room=people-p2p&ticks=${ticks}&p2p=1&join=1`);
+    await two.goto(`${server.url}${link}`);
+    for (const p of pages) await expect.poll(() => state(p), { timeout: 40_000 }).toBe('running');
+    const via = await two.getByTestId('readout-online-via').getAttribute('data-value');
+    for (const [i, p] of pages.entries()) {
+      expect(await p.getByTestId('canvas-online').getAttribute('data-you')).toBe(String(i + 1));
+    }
+    const start = await youX(two);
+    await two.getByTestId('canvas-online').click();
+    await two.keyboard.down('KeyA');
+    await expect.poll(() => youX(two), { timeout: 30_000 }).toBeLessThan(start - 60);
+    await two.keyboard.up('KeyA');
+    const got = await finals(pages);
+    expect(got[0]!['readout-online-final-hash']).toBe(got[1]!['readout-online-final-hash']);
+    for (const r of got) expect(r['readout-online-desyncs']).toBe('0');
+    console.log(
+      `people-p2p (${via}): final hash at tick ${ticks} ${got[0]!['readout-online-final-hash']}`,
+    );
+    expect(via).toBe('WebRTC, direct');
+    expect(problems).toEqual([[], []]);
+    for (const p of pages) await p.close();
   });
 });

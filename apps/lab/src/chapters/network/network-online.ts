@@ -19,6 +19,7 @@ import {
   type KeyboardEventLike,
   type KeyboardHost,
   type NetSession,
+  type Transport,
   type Simulation,
 } from 'fixedstep';
 import { CtfGame, type Game } from '@fixedstep/games';
@@ -32,6 +33,7 @@ import { ASPECT, drawGame, drawMessage } from '../../games-view/render.js';
 import { attachTouchPad } from '../../games-view/touch-pad.js';
 import { BOT_EVERY, CHECKPOINT_TICKS } from './network-lab.js';
 import { watchEnd, type MatchEnd } from './network-online-end.js';
+import { connectPeerToPeer, type P2pConnection } from './network-online-p2p.js';
 
 /** A room name the relay accepts. */
 const ROOM_NAME = /^[A-Za-z0-9_.-]{1,32}$/;
@@ -45,6 +47,7 @@ export function onlineOptions(hash: string): {
   room: string | undefined;
   ticks: number | undefined;
   join: boolean;
+  p2p: boolean;
 } {
   const q = hash.includes('?') ? new URLSearchParams(hash.slice(hash.indexOf('?') + 1)) : undefined;
   const room = q?.get('room') ?? undefined;
@@ -54,13 +57,15 @@ export function onlineOptions(hash: string): {
     room: valid ? room : undefined,
     ticks: Number.isInteger(ticks) && ticks >= CHECKPOINT_TICKS ? ticks : undefined,
     join: valid && q?.get('join') === '1',
+    p2p: q?.get('p2p') === '1',
   };
 }
 
 /** The address that opens `room` (a match of `ticks`, if shorter than the game) in another tab and joins it there. */
-export function roomLink(room: string, ticks: number | undefined): string {
+export function roomLink(room: string, ticks: number | undefined, p2p = false): string {
   const q = new URLSearchParams({ room });
   if (ticks !== undefined) q.set('ticks', String(ticks));
+  if (p2p) q.set('p2p', '1');
   q.set('join', '1');
   return `#/network?${q.toString()}`;
 }
@@ -130,12 +135,17 @@ export class OnlinePanel {
   private detachKeys: (() => void) | undefined;
   /** Whether a bot plays this side (an explicit choice; people play by default). */
   private bot = false;
+  /** Whether to play peer to peer (WebRTC, the relay in the first page) instead of through the server's relay. */
+  private p2p: boolean;
+  private p2pConn: P2pConnection | undefined;
+  private via = '';
   /** Where the match ended, and its final state to draw. */
   private end: { end: MatchEnd; game: Game } | undefined;
 
   constructor() {
     const opts = onlineOptions(location.hash);
     this.stopAt = opts.ticks;
+    this.p2p = opts.p2p;
     this.roomInput = h('input', {
       type: 'text',
       id: 'net-room',
@@ -163,6 +173,11 @@ export class OnlinePanel {
     const bot = toggle('A bot plays my side', 'control-online-bot', false, (on) => {
       this.bot = on;
     });
+    const p2p = toggle('Peer to peer (WebRTC)', 'control-online-p2p', this.p2p, (on) => {
+      this.p2p = on;
+      this.updateLink();
+    });
+    p2p.title = 'Data channels between the two browsers; this server only introduces them';
     this.roomInput.addEventListener('input', () => {
       this.updateLink();
     });
@@ -218,7 +233,7 @@ export class OnlinePanel {
           this.joinBtn,
           this.tabLink,
         ),
-        h('div', { class: 'control-group' }, bot),
+        h('div', { class: 'control-group' }, bot, p2p),
       ),
       h(
         'ul',
@@ -238,6 +253,7 @@ export class OnlinePanel {
           'dl',
           { class: 'readouts' },
           ...row('Connection', 'state'),
+          ...row('Transport', 'via'),
           ...row('You are', 'slot'),
           ...row('Your kills, flags', 'you'),
           ...row('Round trip', 'rtt'),
@@ -258,7 +274,7 @@ export class OnlinePanel {
     const room = this.roomInput.value.trim();
     const ok = ROOM_NAME.test(room);
     this.tabLink.hidden = !ok;
-    if (ok) this.tabLink.href = roomLink(room, this.stopAt);
+    if (ok) this.tabLink.href = roomLink(room, this.stopAt, this.p2p);
   }
 
   private join(): void {
@@ -269,13 +285,27 @@ export class OnlinePanel {
       return;
     }
     const def = this.def;
-    const url = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`;
+    const ws = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}`;
     this.state = 'connecting';
     setText(this.joinBtn, 'Leave');
     this.roomInput.disabled = true;
     this.end = undefined;
     this.render();
-    connectWebSocket(url)
+    const connect: Promise<Transport> = this.p2p
+      ? connectPeerToPeer(`${ws}/signal`, room, def).then((c) => {
+          this.p2pConn = c;
+          this.via = {
+            host: 'WebRTC, hosting',
+            webrtc: 'WebRTC, direct',
+            server: 'WebRTC fallback: through the server',
+          }[c.via];
+          return c.transport;
+        })
+      : connectWebSocket(`${ws}/ws`).then((t) => {
+          this.via = 'WebSocket to the relay';
+          return t;
+        });
+    connect
       .then((transport) => {
         let held = 0;
         // Every event stamped up to now belongs to the tick being issued now.
@@ -346,6 +376,11 @@ export class OnlinePanel {
     this.sampler.clear();
     this.session?.leave();
     this.session = undefined;
+    // Hosting peer to peer, the relay ran here until now (not at the end: the other player may
+    // still be receiving the last ticks from it).
+    this.p2pConn?.close();
+    this.p2pConn = undefined;
+    this.via = '';
     this.end = undefined;
     this.state = 'offline';
     setText(this.joinBtn, 'Join room');
@@ -368,6 +403,7 @@ export class OnlinePanel {
             : s.phase
         : this.state;
     o.state?.set(state, state);
+    o.via?.set(this.via || '—', this.via);
     const slot = s?.welcome?.slot;
     o.slot?.set(
       slot === undefined ? '—' : `player ${slot + 1} (${slot % 2 === 0 ? 'red' : 'blue'})`,
