@@ -220,7 +220,7 @@ export class OnlinePanel {
       h(
         'p',
         { class: 'section-intro' },
-        'The same lockstep session over a real WebSocket to this server’s relay, played by two people. Join a room here, then open this page with the same room in another tab or on another computer: the match starts when both players are in and ends when the game does (the clock runs out or a team captures 5 flags). Each screen marks its own player YOU; the hashes at each checkpoint and at the end must be the same in both tabs.',
+        'The same lockstep session over a real WebSocket to this server’s relay (or, with “Peer to peer”, over WebRTC data channels between the two browsers), played by two people. Join a room here, then open this page with the same room in another tab or on another computer: the match starts when both players are in and ends when the game does (the clock runs out or a team captures 5 flags). Each screen marks its own player YOU; the hashes at each checkpoint and at the end must be the same in both tabs.',
       ),
       h(
         'div',
