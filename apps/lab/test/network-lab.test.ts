@@ -135,28 +135,52 @@ describe('NetworkLab on the real clock', () => {
   });
 });
 
+describe('each machine’s screen is its own player’s', () => {
+  it('the two machines of every model draw their own slot (one is player 1, the other player 2)', () => {
+    const lab = new NetworkLab();
+    lab.advanceTo(3000);
+    for (const mode of ['statesync', 'lockstep', 'rollback'] as const) {
+      const m = lab.match(mode);
+      const slots = [m.view(0)?.slot, m.view(1)?.slot];
+      expect({ mode, slots: new Set(slots) }).toEqual({ mode, slots: new Set([0, 1]) });
+    }
+  });
+});
+
 describe('the online panel’s address', () => {
   it('reads the room, the match length and join from the hash', () => {
-    expect(onlineOptions('#/network')).toEqual({ room: undefined, ticks: 3600, join: false });
+    // No ticks: the match lasts until the game ends it.
+    expect(onlineOptions('#/network')).toEqual({
+      room: undefined,
+      ticks: undefined,
+      join: false,
+      p2p: false,
+    });
     expect(onlineOptions('#/network?room=abc&ticks=600&join=1')).toEqual({
       room: 'abc',
       ticks: 600,
       join: true,
+      p2p: false,
     });
     // A bad room name is no room, and never joined; a match shorter than a checkpoint is refused.
     expect(onlineOptions('#/network?room=a%20b&join=1')).toEqual({
       room: undefined,
-      ticks: 3600,
+      ticks: undefined,
       join: false,
+      p2p: false,
     });
-    expect(onlineOptions('#/network?room=x&ticks=5').ticks).toBe(3600);
+    expect(onlineOptions('#/network?room=x&ticks=5').ticks).toBe(undefined);
   });
 
   it('links a room for a second tab that joins it, and reads back', () => {
-    expect(roomLink('room-1', 3600)).toBe('#/network?room=room-1&join=1');
+    expect(roomLink('room-1', undefined)).toBe('#/network?room=room-1&join=1');
     const link = roomLink('r.2_x', 600);
     expect(link).toBe('#/network?room=r.2_x&ticks=600&join=1');
-    expect(onlineOptions(link)).toEqual({ room: 'r.2_x', ticks: 600, join: true });
+    expect(onlineOptions(link)).toEqual({ room: 'r.2_x', ticks: 600, join: true, p2p: false });
+    // Peer to peer: the second tab joins the same way.
+    const p2p = roomLink('r3', undefined, true);
+    expect(p2p).toBe('#/network?room=r3&p2p=1&join=1');
+    expect(onlineOptions(p2p)).toEqual({ room: 'r3', ticks: undefined, join: true, p2p: true });
   });
 });
 

@@ -41,6 +41,11 @@ export interface RenderOptions {
   badge?: { text: string; tone: 'good' | 'bad' | 'info' };
   /** A line under the game-over title (e.g. "Space to run again"). */
   hint?: string;
+  /**
+   * The player slot whose screen this is: marked "YOU", and the one whose numbers the HUD shows
+   * (kills, flags, lives). Default 0 (player 1), as on a single-player screen.
+   */
+  you?: number;
 }
 
 /** How long a "went through a wall" marker stays on screen, ms of session time. */
@@ -407,6 +412,7 @@ function drawCtf(s: Surface, game: CtfGame, o: RenderOptions): void {
   const st = game.state;
   const v = new ArenaView(s, CTF.width, CTF.height);
   const a = o.alpha;
+  const you = o.you ?? 0;
   drawArena(s, v, CTF.width, CTF.height, game.walls.rects, () => {
     // The bases, tinted in their team's colour.
     ctx.fillStyle = 'rgba(248, 113, 113, 0.1)';
@@ -446,7 +452,7 @@ function drawCtf(s: Surface, game: CtfGame, o: RenderOptions): void {
       ctx.stroke();
       ctx.setLineDash([]);
     }
-    if (p === 0) {
+    if (p === you) {
       ctx.strokeStyle = '#ffffff';
       ctx.lineWidth = 2 * s.dpr;
       ctx.beginPath();
@@ -473,7 +479,7 @@ function drawCtf(s: Surface, game: CtfGame, o: RenderOptions): void {
         Math.max(2, 2 * s.dpr),
       );
     }
-    if (p === 0) {
+    if (p === you) {
       const f = fontPx(s, 0.7);
       ctx.font = `700 ${f}px ${SANS}`;
       ctx.textAlign = 'center';
@@ -507,7 +513,8 @@ function drawCtf(s: Surface, game: CtfGame, o: RenderOptions): void {
 
   // The HUD, as on the slide: "Kills: 1, Flags captured: 0".
   const hud = game.hud();
-  const left = `Kills: ${hud.kills}, Flags captured: ${hud.flags}`;
+  // The HUD of this screen's player (the game's own hud() is player 1's).
+  const left = `Kills: ${st.kills[you] ?? 0}, Flags captured: ${st.captures[you] ?? 0}`;
   const time = Math.max(0, hud.timeLeft ?? 0);
   const clock = `${Math.floor(time / 60)}:${String(time % 60).padStart(2, '0')}`;
   const scoreText = `${hud.red} : ${hud.blue}`;
@@ -592,6 +599,7 @@ function drawSurvival(s: Surface, game: SurvivalGame, o: RenderOptions): void {
   const st = game.state;
   const v = new ArenaView(s, SURVIVAL.width, SURVIVAL.height);
   const a = o.alpha;
+  const you = o.you ?? 0;
   drawArena(s, v, SURVIVAL.width, SURVIVAL.height, game.walls.rects);
 
   // Enemies.
@@ -626,7 +634,7 @@ function drawSurvival(s: Surface, game: SurvivalGame, o: RenderOptions): void {
     const y = v.y(lerp(st.prevY[p]!, st.y[p]!, a));
     const blink = st.invulnerable[p]! > 0 && Math.floor(o.nowMs / 90) % 2 === 0;
     ctx.globalAlpha = blink ? 0.35 : 1;
-    drawShooter(ctx, x, y, pr, st.facing[p]!, p === 0 ? '#34d399' : '#a78bfa', '#064e3b', lw);
+    drawShooter(ctx, x, y, pr, st.facing[p]!, p === you ? '#34d399' : '#a78bfa', '#064e3b', lw);
     ctx.globalAlpha = 1;
   }
 
@@ -635,7 +643,7 @@ function drawSurvival(s: Surface, game: SurvivalGame, o: RenderOptions): void {
 
   const hud = game.hud();
   // As on the slide: "Kills: 0, Lives: 15".
-  const left = `Kills: ${hud.kills}, Lives: ${hud.lives}`;
+  const left = `Kills: ${st.kills[you] ?? 0}, Lives: ${st.lives[you] ?? 0}`;
   const wave = hud.wave ?? 0;
   const long = wave === 0 ? 'Get ready' : `Wave ${wave} · ${hud.enemies} on the field`;
   const full = hudFont(s, [left, long]);

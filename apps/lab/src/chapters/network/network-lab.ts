@@ -31,6 +31,7 @@ import {
   lossOf,
   playerShift,
   traffic,
+  type MachineView,
   type MatchReadouts,
   type ModelMatch,
   type ModelNumbers,
@@ -213,10 +214,10 @@ export class NetMatch implements ModelMatch {
     return this.sessions[i].simulation as Game | undefined;
   }
 
-  view(i: 0 | 1): { game: Game; alpha: number; tick: number } | undefined {
+  view(i: 0 | 1): MachineView | undefined {
     const g = this.game(i);
     const s = this.sessions[i];
-    return g ? { game: g, alpha: s.alpha, tick: s.tick } : undefined;
+    return g ? { game: g, alpha: s.alpha, tick: s.tick, slot: s.welcome?.slot ?? i } : undefined;
   }
 
   readouts(): MatchReadouts {

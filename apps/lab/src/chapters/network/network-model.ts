@@ -112,8 +112,20 @@ export interface ModelMatch {
   setLink(c: LinkConditions): void;
   readouts(): MatchReadouts;
   numbers(): ModelNumbers;
-  /** What machine `i` draws now, and the blend between its last two states. */
-  view(i: 0 | 1): { game: Game; alpha: number; tick: number } | undefined;
+  /**
+   * What machine `i` draws now, the blend between its last two states, and its own player slot
+   * (the relay's welcome: the screen marks that player "YOU" and shows its HUD).
+   */
+  view(i: 0 | 1): MachineView | undefined;
+}
+
+/** What one machine draws: its game, the blend, its tick and its own player's slot. */
+export interface MachineView {
+  game: Game;
+  alpha: number;
+  tick: number;
+  /** The machine's own player (0 = player 1); before its welcome, the order it connected in. */
+  slot: number;
 }
 
 /**

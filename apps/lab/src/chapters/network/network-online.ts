@@ -1,40 +1,54 @@
 /**
  * Chapter 6, "Play online": a lockstep session over a real WebSocket to the relay of
  * `fixedstep serve` (`/ws`). Open the same room in two tabs (the room name is in the address:
- * `#/network?room=…`); a bot plays each side. Shows the connection, the round trip, the tick and
- * the hash of the state at the last checkpoint, and whether the relay saw a desync.
+ * `#/network?room=…`); a person plays each side — by keyboard, or by the on-screen controls on a
+ * touch screen, both through one `InputSampler` — or, when asked, a bot. Each screen marks its own
+ * player "YOU" and shows that player's HUD. The match ends when the game does (see
+ * `network-online-end.ts`), with the same final screen and hash in both tabs. Shows the
+ * connection, the round trip, the tick, the hash of the state at the last checkpoint and at the
+ * end, and whether the relay saw a desync.
  */
 import {
+  InputSampler,
   LockstepSession,
+  attachKeyboard,
   connectWebSocket,
   hex64,
   performanceClock,
+  type ButtonInput,
+  type KeyboardEventLike,
+  type KeyboardHost,
   type NetSession,
+  type Transport,
   type Simulation,
 } from 'fixedstep';
-import type { Game } from '@fixedstep/games';
+import { CtfGame, type Game } from '@fixedstep/games';
 import { SceneCanvas } from '../../ui/canvas.js';
-import { button } from '../../ui/controls.js';
+import { button, toggle } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
-import { gameDef } from '../../games-view/games.js';
+import { gameDef, keyLabel, keyMap } from '../../games-view/games.js';
 import { ASPECT, drawGame, drawMessage } from '../../games-view/render.js';
+import { attachTouchPad } from '../../games-view/touch-pad.js';
 import { BOT_EVERY, CHECKPOINT_TICKS } from './network-lab.js';
 import { QuickMatchControl } from './network-quick-match.js';
+import { watchEnd, type MatchEnd } from './network-online-end.js';
+import { connectPeerToPeer, type P2pConnection } from './network-online-p2p.js';
 
 /** A room name the relay accepts. */
 const ROOM_NAME = /^[A-Za-z0-9_.-]{1,32}$/;
-const DEFAULT_TICKS = 3600;
 
 /**
- * Room, match length and whether to join at once, from the address:
- * `#/network?room=abc&ticks=600&join=1`.
+ * Room, a shorter match and whether to join at once, from the address:
+ * `#/network?room=abc&ticks=600&join=1`. Without `ticks` (or with one shorter than a checkpoint)
+ * the match lasts until the game ends it (`ticks: undefined`).
  */
 export function onlineOptions(hash: string): {
   room: string | undefined;
-  ticks: number;
+  ticks: number | undefined;
   join: boolean;
+  p2p: boolean;
 } {
   const q = hash.includes('?') ? new URLSearchParams(hash.slice(hash.indexOf('?') + 1)) : undefined;
   const room = q?.get('room') ?? undefined;
@@ -42,17 +56,65 @@ export function onlineOptions(hash: string): {
   const valid = room !== undefined && ROOM_NAME.test(room);
   return {
     room: valid ? room : undefined,
-    ticks: Number.isInteger(ticks) && ticks >= CHECKPOINT_TICKS ? ticks : DEFAULT_TICKS,
+    ticks: Number.isInteger(ticks) && ticks >= CHECKPOINT_TICKS ? ticks : undefined,
     join: valid && q?.get('join') === '1',
+    p2p: q?.get('p2p') === '1',
   };
 }
 
-/** The address that opens `room` in another tab and joins it there. */
-export function roomLink(room: string, ticks: number): string {
+/** The address that opens `room` (a match of `ticks`, if shorter than the game) in another tab and joins it there. */
+export function roomLink(room: string, ticks: number | undefined, p2p = false): string {
   const q = new URLSearchParams({ room });
-  if (ticks !== DEFAULT_TICKS) q.set('ticks', String(ticks));
+  if (ticks !== undefined) q.set('ticks', String(ticks));
+  if (p2p) q.set('p2p', '1');
   q.set('join', '1');
   return `#/network?${q.toString()}`;
+}
+
+/** The game's buttons and their keys, as printed on the keys: `Fire: Space / J`. */
+function keysText(def: ReturnType<typeof gameDef>): string[] {
+  return def.info.buttons.map((b) => `${b.name}: ${b.keys.map(keyLabel).join(' / ')}`);
+}
+
+type KeyListener = (e: KeyboardEventLike) => void;
+
+/**
+ * The panel `el` as a keyboard host: its keys while the focus is inside it, and a "blur" (every
+ * held key let go) when the focus leaves it or the window loses focus — so a key released
+ * elsewhere never stays down in the match.
+ */
+function panelKeys(el: HTMLElement): KeyboardHost {
+  const blurs = new Map<KeyListener, { out: (e: FocusEvent) => void; win: (e: Event) => void }>();
+  return {
+    addEventListener(type: 'keydown' | 'keyup' | 'blur', fn: KeyListener): void {
+      if (type !== 'blur') {
+        el.addEventListener(type, fn);
+        return;
+      }
+      const pair = {
+        out: (e: FocusEvent) => {
+          if (!(e.relatedTarget instanceof Node && el.contains(e.relatedTarget))) fn(e as never);
+        },
+        win: (e: Event) => {
+          fn(e as never);
+        },
+      };
+      blurs.set(fn, pair);
+      el.addEventListener('focusout', pair.out);
+      window.addEventListener('blur', pair.win);
+    },
+    removeEventListener(type: 'keydown' | 'keyup' | 'blur', fn: KeyListener): void {
+      if (type !== 'blur') {
+        el.removeEventListener(type, fn);
+        return;
+      }
+      const pair = blurs.get(fn);
+      if (!pair) return;
+      blurs.delete(fn);
+      el.removeEventListener('focusout', pair.out);
+      window.removeEventListener('blur', pair.win);
+    },
+  };
 }
 
 export class OnlinePanel {
@@ -65,7 +127,21 @@ export class OnlinePanel {
   private session: NetSession | undefined;
   private raf = 0;
   private state = 'offline';
-  private stopAt: number;
+  private readonly stopAt: number | undefined;
+  private readonly def = gameDef('ctf');
+  /** This player's buttons, from the keyboard and the on-screen controls, stamped with their time. */
+  private readonly sampler = new InputSampler<ButtonInput>(this.def.input);
+  private readonly touch: HTMLElement;
+  private readonly detachTouch: () => void;
+  private detachKeys: (() => void) | undefined;
+  /** Whether a bot plays this side (an explicit choice; people play by default). */
+  private bot = false;
+  /** Whether to play peer to peer (WebRTC, the relay in the first page) instead of through the server's relay. */
+  private p2p: boolean;
+  private p2pConn: P2pConnection | undefined;
+  private via = '';
+  /** Where the match ended, and its final state to draw. */
+  private end: { end: MatchEnd; game: Game } | undefined;
   // Quick match: the server names a fresh room for two waiting tabs; join it as if typed.
   private readonly quick = new QuickMatchControl((match) => {
     if (this.session) this.leave();
@@ -77,6 +153,7 @@ export class OnlinePanel {
   constructor() {
     const opts = onlineOptions(location.hash);
     this.stopAt = opts.ticks;
+    this.p2p = opts.p2p;
     this.roomInput = h('input', {
       type: 'text',
       id: 'net-room',
@@ -101,10 +178,32 @@ export class OnlinePanel {
       },
       'Open this room in a new tab ↗',
     );
+    const bot = toggle('A bot plays my side', 'control-online-bot', false, (on) => {
+      this.bot = on;
+    });
+    const p2p = toggle('Peer to peer (WebRTC)', 'control-online-p2p', this.p2p, (on) => {
+      this.p2p = on;
+      this.updateLink();
+    });
+    p2p.title = 'Data channels between the two browsers; this server only introduces them';
     this.roomInput.addEventListener('input', () => {
       this.updateLink();
     });
     this.updateLink();
+    // On-screen controls: shown on touch screens (and with `?touch=1`), through the same sampler.
+    this.touch = h('div', {
+      class: 'touch-controls net-touch',
+      'data-testid': 'online-touch-controls',
+    });
+    if (new URLSearchParams(location.hash.split('?')[1] ?? '').get('touch') === '1') {
+      this.touch.classList.add('always');
+    }
+    this.detachTouch = attachTouchPad(
+      this.touch,
+      this.def.info.id,
+      this.sampler,
+      (e) => e.timeStamp,
+    );
     this.canvas = new SceneCanvas({
       class: 'scene net-online-scene',
       label: 'Your machine in the online room',
@@ -115,6 +214,8 @@ export class OnlinePanel {
       },
     });
     this.canvas.canvas.style.setProperty('--aspect', String(ASPECT.ctf ?? 1.5));
+    // Focusable: the keys work while the focus is in this panel (click the game).
+    this.canvas.canvas.tabIndex = 0;
     const row = (label: string, id: string, hash = false) => {
       const r = new Readout('dd', `online-${id}`, { hash });
       this.out[id] = r;
@@ -127,7 +228,7 @@ export class OnlinePanel {
       h(
         'p',
         { class: 'section-intro' },
-        'The same lockstep session over a real WebSocket to this server’s relay. Join a room here, then open this page with the same room in another tab or on another computer: the match starts when both players are in. A bot plays each side; the hashes at each checkpoint must be the same in both tabs.',
+        'The same lockstep session over a real WebSocket to this server’s relay (or, with “Peer to peer”, over WebRTC data channels between the two browsers), played by two people. Join a room here, then open this page with the same room in another tab or on another computer: the match starts when both players are in and ends when the game does (the clock runs out or a team captures 5 flags). Each screen marks its own player YOU; the hashes at each checkpoint and at the end must be the same in both tabs.',
       ),
       h(
         'div',
@@ -141,21 +242,35 @@ export class OnlinePanel {
           this.tabLink,
           this.quick.el,
         ),
+        h('div', { class: 'control-group' }, bot, p2p),
+      ),
+      h(
+        'ul',
+        { class: 'net-keys', 'data-testid': 'online-keys', 'aria-label': 'Keys' },
+        h(
+          'li',
+          {},
+          'Click the game, then play with the keys (or the controls under it on a phone):',
+        ),
+        ...keysText(this.def).map((t) => h('li', {}, t)),
       ),
       h(
         'div',
         { class: 'net-online-body' },
-        h('figure', { class: 'net-machine' }, this.canvas.canvas),
+        h('figure', { class: 'net-machine' }, this.canvas.canvas, this.touch),
         h(
           'dl',
           { class: 'readouts' },
           ...row('Connection', 'state'),
-          ...row('Player', 'slot'),
+          ...row('Transport', 'via'),
+          ...row('You are', 'slot'),
+          ...row('Your kills, flags', 'you'),
           ...row('Round trip', 'rtt'),
           ...row('Tick', 'tick'),
           ...row('Checkpoint tick', 'checkpoint'),
           ...row('Hash there', 'hash', true),
-          ...row(`Hash at tick ${this.stopAt} (end)`, 'final-hash', true),
+          ...row('The end', 'end'),
+          ...row('Hash at the end', 'final-hash', true),
           ...row('Desyncs reported', 'desyncs'),
         ),
       ),
@@ -168,7 +283,7 @@ export class OnlinePanel {
     const room = this.roomInput.value.trim();
     const ok = ROOM_NAME.test(room);
     this.tabLink.hidden = !ok;
-    if (ok) this.tabLink.href = roomLink(room, this.stopAt);
+    if (ok) this.tabLink.href = roomLink(room, this.stopAt, this.p2p);
   }
 
   private join(): void {
@@ -178,15 +293,34 @@ export class OnlinePanel {
       this.render();
       return;
     }
-    const def = gameDef('ctf');
-    const url = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`;
+    const def = this.def;
+    const ws = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}`;
     this.state = 'connecting';
     setText(this.joinBtn, 'Leave');
     this.roomInput.disabled = true;
+    this.end = undefined;
     this.render();
-    connectWebSocket(url)
+    const connect: Promise<Transport> = this.p2p
+      ? connectPeerToPeer(`${ws}/signal`, room, def).then((c) => {
+          this.p2pConn = c;
+          this.via = {
+            host: 'WebRTC, hosting',
+            webrtc: 'WebRTC, direct',
+            server: 'WebRTC fallback: through the server',
+          }[c.via];
+          return c.transport;
+        })
+      : connectWebSocket(`${ws}/ws`).then((t) => {
+          this.via = 'WebSocket to the relay';
+          return t;
+        });
+    connect
       .then((transport) => {
         let held = 0;
+        // Every event stamped up to now belongs to the tick being issued now.
+        const now = { isBeforeUpdateEnd: (t: number) => t <= performance.now() };
+        this.sampler.clear();
+        this.detachKeys = attachKeyboard(panelKeys(this.el), this.sampler, keyMap(def.info));
         const session: NetSession = new LockstepSession({
           transport,
           clock: performanceClock(),
@@ -195,9 +329,18 @@ export class OnlinePanel {
           gameVersion: def.info.version,
           input: def.input,
           players: 2,
-          stopAt: this.stopAt,
-          createSimulation: (w) => def.create(def.decodeConfig(w.config)),
+          ...(this.stopAt === undefined ? {} : { stopAt: this.stopAt }),
+          createSimulation: (w) => {
+            const config = def.decodeConfig(w.config);
+            return watchEnd(def.create(config), this.stopAt ?? Infinity, (end) => {
+              const game = def.create(config);
+              game.load(end.bytes);
+              this.end = { end, game };
+            });
+          },
           localInput: (tick: number, sim: Simulation) => {
+            const input = this.sampler.sample(now, 0);
+            if (!this.bot) return input;
             if (tick % BOT_EVERY === 0) held = def.bot(sim as Game, session.welcome?.slot ?? 0);
             return held;
           },
@@ -207,9 +350,13 @@ export class OnlinePanel {
           },
         });
         this.session = session;
+        this.canvas.canvas.focus({ preventScroll: true });
         const frame = () => {
           this.raf = requestAnimationFrame(frame);
           session.frame();
+          // Over: the relay already has every input up to the end, so the other player reaches
+          // the same end without us. Leave the room; the final screen stays.
+          if (this.end) this.finish();
           this.render();
         };
         this.raf = requestAnimationFrame(frame);
@@ -222,10 +369,28 @@ export class OnlinePanel {
       });
   }
 
+  /** The game is over: stop playing and leave the room, keeping the numbers and the final screen. */
+  private finish(): void {
+    cancelAnimationFrame(this.raf);
+    this.detachKeys?.();
+    this.detachKeys = undefined;
+    this.session?.leave();
+    this.state = 'finished';
+  }
+
   private leave(): void {
     cancelAnimationFrame(this.raf);
+    this.detachKeys?.();
+    this.detachKeys = undefined;
+    this.sampler.clear();
     this.session?.leave();
     this.session = undefined;
+    // Hosting peer to peer, the relay ran here until now (not at the end: the other player may
+    // still be receiving the last ticks from it).
+    this.p2pConn?.close();
+    this.p2pConn = undefined;
+    this.via = '';
+    this.end = undefined;
     this.state = 'offline';
     setText(this.joinBtn, 'Join room');
     this.roomInput.disabled = false;
@@ -236,18 +401,31 @@ export class OnlinePanel {
   private render(): void {
     const s = this.session;
     const o = this.out;
-    const state = s
-      ? s.phase === 'closed'
-        ? this.state
-        : s.finished
-          ? 'finished'
+    const end = this.end;
+    const state = end
+      ? 'finished'
+      : s
+        ? s.phase === 'closed'
+          ? this.state
           : s.phase === 'waiting'
             ? 'waiting for the other player'
             : s.phase
-      : this.state;
+        : this.state;
     o.state?.set(state, state);
+    o.via?.set(this.via || '—', this.via);
     const slot = s?.welcome?.slot;
-    o.slot?.set(slot === undefined ? '—' : String(slot + 1), slot === undefined ? '' : slot + 1);
+    o.slot?.set(
+      slot === undefined ? '—' : `player ${slot + 1} (${slot % 2 === 0 ? 'red' : 'blue'})`,
+      slot === undefined ? '' : slot + 1,
+    );
+    const g = end?.game ?? (s?.simulation as Game | undefined);
+    const st = g instanceof CtfGame && slot !== undefined ? g.state : undefined;
+    const kills = st?.kills[slot ?? 0];
+    const flags = st?.captures[slot ?? 0];
+    o.you?.set(
+      kills === undefined ? '—' : `${fmt.count(kills)} kills, ${fmt.count(flags ?? 0)} flags`,
+      kills === undefined ? '' : `${kills},${flags ?? 0}`,
+    );
     o.rtt?.set(s ? fmt.millis(s.stats.rtt) : '—', s?.stats.rtt ?? '');
     o.tick?.set(s ? fmt.count(s.tick) : '—', s?.tick ?? '');
     const confirmed = s ? s.confirmedStateTick() : -1;
@@ -258,19 +436,26 @@ export class OnlinePanel {
     o.checkpoint?.set(checkpoint < 0 ? '—' : fmt.count(checkpoint), checkpoint);
     const hash = s && checkpoint >= 0 ? s.hashAt(checkpoint) : undefined;
     o.hash?.set(hash === undefined ? '—' : hex64(hash), hash === undefined ? '' : hex64(hash));
-    const fin = s?.finished ? s.hashAt(this.stopAt) : undefined;
-    o['final-hash']?.set(fin === undefined ? '—' : hex64(fin), fin === undefined ? '' : hex64(fin));
+    o.end?.set(
+      end ? `tick ${fmt.count(end.end.tick)}, ${end.end.reason}` : '—',
+      end ? end.end.tick : '',
+    );
+    o['final-hash']?.set(end?.end.hash ?? '—', end?.end.hash ?? '');
     const desyncs = s?.desyncs.length ?? 0;
     o.desyncs?.set(fmt.count(desyncs), desyncs);
     o.desyncs?.warn(desyncs > 0);
-    setAttr(this.el, 'data-state', s?.phase ?? 'offline');
+    setAttr(this.el, 'data-state', end ? 'finished' : (s?.phase ?? 'offline'));
+    // The player this screen marks "YOU" (1-based), for a reader of the page.
+    setAttr(this.canvas.canvas, 'data-you', slot === undefined ? '' : String(slot + 1));
+    const x = st?.x[slot ?? 0];
+    setAttr(this.canvas.canvas, 'data-you-x', x === undefined ? '' : x.toFixed(1));
     if (this.canvas.fit()) {
-      const g = s?.simulation as Game | undefined;
       if (g && s) {
         drawGame(this.canvas, g, {
-          alpha: s.alpha,
+          alpha: end ? 1 : s.alpha,
           nowMs: performance.now(),
-          badge: { text: `tick ${s.tick}`, tone: 'info' },
+          badge: { text: `tick ${end ? end.end.tick : s.tick}`, tone: end ? 'good' : 'info' },
+          you: slot ?? 0,
         });
       } else {
         drawMessage(this.canvas, this.message());
@@ -282,21 +467,24 @@ export class OnlinePanel {
   private message(): string[] {
     const s = this.session;
     if (s?.phase === 'closed') return ['The connection closed.', 'Join the room again to play.'];
-    if (s) return ['Waiting for the other player…', 'Open this room in a second tab to start.'];
+    if (s) return ['Waiting for the other player…', 'Open this room in a second tab.'];
     if (this.state === 'connecting') return ['Connecting to the server…'];
     if (this.state !== 'offline') {
       return [`Could not join: ${this.state}.`, 'Check the room name and the server.'];
     }
+    // Short lines: they fit the canvas of a 390 px phone.
     return [
       'Not in a room.',
-      'Press “Join room”, then open the room in a second tab:',
-      'the match starts when both players are in.',
+      'Press “Join room”, then open',
+      'the room in a second tab: the',
+      'match starts when both are in.',
     ];
   }
 
   destroy(): void {
     this.quick.cancel();
     this.leave();
+    this.detachTouch();
     this.canvas.destroy();
   }
 }

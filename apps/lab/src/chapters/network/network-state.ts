@@ -32,6 +32,7 @@ import {
   linkOf,
   lossOf,
   traffic,
+  type MachineView,
   type MatchReadouts,
   type ModelMatch,
   type ModelNumbers,
@@ -343,8 +344,9 @@ export class StateSyncMatch implements ModelMatch {
   }
 
   /** What machine `i` draws (see {@link SnapshotDisplay}). */
-  view(i: 0 | 1): { game: Game; alpha: number; tick: number } | undefined {
+  view(i: 0 | 1): MachineView | undefined {
     const m = this.machines[i];
-    return m.display.view(m.session);
+    const v = m.display.view(m.session);
+    return v ? { ...v, slot: m.session.welcome?.slot ?? i } : undefined;
   }
 }

@@ -341,6 +341,7 @@ class NetworkChapter {
           alpha: v.alpha,
           nowMs: match.nowMs,
           badge: { text: `tick ${v.tick}`, tone: 'info' },
+          you: v.slot,
         });
       } else clearScene(c);
     }
