@@ -115,7 +115,6 @@ describe('chapter 6, people play people online', () => {
     // The final screens show that one state, each with its own player marked.
     expect(await one.getByTestId('canvas-online').getAttribute('data-you')).toBe('1');
     expect(await two.getByTestId('canvas-online').getAttribute('data-you')).toBe('2');
-    console.log(`people-keys: final hash at tick ${ticks} ${r1['readout-online-final-hash']}`);
     // The online panel of each page.
     await one
       .locator('[aria-labelledby="net-online-title"]')
@@ -172,9 +171,6 @@ describe('chapter 6, people play people online', () => {
     await phone.getByTestId('touch-fire').tap();
     const got = await finals([phone, desk]);
     expect(got[0]!['readout-online-final-hash']).toBe(got[1]!['readout-online-final-hash']);
-    console.log(
-      `people-touch: final hash at tick ${ticks} ${got[0]!['readout-online-final-hash']}`,
-    );
     // The game and its controls, as the phone's screen shows them.
     await phone.getByTestId('canvas-online').scrollIntoViewIfNeeded();
     await phone.screenshot({ path: path.join(shots, 'network-people-phone.png') });
@@ -213,9 +209,6 @@ describe('chapter 6, people play people online', () => {
     const got = await finals(pages);
     expect(got[0]!['readout-online-final-hash']).toBe(got[1]!['readout-online-final-hash']);
     for (const r of got) expect(r['readout-online-desyncs']).toBe('0');
-    console.log(
-      `people-p2p (${via}): final hash at tick ${ticks} ${got[0]!['readout-online-final-hash']}`,
-    );
     expect(via).toBe('WebRTC, direct');
     expect(problems).toEqual([[], []]);
     for (const p of pages) await p.close();
