@@ -915,7 +915,7 @@ async function runBalanced(
   try {
     await writeFile(path.join(dir, 'index.html'), '<!doctype html><title>lab</title>');
     const relays = await Promise.all(
-      Array.from({ length: processes }, async () => {
+      Array.from({ length: processes }, async (_, index) => {
         const child = spawn(
           process.execPath,
           ['--conditions=source', '--import', 'tsx', 'packages/cli/src/cli.ts', 'serve'].concat([
@@ -924,7 +924,8 @@ async function runBalanced(
             '--root',
             dir,
             '--data',
-            dir,
+            // A data folder belongs to one process (it is locked).
+            path.join(dir, `data-${index}`),
           ]),
           {
             cwd: ROOT,
@@ -942,6 +943,14 @@ async function runBalanced(
         let out = '';
         child.stdout.on('data', (b: Buffer) => (out += b.toString()));
         const port = Number(await waitFor('a relay', () => /localhost:(\d+)\//.exec(out)?.[1]));
+        // Ready (its store open) before HAProxy counts it up: PGlite's start holds the event loop.
+        await waitFor('a ready relay', async () => {
+          try {
+            return (await fetch(`http://127.0.0.1:${port}/readyz`)).ok;
+          } catch {
+            return false;
+          }
+        });
         return { pid: child.pid!, port };
       }),
     );
@@ -964,7 +973,6 @@ async function runBalanced(
           FIXEDSTEP_RELAY1: server(0),
           FIXEDSTEP_RELAY2: server(1),
           FIXEDSTEP_RELAY3: server(2),
-          FIXEDSTEP_CHECK_PATH: '/',
         },
         stdio: 'ignore',
       },
