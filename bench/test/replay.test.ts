@@ -112,7 +112,16 @@ describe('replay suite: a tiny run', () => {
       GAMES.map((g) => g.info.id),
       GAMES.map((g) => g.info.id),
       GAMES.map((g) => g.info.id),
+      GAMES.flatMap((g) => [g.info.id, g.info.id]),
     ]);
+    // The stored size, bots beside the human-pace model: the model changes keys less often.
+    const pace = tables[3]!.rows;
+    expect(pace.map((r) => r[1])).toEqual(
+      GAMES.flatMap(() => ['bots', 'human pace (≥ 200 ms a key)']),
+    );
+    for (let i = 0; i < pace.length; i += 2) {
+      expect(Number(pace[i + 1]![2])).toBeLessThanOrEqual(Number(pace[i]![2]));
+    }
     const alloc = sections.find((s): s is AllocationSection => s.kind === 'allocation');
     // Measured under node --expose-gc (npm run bench), skipped under vitest.
     const measured =
