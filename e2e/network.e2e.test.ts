@@ -3,9 +3,10 @@
  * the state hash and are compared in one table; then two pages play one room through the server —
  * state sync through its worker rooms, lockstep through its relay — and agree on the world.
  */
+import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { chromium, type Browser } from 'playwright-core';
+import { chromium, type Browser, type Page } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/cli';
 import { attachRelay, type RelayEndpoint } from '../packages/cli/src/net/server.js';
 import { attachStateSync, type StateSyncEndpoint } from '../packages/cli/src/state-sync/index.js';
@@ -98,6 +99,66 @@ describe('chapter 6, network', () => {
     expect(await horizontalOverflow(page)).toBe(0);
     expect(problems).toEqual([]);
     await context.close();
+  });
+
+  it('charts the loss harness’s recorded WebRTC and WebSocket rows, on a desktop and a phone', async () => {
+    const report = JSON.parse(
+      readFileSync(
+        new URL('../apps/lab/src/chapters/network/data/loss-harness.json', import.meta.url),
+        'utf8',
+      ),
+    ) as { rows: Record<string, unknown>[] };
+    const check = async (page: Page, name: string) => {
+      await page.goto(`${lab.server.url}#/network`);
+      const panel = page.getByTestId('net-transports');
+      await panel.scrollIntoViewIfNeeded();
+      const r = await readouts(page);
+      for (const row of report.rows) {
+        const id = String(row.transport).toLowerCase();
+        for (const [key, field] of [
+          ['p50', 'latencyP50'],
+          ['p99', 'latencyP99'],
+          ['stalls', 'stalls'],
+          ['stall-frames', 'stallFrames'],
+          ['rollbacks', 'rollbacks'],
+          ['max-depth', 'maxDepth'],
+        ] as const) {
+          expect(num(r, `transport-${id}-${key}`), `${id} ${key}`).toBe(row[field]);
+        }
+        expect(r[`readout-transport-${id}-hashes-equal`]).toBe('true');
+      }
+      // TCP's retransmission timeouts: far more stalled frames and a far longer tail.
+      expect(num(r, 'transport-websocket-stall-frames')).toBeGreaterThan(
+        num(r, 'transport-webrtc-stall-frames'),
+      );
+      expect(num(r, 'transport-websocket-p99')).toBeGreaterThan(num(r, 'transport-webrtc-p99'));
+      expect(await page.getByTestId('net-transports-source').textContent()).toContain(
+        'npx vitest run --config e2e/vitest.config.ts e2e/netem.e2e.test.ts',
+      );
+      // Over WebSocket the rollbacks pile up at the prediction window's end (30 ticks).
+      const ws = report.rows.find((x) => x.transport === 'WebSocket')!;
+      const full = (ws.depths as Record<string, number>)['30'];
+      expect(await page.getByTestId('net-transports-depth-note').textContent()).toContain(
+        `WebSocket: ${full} rollbacks of ${String(ws.rollbacks)} reached 30 ticks`,
+      );
+      // The depth chart was drawn (uPlot's canvas has a size).
+      const width = await panel
+        .locator('canvas')
+        .first()
+        .evaluate((c) => c.clientWidth);
+      expect(width).toBeGreaterThan(200);
+      await panel.screenshot({ path: path.join(shots, name) });
+    };
+    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    const problems = watch(page);
+    await check(page, 'network-transports.png');
+    expect(problems).toEqual([]);
+    await page.close();
+    const phone = await phonePage(lab.browser);
+    await check(phone.page, 'network-transports-phone.png');
+    expect(await horizontalOverflow(phone.page)).toBe(0);
+    expect(phone.problems).toEqual([]);
+    await phone.context.close();
   });
 });
 

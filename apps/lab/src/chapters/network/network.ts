@@ -5,7 +5,8 @@
  * seed, same link, with a table comparing what each sends, how late each shows an input and what
  * each corrects; and online play through the server (network-online.ts: state sync and lockstep).
  * The numbers come from {@link NetworkLab}; the words from network-text.ts. Everything but the
- * online panels runs on the lab's virtual clock, so the numbers repeat.
+ * online panels runs on the lab’s virtual clock, so the numbers repeat; the transport panel
+ * (network-transports.ts) shows the loss harness’s recorded WebRTC-vs-WebSocket run.
  */
 import {
   NET_GAMES,
@@ -18,6 +19,7 @@ import {
 } from './network-lab.js';
 import { OnlinePanel } from './network-online.js';
 import { StateOnlinePanel } from './network-state-online.js';
+import { TransportsPanel } from './network-transports.js';
 import {
   ABOUT,
   BENCH_INTRO,
@@ -82,6 +84,7 @@ class NetworkChapter {
     const shell = this.shell;
     const online = shell.own(new OnlinePanel());
     const stateOnline = shell.own(new StateOnlinePanel());
+    const transports = shell.own(new TransportsPanel());
     shell.append(
       h(
         'p',
@@ -101,6 +104,7 @@ class NetworkChapter {
           NET_MODES.map((mode) => this.buildPanel(mode)),
         ),
         this.buildComparison(),
+        transports.el,
       ),
       stateOnline.el,
       online.el,
