@@ -156,7 +156,8 @@ Serves the built lab, the highscore API (replays re-simulated in worker threads;
 their replays in PostgreSQL) and, on the same port: the multiplayer relay at /ws/<room>
 (WebSocket; server-ordered inputs for lockstep and rollback, desync detection), state-sync
 rooms at /state/<room> (the server runs the game and sends the world), WebRTC signalling for
-peer-to-peer matches at /signal; /healthz, /readyz and /metrics (Prometheus).
+peer-to-peer matches at /signal, a quick-match queue at /match; /healthz, /readyz and
+/metrics (Prometheus).
 
 Ctrl-C stops at once; SIGTERM drains first (no new rooms; running matches get
 $FIXEDSTEP_DRAIN_MS, default 25000 ms). The relay reads its caps, allowed origins and trusted
