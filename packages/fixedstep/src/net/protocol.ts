@@ -419,11 +419,23 @@ export class ProtocolError extends Error {
 
 const encoder = new TextEncoder();
 
-/** The shared canonical writer, with the protocol's two extra rules. */
-class Writer extends ByteWriter {
+/**
+ * The shared canonical writer, with the wire's two extra rules; the relay's protocol and state
+ * sync (`state-sync/codec.ts`) both write through it.
+ */
+export class Writer extends ByteWriter {
+  /** @param label — names the format in a sender-bug error (`net`, `state sync`). */
+  constructor(
+    initialCapacity?: number,
+    private readonly label = 'net',
+  ) {
+    super(initialCapacity);
+  }
   /** Times must be finite (a NaN or Infinity is a sender bug). */
   override f64(v: number): this {
-    if (!Number.isFinite(v)) throw new RangeError(`net: cannot encode a non-finite time ${v}`);
+    if (!Number.isFinite(v)) {
+      throw new RangeError(`${this.label}: cannot encode a non-finite time ${v}`);
+    }
     return super.f64(v);
   }
   /** A byte field: varint length, then the bytes. */
@@ -442,12 +454,16 @@ const FAILURE_CODES: Readonly<Record<ByteReadProblem, ProtocolErrorCode>> = {
   trailing: 'TRAILING_BYTES',
 };
 
-function protocolFailure(problem: ByteReadProblem, message: string, offset: number): never {
+/** The {@link ByteReader} failure hook of the wire formats (the relay's, state sync's): a {@link ProtocolError}. */
+export function protocolFailure(problem: ByteReadProblem, message: string, offset: number): never {
   throw new ProtocolError(FAILURE_CODES[problem], message, offset);
 }
 
-/** The shared {@link ByteReader}, failing with {@link ProtocolError}s, plus the protocol's own fields. */
-class Reader extends ByteReader {
+/**
+ * The shared {@link ByteReader}, failing with {@link ProtocolError}s, plus the wire's own fields;
+ * state sync's reader extends it.
+ */
+export class Reader extends ByteReader {
   constructor(buf: Uint8Array) {
     super(buf, { start: 2, fail: protocolFailure });
   }
@@ -494,7 +510,16 @@ class Reader extends ByteReader {
   }
 }
 
-function writeInputs(w: Writer, inputs: Uint32Array, lanes: number, words: number): void {
+/**
+ * `inputs` as rows of `lanes` words, each XOR-delta coded against the row before; every `words`-th
+ * lane (a button word) interleaved. {@link Reader.inputs} reads it back.
+ */
+export function writeInputs(
+  w: ByteWriter,
+  inputs: Uint32Array,
+  lanes: number,
+  words: number,
+): void {
   for (let i = 0; i < inputs.length; i++) {
     const v = inputs[i]! >>> 0;
     const d = i < lanes ? v : (v ^ inputs[i - lanes]!) >>> 0;

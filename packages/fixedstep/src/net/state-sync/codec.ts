@@ -13,9 +13,15 @@
  * length against {@link StateSyncLimits} before it allocates.
  * @module
  */
-import { ByteReader, ByteWriter, type ByteReadProblem } from '../../det/bytes.js';
-import { deinterleave, interleave } from '../../sim/buttons.js';
-import { NAME_PATTERN, ProtocolError, TOKEN_BYTES, type ProtocolErrorCode } from '../protocol.js';
+import {
+  NAME_PATTERN,
+  ProtocolError,
+  Reader,
+  TOKEN_BYTES,
+  Writer,
+  protocolFailure,
+  writeInputs,
+} from '../protocol.js';
 
 /**
  * Byte 0 of every state-sync message. The top bit is set so the relay (versions 1–2) refuses a
@@ -275,28 +281,6 @@ export type StateSyncMessage =
 
 const encoder = new TextEncoder();
 
-/** The shared canonical writer, with the protocol's two extra rules. */
-class Writer extends ByteWriter {
-  /** Times must be finite (a NaN or Infinity is a sender bug). */
-  override f64(v: number): this {
-    if (!Number.isFinite(v))
-      throw new RangeError(`state sync: cannot encode a non-finite time ${v}`);
-    return super.f64(v);
-  }
-  field(b: Uint8Array): this {
-    this.varint(b.length);
-    return this.bytes(b);
-  }
-}
-
-function writeInputs(w: Writer, inputs: Uint32Array, words: number): void {
-  for (let i = 0; i < inputs.length; i++) {
-    const v = inputs[i]! >>> 0;
-    const d = i < words ? v : (v ^ inputs[i - words]!) >>> 0;
-    w.varint(i % words === 0 ? interleave(d) : d);
-  }
-}
-
 /** `s` cut to at most `max` UTF-8 bytes on a character boundary, control characters blanked. */
 function truncateUtf8(s: string, max: number): string {
   // eslint-disable-next-line no-control-regex
@@ -312,7 +296,7 @@ function truncateUtf8(s: string, max: number): string {
  */
 export function encodeStateSyncMessage(m: StateSyncMessage): Uint8Array {
   const limits = DEFAULT_STATE_SYNC_LIMITS;
-  const w = new Writer(m.type === 'snapshot' ? m.payload.length + 48 : 64);
+  const w = new Writer(m.type === 'snapshot' ? m.payload.length + 48 : 64, 'state sync');
   w.u8(STATE_SYNC_VERSION);
   w.u8(StateSyncType[m.type]);
   const check = (ok: boolean, what: string) => {
@@ -347,7 +331,7 @@ export function encodeStateSyncMessage(m: StateSyncMessage): Uint8Array {
       w.varint(m.tick);
       w.varint(m.words);
       w.varint(ticks);
-      writeInputs(w, m.inputs, m.words);
+      writeInputs(w, m.inputs, m.words, m.words);
       break;
     }
     case 'ack':
@@ -411,58 +395,22 @@ export function encodeStateSyncMessage(m: StateSyncMessage): Uint8Array {
 
 // ------------------------------------------------------------------------------------ reader
 
-const FAILURE_CODES: Readonly<Record<ByteReadProblem, ProtocolErrorCode>> = {
-  truncated: 'TRUNCATED',
-  invalid: 'BAD_VALUE',
-  'too-large': 'TOO_LARGE',
-  trailing: 'TRAILING_BYTES',
-};
+/** The {@link ByteReader} failure hook of the state-sync format: the wire's {@link ProtocolError}. */
+export const stateSyncFailure = protocolFailure;
 
-/** The {@link ByteReader} failure hook of the state-sync format: a {@link ProtocolError}. */
-export function stateSyncFailure(problem: ByteReadProblem, message: string, offset: number): never {
-  throw new ProtocolError(FAILURE_CODES[problem], message, offset);
-}
-
-class Reader extends ByteReader {
-  constructor(buf: Uint8Array) {
-    super(buf, { start: 2, fail: stateSyncFailure });
-  }
-  time(what: string): number {
+/** The wire's reader, with state sync's stricter time (no -0) and its flag bytes. */
+class StateSyncReader extends Reader {
+  override time(what: string): number {
     const at = this.pos;
-    const v = this.f64(what);
-    if (!Number.isFinite(v)) this.fail('invalid', `${what} is not a finite number`, at);
+    const v = super.time(what);
     if (Object.is(v, -0)) this.fail('invalid', `${what} is -0 (not canonical: +0)`, at);
     return v;
-  }
-  text(what: string, maxBytes: number): string {
-    const at = this.pos;
-    const s = this.str(what, maxBytes);
-    // eslint-disable-next-line no-control-regex
-    if (/[\u0000-\u001f\u007f]/.test(s)) this.fail('invalid', `${what} has control characters`, at);
-    return s;
-  }
-  name(what: string): string {
-    const at = this.pos;
-    const s = this.text(what, 32);
-    if (!NAME_PATTERN.test(s))
-      this.fail('invalid', `${what} must be 1-32 of A-Z a-z 0-9 _ - .`, at);
-    return s;
   }
   flag(what: string, max: number): number {
     const at = this.pos;
     const v = this.u8(what);
     if (v > max) this.fail('invalid', `${what} 0x${v.toString(16)}`, at);
     return v;
-  }
-  inputs(what: string, rows: number, words: number): Uint32Array {
-    this.need(rows * words, what); // each word takes at least a byte: check before allocating
-    const out = new Uint32Array(rows * words);
-    for (let i = 0; i < out.length; i++) {
-      const v = this.varint(what);
-      const d = i % words === 0 ? deinterleave(v) : v;
-      out[i] = i < words ? d : (out[i - words]! ^ d) >>> 0;
-    }
-    return out;
   }
 }
 
@@ -515,7 +463,7 @@ function decodeUnchecked(bytes: Uint8Array, limits: Readonly<StateSyncLimits>): 
   if (kind === undefined) {
     throw new ProtocolError('BAD_TYPE', `unknown message type 0x${bytes[1]!.toString(16)}`, 1);
   }
-  const r = new Reader(bytes);
+  const r = new StateSyncReader(bytes);
   const m = decodeBody(kind, r, limits);
   r.end();
   return m;
@@ -523,7 +471,7 @@ function decodeUnchecked(bytes: Uint8Array, limits: Readonly<StateSyncLimits>): 
 
 function decodeBody(
   kind: StateSyncKind,
-  r: Reader,
+  r: StateSyncReader,
   limits: Readonly<StateSyncLimits>,
 ): StateSyncMessage {
   switch (kind) {
@@ -559,7 +507,14 @@ function decodeBody(
       const words = r.count('words', limits.maxInputWords, 1);
       const n = r.count('input count', limits.maxInputTicks, 1);
       if (tick + n - 1 > 0xffffffff) r.fail('invalid', 'tick range past 2^32');
-      return { type: 'input', player, ack, tick, words, inputs: r.inputs('inputs', n, words) };
+      return {
+        type: 'input',
+        player,
+        ack,
+        tick,
+        words,
+        inputs: r.inputs('inputs', n, words, words),
+      };
     }
     case 'ack':
       return { type: 'ack', ack: r.varint('ack') - 1 };
