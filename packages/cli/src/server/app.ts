@@ -75,8 +75,9 @@ export interface ServerOptions {
   matchmaking?: boolean | MatchmakingEndpointOptions;
 
   /**
-   * Browser origins allowed to open a WebSocket to the relay (the `Origin` header), e.g.
-   * `['https://game.example']`. Default: any.
+   * Browser origins allowed to open a WebSocket (the `Origin` header) to the relay, state sync,
+   * signalling and matchmaking, e.g. `['https://game.example']`. Default: the relay takes pages
+   * of this server only (same origin, or `FIXEDSTEP_ALLOWED_ORIGINS`); the others take any.
    */
   allowedOrigins?: readonly string[];
   /**

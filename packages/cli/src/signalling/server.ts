@@ -4,6 +4,7 @@ import { WebSocketServer } from 'ws';
 import { DEFAULT_SIGNAL_LIMITS, nodeWebSocketTransport, performanceClock } from 'fixedstep';
 import { SignallingHub, type SignallingHubOptions } from './hub.js';
 import { claimUpgradePaths, shouldRefuseUpgrade } from '../server/upgrade-paths.js';
+import { originAllowed } from '../net/server.js';
 
 /** Options of {@link attachSignalling}: the hub's, plus where. */
 export interface SignallingEndpointOptions extends Partial<SignallingHubOptions> {
@@ -53,8 +54,7 @@ export function attachSignalling(
       if (shouldRefuseUpgrade(server, ownsPath, pathname)) refuse(socket, '404 Not Found');
       return;
     }
-    const origin = req.headers.origin;
-    if (allowedOrigins && origin !== undefined && !allowedOrigins.includes(origin)) {
+    if (!originAllowed(req, allowedOrigins ?? 'any')) {
       refuse(socket, '403 Forbidden');
       return;
     }

@@ -12,6 +12,7 @@ import { WebSocketServer, type WebSocket } from 'ws';
 import { NAME_PATTERN, type StateSyncRoomDefaults } from 'fixedstep';
 import type { FromWorker, ToWorker, WorkerSetup } from './messages.js';
 import { claimUpgradePaths, shouldRefuseUpgrade } from '../server/upgrade-paths.js';
+import { originAllowed } from '../net/server.js';
 
 /** Options of {@link attachStateSync}. */
 export interface StateSyncEndpointOptions {
@@ -232,12 +233,7 @@ export function attachStateSync(
       refuse(socket, '400 Bad Request');
       return;
     }
-    const origin = req.headers.origin;
-    if (
-      options.allowedOrigins &&
-      origin !== undefined &&
-      !options.allowedOrigins.includes(origin)
-    ) {
+    if (!originAllowed(req, options.allowedOrigins ?? 'any')) {
       refuse(socket, '403 Forbidden');
       return;
     }

@@ -24,7 +24,7 @@ import {
 } from '../protocol.js';
 
 /**
- * Byte 0 of every state-sync message. The top bit is set so the relay (versions 1–2) refuses a
+ * Byte 0 of every state-sync message. The top bit is set so the relay (protocol versions 1–3) refuses a
  * state-sync message as another version, and this side refuses the relay's.
  */
 export const STATE_SYNC_VERSION = 0x81;
