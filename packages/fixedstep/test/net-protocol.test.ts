@@ -389,4 +389,17 @@ describe('protocol codec', () => {
     expect(() => encodeMessage({ type: 'ping', id: -1, time: 0 })).toThrow(RangeError);
     expect(() => encodeMessage({ type: 'ping', id: 1, time: Number.NaN })).toThrow(RangeError);
   });
+
+  it('gives every message its own bytes, also after a refused encode', () => {
+    // encodeMessage writes through one reused buffer: what it returns must be a copy, and an
+    // encode that throws half-way must not leak into the next message.
+    const ping = encodeMessage({ type: 'ping', id: 7, time: 1.5 });
+    const pingCopy = ping.slice();
+    expect(() => encodeMessage({ type: 'ping', id: 8, time: Number.NaN })).toThrow(RangeError);
+    const ack = encodeMessage({ type: 'ack', room: 3, ack: 300 });
+    expect(ping).toEqual(pingCopy);
+    expect(decodeMessage(ping)).toEqual({ type: 'ping', id: 7, time: 1.5 });
+    expect(decodeMessage(ack)).toEqual({ type: 'ack', room: 3, ack: 300 });
+    expect(ack.length).toBe(2 + 1 + 2);
+  });
 });

@@ -64,12 +64,17 @@ export function varintProblem(code: number): string {
 /** Appends canonical little-endian values to a growing buffer. Reuse one writer to avoid allocation. */
 export class ByteWriter {
   private buf: Uint8Array;
-  private view: DataView;
+  // Made on first use: a message of bytes and varints never needs one, and a DataView costs as
+  // much to create as the rest of a small message's encoding.
+  private dataView: DataView | undefined;
   private pos = 0;
 
   constructor(initialCapacity = 256) {
     this.buf = new Uint8Array(Math.max(16, initialCapacity));
-    this.view = new DataView(this.buf.buffer);
+  }
+
+  private get view(): DataView {
+    return (this.dataView ??= new DataView(this.buf.buffer));
   }
 
   /** Bytes written so far. */
@@ -90,7 +95,7 @@ export class ByteWriter {
     const next = new Uint8Array(cap);
     next.set(this.buf.subarray(0, this.pos));
     this.buf = next;
-    this.view = new DataView(next.buffer);
+    this.dataView = undefined;
   }
 
   u8(v: number): this {
@@ -144,11 +149,12 @@ export class ByteWriter {
   ints(values: Int32Array | Uint32Array | Uint16Array | Uint8Array | Int8Array | Int16Array): this {
     const w = values.BYTES_PER_ELEMENT;
     this.ensure(values.length * w);
+    const view = this.view;
     for (let i = 0; i < values.length; i++) {
       const v = values[i]!;
       if (w === 1) this.buf[this.pos] = v & 0xff;
-      else if (w === 2) this.view.setUint16(this.pos, v & 0xffff, true);
-      else this.view.setUint32(this.pos, v >>> 0, true);
+      else if (w === 2) view.setUint16(this.pos, v & 0xffff, true);
+      else view.setUint32(this.pos, v >>> 0, true);
       this.pos += w;
     }
     return this;
@@ -254,14 +260,14 @@ export class ByteReader {
   pos: number;
   /** One past the last readable byte (absolute offset in {@link buf}). */
   readonly limit: number;
-  private readonly view: DataView;
+  // Made on first use (see ByteWriter): most network messages are bytes and varints only.
+  private dataView: DataView | undefined;
   private readonly failure: ByteReadFailure;
 
   constructor(
     readonly buf: Uint8Array,
     options: ByteReaderOptions = {},
   ) {
-    this.view = new DataView(buf.buffer, buf.byteOffset, buf.byteLength);
     this.pos = options.start ?? 0;
     this.limit = options.end ?? buf.length;
     this.failure = options.fail ?? defaultFailure;
@@ -270,6 +276,11 @@ export class ByteReader {
         `ByteReader: range ${this.pos}–${this.limit} is outside a buffer of ${buf.length} bytes`,
       );
     }
+  }
+
+  private get view(): DataView {
+    const b = this.buf;
+    return (this.dataView ??= new DataView(b.buffer, b.byteOffset, b.byteLength));
   }
 
   /** Bytes read so far, from the start of the buffer. */
@@ -337,8 +348,9 @@ export class ByteReader {
   /** Fill `out` with float64s. */
   f64s(out: Float64Array, what = `${out.length} f64`): void {
     this.need(out.length * 8, what);
+    const view = this.view;
     for (let i = 0; i < out.length; i++) {
-      out[i] = this.view.getFloat64(this.pos, true);
+      out[i] = view.getFloat64(this.pos, true);
       this.pos += 8;
     }
   }
@@ -350,13 +362,14 @@ export class ByteReader {
   ): void {
     const w = out.BYTES_PER_ELEMENT;
     this.need(out.length * w, what);
+    const view = this.view;
     for (let i = 0; i < out.length; i++) {
       out[i] =
         w === 1
           ? this.buf[this.pos]!
           : w === 2
-            ? this.view.getUint16(this.pos, true)
-            : this.view.getUint32(this.pos, true);
+            ? view.getUint16(this.pos, true)
+            : view.getUint32(this.pos, true);
       this.pos += w;
     }
   }

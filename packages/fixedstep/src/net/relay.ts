@@ -512,6 +512,7 @@ export class Relay {
   private readonly rooms = new Map<string, Room>();
   private readonly connsByAddress = new Map<string, number>();
   private readonly roomsByAddress = new Map<string, number>();
+  private rowScratch = new Uint32Array(16);
   private nextConnId = 1;
   private nextRoomNumber = 1;
   private nextProbeId = 1;
@@ -1229,11 +1230,15 @@ export class Relay {
 
   // ------------------------------------------------------------------------------ the tick clock
 
-  private updateRoom(room: Room, now: number): void {
+  private updateJoins(room: Room, now: number): void {
     for (const req of [...room.joins]) {
       if (req.conn.state !== 'joining') room.joins = room.joins.filter((j) => j !== req);
       else if (now >= req.deadline) this.nextDonor(room, req, now);
     }
+  }
+
+  private updateRoom(room: Room, now: number): void {
+    if (room.joins.length > 0) this.updateJoins(room, now);
     if (room.state === 'waiting') {
       if (now - room.createdAt >= this.o.waitingRoomTtlMs) {
         this.closeRoom(
@@ -1297,7 +1302,7 @@ export class Relay {
   private closeTicks(room: Room, now: number): void {
     const startAt = room.startAt!;
     const w = room.words;
-    const row = new Uint32Array(room.players * w);
+    const row = this.closingRow(room.players * w);
     for (let guard = 0; guard < 4096 && room.closedEnd < this.o.maxMatchTicks; guard++) {
       const t = room.closedEnd;
       const tickStart = startAt + t * room.tickMs;
@@ -1336,6 +1341,12 @@ export class Relay {
     if (room.closedEnd >= this.o.maxMatchTicks) room.state = 'ended';
   }
 
+  /** A scratch row of at least `lanes` words for {@link closeTicks} (which copies it into the log). */
+  private closingRow(lanes: number): Uint32Array {
+    if (this.rowScratch.length < lanes) this.rowScratch = new Uint32Array(lanes);
+    return this.rowScratch;
+  }
+
   /**
    * Send each member the closed ticks it lacks. Over a reliable transport each tick goes once,
    * XOR-coded against the tick before it (a held button costs one byte a player, and the header
@@ -1343,54 +1354,58 @@ export class Relay {
    * but the next. Either way a member whose ack stops moving is rewound to its ack.
    */
   private flush(room: Room, now: number): void {
+    // Loops rather than room.members(): this runs for every room twice a tick, and a generator
+    // costs more than the usual work here (nothing to send).
+    for (const s of room.slots) if (s.conn?.state === 'member') this.flushMember(room, s.conn, now);
+    for (const c of room.spectators) if (c.state === 'member') this.flushMember(room, c, now);
+  }
+
+  private flushMember(room: Room, c: Conn, now: number): void {
     const newest = room.closedEnd;
     const maxTicks = this.limits.maxConfirmedTicks;
     const oldest = Math.max(0, newest - room.log.capacity + 1);
     const lanes = room.players * room.words;
-    for (const c of room.members()) {
-      if (c.ack < oldest) {
-        // Fell out of the history: it cannot catch up from here.
-        this.drop(c, 'NO_SNAPSHOT', 'too far behind the room');
-        continue;
-      }
-      if (c.sentUpTo < c.ack) c.sentUpTo = c.ack;
-      const rewind = c.ack < c.sentUpTo && now - c.ackMovedAt > (c.reliable ? 1000 : 250);
-      if (!(newest > c.sentUpTo || rewind)) continue;
-      // Small gap: every message carries every unacknowledged tick (loss costs nothing).
-      // Large gap (a late joiner catching up): stream onwards; go back to the ack on a timeout.
-      let from = rewind || (!c.reliable && newest - c.ack <= maxTicks) ? c.ack : c.sentUpTo;
-      if (rewind) {
-        c.ackMovedAt = now;
-        c.deltaFrom = -1;
-      }
-      const inputAck = this.inputAck(room, c);
-      for (let k = 0; k < 8 && from < newest; k++) {
-        const n = Math.min(maxTicks, newest - from);
-        const inputs = new Uint32Array(n * lanes);
-        for (let i = 0; i < n; i++) room.log.copy(from + i, inputs, i * lanes);
-        const delta = c.reliable && from > 0 && c.deltaFrom === from;
-        if (delta) {
-          // XOR every row with tick from − 1's (which it holds): unchanged inputs become zeros.
-          for (let p = 0; p < lanes; p++) {
-            const base = room.log.get(from - 1, p);
-            for (let i = 0; i < n; i++)
-              inputs[i * lanes + p] = (inputs[i * lanes + p]! ^ base) >>> 0;
-          }
-        }
-        this.send(c, {
-          type: 'confirmed',
-          inputAck: c.slot < 0 ? from + n : Math.max(inputAck, from + n),
-          tick: from,
-          players: room.players,
-          words: room.words,
-          inputs,
-          delta,
-        });
-        from += n;
-        if (c.reliable) c.deltaFrom = from;
-      }
-      c.sentUpTo = Math.max(c.sentUpTo, from);
+    if (c.ack < oldest) {
+      // Fell out of the history: it cannot catch up from here.
+      this.drop(c, 'NO_SNAPSHOT', 'too far behind the room');
+      return;
     }
+    if (c.sentUpTo < c.ack) c.sentUpTo = c.ack;
+    const rewind = c.ack < c.sentUpTo && now - c.ackMovedAt > (c.reliable ? 1000 : 250);
+    if (!(newest > c.sentUpTo || rewind)) return;
+    // Small gap: every message carries every unacknowledged tick (loss costs nothing).
+    // Large gap (a late joiner catching up): stream onwards; go back to the ack on a timeout.
+    let from = rewind || (!c.reliable && newest - c.ack <= maxTicks) ? c.ack : c.sentUpTo;
+    if (rewind) {
+      c.ackMovedAt = now;
+      c.deltaFrom = -1;
+    }
+    const inputAck = this.inputAck(room, c);
+    for (let k = 0; k < 8 && from < newest; k++) {
+      const n = Math.min(maxTicks, newest - from);
+      const inputs = new Uint32Array(n * lanes);
+      for (let i = 0; i < n; i++) room.log.copy(from + i, inputs, i * lanes);
+      const delta = c.reliable && from > 0 && c.deltaFrom === from;
+      if (delta) {
+        // XOR every row with tick from − 1's (which it holds): unchanged inputs become zeros.
+        for (let p = 0; p < lanes; p++) {
+          const base = room.log.get(from - 1, p);
+          for (let i = 0; i < n; i++) inputs[i * lanes + p] = (inputs[i * lanes + p]! ^ base) >>> 0;
+        }
+      }
+      this.send(c, {
+        type: 'confirmed',
+        inputAck: c.slot < 0 ? from + n : Math.max(inputAck, from + n),
+        tick: from,
+        players: room.players,
+        words: room.words,
+        inputs,
+        delta,
+      });
+      from += n;
+      if (c.reliable) c.deltaFrom = from;
+    }
+    c.sentUpTo = Math.max(c.sentUpTo, from);
   }
 
   /** The next tick the relay needs an input from `c` for. */
