@@ -39,6 +39,12 @@ export interface RollbackWorld {
   readonly name: string;
   /** The state of the current tick. */
   save(): Uint8Array;
+  /**
+   * The state of the current tick written into the `slot`-th buffer the world keeps, as
+   * `RollbackSession` does with a simulation that has `saveInto` (one buffer per tick of its
+   * history, rewritten in place): valid until that slot is saved again. Worlds without it save().
+   */
+  saveKept?(slot: number): Uint8Array;
   /** Restore a state from {@link save}. */
   load(bytes: Uint8Array): void;
   /** One fixed step. */
@@ -51,9 +57,16 @@ export interface RollbackWorld {
 /** fixedstep's PhysicsWorld, sleeping off, through its public API. */
 export function ownWorld(scene: PhysicsScene): RollbackWorld {
   const world = buildWorld({ ...scene, def: { ...scene.def, enableSleep: false } });
+  const kept: Uint8Array[] = [];
   return {
     name: 'fixedstep PhysicsWorld',
     save: () => world.save(),
+    saveKept: (slot) => {
+      const size = world.snapshotSize;
+      let buffer = kept[slot];
+      if (buffer === undefined || buffer.length < size) buffer = kept[slot] = new Uint8Array(size);
+      return buffer.subarray(0, world.saveInto(buffer));
+    },
     load: (bytes) => {
       world.load(bytes);
     },
@@ -131,6 +144,11 @@ export function settled(
   return world;
 }
 
+/** A tick's save the way a rollback keeps it: into a kept buffer where the world can. */
+function save(world: RollbackWorld, slot: number): Uint8Array {
+  return world.saveKept ? world.saveKept(slot) : world.save();
+}
+
 /**
  * The four operations on a settled world as benchmark candidates. `rollback`: load the saved
  * tick, then `DEPTH` × (step + save) — what `RollbackSession` does per correction. Each op
@@ -146,7 +164,7 @@ export function operations(
       name: world.name,
       run(ops) {
         let n = 0;
-        for (let i = 0; i < ops; i++) n += world.save().length;
+        for (let i = 0; i < ops; i++) n += save(world, i % DEPTH).length;
         return n;
       },
     },
@@ -172,7 +190,7 @@ export function operations(
           world.load(start);
           for (let k = 0; k < DEPTH; k++) {
             world.step();
-            last = world.save();
+            last = save(world, k);
           }
           n += last.length;
         }
@@ -248,7 +266,9 @@ async function run(ctx: SuiteContext): Promise<void> {
   const sizes = ctx.quick ? QUICK_SIZES : SIZES;
   ctx.note(
     `circlesInBoxScene(N, ${SEED}) (radii 0.10–0.15 m, dt 1/60 s), settled into a pile; sleeping off ` +
-      'in both. fixedstep PhysicsWorld: save()/load()/step(), no rotation. Rapier: ' +
+      'in both. fixedstep PhysicsWorld: saveInto() a kept buffer per tick (what RollbackSession ' +
+      'does with a simulation that has saveInto; save() allocates a new array each tick), load(), ' +
+      'step(), no rotation. Rapier: ' +
       '@fixedstep/rapier RapierSimulation (save = header + takeSnapshot() + checksum, load = ' +
       `World.restoreSnapshot()), bodies rotate, numSolverIterations = the scene's velocity iterations; ` +
       'Rapier bare: the same world saved and loaded by takeSnapshot()/restoreSnapshot() alone. ' +

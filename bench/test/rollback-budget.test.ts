@@ -20,6 +20,20 @@ beforeAll(async () => {
 });
 
 describe('rollback-budget suite', () => {
+  it("the own world's kept-buffer save is save()'s bytes, and each slot keeps its own tick", () => {
+    const world = settled(ownWorld, 60, 30);
+    const ticks: Uint8Array[] = [];
+    const kept: Uint8Array[] = [];
+    for (let k = 0; k < DEPTH; k++) {
+      world.step();
+      ticks.push(world.save());
+      kept.push(world.saveKept!(k));
+    }
+    expect(kept).toEqual(ticks);
+    expect(new Set(ticks.map((b) => b.join())).size).toBe(DEPTH);
+    world.dispose();
+  });
+
   it('a rollback is load + 8 × (step + save): it lands on the same state every time', () => {
     const check = (world: RollbackWorld) => {
       const start = world.save();

@@ -63,15 +63,24 @@ export class InputRing {
   }
 }
 
+/** A simulation that can write its snapshot into a buffer it is given (see `Simulation.saveInto`). */
+export interface SavesInto {
+  readonly snapshotSize: number;
+  saveInto(out: Uint8Array): number;
+}
+
 /** The snapshots (`save()` bytes) of the last `capacity` ticks stored. */
 export class SnapshotRing {
   readonly capacity: number;
   private readonly bytes: (Uint8Array | undefined)[];
+  /** Per slot, the buffer {@link putFrom} writes into (kept from tick to tick). */
+  private readonly stores: (Uint8Array | undefined)[];
   private readonly tickOf: Float64Array;
 
   constructor(capacity: number) {
     this.capacity = Math.max(1, capacity);
     this.bytes = new Array<Uint8Array | undefined>(this.capacity);
+    this.stores = new Array<Uint8Array | undefined>(this.capacity);
     this.tickOf = new Float64Array(this.capacity).fill(-1);
   }
 
@@ -79,6 +88,29 @@ export class SnapshotRing {
     const slot = tick % this.capacity;
     this.tickOf[slot] = tick;
     this.bytes[slot] = bytes;
+  }
+
+  /**
+   * Stores `tick`'s snapshot by letting `source` write it into the slot's own buffer, reused from
+   * the tick the slot held before (grown when too small). Returns the stored bytes: a view that
+   * the slot's next `putFrom` overwrites — copy what must outlive it.
+   */
+  putFrom(tick: number, source: SavesInto): Uint8Array {
+    const slot = tick % this.capacity;
+    const size = source.snapshotSize;
+    let store = this.stores[slot];
+    if (store === undefined || store.length < size) {
+      store = this.stores[slot] = new Uint8Array(size + (size >> 3));
+    }
+    const n = source.saveInto(store);
+    if (n !== size) {
+      throw new RangeError(`saveInto wrote ${n} bytes where snapshotSize said ${size}`);
+    }
+    let view = this.bytes[slot];
+    if (view?.buffer !== store.buffer || view.length !== n) view = store.subarray(0, n);
+    this.bytes[slot] = view;
+    this.tickOf[slot] = tick;
+    return view;
   }
 
   get(tick: number): Uint8Array | undefined {

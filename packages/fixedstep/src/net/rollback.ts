@@ -1,4 +1,4 @@
-import { InputRing } from './history.js';
+import { InputRing, type SavesInto } from './history.js';
 import type { ButtonInput } from '../sim/buttons.js';
 import { NetSession, type NetSessionOptions } from './session.js';
 import { diffSnapshots } from './forensics.js';
@@ -218,7 +218,14 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
     this.decodeRow(this.rowWords, this.row);
     sim.step(this.row);
     this.used.set(t, this.rowWords);
-    this.ring.put(sim.tick, sim.save());
+    if (this.keepsBuffers) this.ring.putFrom(sim.tick, sim as SavesInto);
+    else this.ring.put(sim.tick, sim.save());
+  }
+
+  /** Whether the simulation writes its snapshots into the ring's kept buffers (`saveInto`). */
+  private get keepsBuffers(): boolean {
+    const sim = this.sim!;
+    return sim.saveInto !== undefined && sim.snapshotSize !== undefined;
   }
 
   /** Whether a linked local session has issued player `p`'s input for `tick` (copied to `out`). */
@@ -260,14 +267,17 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
     const end = sim.tick;
     if (from >= end) return;
     const start = this.ring.get(from);
-    const before = this.ring.get(end);
-    if (!start || !before) {
+    const predicted = this.ring.get(end);
+    if (!start || !predicted) {
       throw new Error(`RollbackSession: no snapshot of tick ${from} to roll back to`);
     }
+    // Kept buffers are rewritten in place: the correction gets copies of both states.
+    const kept = this.keepsBuffers;
+    const before = kept ? predicted.slice() : predicted;
     sim.load(start);
     for (let t = from; t < end; t++) this.stepOne();
     const depth = end - from;
-    const after = this.ring.get(end)!;
+    const after = kept ? this.ring.get(end)!.slice() : this.ring.get(end)!;
     this.stats.rollbacks++;
     this.stats.resimulatedTicks += depth;
     if (depth > this.stats.maxRollbackDepth) this.stats.maxRollbackDepth = depth;

@@ -21,6 +21,18 @@ export interface Simulation<I = number> {
   step(inputs: readonly I[]): void;
   /** The whole state as canonical bytes (a snapshot). */
   save(): Uint8Array;
+  /**
+   * Optional, with {@link saveInto}: the number of bytes {@link save} would return now. A
+   * simulation with both lets {@link RollbackSession} keep one buffer per tick of its history and
+   * write each tick's snapshot into it, instead of a new array every tick (`PhysicsWorld` has
+   * both: a 2,000-body world is ~220 KB of garbage a tick less).
+   */
+  readonly snapshotSize?: number;
+  /**
+   * Optional, with {@link snapshotSize}: writes exactly {@link save}'s bytes into the start of
+   * `out` (at least `snapshotSize` long) and returns how many it wrote.
+   */
+  saveInto?(out: Uint8Array): number;
   /** Restore exactly a state from {@link save}. Throws a RangeError on bytes it cannot read. */
   load(bytes: Uint8Array): void;
   /** A hash of the canonical state bytes (FNV-1a 64). */
