@@ -23,7 +23,7 @@ export interface Simulation<I = number> {
   save(): Uint8Array;
   /**
    * Optional, with {@link saveInto}: the number of bytes {@link save} would return now. A
-   * simulation with both lets {@link RollbackSession} keep one buffer per tick of its history and
+   * simulation with both lets `RollbackSession` keep one buffer per tick of its history and
    * write each tick's snapshot into it, instead of a new array every tick (`PhysicsWorld` has
    * both: a 2,000-body world is ~220 KB of garbage a tick less).
    */
