@@ -1,13 +1,20 @@
+import { readFileSync } from 'node:fs';
 import { describe, expect, it } from 'vitest';
 import {
   type PhysicsWorld,
   bodiesInBox,
   buildWorld,
+  bulletsScene,
   circlesInBox,
   circlesInBoxScene,
   hex64,
   runForHash,
 } from 'fixedstep';
+import { solverKernelsSetting } from '../src/physics/world/solver-kernels.js';
+import { SOLVER_KERNELS_WASM } from '../src/physics/world/solver-wasm.js';
+import { KERNELS, assembleKernels, kernelsModule } from '../../../scripts/wasm.mjs';
+
+const SOLVER = KERNELS.find((k) => k.wat === 'solver.wat')!;
 
 // Golden hashes over what the solver's speed work touches: big piles (long contact chains),
 // boxes with circles, restitution, kinematic bodies waking sleeping ones, a rollback of 8 ticks.
@@ -66,5 +73,80 @@ describe('golden hashes of the solver', () => {
     }
     if (hashes[0] !== '10f76a275899f08c') console.log(`golden hash after 158 ticks: ${hashes[0]}`);
     expect(hashes).toEqual(['10f76a275899f08c', '10f76a275899f08c']);
+  });
+});
+
+describe('the solver kernels', () => {
+  it('are solver.wat, assembled: the committed bytes are not stale', async () => {
+    const bytes = await assembleKernels(SOLVER);
+    expect(Array.from(SOLVER_KERNELS_WASM)).toEqual(Array.from(bytes));
+    const generated = readFileSync(
+      new URL('../src/physics/world/solver-wasm.ts', import.meta.url),
+      'utf8',
+    );
+    expect(generated).toBe(kernelsModule(bytes, SOLVER));
+  });
+
+  it('give the JavaScript loops’ bits, tick for tick, with and without WebAssembly', () => {
+    const scenes: [string, () => PhysicsWorld][] = [
+      ['pile', pile],
+      ['ploughed', ploughed],
+      ['bullets', () => buildWorld(bulletsScene(3))],
+      ['restitution', () => circlesInBox(200, 2, { restitution: 0.5, restitutionThreshold: 0.3 })],
+    ];
+    for (const [name, make] of scenes) {
+      const wasm = make();
+      solverKernelsSetting.enabled = false;
+      let js: PhysicsWorld;
+      try {
+        js = make();
+      } finally {
+        solverKernelsSetting.enabled = true;
+      }
+      const kernels = (w: PhysicsWorld) =>
+        (w as unknown as { schedule: { kernels: object | null } }).schedule.kernels;
+      expect(kernels(wasm)).not.toBeNull();
+      expect(kernels(js)).toBeNull();
+      let first = -1;
+      for (let t = 0; t < 150 && first < 0; t++) {
+        wasm.step();
+        js.step();
+        if (hex64(wasm.hash()) !== hex64(js.hash())) first = t;
+      }
+      if (first >= 0) console.log(`${name}: WebAssembly and JavaScript differ from tick ${first}`);
+      expect(first).toBe(-1);
+    }
+  });
+
+  it('plan contacts so each body meets them in list order, a wave sharing no body', () => {
+    const w = pile();
+    for (let t = 0; t < 150; t++) w.step();
+    // The world's own contacts and plan after the last step.
+    const { contacts, schedule } = w as unknown as {
+      contacts: { count: number; bodyPairCount: number; bodyA: Int32Array; bodyB: Int32Array };
+      schedule: { order: Int32Array; count: number; slots: number };
+    };
+    const count = contacts.count;
+    expect(schedule.count).toBe(count);
+    expect(count).toBeGreaterThan(3000);
+    const order = Array.from(schedule.order.subarray(0, count));
+    expect([...order].sort((p, q) => p - q)).toEqual([...Array(count).keys()]);
+    const bodies = (k: number) =>
+      k < contacts.bodyPairCount ? [contacts.bodyA[k]!, contacts.bodyB[k]!] : [contacts.bodyA[k]!];
+    // Per body, the contacts in visiting order are in list order.
+    const seen = new Map<number, number>();
+    let outOfOrder = 0;
+    let neighbours = 0;
+    for (let s = 0; s < count; s++) {
+      const k = order[s]!;
+      for (const b of bodies(k)) {
+        if ((seen.get(b) ?? -1) > k) outOfOrder++;
+        seen.set(b, k);
+      }
+      // Consecutive visits that share a body (what the list order has at every other contact).
+      if (s > 0 && bodies(order[s - 1]!).some((b) => bodies(k).includes(b))) neighbours++;
+    }
+    expect(outOfOrder).toBe(0);
+    expect(neighbours).toBeLessThan(count / 20);
   });
 });

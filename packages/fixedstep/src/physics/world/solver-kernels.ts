@@ -1,0 +1,64 @@
+/**
+ * The WebAssembly twin of the contact solver's inner loops (solver.wat, bytes in solver-wasm.ts):
+ * compiled once, on first use, synchronously (about a kilobyte, well under every engine's limit
+ * for compiling on the main thread). Where WebAssembly is missing or refused (a
+ * Content-Security-Policy without `wasm-unsafe-eval`), {@link solverKernels} returns undefined and
+ * the solver runs its JavaScript loops, which give the same bits.
+ */
+import { SOLVER_KERNELS_WASM } from './solver-wasm.js';
+
+/** An instance of the kernels over one memory. Offsets are bytes into that memory. */
+export interface SolverKernels {
+  /**
+   * The kernels' `WebAssembly.Memory`, typed by the members used so the published declarations
+   * name no `WebAssembly` type (a Node-only project with `lib: ["ES2022"]` has none).
+   */
+  readonly memory: { readonly buffer: ArrayBuffer; grow(pages: number): number };
+  warmStart(first: number, count: number): void;
+  velocities(first: number, count: number, iterations: number, friction: number): void;
+  positions(
+    first: number,
+    count: number,
+    positions: number,
+    iterations: number,
+    slop: number,
+    beta: number,
+  ): void;
+}
+
+let compiled: WebAssembly.Module | null | undefined;
+
+/**
+ * Whether new solvers use the WebAssembly kernels when they can (true). Tests turn it off to run
+ * the JavaScript loops and compare the bits.
+ * @internal
+ */
+export const solverKernelsSetting = { enabled: true };
+
+/** The kernels over a new memory, or undefined if they cannot run here (or are turned off). */
+export function solverKernels(): SolverKernels | undefined {
+  if (!solverKernelsSetting.enabled) return undefined;
+  if (compiled === undefined) {
+    try {
+      compiled =
+        typeof WebAssembly === 'object' ? new WebAssembly.Module(SOLVER_KERNELS_WASM) : null;
+    } catch {
+      compiled = null;
+    }
+  }
+  if (compiled === null) return undefined;
+  try {
+    const memory = new WebAssembly.Memory({ initial: 1 });
+    const instance = new WebAssembly.Instance(compiled, { env: { memory } });
+    const e = instance.exports as unknown as Omit<SolverKernels, 'memory'>;
+    return {
+      memory,
+      warmStart: e.warmStart,
+      velocities: e.velocities,
+      positions: e.positions,
+    };
+  } catch {
+    // Out of address space for another memory, or instantiation refused: stay in JavaScript.
+    return undefined;
+  }
+}
