@@ -70,7 +70,7 @@
 import type { BodyStore } from './body.js';
 import type { ContactList, WarmStartCache } from './contacts.js';
 import type { WorldDef } from './def.js';
-import { solverKernels, type SolverKernels } from './solver-kernels.js';
+import { solverKernels, solverKernelsSetting, type SolverKernels } from './solver-kernels.js';
 
 // The working memory of one step's solvers (bytes; see "Visiting order" in the file comment):
 // velocities (vx, vy: 16 bytes per body, then per wall stand-in), positions (movedX, movedY, x, y:
@@ -110,29 +110,31 @@ export class SolverSchedule {
   memory = new ArrayBuffer(0);
   f64 = new Float64Array(0);
   i32 = new Int32Array(0);
-  /** The WebAssembly loops, whose memory is {@link memory}; null: the JavaScript ones. */
-  kernels: SolverKernels | null = null;
+  /**
+   * The WebAssembly loops, whose memory is {@link memory}; null: the JavaScript ones; undefined:
+   * not tried yet (they are, the first time a step has `solverKernelsSetting.minContacts`).
+   */
+  kernels: SolverKernels | null | undefined = solverKernelsSetting.enabled ? undefined : null;
   /** By body: the wave of its last contact so far; by contact: its wave; by wave: where it starts. */
   private lastWave = new Int32Array(0);
   private waveOf = new Int32Array(0);
   private waveStart = new Int32Array(0);
 
-  constructor() {
-    const kernels = solverKernels();
-    if (kernels !== undefined) {
-      this.kernels = kernels;
-      this.memory = kernels.memory.buffer;
-      this.f64 = new Float64Array(this.memory);
-      this.i32 = new Int32Array(this.memory);
-    }
-  }
-
   /** Room for `bytes` of working memory (its contents need not survive). */
-  private reserve(bytes: number): void {
+  private reserve(bytes: number, contacts: number): void {
+    if (this.kernels === undefined && contacts >= solverKernelsSetting.minContacts) {
+      const kernels = solverKernels();
+      this.kernels = kernels ?? null;
+      if (kernels !== undefined) {
+        this.memory = kernels.memory.buffer;
+        this.f64 = new Float64Array(this.memory);
+        this.i32 = new Int32Array(this.memory);
+      }
+    }
     if (this.memory.byteLength >= bytes) return;
     const size = Math.max(bytes, 2 * this.memory.byteLength);
     const kernels = this.kernels;
-    if (kernels !== null) {
+    if (kernels) {
       try {
         kernels.memory.grow(Math.ceil((size - this.memory.byteLength) / 65536));
         this.memory = kernels.memory.buffer;
@@ -169,7 +171,7 @@ export class SolverSchedule {
     this.slots = slots;
     this.positionsAt = 16 * all;
     this.visitsAt = 48 * all;
-    this.reserve(this.visitsAt + VISIT_BYTES * count);
+    this.reserve(this.visitsAt + VISIT_BYTES * count, count);
     if (this.order.length < count) {
       const room = Math.max(count, 2 * this.order.length);
       this.order = new Int32Array(room);
@@ -401,7 +403,7 @@ export function solveVelocities(
   const i32 = schedule.i32;
   const first = schedule.visitsAt >>> 3;
   const kernels = schedule.kernels;
-  if (kernels !== null) {
+  if (kernels) {
     kernels.warmStart(schedule.visitsAt, count);
     kernels.velocities(schedule.visitsAt, count, def.velocityIterations, def.friction);
   } else {
@@ -510,7 +512,7 @@ export function solvePositions(
     }
   }
   const kernels = schedule.kernels;
-  if (kernels !== null)
+  if (kernels)
     kernels.positions(
       schedule.visitsAt,
       count,

@@ -29,15 +29,16 @@ export interface SolverKernels {
 let compiled: WebAssembly.Module | null | undefined;
 
 /**
- * Whether new solvers use the WebAssembly kernels when they can (true). Tests turn it off to run
- * the JavaScript loops and compare the bits.
+ * `enabled`: whether new solvers may use the WebAssembly kernels (true); `minContacts`: from how
+ * many contacts in a step (256) — below, the JavaScript loops are as fast and a world needs no
+ * WebAssembly memory of its own (each reserves address space). Tests change them to run both
+ * and compare the bits.
  * @internal
  */
-export const solverKernelsSetting = { enabled: true };
+export const solverKernelsSetting = { enabled: true, minContacts: 256 };
 
-/** The kernels over a new memory, or undefined if they cannot run here (or are turned off). */
+/** The kernels over a new memory, or undefined if they cannot run here. */
 export function solverKernels(): SolverKernels | undefined {
-  if (!solverKernelsSetting.enabled) return undefined;
   if (compiled === undefined) {
     try {
       compiled =
