@@ -1,7 +1,8 @@
 import { readFileSync } from 'node:fs';
 import { describe, expect, it } from 'vitest';
 import {
-  type PhysicsWorld,
+  PhysicsWorld,
+  Random,
   bodiesInBox,
   buildWorld,
   bulletsScene,
@@ -35,6 +36,27 @@ function ploughed(): PhysicsWorld {
   w.createBox({ x: -4, y: 0.6, vx: 1.5, vy: 0, halfWidth: 0.3, halfHeight: 0.3, kinematic: true });
   w.createCircle({ x: 4, y: 1.2, vx: -1.2, vy: 0, radius: 0.25, kinematic: true });
   return w;
+}
+
+/**
+ * 600 circles apart on a lattice, sleeping off, that {@link crowdEvents} pile onto a 1.2 m spot:
+ * from no contact to thousands in one step (past the kernel's first room), then a contact limit
+ * they exceed (every step from tick 40 throws).
+ */
+function crowd(): PhysicsWorld {
+  const w = new PhysicsWorld({ enableSleep: false });
+  w.addStaticBox(0, -0.5, 20, 0.5);
+  for (let k = 0; k < 600; k++)
+    w.createCircle({ x: -15 + (k % 60) * 0.5, y: 0.3 + Math.floor(k / 60) * 0.5, radius: 0.15 });
+  return w;
+}
+
+function crowdEvents(w: PhysicsWorld, tick: number): void {
+  if (tick === 10) {
+    const r = new Random(7);
+    for (let k = 0; k < 600; k++) w.setPosition(k, r.range(-0.6, 0.6), r.range(0.2, 1.4));
+  }
+  if (tick === 40) w.setDef({ maxContacts: 1500 });
 }
 
 describe('golden hashes of the solver', () => {
@@ -93,6 +115,7 @@ describe('the solver kernels', () => {
       ['ploughed', ploughed],
       ['bullets', () => buildWorld(bulletsScene(3))],
       ['restitution', () => circlesInBox(200, 2, { restitution: 0.5, restitutionThreshold: 0.3 })],
+      ['crowd', crowd],
     ];
     const kernels = (w: PhysicsWorld) =>
       (w as unknown as { schedule: { kernels: object | null | undefined } }).schedule.kernels;
@@ -108,11 +131,22 @@ describe('the solver kernels', () => {
           solverKernelsSetting.enabled = true;
         }
         let first = -1;
+        let threw = 0;
         for (let t = 0; t < 150 && first < 0; t++) {
-          wasm.step();
-          js.step();
-          if (hex64(wasm.hash()) !== hex64(js.hash())) first = t;
+          if (name === 'crowd') for (const w of [wasm, js]) crowdEvents(w, t);
+          const errors = [wasm, js].map((w) => {
+            try {
+              w.step();
+              return '';
+            } catch (e) {
+              return String(e);
+            }
+          });
+          if (errors[0] !== errors[1] || hex64(wasm.hash()) !== hex64(js.hash())) first = t;
+          if (errors[0] !== '') threw++;
         }
+        // Only the crowd goes past its limit: from tick 40 on, every step.
+        expect(threw).toBe(name === 'crowd' ? 110 : 0);
         if (first >= 0)
           console.log(`${name}: WebAssembly and JavaScript differ from tick ${first}`);
         expect(first).toBe(-1);

@@ -24,6 +24,19 @@ export interface SolverKernels {
     slop: number,
     beta: number,
   ): void;
+  circlePairs(
+    x: number,
+    y: number,
+    halfWidth: number,
+    inverseMass: number,
+    flags: number,
+    start: number,
+    items: number,
+    rows: number,
+    cols: number,
+    out: number,
+    room: number,
+  ): number;
 }
 
 let compiled: WebAssembly.Module | null | undefined;
@@ -57,6 +70,7 @@ export function solverKernels(): SolverKernels | undefined {
       warmStart: e.warmStart,
       velocities: e.velocities,
       positions: e.positions,
+      circlePairs: e.circlePairs,
     };
   } catch {
     // Out of address space for another memory, or instantiation refused: stay in JavaScript.

@@ -557,14 +557,15 @@ export class PhysicsWorld implements Simulation<unknown> {
     let gravityDone = false;
     log.count = 0;
     try {
-      findContacts(this.grid, bodies, this.statics, this.contacts, true, def);
+      findContacts(this.grid, bodies, this.statics, this.contacts, true, def, this.schedule);
       this.integrateVelocities(def, sleepers);
       gravityDone = true;
       if (sleepers) {
         log.recording = true;
         const woke = wakeByNewContacts(bodies, this.contacts, this.cache, log);
         log.recording = false;
-        if (woke) findContacts(this.grid, bodies, this.statics, this.contacts, false, def);
+        if (woke)
+          findContacts(this.grid, bodies, this.statics, this.contacts, false, def, this.schedule);
       }
     } catch (e) {
       log.recording = false;
