@@ -139,7 +139,7 @@ export class SolverSchedule {
       }
     }
     if (this.memory.byteLength >= bytes) return this.kernels;
-    const size = Math.max(bytes, 2 * this.memory.byteLength);
+    const size = Math.max((bytes + 7) & ~7, 2 * this.memory.byteLength);
     const kernels = this.kernels;
     if (kernels) {
       try {
@@ -246,7 +246,10 @@ export class SolverSchedule {
     this.slots = slots;
     this.positionsAt = 16 * all;
     this.visitsAt = 48 * all;
-    this.reserve(this.visitsAt + VISIT_BYTES * count, count);
+    // After the visits, room for the WebAssembly plan's inputs and scratch (see planInKernel).
+    const cached = cache.count;
+    const scratch = 44 * count + 28 * slots + 24 * cached + 16;
+    const kernels = this.reserve(this.visitsAt + VISIT_BYTES * count + scratch, count);
     if (this.order.length < count) {
       const room = Math.max(count, 2 * this.order.length);
       this.order = new Int32Array(room);
@@ -255,6 +258,92 @@ export class SolverSchedule {
     }
     if (this.lastWave.length < slots)
       this.lastWave = new Int32Array(Math.max(slots, 2 * this.lastWave.length));
+    if (kernels && !restitution) this.planInKernel(kernels, contacts, cache, bodies);
+    else this.planHere(contacts, cache, bodies, restitution);
+    const f64 = this.f64;
+    const vx = bodies.vx;
+    const vy = bodies.vy;
+    for (let i = 0; i < slots; i++) {
+      f64[2 * i] = vx[i]!;
+      f64[2 * i + 1] = vy[i]!;
+    }
+    f64.fill(0, 2 * slots, 2 * all);
+  }
+
+  /**
+   * {@link plan} in WebAssembly (`plan` in solver.wat, the same steps and arithmetic): the
+   * contacts' columns, the inverse masses and the cache copied in after the visits, the visiting
+   * order copied back.
+   */
+  private planInKernel(
+    kernels: SolverKernels,
+    contacts: ContactList,
+    cache: WarmStartCache,
+    bodies: BodyStore,
+  ): void {
+    const count = this.count;
+    const slots = this.slots;
+    const cached = cache.count;
+    const f64 = this.f64;
+    const i32 = this.i32;
+    // f64 columns first (8-byte aligned: the visits end on a multiple of 64), then i32 ones.
+    const nxAt = this.visitsAt + VISIT_BYTES * count;
+    const nyAt = nxAt + 8 * count;
+    const imAt = nyAt + 8 * count;
+    const cachedNAt = imAt + 8 * slots;
+    const cachedTAt = cachedNAt + 8 * cached;
+    const bodyAAt = cachedTAt + 8 * cached;
+    const bodyBAt = bodyAAt + 4 * count;
+    const headAt = bodyBAt + 4 * count;
+    const nextAt = headAt + 4 * slots;
+    const cachedBAt = nextAt + 4 * cached;
+    const lastWaveAt = cachedBAt + 4 * cached;
+    const waveOfAt = lastWaveAt + 4 * slots;
+    const waveStartAt = waveOfAt + 4 * count;
+    const orderAt = waveStartAt + 4 * (count + 2);
+    f64.set(contacts.normalX.subarray(0, count), nxAt >>> 3);
+    f64.set(contacts.normalY.subarray(0, count), nyAt >>> 3);
+    f64.set(bodies.solverInverseMass.subarray(0, slots), imAt >>> 3);
+    f64.set(cache.normalImpulse.subarray(0, cached), cachedNAt >>> 3);
+    f64.set(cache.tangentImpulse.subarray(0, cached), cachedTAt >>> 3);
+    i32.set(contacts.bodyA.subarray(0, count), bodyAAt >>> 2);
+    i32.set(contacts.bodyB.subarray(0, count), bodyBAt >>> 2);
+    i32.set(cache.head.subarray(0, slots), headAt >>> 2);
+    i32.set(cache.next.subarray(0, cached), nextAt >>> 2);
+    i32.set(cache.bodyB.subarray(0, cached), cachedBAt >>> 2);
+    kernels.plan(
+      count,
+      this.pairs,
+      slots,
+      bodyAAt,
+      bodyBAt,
+      nxAt,
+      nyAt,
+      imAt,
+      headAt,
+      nextAt,
+      cachedBAt,
+      cachedNAt,
+      cachedTAt,
+      lastWaveAt,
+      waveOfAt,
+      waveStartAt,
+      orderAt,
+      this.visitsAt,
+    );
+    this.order.set(i32.subarray(orderAt >>> 2, (orderAt >>> 2) + count));
+  }
+
+  /** {@link plan} in JavaScript (with `restitution`, also the normal masses and approach speeds). */
+  private planHere(
+    contacts: ContactList,
+    cache: WarmStartCache,
+    bodies: BodyStore,
+    restitution: boolean,
+  ): void {
+    const count = this.count;
+    const pairs = this.pairs;
+    const slots = this.slots;
     const bodyA = contacts.bodyA;
     const bodyB = contacts.bodyB;
     const lastWave = this.lastWave;
@@ -336,11 +425,6 @@ export class SolverSchedule {
       f64[o + TANGENT_IMPULSE] = jt;
       i32[2 * o + VELOCITY_A] = 16 * a;
     }
-    for (let i = 0; i < slots; i++) {
-      f64[2 * i] = vx[i]!;
-      f64[2 * i + 1] = vy[i]!;
-    }
-    f64.fill(0, 2 * slots, 2 * all);
   }
 }
 

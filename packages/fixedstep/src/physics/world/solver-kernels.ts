@@ -24,6 +24,26 @@ export interface SolverKernels {
     slop: number,
     beta: number,
   ): void;
+  plan(
+    count: number,
+    pairs: number,
+    slots: number,
+    bodyA: number,
+    bodyB: number,
+    normalX: number,
+    normalY: number,
+    inverseMass: number,
+    head: number,
+    next: number,
+    cachedB: number,
+    cachedNormal: number,
+    cachedTangent: number,
+    lastWave: number,
+    waveOf: number,
+    waveStart: number,
+    order: number,
+    visits: number,
+  ): void;
   circlePairs(
     x: number,
     y: number,
@@ -71,6 +91,7 @@ export function solverKernels(): SolverKernels | undefined {
       velocities: e.velocities,
       positions: e.positions,
       circlePairs: e.circlePairs,
+      plan: e.plan,
     };
   } catch {
     // Out of address space for another memory, or instantiation refused: stay in JavaScript.

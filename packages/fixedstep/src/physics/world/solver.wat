@@ -281,4 +281,107 @@
         (local.set $cy (i32.add (local.get $cy) (i32.const 1)))
         (br $row)))
     (local.get $count))
+
+  ;; SolverSchedule.plan's waves, order and visits (contact-solver.ts does the same in JavaScript,
+  ;; and still does it when restitution needs the approach speeds). The contacts in columns at
+  ;; $bodyA, $bodyB (i32), $nx, $ny (f64); the solver inverse masses (f64) and the warm-start
+  ;; cache's head (i32) by body; its next, bodyB (i32), normal and tangent impulses (f64) by entry.
+  ;; Scratch: $lastWave by body, $waveOf by contact, $waveStart by wave (count + 2 of them).
+  ;; Writes the visiting order at $order (i32) and the visits at $visits.
+  (func (export "plan") (param $count i32) (param $pairs i32) (param $slots i32)
+        (param $bodyA i32) (param $bodyB i32) (param $nx i32) (param $ny i32) (param $im i32)
+        (param $head i32) (param $next i32) (param $cachedB i32) (param $cachedN i32) (param $cachedT i32)
+        (param $lastWave i32) (param $waveOf i32) (param $waveStart i32) (param $order i32)
+        (param $visits i32)
+    (local $k i32) (local $a i32) (local $b i32) (local $wave i32) (local $waveB i32) (local $waves i32)
+    (local $w i32) (local $s i32) (local $p i32) (local $q i32)
+    (local $ia f64) (local $ib f64) (local $mass f64) (local $jn f64) (local $jt f64)
+    (memory.fill (local.get $lastWave) (i32.const 0) (i32.shl (local.get $slots) (i32.const 2)))
+    (memory.fill (local.get $waveStart) (i32.const 0) (i32.shl (i32.add (local.get $count) (i32.const 2)) (i32.const 2)))
+    ;; Each contact's wave, and contacts per wave.
+    (block $wavesDone
+      (loop $waveLoop
+        (br_if $wavesDone (i32.ge_s (local.get $k) (local.get $count)))
+        (local.set $a (i32.load (i32.add (local.get $bodyA) (i32.shl (local.get $k) (i32.const 2)))))
+        (local.set $wave (i32.load (i32.add (local.get $lastWave) (i32.shl (local.get $a) (i32.const 2)))))
+        (if (i32.lt_s (local.get $k) (local.get $pairs))
+          (then
+            (local.set $b (i32.load (i32.add (local.get $bodyB) (i32.shl (local.get $k) (i32.const 2)))))
+            (local.set $waveB (i32.load (i32.add (local.get $lastWave) (i32.shl (local.get $b) (i32.const 2)))))
+            (if (i32.gt_s (local.get $waveB) (local.get $wave)) (then (local.set $wave (local.get $waveB))))
+            (i32.store (i32.add (local.get $lastWave) (i32.shl (local.get $b) (i32.const 2)))
+                       (i32.add (local.get $wave) (i32.const 1)))))
+        (local.set $wave (i32.add (local.get $wave) (i32.const 1)))
+        (i32.store (i32.add (local.get $lastWave) (i32.shl (local.get $a) (i32.const 2))) (local.get $wave))
+        (i32.store (i32.add (local.get $waveOf) (i32.shl (local.get $k) (i32.const 2))) (local.get $wave))
+        (if (i32.gt_s (local.get $wave) (local.get $waves)) (then (local.set $waves (local.get $wave))))
+        (local.set $p (i32.add (local.get $waveStart) (i32.shl (i32.add (local.get $wave) (i32.const 1)) (i32.const 2))))
+        (i32.store (local.get $p) (i32.add (i32.load (local.get $p)) (i32.const 1)))
+        (local.set $k (i32.add (local.get $k) (i32.const 1)))
+        (br $waveLoop)))
+    ;; Where each wave starts (a prefix sum), then the order, stable within a wave.
+    (local.set $w (i32.const 1))
+    (block $sumDone
+      (loop $sum
+        (br_if $sumDone (i32.gt_s (local.get $w) (local.get $waves)))
+        (local.set $p (i32.add (local.get $waveStart) (i32.shl (local.get $w) (i32.const 2))))
+        (i32.store offset=4 (local.get $p) (i32.add (i32.load offset=4 (local.get $p)) (i32.load (local.get $p))))
+        (local.set $w (i32.add (local.get $w) (i32.const 1)))
+        (br $sum)))
+    (local.set $k (i32.const 0))
+    (block $orderDone
+      (loop $orderLoop
+        (br_if $orderDone (i32.ge_s (local.get $k) (local.get $count)))
+        (local.set $p (i32.add (local.get $waveStart)
+          (i32.shl (i32.load (i32.add (local.get $waveOf) (i32.shl (local.get $k) (i32.const 2)))) (i32.const 2))))
+        (local.set $s (i32.load (local.get $p)))
+        (i32.store (local.get $p) (i32.add (local.get $s) (i32.const 1)))
+        (i32.store (i32.add (local.get $order) (i32.shl (local.get $s) (i32.const 2))) (local.get $k))
+        (local.set $k (i32.add (local.get $k) (i32.const 1)))
+        (br $orderLoop)))
+    ;; The visits, in order.
+    (local.set $s (i32.const 0))
+    (block $visitsDone
+      (loop $visit
+        (br_if $visitsDone (i32.ge_s (local.get $s) (local.get $count)))
+        (local.set $k (i32.load (i32.add (local.get $order) (i32.shl (local.get $s) (i32.const 2)))))
+        (local.set $a (i32.load (i32.add (local.get $bodyA) (i32.shl (local.get $k) (i32.const 2)))))
+        (local.set $b (i32.load (i32.add (local.get $bodyB) (i32.shl (local.get $k) (i32.const 2)))))
+        (local.set $p (i32.add (local.get $visits) (i32.shl (local.get $s) (i32.const 6))))
+        (local.set $ia (f64.load (i32.add (local.get $im) (i32.shl (local.get $a) (i32.const 3)))))
+        (if (i32.lt_s (local.get $k) (local.get $pairs))
+          (then
+            (local.set $ib (f64.load (i32.add (local.get $im) (i32.shl (local.get $b) (i32.const 3)))))
+            (local.set $mass (f64.div (f64.const 1) (f64.add (local.get $ia) (local.get $ib))))
+            (f64.store offset=32 (local.get $p) (local.get $ib))
+            (i32.store offset=60 (local.get $p) (i32.shl (local.get $b) (i32.const 4))))
+          (else
+            (local.set $mass (f64.div (f64.const 1) (local.get $ia)))
+            (f64.store offset=32 (local.get $p) (f64.const 0))
+            (i32.store offset=60 (local.get $p)
+              (i32.shl (i32.sub (i32.add (local.get $slots) (local.get $k)) (local.get $pairs)) (i32.const 4)))))
+        ;; Last step's impulses for the same pair: the first entry of A's chain with B.
+        (local.set $jn (f64.const 0))
+        (local.set $jt (f64.const 0))
+        (local.set $w (i32.load (i32.add (local.get $head) (i32.shl (local.get $a) (i32.const 2)))))
+        (block $found
+          (loop $chain
+            (br_if $found (i32.eq (local.get $w) (i32.const -1)))
+            (if (i32.eq (i32.load (i32.add (local.get $cachedB) (i32.shl (local.get $w) (i32.const 2)))) (local.get $b))
+              (then
+                (local.set $jn (f64.load (i32.add (local.get $cachedN) (i32.shl (local.get $w) (i32.const 3)))))
+                (local.set $jt (f64.load (i32.add (local.get $cachedT) (i32.shl (local.get $w) (i32.const 3)))))
+                (br $found)))
+            (local.set $w (i32.load (i32.add (local.get $next) (i32.shl (local.get $w) (i32.const 2)))))
+            (br $chain)))
+        (local.set $q (i32.shl (local.get $k) (i32.const 3)))
+        (f64.store (local.get $p) (f64.load (i32.add (local.get $nx) (local.get $q))))
+        (f64.store offset=8 (local.get $p) (f64.load (i32.add (local.get $ny) (local.get $q))))
+        (f64.store offset=16 (local.get $p) (local.get $mass))
+        (f64.store offset=24 (local.get $p) (local.get $ia))
+        (f64.store offset=40 (local.get $p) (local.get $jn))
+        (f64.store offset=48 (local.get $p) (local.get $jt))
+        (i32.store offset=56 (local.get $p) (i32.shl (local.get $a) (i32.const 4)))
+        (local.set $s (i32.add (local.get $s) (i32.const 1)))
+        (br $visit))))
 )
