@@ -658,19 +658,30 @@ export function solvePositions(
     f64[p + 3] = y[i]!;
   }
   f64.fill(0, positions + 4 * n, positions + 4 * all);
-  for (let s = 0, o = first; s < count; s++, o += 8) {
-    const k = order[s]!;
-    f64[o + SEPARATION] = separation[k]!;
-    if (k < pairs) {
-      f64[o + INVERSE_MASS_A] = inverseMass[i32[2 * o + VELOCITY_A]! >>> 4]!;
-      f64[o + INVERSE_MASS_B] = inverseMass[i32[2 * o + VELOCITY_B]! >>> 4]!;
-    } else {
-      // A wall takes the whole correction: (C / (1 + 0)) · 1 is C exactly.
-      f64[o + INVERSE_MASS_A] = 1;
-      f64[o + INVERSE_MASS_B] = 0;
+  const kernels = schedule.kernels;
+  if (kernels) {
+    // The same preparation in WebAssembly, from columns copied in after the visits.
+    const separationAt = schedule.visitsAt + VISIT_BYTES * count;
+    const inverseMassAt = separationAt + 8 * count;
+    const orderAt = inverseMassAt + 8 * n;
+    f64.set(separation.subarray(0, count), separationAt >>> 3);
+    f64.set(inverseMass.subarray(0, n), inverseMassAt >>> 3);
+    i32.set(order.subarray(0, count), orderAt >>> 2);
+    kernels.positionsPrep(schedule.visitsAt, count, pairs, orderAt, separationAt, inverseMassAt);
+  } else {
+    for (let s = 0, o = first; s < count; s++, o += 8) {
+      const k = order[s]!;
+      f64[o + SEPARATION] = separation[k]!;
+      if (k < pairs) {
+        f64[o + INVERSE_MASS_A] = inverseMass[i32[2 * o + VELOCITY_A]! >>> 4]!;
+        f64[o + INVERSE_MASS_B] = inverseMass[i32[2 * o + VELOCITY_B]! >>> 4]!;
+      } else {
+        // A wall takes the whole correction: (C / (1 + 0)) · 1 is C exactly.
+        f64[o + INVERSE_MASS_A] = 1;
+        f64[o + INVERSE_MASS_B] = 0;
+      }
     }
   }
-  const kernels = schedule.kernels;
   if (kernels)
     kernels.positions(
       schedule.visitsAt,

@@ -24,6 +24,14 @@ export interface SolverKernels {
     slop: number,
     beta: number,
   ): void;
+  positionsPrep(
+    first: number,
+    count: number,
+    pairs: number,
+    order: number,
+    separation: number,
+    inverseMass: number,
+  ): void;
   plan(
     count: number,
     pairs: number,
@@ -92,6 +100,7 @@ export function solverKernels(): SolverKernels | undefined {
       positions: e.positions,
       circlePairs: e.circlePairs,
       plan: e.plan,
+      positionsPrep: e.positionsPrep,
     };
   } catch {
     // Out of address space for another memory, or instantiation refused: stay in JavaScript.

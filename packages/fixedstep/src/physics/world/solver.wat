@@ -384,4 +384,30 @@
         (i32.store offset=56 (local.get $p) (i32.shl (local.get $a) (i32.const 4)))
         (local.set $s (i32.add (local.get $s) (i32.const 1)))
         (br $visit))))
+
+  ;; solvePositions' preparation of the visits: each visit's separation (from the column at $sep,
+  ;; by contact; $order gives the contact of each visit) over its normal mass, and the inverse
+  ;; masses again from the column at $im (by body) — 1 and 0 for a wall, whose correction is whole.
+  (func (export "positionsPrep") (param $first i32) (param $count i32) (param $pairs i32)
+        (param $order i32) (param $sep i32) (param $im i32)
+    (local $s i32) (local $p i32) (local $k i32)
+    (block $done
+      (loop $visit
+        (br_if $done (i32.ge_s (local.get $s) (local.get $count)))
+        (local.set $p (i32.add (local.get $first) (i32.shl (local.get $s) (i32.const 6))))
+        (local.set $k (i32.load (i32.add (local.get $order) (i32.shl (local.get $s) (i32.const 2)))))
+        (f64.store offset=16 (local.get $p)
+          (f64.load (i32.add (local.get $sep) (i32.shl (local.get $k) (i32.const 3)))))
+        (if (i32.lt_s (local.get $k) (local.get $pairs))
+          (then
+            ;; A velocity's byte offset is 16 a body; an inverse mass's is 8.
+            (f64.store offset=24 (local.get $p)
+              (f64.load (i32.add (local.get $im) (i32.shr_u (i32.load offset=56 (local.get $p)) (i32.const 1)))))
+            (f64.store offset=32 (local.get $p)
+              (f64.load (i32.add (local.get $im) (i32.shr_u (i32.load offset=60 (local.get $p)) (i32.const 1))))))
+          (else
+            (f64.store offset=24 (local.get $p) (f64.const 1))
+            (f64.store offset=32 (local.get $p) (f64.const 0))))
+        (local.set $s (i32.add (local.get $s) (i32.const 1)))
+        (br $visit))))
 )
