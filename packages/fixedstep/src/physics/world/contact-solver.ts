@@ -263,6 +263,15 @@ export class SolverSchedule {
     const f64 = this.f64;
     const vx = bodies.vx;
     const vy = bodies.vy;
+    if (kernels) {
+      // Through columns after the visits (the plan is done with them).
+      const vxAt = this.visitsAt + VISIT_BYTES * count;
+      const vyAt = vxAt + 8 * slots;
+      f64.set(vx.subarray(0, slots), vxAt >>> 3);
+      f64.set(vy.subarray(0, slots), vyAt >>> 3);
+      kernels.velocitiesIn(slots, all - slots, vxAt, vyAt);
+      return;
+    }
     for (let i = 0; i < slots; i++) {
       f64[2 * i] = vx[i]!;
       f64[2 * i + 1] = vy[i]!;
@@ -573,17 +582,32 @@ export function solveVelocities(
   const n = bodies.slotCount;
   const vx = bodies.vx;
   const vy = bodies.vy;
-  for (let i = 0; i < n; i++) {
-    vx[i] = f64[2 * i]!;
-    vy[i] = f64[2 * i + 1]!;
-  }
   const order = schedule.order;
   const normalImpulse = contacts.normalImpulse;
   const tangentImpulse = contacts.tangentImpulse;
-  for (let s = 0, o = first; s < count; s++, o += 8) {
-    const k = order[s]!;
-    normalImpulse[k] = f64[o + NORMAL_IMPULSE]!;
-    tangentImpulse[k] = f64[o + TANGENT_IMPULSE]!;
+  if (kernels) {
+    // Through columns after the visits, copied back whole.
+    const orderAt = schedule.visitsAt + VISIT_BYTES * count;
+    const vxAt = orderAt + 8 * ((count + 1) >>> 1);
+    const vyAt = vxAt + 8 * n;
+    const normalAt = vyAt + 8 * n;
+    const tangentAt = normalAt + 8 * count;
+    i32.set(order.subarray(0, count), orderAt >>> 2);
+    kernels.velocitiesOut(schedule.visitsAt, count, n, orderAt, vxAt, vyAt, normalAt, tangentAt);
+    vx.set(f64.subarray(vxAt >>> 3, (vxAt >>> 3) + n));
+    vy.set(f64.subarray(vyAt >>> 3, (vyAt >>> 3) + n));
+    normalImpulse.set(f64.subarray(normalAt >>> 3, (normalAt >>> 3) + count));
+    tangentImpulse.set(f64.subarray(tangentAt >>> 3, (tangentAt >>> 3) + count));
+  } else {
+    for (let i = 0; i < n; i++) {
+      vx[i] = f64[2 * i]!;
+      vy[i] = f64[2 * i + 1]!;
+    }
+    for (let s = 0, o = first; s < count; s++, o += 8) {
+      const k = order[s]!;
+      normalImpulse[k] = f64[o + NORMAL_IMPULSE]!;
+      tangentImpulse[k] = f64[o + TANGENT_IMPULSE]!;
+    }
   }
   if (!(e > 0)) return;
 

@@ -24,6 +24,17 @@ export interface SolverKernels {
     slop: number,
     beta: number,
   ): void;
+  velocitiesIn(slots: number, standIns: number, vx: number, vy: number): void;
+  velocitiesOut(
+    first: number,
+    count: number,
+    slots: number,
+    order: number,
+    vx: number,
+    vy: number,
+    normalImpulse: number,
+    tangentImpulse: number,
+  ): void;
   positionsPrep(
     first: number,
     count: number,
@@ -101,6 +112,8 @@ export function solverKernels(): SolverKernels | undefined {
       circlePairs: e.circlePairs,
       plan: e.plan,
       positionsPrep: e.positionsPrep,
+      velocitiesIn: e.velocitiesIn,
+      velocitiesOut: e.velocitiesOut,
     };
   } catch {
     // Out of address space for another memory, or instantiation refused: stay in JavaScript.

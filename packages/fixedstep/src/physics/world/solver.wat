@@ -410,4 +410,41 @@
             (f64.store offset=32 (local.get $p) (f64.const 0))))
         (local.set $s (i32.add (local.get $s) (i32.const 1)))
         (br $visit))))
+
+  ;; Velocities in: the columns at $vx, $vy (f64 by body) interleaved from byte 0, and the $standIns
+  ;; wall stand-ins after them set to 0.
+  (func (export "velocitiesIn") (param $slots i32) (param $standIns i32) (param $vx i32) (param $vy i32)
+    (local $i i32) (local $p i32)
+    (block $done
+      (loop $body
+        (br_if $done (i32.ge_s (local.get $i) (local.get $slots)))
+        (local.set $p (i32.shl (local.get $i) (i32.const 3)))
+        (f64.store (i32.shl (local.get $p) (i32.const 1)) (f64.load (i32.add (local.get $vx) (local.get $p))))
+        (f64.store offset=8 (i32.shl (local.get $p) (i32.const 1)) (f64.load (i32.add (local.get $vy) (local.get $p))))
+        (local.set $i (i32.add (local.get $i) (i32.const 1)))
+        (br $body)))
+    (memory.fill (i32.shl (local.get $slots) (i32.const 4)) (i32.const 0) (i32.shl (local.get $standIns) (i32.const 4))))
+
+  ;; Velocities and impulses out: the velocities from byte 0 into the columns at $vx, $vy (by
+  ;; body); each visit's impulses into the columns at $jn, $jt by contact ($order: each visit's).
+  (func (export "velocitiesOut") (param $first i32) (param $count i32) (param $slots i32)
+        (param $order i32) (param $vx i32) (param $vy i32) (param $jn i32) (param $jt i32)
+    (local $i i32) (local $p i32) (local $s i32) (local $k i32)
+    (block $done
+      (loop $body
+        (br_if $done (i32.ge_s (local.get $i) (local.get $slots)))
+        (local.set $p (i32.shl (local.get $i) (i32.const 3)))
+        (f64.store (i32.add (local.get $vx) (local.get $p)) (f64.load (i32.shl (local.get $p) (i32.const 1))))
+        (f64.store (i32.add (local.get $vy) (local.get $p)) (f64.load offset=8 (i32.shl (local.get $p) (i32.const 1))))
+        (local.set $i (i32.add (local.get $i) (i32.const 1)))
+        (br $body)))
+    (block $visitsDone
+      (loop $visit
+        (br_if $visitsDone (i32.ge_s (local.get $s) (local.get $count)))
+        (local.set $p (i32.add (local.get $first) (i32.shl (local.get $s) (i32.const 6))))
+        (local.set $k (i32.shl (i32.load (i32.add (local.get $order) (i32.shl (local.get $s) (i32.const 2)))) (i32.const 3)))
+        (f64.store (i32.add (local.get $jn) (local.get $k)) (f64.load offset=40 (local.get $p)))
+        (f64.store (i32.add (local.get $jt) (local.get $k)) (f64.load offset=48 (local.get $p)))
+        (local.set $s (i32.add (local.get $s) (i32.const 1)))
+        (br $visit))))
 )
