@@ -42,13 +42,17 @@
         (local.set $p (i32.add (local.get $p) (i32.const 64)))
         (br $visit))))
 
-  ;; `iterations` sweeps of sequential impulses over `count` visits from byte `first`.
+  ;; `iterations` sweeps of sequential impulses over `count` visits from byte `first`. A body's
+  ;; (vx, vy) is one f64x2, and so is a normal: every lane does what the JavaScript does to that
+  ;; component (IEEE-754 per lane, no fused operations), and the dot products add lane 0 and lane 1
+  ;; in the JavaScript's order. The impulse is P = λ·(nx, ny) + τ·(−ny, nx): lane 0 adds −(τ·ny),
+  ;; which is subtracting τ·ny.
   (func (export "velocities") (param $first i32) (param $count i32) (param $iterations i32) (param $mu f64)
     (local $p i32) (local $end i32) (local $it i32) (local $a i32) (local $b i32)
-    (local $nx f64) (local $ny f64) (local $mass f64)
-    (local $vax f64) (local $vay f64) (local $vbx f64) (local $vby f64) (local $rvx f64) (local $rvy f64)
+    (local $n v128) (local $swapped v128) (local $va v128) (local $vb v128) (local $rel v128)
+    (local $q v128) (local $impulse v128) (local $mass f64)
     (local $oldN f64) (local $newN f64) (local $dN f64) (local $oldT f64) (local $newT f64)
-    (local $dT f64) (local $maxF f64) (local $px f64) (local $py f64) (local $ia f64) (local $ib f64)
+    (local $dT f64) (local $maxF f64)
     (local.set $end (i32.add (local.get $first) (i32.shl (local.get $count) (i32.const 6))))
     (block $done
       (loop $iteration
@@ -59,31 +63,30 @@
             (br_if $swept (i32.ge_u (local.get $p) (local.get $end)))
             (local.set $a (i32.load offset=56 (local.get $p)))
             (local.set $b (i32.load offset=60 (local.get $p)))
-            (local.set $nx (f64.load (local.get $p)))
-            (local.set $ny (f64.load offset=8 (local.get $p)))
+            (local.set $n (v128.load (local.get $p)))
+            ;; (ny, nx)
+            (local.set $swapped (i8x16.shuffle 8 9 10 11 12 13 14 15 0 1 2 3 4 5 6 7
+                                  (local.get $n) (local.get $n)))
             (local.set $mass (f64.load offset=16 (local.get $p)))
-            (local.set $vax (f64.load (local.get $a)))
-            (local.set $vay (f64.load offset=8 (local.get $a)))
-            (local.set $vbx (f64.load (local.get $b)))
-            (local.set $vby (f64.load offset=8 (local.get $b)))
-            (local.set $rvx (f64.sub (local.get $vax) (local.get $vbx)))
-            (local.set $rvy (f64.sub (local.get $vay) (local.get $vby)))
-            ;; Normal: λ' = max(0, λ − vn·mN), as `if (λ' < 0) λ' = 0`.
+            (local.set $va (v128.load (local.get $a)))
+            (local.set $vb (v128.load (local.get $b)))
+            (local.set $rel (f64x2.sub (local.get $va) (local.get $vb)))
+            ;; Normal: λ' = max(0, λ − vn·mN), as `if (λ' < 0) λ' = 0`; vn = rvx·nx + rvy·ny.
+            (local.set $q (f64x2.mul (local.get $rel) (local.get $n)))
             (local.set $oldN (f64.load offset=40 (local.get $p)))
             (local.set $newN (f64.sub (local.get $oldN)
-              (f64.mul (f64.add (f64.mul (local.get $rvx) (local.get $nx))
-                                (f64.mul (local.get $rvy) (local.get $ny)))
+              (f64.mul (f64.add (f64x2.extract_lane 0 (local.get $q)) (f64x2.extract_lane 1 (local.get $q)))
                        (local.get $mass))))
             (local.set $newN (select (f64.const 0) (local.get $newN)
                                      (f64.lt (local.get $newN) (f64.const 0))))
             (local.set $dN (f64.sub (local.get $newN) (local.get $oldN)))
             (f64.store offset=40 (local.get $p) (local.get $newN))
-            ;; Friction: τ' = clamp(τ − vt·mN, ±μλ'), tangent (ny, −nx).
+            ;; Friction: τ' = clamp(τ − vt·mN, ±μλ'); vt = rvy·nx − rvx·ny.
+            (local.set $q (f64x2.mul (local.get $rel) (local.get $swapped)))
             (local.set $oldT (f64.load offset=48 (local.get $p)))
             (local.set $maxF (f64.mul (local.get $mu) (local.get $newN)))
             (local.set $newT (f64.sub (local.get $oldT)
-              (f64.mul (f64.sub (f64.mul (local.get $rvy) (local.get $nx))
-                                (f64.mul (local.get $rvx) (local.get $ny)))
+              (f64.mul (f64.sub (f64x2.extract_lane 1 (local.get $q)) (f64x2.extract_lane 0 (local.get $q)))
                        (local.get $mass))))
             (local.set $newT
               (select (local.get $maxF)
@@ -92,16 +95,18 @@
                 (f64.gt (local.get $newT) (local.get $maxF))))
             (local.set $dT (f64.sub (local.get $newT) (local.get $oldT)))
             (f64.store offset=48 (local.get $p) (local.get $newT))
-            (local.set $px (f64.sub (f64.mul (local.get $dN) (local.get $nx))
-                                    (f64.mul (local.get $dT) (local.get $ny))))
-            (local.set $py (f64.add (f64.mul (local.get $dN) (local.get $ny))
-                                    (f64.mul (local.get $dT) (local.get $nx))))
-            (local.set $ia (f64.load offset=24 (local.get $p)))
-            (local.set $ib (f64.load offset=32 (local.get $p)))
-            (f64.store (local.get $a) (f64.add (local.get $vax) (f64.mul (local.get $px) (local.get $ia))))
-            (f64.store offset=8 (local.get $a) (f64.add (local.get $vay) (f64.mul (local.get $py) (local.get $ia))))
-            (f64.store (local.get $b) (f64.sub (local.get $vbx) (f64.mul (local.get $px) (local.get $ib))))
-            (f64.store offset=8 (local.get $b) (f64.sub (local.get $vby) (f64.mul (local.get $py) (local.get $ib))))
+            ;; P = (dN·nx − dT·ny, dN·ny + dT·nx): dN·n + dT·(−ny, nx).
+            (local.set $impulse
+              (f64x2.add (f64x2.mul (f64x2.splat (local.get $dN)) (local.get $n))
+                         (f64x2.mul (f64x2.splat (local.get $dT))
+                                    (v128.xor (local.get $swapped)
+                                              (v128.const i64x2 0x8000000000000000 0)))))
+            (v128.store (local.get $a)
+              (f64x2.add (local.get $va)
+                         (f64x2.mul (local.get $impulse) (f64x2.splat (f64.load offset=24 (local.get $p))))))
+            (v128.store (local.get $b)
+              (f64x2.sub (local.get $vb)
+                         (f64x2.mul (local.get $impulse) (f64x2.splat (f64.load offset=32 (local.get $p))))))
             (local.set $p (i32.add (local.get $p) (i32.const 64)))
             (br $visit)))
         (local.set $it (i32.add (local.get $it) (i32.const 1)))
