@@ -783,11 +783,18 @@ export class SnapshotReader {
     const bodyB = cache.bodyB;
     const normal = cache.normalImpulse;
     const tangent = cache.tangentImpulse;
-    for (let k = 0; k < count; k++) {
-      bodyA[k] = i32[ids + k]!;
-      bodyB[k] = i32[ids + count + k]!;
-      normal[k] = f64[impulses + k]! + 0;
-      tangent[k] = f64[impulses + count + k]! + 0;
+    // The ids are integers (copied whole); the impulses too unless a −0 was read (then value by
+    // value with `+ 0`).
+    bodyA.set(i32.subarray(ids, ids + count));
+    bodyB.set(i32.subarray(ids + count, ids + 2 * count));
+    if (this.negativeZero) {
+      for (let k = 0; k < count; k++) {
+        normal[k] = f64[impulses + k]! + 0;
+        tangent[k] = f64[impulses + count + k]! + 0;
+      }
+    } else {
+      normal.set(f64.subarray(impulses, impulses + count));
+      tangent.set(f64.subarray(impulses + count, impulses + 2 * count));
     }
     cache.count = count;
     cache.link(n);
