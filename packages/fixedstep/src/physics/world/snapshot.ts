@@ -783,18 +783,14 @@ export class SnapshotReader {
     const bodyB = cache.bodyB;
     const normal = cache.normalImpulse;
     const tangent = cache.tangentImpulse;
-    // The ids are integers (copied whole); the impulses too unless a −0 was read (then value by
-    // value with `+ 0`).
-    bodyA.set(i32.subarray(ids, ids + count));
-    bodyB.set(i32.subarray(ids + count, ids + 2 * count));
-    if (this.negativeZero) {
-      for (let k = 0; k < count; k++) {
-        normal[k] = f64[impulses + k]! + 0;
-        tangent[k] = f64[impulses + count + k]! + 0;
-      }
-    } else {
-      normal.set(f64.subarray(impulses, impulses + count));
-      tangent.set(f64.subarray(impulses + count, impulses + 2 * count));
+    // Value by value: copying whole columns with `set` of subarray views of staging takes
+    // ~0.8x the time of load() at 2,000 bodies, but makes four views (384 B) per load whenever
+    // the entry count differs from the previous load's, and a load allocates nothing.
+    for (let k = 0; k < count; k++) {
+      bodyA[k] = i32[ids + k]!;
+      bodyB[k] = i32[ids + count + k]!;
+      normal[k] = f64[impulses + k]! + 0;
+      tangent[k] = f64[impulses + count + k]! + 0;
     }
     cache.count = count;
     cache.link(n);
