@@ -421,6 +421,38 @@ describe('PhysicsWorld.load refuses what the world would refuse', () => {
     expect(other.save()).toEqual(w.save());
   });
 
+  it('takes −0 in a warm-start impulse and stores +0 (the cache is copied whole otherwise)', () => {
+    const w = world();
+    const bytes = w.save();
+    const view = new DataView(bytes.buffer);
+    const at = layout(w).cache;
+    const count = view.getUint32(at, true);
+    expect(count).toBeGreaterThan(1);
+    const normal = (k: number) => at + 4 + 8 * count + 8 * k;
+    const tangent = (k: number) => at + 4 + 16 * count + 8 * k;
+    const plus = bytes.slice();
+    const plusView = new DataView(plus.buffer);
+    plusView.setFloat64(normal(0), 0, true);
+    plusView.setFloat64(tangent(count - 1), 0, true);
+    view.setFloat64(normal(0), -0, true);
+    view.setFloat64(tangent(count - 1), -0, true);
+    const a = new PhysicsWorld();
+    a.load(plus);
+    const b = new PhysicsWorld();
+    b.load(bytes);
+    const saved = b.save();
+    expect(saved).toEqual(a.save());
+    expect(Object.is(new DataView(saved.buffer).getFloat64(tangent(count - 1), true), 0)).toBe(
+      true,
+    );
+    expect(Object.is(new DataView(saved.buffer).getFloat64(normal(0), true), 0)).toBe(true);
+    // The other entries came through unchanged.
+    expect(saved.subarray(0, normal(0))).toEqual(bytes.subarray(0, normal(0)));
+    expect(saved.subarray(normal(1), tangent(count - 1))).toEqual(
+      bytes.subarray(normal(1), tangent(count - 1)),
+    );
+  });
+
   it('keeps its own maxContacts (not part of the state)', () => {
     const a = new PhysicsWorld({ maxContacts: 10 });
     a.createCircle({ x: 0, y: 0, radius: 1 });

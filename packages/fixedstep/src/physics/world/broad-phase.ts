@@ -7,8 +7,13 @@
  * function of the current state only, never of the grid's history or the arrays' capacity, so a
  * world loaded from a snapshot finds the very same pairs in the very same order. Body–wall pairs
  * are a linear scan (walls are few). Each candidate pair goes to `manifold.ts`.
+ *
+ * In a world of circles only, once the solver's WebAssembly kernels run (`contact-solver.ts`), the
+ * body–body pass runs there (`circlePairs` in solver.wat): the same cells, order and arithmetic,
+ * so the same contacts to the bit (a test runs both), in about half the time.
  */
 import { BodyFlag, type BodyStore } from './body.js';
+import type { SolverSchedule } from './contact-solver.js';
 import type { ContactList } from './contacts.js';
 import type { WorldDef } from './def.js';
 import { boxBox, boxSegment, circleBox, circleCircle, circleSegment } from './manifold.js';
@@ -143,7 +148,8 @@ export class Grid {
 
 /**
  * Every contact of this step into `contacts`: body–body pairs through the grid (cell order, then
- * id order), then body–wall pairs (body order, then wall order). `inverseMass` is the solver's
+ * id order; in WebAssembly when `schedule` can), then body–wall pairs (body order, then wall
+ * order). `inverseMass` is the solver's
  * (0 for kinematic and sleeping bodies): a pair of two such bodies is skipped — unless a kinematic
  * body touches a sleeping one, which must wake. `gravityPending`: gravity is still to be added to
  * the moving bodies' velocities this step (`def`'s), for the one test that reads a velocity.
@@ -157,8 +163,21 @@ export function findContacts(
   contacts: ContactList,
   gravityPending: boolean,
   def: Readonly<WorldDef>,
+  schedule: SolverSchedule,
 ): void {
   contacts.count = 0;
+  if (!schedule.circlePairs(grid, bodies, contacts)) bodyPairs(grid, bodies, statics, contacts);
+  contacts.bodyPairCount = contacts.count;
+  wallPairs(bodies, statics, contacts, gravityPending, def);
+}
+
+/** The body–body contacts through the grid: cell order, then id order. */
+function bodyPairs(
+  grid: Grid,
+  bodies: BodyStore,
+  statics: StaticStore,
+  contacts: ContactList,
+): void {
   const cols = grid.cols;
   const rows = grid.rows;
   const start = grid.cellStart;
@@ -220,8 +239,22 @@ export function findContacts(
       }
     }
   }
-  contacts.bodyPairCount = contacts.count;
+}
 
+/** The body–wall contacts: body order, then wall order. */
+function wallPairs(
+  bodies: BodyStore,
+  statics: StaticStore,
+  contacts: ContactList,
+  gravityPending: boolean,
+  def: Readonly<WorldDef>,
+): void {
+  const flags = bodies.flags;
+  const im = bodies.solverInverseMass;
+  const x = bodies.x;
+  const y = bodies.y;
+  const hw = bodies.halfWidth;
+  const hh = bodies.halfHeight;
   const wallCount = statics.count;
   if (wallCount === 0) return;
   const kind = statics.kind;

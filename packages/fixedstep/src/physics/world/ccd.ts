@@ -697,13 +697,13 @@ export class ContinuousSolver {
       const p0y = startY[i]!;
       let p1x = x[i]!;
       let p1y = y[i]!;
+      // The path's bounding box, made again only when a wall moves the end.
+      let loX = p0x < p1x ? p0x : p1x;
+      let hiX = p0x < p1x ? p1x : p0x;
+      let loY = p0y < p1y ? p0y : p1y;
+      let hiY = p0y < p1y ? p1y : p0y;
       for (let s = 0; s < wallCount; s++) {
-        if (
-          (p0x < p1x ? p0x : p1x) > wallMaxX[s]! ||
-          (p0x < p1x ? p1x : p0x) < wallMinX[s]! ||
-          (p0y < p1y ? p0y : p1y) > wallMaxY[s]! ||
-          (p0y < p1y ? p1y : p0y) < wallMinY[s]!
-        )
+        if (loX > wallMaxX[s]! || hiX < wallMinX[s]! || loY > wallMaxY[s]! || hiY < wallMinY[s]!)
           continue;
         // The wall's spine from (ax, ay) to (bx, by).
         let ax: number;
@@ -747,6 +747,10 @@ export class ContinuousSolver {
         p1y = p0y + u * my + (side * ex * eps) / len;
         x[i] = p1x;
         y[i] = p1y;
+        loX = p0x < p1x ? p0x : p1x;
+        hiX = p0x < p1x ? p1x : p0x;
+        loY = p0y < p1y ? p0y : p1y;
+        hiY = p0y < p1y ? p1y : p0y;
       }
     }
   }

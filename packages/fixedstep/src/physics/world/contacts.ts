@@ -132,14 +132,12 @@ export class WarmStartCache {
     const wB = this.bodyB;
     const wJn = this.normalImpulse;
     const wJt = this.tangentImpulse;
-    for (let k = 0; k < n; k++) {
-      wA[k] = cA[k]!;
-      wB[k] = cB[k]!;
-      wJn[k] = jn[k]!;
-      // A friction impulse clamped to −(μ·0) is −0: store +0, so the state is canonical as it is
-      // (a snapshot is a plain copy). The sign of a zero impulse changes no velocity.
-      wJt[k] = jt[k]! + 0;
-    }
+    wA.set(cA.subarray(0, n));
+    wB.set(cB.subarray(0, n));
+    wJn.set(jn.subarray(0, n));
+    // A friction impulse clamped to −(μ·0) is −0: store +0, so the state is canonical as it is
+    // (a snapshot is a plain copy). The sign of a zero impulse changes no velocity.
+    for (let k = 0; k < n; k++) wJt[k] = jt[k]! + 0;
     this.count = n;
     this.link(slotCount);
   }

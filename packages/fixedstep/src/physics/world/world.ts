@@ -3,7 +3,7 @@ import type { Simulation } from '../../sim/simulation.js';
 import { BodyFlag, BodyStore } from './body.js';
 import { Grid, findContacts } from './broad-phase.js';
 import { ContinuousSolver } from './ccd.js';
-import { solvePositions, solveVelocities } from './contact-solver.js';
+import { SolverSchedule, solvePositions, solveVelocities } from './contact-solver.js';
 import { ContactList, ContactOverflow, WarmStartCache } from './contacts.js';
 import {
   defaultWorldDef,
@@ -114,6 +114,7 @@ export class PhysicsWorld implements Simulation<unknown> {
   private readonly grid = new Grid();
   private readonly contacts = new ContactList();
   private readonly cache = new WarmStartCache();
+  private readonly schedule = new SolverSchedule();
   private readonly islands = new Islands();
   private readonly wakeLog = new WakeLog();
   private readonly ccd: ContinuousSolver;
@@ -490,7 +491,7 @@ export class PhysicsWorld implements Simulation<unknown> {
       movedX[i] = x[i]! - startX[i]!;
       movedY[i] = y[i]! - startY[i]!;
     }
-    solvePositions(this.contacts, bodies, def);
+    solvePositions(this.contacts, bodies, def, this.schedule);
     if (def.ccd !== 'off' && this.statics.count > 0) this.ccd.guardWalls(def.ccd === 'auto');
     this.islands.update(bodies, this.contacts, def, this._tick);
     this._tick++;
@@ -556,14 +557,15 @@ export class PhysicsWorld implements Simulation<unknown> {
     let gravityDone = false;
     log.count = 0;
     try {
-      findContacts(this.grid, bodies, this.statics, this.contacts, true, def);
+      findContacts(this.grid, bodies, this.statics, this.contacts, true, def, this.schedule);
       this.integrateVelocities(def, sleepers);
       gravityDone = true;
       if (sleepers) {
         log.recording = true;
         const woke = wakeByNewContacts(bodies, this.contacts, this.cache, log);
         log.recording = false;
-        if (woke) findContacts(this.grid, bodies, this.statics, this.contacts, false, def);
+        if (woke)
+          findContacts(this.grid, bodies, this.statics, this.contacts, false, def, this.schedule);
       }
     } catch (e) {
       log.recording = false;
@@ -593,7 +595,7 @@ export class PhysicsWorld implements Simulation<unknown> {
 
   /** Velocities from the contacts, and their impulses kept for the next step. */
   private solverStep(def: Readonly<WorldDef>): void {
-    solveVelocities(this.contacts, this.cache, this.bodies, def);
+    solveVelocities(this.contacts, this.cache, this.bodies, def, this.schedule);
     this.cache.store(this.contacts, this.bodies.slotCount);
   }
 

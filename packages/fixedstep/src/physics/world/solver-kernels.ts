@@ -1,0 +1,123 @@
+/**
+ * The WebAssembly twin of the contact solver's inner loops (solver.wat, bytes in solver-wasm.ts):
+ * compiled once, on first use, synchronously (3 KB, under the 4 KB that Chromium allows for
+ * compiling on the main thread). Where WebAssembly is missing or refused (a
+ * Content-Security-Policy without `wasm-unsafe-eval`) or lacks the 128-bit SIMD the velocity sweep
+ * uses (Chrome before 91, Firefox before 89, Safari before 16.4), {@link solverKernels} returns
+ * undefined and the solver runs its JavaScript loops, which give the same bits.
+ */
+import { SOLVER_KERNELS_WASM } from './solver-wasm.js';
+
+/** An instance of the kernels over one memory. Offsets are bytes into that memory. */
+export interface SolverKernels {
+  /**
+   * The kernels' `WebAssembly.Memory`, typed by the members used so the published declarations
+   * name no `WebAssembly` type (a Node-only project with `lib: ["ES2022"]` has none).
+   */
+  readonly memory: { readonly buffer: ArrayBuffer; grow(pages: number): number };
+  warmStart(first: number, count: number): void;
+  velocities(first: number, count: number, iterations: number, friction: number): void;
+  positions(
+    first: number,
+    count: number,
+    positions: number,
+    iterations: number,
+    slop: number,
+    beta: number,
+  ): void;
+  velocitiesIn(slots: number, standIns: number, vx: number, vy: number): void;
+  velocitiesOut(
+    first: number,
+    count: number,
+    slots: number,
+    order: number,
+    vx: number,
+    vy: number,
+    normalImpulse: number,
+    tangentImpulse: number,
+  ): void;
+  positionsPrep(
+    first: number,
+    count: number,
+    pairs: number,
+    order: number,
+    separation: number,
+    inverseMass: number,
+  ): void;
+  plan(
+    count: number,
+    pairs: number,
+    slots: number,
+    bodyA: number,
+    bodyB: number,
+    normalX: number,
+    normalY: number,
+    inverseMass: number,
+    head: number,
+    next: number,
+    cachedB: number,
+    cachedNormal: number,
+    cachedTangent: number,
+    lastWave: number,
+    waveOf: number,
+    waveStart: number,
+    order: number,
+    visits: number,
+  ): void;
+  circlePairs(
+    x: number,
+    y: number,
+    halfWidth: number,
+    inverseMass: number,
+    flags: number,
+    start: number,
+    items: number,
+    rows: number,
+    cols: number,
+    out: number,
+    room: number,
+  ): number;
+}
+
+let compiled: WebAssembly.Module | null | undefined;
+
+/**
+ * `enabled`: whether new solvers may use the WebAssembly kernels (true); `minContacts`: from how
+ * many contacts in a step (256) — below, the JavaScript loops are as fast and a world needs no
+ * WebAssembly memory of its own (each reserves address space). Tests change them to run both
+ * and compare the bits.
+ * @internal
+ */
+export const solverKernelsSetting = { enabled: true, minContacts: 256 };
+
+/** The kernels over a new memory, or undefined if they cannot run here. */
+export function solverKernels(): SolverKernels | undefined {
+  if (compiled === undefined) {
+    try {
+      compiled =
+        typeof WebAssembly === 'object' ? new WebAssembly.Module(SOLVER_KERNELS_WASM) : null;
+    } catch {
+      compiled = null;
+    }
+  }
+  if (compiled === null) return undefined;
+  try {
+    const memory = new WebAssembly.Memory({ initial: 1 });
+    const instance = new WebAssembly.Instance(compiled, { env: { memory } });
+    const e = instance.exports as unknown as Omit<SolverKernels, 'memory'>;
+    return {
+      memory,
+      warmStart: e.warmStart,
+      velocities: e.velocities,
+      positions: e.positions,
+      circlePairs: e.circlePairs,
+      plan: e.plan,
+      positionsPrep: e.positionsPrep,
+      velocitiesIn: e.velocitiesIn,
+      velocitiesOut: e.velocitiesOut,
+    };
+  } catch {
+    // Out of address space for another memory, or instantiation refused: stay in JavaScript.
+    return undefined;
+  }
+}

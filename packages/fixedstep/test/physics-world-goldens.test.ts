@@ -1,0 +1,192 @@
+import { readFileSync } from 'node:fs';
+import { describe, expect, it } from 'vitest';
+import {
+  PhysicsWorld,
+  Random,
+  bodiesInBox,
+  buildWorld,
+  bulletsScene,
+  circlesInBox,
+  circlesInBoxScene,
+  hex64,
+  runForHash,
+} from 'fixedstep';
+import { solverKernelsSetting } from '../src/physics/world/solver-kernels.js';
+import { SOLVER_KERNELS_WASM } from '../src/physics/world/solver-wasm.js';
+import { KERNELS, assembleKernels, kernelsModule } from '../../../scripts/wasm.mjs';
+
+const SOLVER = KERNELS.find((k) => k.wat === 'solver.wat')!;
+
+// Golden hashes over what the solver's speed work touches: big piles (long contact chains),
+// boxes with circles, restitution, kinematic bodies waking sleeping ones, a rollback of 8 ticks.
+// The values were taken before that work; re-bless only for a deliberate change of behaviour, by
+// pasting the printed value.
+
+const none = () => [];
+
+/** The rollback benchmark's scene: 2,000 circles settled into a pile, sleeping off. */
+function pile(): PhysicsWorld {
+  const scene = circlesInBoxScene(2000, 0xb0d1e5);
+  return buildWorld({ ...scene, def: { ...scene.def, enableSleep: false } });
+}
+
+/** A pile of boxes and circles, sleeping on, that two kinematic bodies plough through. */
+function ploughed(): PhysicsWorld {
+  const w = bodiesInBox(400, 9);
+  w.createBox({ x: -4, y: 0.6, vx: 1.5, vy: 0, halfWidth: 0.3, halfHeight: 0.3, kinematic: true });
+  w.createCircle({ x: 4, y: 1.2, vx: -1.2, vy: 0, radius: 0.25, kinematic: true });
+  return w;
+}
+
+/**
+ * 600 circles apart on a lattice, sleeping off, that {@link crowdEvents} pile onto a 1.2 m spot:
+ * from no contact to thousands in one step (past the kernel's first room), then a contact limit
+ * they exceed (every step from tick 40 throws).
+ */
+function crowd(): PhysicsWorld {
+  const w = new PhysicsWorld({ enableSleep: false });
+  w.addStaticBox(0, -0.5, 20, 0.5);
+  for (let k = 0; k < 600; k++)
+    w.createCircle({ x: -15 + (k % 60) * 0.5, y: 0.3 + Math.floor(k / 60) * 0.5, radius: 0.15 });
+  return w;
+}
+
+function crowdEvents(w: PhysicsWorld, tick: number): void {
+  if (tick === 10) {
+    const r = new Random(7);
+    for (let k = 0; k < 600; k++) w.setPosition(k, r.range(-0.6, 0.6), r.range(0.2, 1.4));
+  }
+  if (tick === 40) w.setDef({ maxContacts: 1500 });
+}
+
+describe('golden hashes of the solver', () => {
+  const golden: [string, () => PhysicsWorld, number, string][] = [
+    ['the 2,000-circle pile after 150 ticks', pile, 150, 'cea077fd2c05a52b'],
+    ['bodiesInBox(500, 4) after 600 ticks', () => bodiesInBox(500, 4), 600, 'ef349e063c329466'],
+    [
+      'bodiesInBox(500, 4), sleeping off, after 300 ticks',
+      () => bodiesInBox(500, 4, { enableSleep: false }),
+      300,
+      '95eee08146de1521',
+    ],
+    [
+      'circlesInBox(300, 6) with restitution 0.6 after 400 ticks',
+      () => circlesInBox(300, 6, { restitution: 0.6, friction: 0.2, restitutionThreshold: 0.5 }),
+      400,
+      '2c1888a3773bb4b6',
+    ],
+    ['a pile ploughed by kinematic bodies after 500 ticks', ploughed, 500, '75ac0e141260b483'],
+  ];
+  it.each(golden)('%s has its golden hash', (name, make, ticks, expected) => {
+    const actual = runForHash(make(), ticks, none);
+    if (actual !== expected) console.log(`golden hash for "${name}": ${actual}`);
+    expect(actual).toBe(expected);
+  });
+
+  it('rolls the 2,000-circle pile back 8 ticks to the same golden hash', () => {
+    const w = pile();
+    for (let t = 0; t < 150; t++) w.step();
+    const confirmed = w.save();
+    const hashes: string[] = [];
+    for (let round = 0; round < 2; round++) {
+      w.load(confirmed);
+      for (let t = 0; t < 8; t++) w.step();
+      hashes.push(hex64(w.hash()));
+    }
+    if (hashes[0] !== '10f76a275899f08c') console.log(`golden hash after 158 ticks: ${hashes[0]}`);
+    expect(hashes).toEqual(['10f76a275899f08c', '10f76a275899f08c']);
+  });
+});
+
+describe('the solver kernels', () => {
+  it('are solver.wat, assembled: the committed bytes are not stale', async () => {
+    const bytes = await assembleKernels(SOLVER);
+    expect(Array.from(SOLVER_KERNELS_WASM)).toEqual(Array.from(bytes));
+    const generated = readFileSync(
+      new URL('../src/physics/world/solver-wasm.ts', import.meta.url),
+      'utf8',
+    );
+    expect(generated).toBe(kernelsModule(bytes, SOLVER));
+  });
+
+  it('give the JavaScript loops’ bits, tick for tick, with and without WebAssembly', () => {
+    const scenes: [string, () => PhysicsWorld][] = [
+      ['pile', pile],
+      ['ploughed', ploughed],
+      ['bullets', () => buildWorld(bulletsScene(3))],
+      ['restitution', () => circlesInBox(200, 2, { restitution: 0.5, restitutionThreshold: 0.3 })],
+      ['crowd', crowd],
+    ];
+    const kernels = (w: PhysicsWorld) =>
+      (w as unknown as { schedule: { kernels: object | null | undefined } }).schedule.kernels;
+    solverKernelsSetting.minContacts = 0; // WebAssembly from the first contact on
+    try {
+      for (const [name, make] of scenes) {
+        const wasm = make();
+        solverKernelsSetting.enabled = false;
+        let js: PhysicsWorld;
+        try {
+          js = make();
+        } finally {
+          solverKernelsSetting.enabled = true;
+        }
+        let first = -1;
+        let threw = 0;
+        for (let t = 0; t < 150 && first < 0; t++) {
+          if (name === 'crowd') for (const w of [wasm, js]) crowdEvents(w, t);
+          const errors = [wasm, js].map((w) => {
+            try {
+              w.step();
+              return '';
+            } catch (e) {
+              return String(e);
+            }
+          });
+          if (errors[0] !== errors[1] || hex64(wasm.hash()) !== hex64(js.hash())) first = t;
+          if (errors[0] !== '') threw++;
+        }
+        // Only the crowd goes past its limit: from tick 40 on, every step.
+        expect(threw).toBe(name === 'crowd' ? 110 : 0);
+        if (first >= 0)
+          console.log(`${name}: WebAssembly and JavaScript differ from tick ${first}`);
+        expect(first).toBe(-1);
+        expect(kernels(wasm)).toBeTruthy();
+        expect(kernels(js)).toBeNull();
+      }
+    } finally {
+      solverKernelsSetting.minContacts = 256;
+    }
+  });
+
+  it('plan contacts so each body meets them in list order, a wave sharing no body', () => {
+    const w = pile();
+    for (let t = 0; t < 150; t++) w.step();
+    // The world's own contacts and plan after the last step.
+    const { contacts, schedule } = w as unknown as {
+      contacts: { count: number; bodyPairCount: number; bodyA: Int32Array; bodyB: Int32Array };
+      schedule: { order: Int32Array; count: number; slots: number };
+    };
+    const count = contacts.count;
+    expect(schedule.count).toBe(count);
+    expect(count).toBeGreaterThan(3000);
+    const order = Array.from(schedule.order.subarray(0, count));
+    expect([...order].sort((p, q) => p - q)).toEqual([...Array(count).keys()]);
+    const bodies = (k: number) =>
+      k < contacts.bodyPairCount ? [contacts.bodyA[k]!, contacts.bodyB[k]!] : [contacts.bodyA[k]!];
+    // Per body, the contacts in visiting order are in list order.
+    const seen = new Map<number, number>();
+    let outOfOrder = 0;
+    let neighbours = 0;
+    for (let s = 0; s < count; s++) {
+      const k = order[s]!;
+      for (const b of bodies(k)) {
+        if ((seen.get(b) ?? -1) > k) outOfOrder++;
+        seen.set(b, k);
+      }
+      // Consecutive visits that share a body (what the list order has at every other contact).
+      if (s > 0 && bodies(order[s - 1]!).some((b) => bodies(k).includes(b))) neighbours++;
+    }
+    expect(outOfOrder).toBe(0);
+    expect(neighbours).toBeLessThan(count / 20);
+  });
+});
