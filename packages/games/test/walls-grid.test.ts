@@ -7,7 +7,7 @@
  */
 import { describe, expect, it } from 'vitest';
 import fc from 'fast-check';
-import { Random, toiPointRoundedBox } from 'fixedstep';
+import { Random, dsincos, toiPointRoundedBox } from 'fixedstep';
 import { CTF_WALLS, SURVIVAL_WALLS, Walls, type Rect } from '@fixedstep/games';
 
 const normal = new Float64Array(2);
@@ -271,5 +271,75 @@ describe('the walls’ grid', () => {
         }
       }
     }
+  });
+});
+
+describe('pushOut’s answer', () => {
+  /**
+   * The games skip the tunnelling diagnostic (`crosses`) of a move that no wall pushed and that is
+   * shorter than the mover's radius less a unit: sound only if "not pushed" means "left where it
+   * was, at least r from every wall", so that no such move ending there meets a wall.
+   */
+  function expectUnpushedMeansClear(rects: readonly Rect[], n: number, seed: number): void {
+    const walls = new Walls(rects);
+    const all = new AllWalls(rects);
+    const rng = new Random(seed);
+    const out = new Float64Array(2);
+    const want = new Float64Array(2);
+    const sc = new Float64Array(2);
+    let unpushed = 0;
+    for (let k = 0; k < n; k++) {
+      const r = RADII[rng.int(RADII.length)]!;
+      const x = coordinate(rng, rects, r, 'x');
+      const y = coordinate(rng, rects, r, 'y');
+      const pushed = walls.pushOut(x, y, r, out);
+      all.pushOut(x, y, r, want);
+      expect([...out]).toEqual([...want]);
+      if (pushed) continue;
+      unpushed++;
+      expect({ x, y, r, out: [...out], overlaps: all.overlaps(x, y, r) }).toEqual({
+        x,
+        y,
+        r,
+        out: [x, y],
+        overlaps: false,
+      });
+      // Moves shorter than r − 1 that end there, some along the axes and the diagonals.
+      for (let j = 0; j < 8 && r > 1; j++) {
+        const len = rng.range(0, r - 1);
+        const d = rng.int(8);
+        dsincos(j < 4 ? rng.range(0, 2 * Math.PI) : (d * Math.PI) / 4, sc);
+        const mx = len * sc[1]!;
+        const my = len * sc[0]!;
+        expect({ x, y, r, mx, my, crosses: walls.crosses(x - mx, y - my, x, y) }).toEqual({
+          x,
+          y,
+          r,
+          mx,
+          my,
+          crosses: false,
+        });
+      }
+    }
+    expect(unpushed).toBeGreaterThan(n / 10);
+  }
+
+  it('is false only for a centre at least r from every wall, left as it was (both arenas)', () => {
+    expectUnpushedMeansClear(CTF_WALLS.rects, 8000, 4);
+    expectUnpushedMeansClear(SURVIVAL_WALLS.rects, 8000, 5);
+  });
+
+  it('is true whenever the centre moved', () => {
+    const out = new Float64Array(2);
+    // Overlapping the near face of a 4-unit wall at x 100–104: pushed.
+    const thin = new Walls([{ x0: 100, y0: -50, x1: 104, y1: 50 }]);
+    expect(thin.pushOut(95, 0, 10, out)).toBe(true);
+    expect([...out]).toEqual([90, 0]);
+    // Touching it (exactly r away): not pushed.
+    expect(thin.pushOut(90, 0, 10, out)).toBe(false);
+    expect([...out]).toEqual([90, 0]);
+    // Off the grid (no grid for > 32 walls, or a point beyond it): the all-walls loop says so too.
+    expect(thin.pushOut(1e300, 0, 10, out)).toBe(false);
+    expect(thin.pushOut(NaN, 0, 10, out)).toBe(true);
   });
 });

@@ -323,6 +323,8 @@ export class CtfGame extends ArenaGame<CtfState> implements BulletTargets {
       s.prevY[p] = y;
       if (s.alive[p] === 0) continue;
       if (!this.walk(p, inputs[p]!, dt)) continue;
+      // The tunnelling diagnostic; a move that met no wall (see `walkedClear`) needs no test.
+      if (this.walkedClear) continue;
       // (The walls' register form: see `Walls`.)
       const q = this.walls.query;
       q[0] = x;
