@@ -554,45 +554,43 @@ function cellSeesPoint(
   py: number,
   r: number,
 ): boolean {
-  const hullX = [x0, x0 + size, x0 + size, x0, px];
-  const hullY = [y0, y0, y0 + size, y0 + size, py];
-  const axes: [number, number][] = [
-    [1, 0],
-    [0, 1],
-  ];
-  for (let k = 0; k < 4; k++) {
-    const ex = px - hullX[k]!;
-    const ey = py - hullY[k]!;
-    if (ex !== 0 || ey !== 0) axes.push([-ey, ex]);
-  }
+  const x1 = x0 + size;
+  const y1 = y0 + size;
+  // The hull's box, for the x and y axes.
+  const hx0 = Math.min(x0, px);
+  const hx1 = Math.max(x1, px);
+  const hy0 = Math.min(y0, py);
+  const hy1 = Math.max(y1, py);
   const grow = r + SURE_SLACK;
   for (let i = 0; i < walls.count; i++) {
     const bx0 = walls.cx[i]! - walls.hw[i]! - grow;
     const bx1 = walls.cx[i]! + walls.hw[i]! + grow;
     const by0 = walls.cy[i]! - walls.hh[i]! - grow;
     const by1 = walls.cy[i]! + walls.hh[i]! + grow;
-    const boxX = [bx0, bx1, bx1, bx0];
-    const boxY = [by0, by0, by1, by1];
+    if (hx1 < bx0 || bx1 < hx0 || hy1 < by0 || by1 < hy0) continue; // the x or the y axis
     let separated = false;
-    for (const [ax, ay] of axes) {
-      let hullMin = Infinity;
-      let hullMax = -Infinity;
-      for (let k = 0; k < 5; k++) {
-        const v = hullX[k]! * ax + hullY[k]! * ay;
+    // The normals of the segments from the cell's corners to the point.
+    for (let k = 0; k < 4 && !separated; k++) {
+      const cx = (k & 1) === 0 ? x0 : x1;
+      const cy = (k & 2) === 0 ? y0 : y1;
+      const ax = cy - py;
+      const ay = px - cx;
+      if (ax === 0 && ay === 0) continue;
+      let hullMin = px * ax + py * ay;
+      let hullMax = hullMin;
+      for (let j = 0; j < 4; j++) {
+        const v = ((j & 1) === 0 ? x0 : x1) * ax + ((j & 2) === 0 ? y0 : y1) * ay;
         hullMin = Math.min(hullMin, v);
         hullMax = Math.max(hullMax, v);
       }
       let boxMin = Infinity;
       let boxMax = -Infinity;
-      for (let k = 0; k < 4; k++) {
-        const v = boxX[k]! * ax + boxY[k]! * ay;
+      for (let j = 0; j < 4; j++) {
+        const v = ((j & 1) === 0 ? bx0 : bx1) * ax + ((j & 2) === 0 ? by0 : by1) * ay;
         boxMin = Math.min(boxMin, v);
         boxMax = Math.max(boxMax, v);
       }
-      if (hullMax < boxMin || boxMax < hullMin) {
-        separated = true;
-        break;
-      }
+      separated = hullMax < boxMin || boxMax < hullMin;
     }
     if (!separated) return false;
   }
