@@ -9,6 +9,7 @@ import { describe, expect, it } from 'vitest';
 import fc from 'fast-check';
 import { Random, dsincos, toiPointRoundedBox } from 'fixedstep';
 import { CTF_WALLS, SURVIVAL_WALLS, Walls, type Rect } from '@fixedstep/games';
+import { GRID_MAX_RADIUS, WallGrid } from '../src/games/arena/wall-grid.js';
 
 const normal = new Float64Array(2);
 
@@ -341,5 +342,92 @@ describe('pushOut’s answer', () => {
     // Off the grid (no grid for > 32 walls, or a point beyond it): the all-walls loop says so too.
     expect(thin.pushOut(1e300, 0, 10, out)).toBe(false);
     expect(thin.pushOut(NaN, 0, 10, out)).toBe(true);
+  });
+});
+
+describe('the grid’s sure-blocked cell pairs', () => {
+  /**
+   * `Walls.clear` answers false at once for a move between two cells for whose pair the grid
+   * holds an interval of radii (lo, hi) containing r: sound only if every such move, from
+   * anywhere in the first cell to anywhere in the second, touches a wall. Checked against the
+   * all-walls loop from the cells' corners, edges and insides, at radii across the interval and
+   * within a hair of its ends.
+   */
+  function expectSureBlocked(rects: readonly Rect[], pairs: number, seed: number): number {
+    const grid = new WallGrid(rects);
+    const all = new AllWalls(rects);
+    const rng = new Random(seed);
+    const cells = grid.cols * grid.rows;
+    const at = (cell: number, u: number, v: number): [number, number] => [
+      grid.originX + ((cell % grid.cols) + u) * grid.cell,
+      grid.originY + (Math.floor(cell / grid.cols) + v) * grid.cell,
+    ];
+    const fractions = [0, 1, 0.5, 1e-9, 1 - 1e-9];
+    const fraction = (): number =>
+      rng.int(2) === 0 ? fractions[rng.int(fractions.length)]! : rng.next();
+    let blocked = 0;
+    for (let k = 0; k < pairs; k++) {
+      const from = rng.int(cells);
+      const to = rng.int(cells);
+      if (from === to) continue;
+      const slot = grid.pairSlot(from, to);
+      const lo = grid.pairBlockLo[slot]!;
+      const hi = grid.pairBlockHi[slot]!;
+      expect(grid.pairMasks[slot]).toBe(grid.pairMask(from, to));
+      if (!(lo < hi)) continue;
+      blocked++;
+      expect(lo).toBeGreaterThanOrEqual(0);
+      for (let j = 0; j < 6; j++) {
+        const top = Math.min(hi, GRID_MAX_RADIUS);
+        const r = j === 0 ? lo + 1e-9 : j === 1 ? top - 1e-9 : lo + (top - lo) * rng.next();
+        if (!(r > lo && r < hi && r <= GRID_MAX_RADIUS)) continue;
+        const [x0, y0] = at(from, fraction(), fraction());
+        const [x1, y1] = at(to, fraction(), fraction());
+        expect({
+          rects: rects.length,
+          from,
+          to,
+          x0,
+          y0,
+          x1,
+          y1,
+          r,
+          clear: all.clear(x0, y0, x1, y1, r),
+        }).toEqual({ rects: rects.length, from, to, x0, y0, x1, y1, r, clear: false });
+      }
+    }
+    return blocked;
+  }
+
+  it('hold only moves that touch a wall, on both arenas', () => {
+    expect(expectSureBlocked(CTF_WALLS.rects, 20000, 6)).toBeGreaterThan(1000);
+    expect(expectSureBlocked(SURVIVAL_WALLS.rects, 20000, 7)).toBeGreaterThan(100);
+  });
+
+  it('hold only moves that touch a wall, on random layouts', () => {
+    const rect = fc
+      .record({
+        x: fc.integer({ min: -20, max: 980 }),
+        y: fc.integer({ min: -20, max: 680 }),
+        w: fc.oneof(
+          fc.integer({ min: 1, max: 300 }),
+          fc.double({ min: 0.5, max: 40, noNaN: true }),
+        ),
+        h: fc.oneof(
+          fc.integer({ min: 1, max: 300 }),
+          fc.double({ min: 0.5, max: 40, noNaN: true }),
+        ),
+      })
+      .map((r): Rect => ({ x0: r.x, y0: r.y, x1: r.x + r.w, y1: r.y + r.h }));
+    fc.assert(
+      fc.property(
+        fc.array(rect, { minLength: 1, maxLength: 32 }),
+        fc.integer({ min: 1, max: 1 << 30 }),
+        (rects, seed) => {
+          expectSureBlocked(rects, 400, seed);
+        },
+      ),
+      { numRuns: 100, seed: 8 },
+    );
   });
 });

@@ -282,8 +282,20 @@ export class Walls {
     const y1 = q[3]!;
     const dx = x1 - x0;
     const dy = y1 - y0;
-    const walls = this.segmentWalls(q, r);
-    if (walls === ALL) return this.sweepAll(x0, y0, dx, dy, r) < 0;
+    let walls: number;
+    const grid = this.grid;
+    if (grid === null || !(r <= GRID_MAX_RADIUS)) return this.sweepAll(x0, y0, dx, dy, r) < 0;
+    const from = grid.cellOf(q, 0);
+    const to = grid.cellOf(q, 2);
+    if (from < 0 || to < 0) return this.sweepAll(x0, y0, dx, dy, r) < 0;
+    if (from === to) {
+      walls = grid.masks[from]!;
+    } else {
+      // (segmentWalls, and the pair's sure answer: a wall that every such move enters.)
+      const slot = grid.pairSlot(from, to);
+      if (r > grid.pairBlockLo[slot]! && r < grid.pairBlockHi[slot]!) return false;
+      walls = grid.pairMasks[slot]!;
+    }
     // `sweep(…) < 0`, stopping at the first wall touched.
     const move = this.move;
     move[0] = x0;
