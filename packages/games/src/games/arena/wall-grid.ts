@@ -21,7 +21,7 @@ const SLACK = 1;
 const REACH = GRID_MAX_RADIUS + SLACK;
 
 /** Entries of the cache of cell pairs' masks (a power of two: indexed by a hash's top bits). */
-const PAIR_CACHE_BITS = 14;
+const PAIR_CACHE_BITS = 16;
 
 /** Cells are at least this big, arena units. */
 const MIN_CELL = 32;
