@@ -67,16 +67,15 @@ export class WallGrid {
   private readonly cells: number;
   private readonly rects: readonly Rect[];
   /** {@link pairMask}'s cache of {@link pairMaskOf}'s answers, by a hash of the pair (-1: empty). */
-  private readonly pairKeys = new Int32Array(1 << PAIR_CACHE_BITS).fill(-1);
-  readonly pairMasks = new Int32Array(1 << PAIR_CACHE_BITS);
   /**
-   * Per entry of the pairs' cache: a circle of radius r with `pairBlockLo < r < pairBlockHi`
-   * moving in a straight line from anywhere in the pair's first cell to anywhere in its second
-   * touches a wall of its mask — surely, with {@link SLACK} to spare ({@link blockOf}); an empty
-   * interval (lo ≥ hi) when no wall is sure to. Static, like the masks.
+   * The pairs' cache, 4 numbers an entry so that a look-up reads one cache line: the pair's key
+   * (`from × cells + to`; -1: empty), its mask ({@link pairMaskOf}), and the radii for which every
+   * move between the two cells surely touches a wall of it, in 1/256 units: a circle of radius r
+   * with `lo < 256 r < hi` moving in a straight line from anywhere in the first cell to anywhere
+   * in the second touches one, with {@link SLACK} to spare ({@link blockOf}, lo rounded up and hi
+   * down; lo ≥ hi when no wall is sure to). Static, like the masks.
    */
-  readonly pairBlockLo = new Float64Array(1 << PAIR_CACHE_BITS);
-  readonly pairBlockHi = new Float64Array(1 << PAIR_CACHE_BITS);
+  readonly pairs = new Int32Array(4 << PAIR_CACHE_BITS).fill(-1);
   /** {@link blockOf}'s answer. */
   private readonly block = new Float64Array(2);
 
@@ -146,24 +145,27 @@ export class WallGrid {
    * `from` to anywhere in cell `to` can touch (and more): {@link pairMaskOf}, remembered.
    */
   pairMask(from: number, to: number): number {
-    return this.pairMasks[this.pairSlot(from, to)]!;
+    return this.pairs[this.pairSlot(from, to) + 1]!;
   }
 
   /**
-   * The entry of the pairs' cache that holds the pair (`from`, `to`) of different cells, filled
-   * now if it held another: its {@link pairMasks} ({@link pairMask}), {@link pairBlockLo} and
-   * {@link pairBlockHi}.
+   * Where in {@link pairs} the entry of the pair (`from`, `to`) of different cells begins, filled
+   * now if it held another pair.
    */
   pairSlot(from: number, to: number): number {
     const key = from * this.cells + to;
-    const slot = Math.imul(key, 0x9e3779b1) >>> (32 - PAIR_CACHE_BITS);
-    if (this.pairKeys[slot] === key) return slot;
+    const slot = (Math.imul(key, 0x9e3779b1) >>> (32 - PAIR_CACHE_BITS)) << 2;
+    const pairs = this.pairs;
+    if (pairs[slot] === key) return slot;
     const m = this.pairMaskOf(from, to);
     this.blockOf(from, to, m);
-    this.pairKeys[slot] = key;
-    this.pairMasks[slot] = m;
-    this.pairBlockLo[slot] = this.block[0]!;
-    this.pairBlockHi[slot] = this.block[1]!;
+    // Radii beyond 32 matter to no query of the grid (at most GRID_MAX_RADIUS).
+    const lo = Math.ceil(Math.min(this.block[0]!, 32) * 256);
+    const hi = Math.floor(Math.min(this.block[1]!, 32) * 256);
+    pairs[slot] = key;
+    pairs[slot + 1] = m;
+    pairs[slot + 2] = lo < hi ? lo : 0;
+    pairs[slot + 3] = lo < hi ? hi : 0;
     return slot;
   }
 

@@ -292,9 +292,11 @@ export class Walls {
       walls = grid.masks[from]!;
     } else {
       // (segmentWalls, and the pair's sure answer: a wall that every such move enters.)
+      const pairs = grid.pairs;
       const slot = grid.pairSlot(from, to);
-      if (r > grid.pairBlockLo[slot]! && r < grid.pairBlockHi[slot]!) return false;
-      walls = grid.pairMasks[slot]!;
+      const r256 = r * 256;
+      if (r256 > pairs[slot + 2]! && r256 < pairs[slot + 3]!) return false;
+      walls = pairs[slot + 1]!;
     }
     // `sweep(…) < 0`, stopping at the first wall touched.
     const move = this.move;
