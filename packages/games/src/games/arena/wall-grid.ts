@@ -66,7 +66,6 @@ export class WallGrid {
   private readonly inverse: number;
   private readonly cells: number;
   private readonly rects: readonly Rect[];
-  /** {@link pairMask}'s cache of {@link pairMaskOf}'s answers, by a hash of the pair (-1: empty). */
   /**
    * The pairs' cache, 4 numbers an entry so that a look-up reads one cache line: the pair's key
    * (`from × cells + to`; -1: empty), its mask ({@link pairMaskOf}), and the radii for which every
