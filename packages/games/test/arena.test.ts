@@ -199,6 +199,62 @@ describe('movement', () => {
     }
   });
 
+  it('dirToward: the largest dot product with the eight directions, the first of equals', () => {
+    // The definition, as a loop over the table (dirToward itself is unrolled).
+    const byLoop = (dx: number, dy: number): number => {
+      let best = 0;
+      let bestDot = -Infinity;
+      for (let d = 0; d < 8; d++) {
+        const dot = dx * DIR_X[d]! + dy * DIR_Y[d]!;
+        if (dot > bestDot) {
+          bestDot = dot;
+          best = d;
+        }
+      }
+      return best;
+    };
+    const special = [
+      0,
+      -0,
+      1,
+      -1,
+      1e-300,
+      -1e-300,
+      5e-324,
+      1e300,
+      -1e300,
+      Infinity,
+      -Infinity,
+      NaN,
+    ];
+    for (const dx of special) {
+      for (const dy of special)
+        expect({ dx, dy, d: dirToward(dx, dy) }).toEqual({ dx, dy, d: byLoop(dx, dy) });
+    }
+    // Ties and near-ties: on the axes, the diagonals and the boundaries between sectors.
+    const t = Math.tan(Math.PI / 8);
+    fc.assert(
+      fc.property(
+        fc.oneof(fc.double({ noNaN: false }), fc.integer({ min: -50, max: 50 })),
+        fc.oneof(
+          fc.double({ noNaN: false }),
+          fc.integer({ min: -50, max: 50 }),
+          fc.constantFrom(0, 1, -1, t, -t, 1 / t, -1 / t),
+        ),
+        (a, b) => {
+          for (const [dx, dy] of [
+            [a, b],
+            [a, a * b],
+            [a * b, a],
+          ] as const) {
+            expect({ dx, dy, d: dirToward(dx, dy) }).toEqual({ dx, dy, d: byLoop(dx, dy) });
+          }
+        },
+      ),
+      { numRuns: 20000, seed: 9 },
+    );
+  });
+
   it('nearestLine: the firing line closest to a point, with the signed miss distance', () => {
     const perp = new Float64Array(1);
     expect(nearestLine(100, 3, perp)).toBe(0);

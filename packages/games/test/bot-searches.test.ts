@@ -12,6 +12,13 @@ import { survivalNav } from '../src/games/survival/layout.js';
 import { nearestVisible } from '../src/games/arena/seek.js';
 
 const ORTHO = 5;
+
+/** `NavGrid`'s private candidate lists (see its `ringStart`). */
+interface NavCandidates {
+  readonly ringStart: Int32Array;
+  readonly ringNode: Int32Array;
+  readonly ringSure: Uint8Array;
+}
 const UNREACHABLE = 0x7fffffff;
 
 /** `NavGrid.nearestNode` as it was: every candidate, keeping the nearest reachable. */
@@ -163,6 +170,40 @@ describe.each(ARENAS)('the bots’ searches on %s', (_name, nav) => {
         node: want[0],
       });
     }
+  });
+
+  it('skips the line test only for waypoints reachable from anywhere in the cell', () => {
+    // The searches' candidates per cell, and the marks of those reachable from all of it (private
+    // fields, read here to check the marks against the walls' own line test).
+    const { ringStart, ringNode, ringSure } = nav as unknown as NavCandidates;
+    const rng = new Random(11 + nav.count);
+    const s = nav.spacing;
+    let sure = 0;
+    for (let row = 0; row < nav.rows; row++) {
+      for (let col = 0; col < nav.cols; col++) {
+        const c = row * nav.cols + col;
+        for (let k = ringStart[2 * c]!; k < ringStart[2 * c + 2]!; k++) {
+          if (ringSure[k] !== 1) continue;
+          sure++;
+          const nd = ringNode[k]!;
+          // The cell's corners and edges (and a hair beyond), and points inside.
+          for (let j = 0; j < 12; j++) {
+            const fx = j < 4 ? j & 1 : j < 8 ? rng.int(2) * (1 + 1e-12) - 1e-12 : rng.range(0, 1);
+            const fy = j < 4 ? j >> 1 : rng.range(0, 1);
+            const x = (col + fx) * s;
+            const y = (row + fy) * s;
+            expect({
+              x,
+              y,
+              nd,
+              clear: nav.walls.clear(x, y, nav.nodeX[nd]!, nav.nodeY[nd]!, nav.clearance),
+            }).toEqual({ x, y, nd, clear: true });
+          }
+        }
+      }
+    }
+    // Enough of them to matter.
+    expect(sure).toBeGreaterThan(ringNode.length / 4);
   });
 
   it('waypoint and nearestNode answer as the scans at points that are not finite', () => {

@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { readReplay, verifyReplay, type DisplayEvent } from 'fixedstep';
+import { Random, readReplay, verifyReplay, type DisplayEvent } from 'fixedstep';
 import {
   CTF,
   CtfGame,
@@ -218,6 +218,44 @@ describe("capture the flag: the talk's breakage, for real", () => {
     );
     expect(naive.throughWalls).toBeGreaterThan(0);
     expect(fixed.throughWalls).toBe(0);
+  });
+});
+
+describe('capture the flag: the players’ tunnelling diagnostic', () => {
+  it('counts every move whose path meets a wall (the moves it skips cannot meet one)', () => {
+    // One player walked from random spots (near walls, inside them, at the field's edge) in
+    // every direction, for Δt from a fixed step to a tenth of a second: each move counts
+    // exactly when the walls' own crossing test says its path meets a wall.
+    const rng = new Random(5);
+    const game = new CtfGame({ seed: 1, players: 1, fill: false });
+    const s = game.state;
+    const rects = game.walls.rects;
+    let counted = 0;
+    let skippedCandidates = 0;
+    for (let k = 0; k < 4000; k++) {
+      const rect = rects[rng.int(rects.length)]!;
+      const x = rng.int(3) === 0 ? rng.range(0, CTF.width) : rng.range(rect.x0 - 20, rect.x1 + 20);
+      const y = rng.int(3) === 0 ? rng.range(0, CTF.height) : rng.range(rect.y0 - 20, rect.y1 + 20);
+      game.place(0, x, y, 0);
+      const dt = [1 / 60, 1 / 30, 0.05, 0.1][rng.int(4)]!;
+      const before = s.playersThroughWalls;
+      const x0 = s.x[0]!;
+      const y0 = s.y[0]!;
+      if (dt * CTF.playerSpeed < CTF.playerRadius - 1) skippedCandidates++;
+      game.update(dt, [1 << [0, 1, 2, 3][rng.int(4)]!]);
+      const crossed = game.walls.crosses(x0, y0, s.x[0]!, s.y[0]!);
+      expect({ k, x0, y0, dt, counted: s.playersThroughWalls - before }).toEqual({
+        k,
+        x0,
+        y0,
+        dt,
+        counted: crossed ? 1 : 0,
+      });
+      if (crossed) counted++;
+      if (s.over === 1) break;
+    }
+    expect(counted).toBeGreaterThan(50);
+    expect(skippedCandidates).toBeGreaterThan(1000);
   });
 });
 

@@ -7,8 +7,9 @@
  */
 import { describe, expect, it } from 'vitest';
 import fc from 'fast-check';
-import { Random, toiPointRoundedBox } from 'fixedstep';
+import { Random, dsincos, toiPointRoundedBox } from 'fixedstep';
 import { CTF_WALLS, SURVIVAL_WALLS, Walls, type Rect } from '@fixedstep/games';
+import { GRID_MAX_RADIUS, WallGrid } from '../src/games/arena/wall-grid.js';
 
 const normal = new Float64Array(2);
 
@@ -271,5 +272,162 @@ describe('the walls’ grid', () => {
         }
       }
     }
+  });
+});
+
+describe('pushOut’s answer', () => {
+  /**
+   * The games skip the tunnelling diagnostic (`crosses`) of a move that no wall pushed and that is
+   * shorter than the mover's radius less a unit: sound only if "not pushed" means "left where it
+   * was, at least r from every wall", so that no such move ending there meets a wall.
+   */
+  function expectUnpushedMeansClear(rects: readonly Rect[], n: number, seed: number): void {
+    const walls = new Walls(rects);
+    const all = new AllWalls(rects);
+    const rng = new Random(seed);
+    const out = new Float64Array(2);
+    const want = new Float64Array(2);
+    const sc = new Float64Array(2);
+    let unpushed = 0;
+    for (let k = 0; k < n; k++) {
+      const r = RADII[rng.int(RADII.length)]!;
+      const x = coordinate(rng, rects, r, 'x');
+      const y = coordinate(rng, rects, r, 'y');
+      const pushed = walls.pushOut(x, y, r, out);
+      all.pushOut(x, y, r, want);
+      expect([...out]).toEqual([...want]);
+      if (pushed) continue;
+      unpushed++;
+      expect({ x, y, r, out: [...out], overlaps: all.overlaps(x, y, r) }).toEqual({
+        x,
+        y,
+        r,
+        out: [x, y],
+        overlaps: false,
+      });
+      // Moves shorter than r − 1 that end there, some along the axes and the diagonals.
+      for (let j = 0; j < 8 && r > 1; j++) {
+        const len = rng.range(0, r - 1);
+        const d = rng.int(8);
+        dsincos(j < 4 ? rng.range(0, 2 * Math.PI) : (d * Math.PI) / 4, sc);
+        const mx = len * sc[1]!;
+        const my = len * sc[0]!;
+        expect({ x, y, r, mx, my, crosses: walls.crosses(x - mx, y - my, x, y) }).toEqual({
+          x,
+          y,
+          r,
+          mx,
+          my,
+          crosses: false,
+        });
+      }
+    }
+    expect(unpushed).toBeGreaterThan(n / 10);
+  }
+
+  it('is false only for a centre at least r from every wall, left as it was (both arenas)', () => {
+    expectUnpushedMeansClear(CTF_WALLS.rects, 8000, 4);
+    expectUnpushedMeansClear(SURVIVAL_WALLS.rects, 8000, 5);
+  });
+
+  it('is true whenever the centre moved', () => {
+    const out = new Float64Array(2);
+    // Overlapping the near face of a 4-unit wall at x 100–104: pushed.
+    const thin = new Walls([{ x0: 100, y0: -50, x1: 104, y1: 50 }]);
+    expect(thin.pushOut(95, 0, 10, out)).toBe(true);
+    expect([...out]).toEqual([90, 0]);
+    // Touching it (exactly r away): not pushed.
+    expect(thin.pushOut(90, 0, 10, out)).toBe(false);
+    expect([...out]).toEqual([90, 0]);
+    // Off the grid (no grid for > 32 walls, or a point beyond it): the all-walls loop says so too.
+    expect(thin.pushOut(1e300, 0, 10, out)).toBe(false);
+    expect(thin.pushOut(NaN, 0, 10, out)).toBe(true);
+  });
+});
+
+describe('the grid’s sure-blocked cell pairs', () => {
+  /**
+   * `Walls.clear` answers false at once for a move between two cells for whose pair the grid
+   * holds an interval of radii (lo, hi) containing r: sound only if every such move, from
+   * anywhere in the first cell to anywhere in the second, touches a wall. Checked against the
+   * all-walls loop from the cells' corners, edges and insides, at radii across the interval and
+   * within a hair of its ends.
+   */
+  function expectSureBlocked(rects: readonly Rect[], pairs: number, seed: number): number {
+    const grid = new WallGrid(rects);
+    const all = new AllWalls(rects);
+    const rng = new Random(seed);
+    const cells = grid.cols * grid.rows;
+    const at = (cell: number, u: number, v: number): [number, number] => [
+      grid.originX + ((cell % grid.cols) + u) * grid.cell,
+      grid.originY + (Math.floor(cell / grid.cols) + v) * grid.cell,
+    ];
+    const fractions = [0, 1, 0.5, 1e-9, 1 - 1e-9];
+    const fraction = (): number =>
+      rng.int(2) === 0 ? fractions[rng.int(fractions.length)]! : rng.next();
+    let blocked = 0;
+    for (let k = 0; k < pairs; k++) {
+      const from = rng.int(cells);
+      const to = rng.int(cells);
+      if (from === to) continue;
+      const slot = grid.pairSlot(from, to);
+      const lo = grid.pairs[slot + 2]! / 256;
+      const hi = grid.pairs[slot + 3]! / 256;
+      expect(grid.pairs[slot + 1]).toBe(grid.pairMask(from, to));
+      if (!(lo < hi)) continue;
+      blocked++;
+      expect(lo).toBeGreaterThanOrEqual(0);
+      for (let j = 0; j < 6; j++) {
+        const top = Math.min(hi, GRID_MAX_RADIUS);
+        const r = j === 0 ? lo + 1e-9 : j === 1 ? top - 1e-9 : lo + (top - lo) * rng.next();
+        if (!(r > lo && r < hi && r <= GRID_MAX_RADIUS)) continue;
+        const [x0, y0] = at(from, fraction(), fraction());
+        const [x1, y1] = at(to, fraction(), fraction());
+        expect({
+          rects: rects.length,
+          from,
+          to,
+          x0,
+          y0,
+          x1,
+          y1,
+          r,
+          clear: all.clear(x0, y0, x1, y1, r),
+        }).toEqual({ rects: rects.length, from, to, x0, y0, x1, y1, r, clear: false });
+      }
+    }
+    return blocked;
+  }
+
+  it('hold only moves that touch a wall, on both arenas', () => {
+    expect(expectSureBlocked(CTF_WALLS.rects, 20000, 6)).toBeGreaterThan(1000);
+    expect(expectSureBlocked(SURVIVAL_WALLS.rects, 20000, 7)).toBeGreaterThan(100);
+  });
+
+  it('hold only moves that touch a wall, on random layouts', () => {
+    const rect = fc
+      .record({
+        x: fc.integer({ min: -20, max: 980 }),
+        y: fc.integer({ min: -20, max: 680 }),
+        w: fc.oneof(
+          fc.integer({ min: 1, max: 300 }),
+          fc.double({ min: 0.5, max: 40, noNaN: true }),
+        ),
+        h: fc.oneof(
+          fc.integer({ min: 1, max: 300 }),
+          fc.double({ min: 0.5, max: 40, noNaN: true }),
+        ),
+      })
+      .map((r): Rect => ({ x0: r.x, y0: r.y, x1: r.x + r.w, y1: r.y + r.h }));
+    fc.assert(
+      fc.property(
+        fc.array(rect, { minLength: 1, maxLength: 32 }),
+        fc.integer({ min: 1, max: 1 << 30 }),
+        (rects, seed) => {
+          expectSureBlocked(rects, 400, seed);
+        },
+      ),
+      { numRuns: 100, seed: 8 },
+    );
   });
 });

@@ -236,6 +236,15 @@ export abstract class ArenaGame<S extends ArenaState> implements Game {
   private readonly writer = new ByteWriter(8192);
   private scratch: S | null = null;
 
+  /**
+   * After {@link walk} moved a player: true when that move is known to meet no wall — it ended at
+   * least its radius from every wall (no wall pushed it), the field's edge did not stop it, and it
+   * was shorter than its radius less a unit — so every point of it is more than a unit from every
+   * wall, and `Walls.crosses` of it would say false (the tunnelling diagnostic can skip it). A
+   * cache of what the step computed, not state.
+   */
+  protected walkedClear = false;
+
   /** Checks `config` (a u32 seed, 1 to `info.maxPlayers` players) and seeds a new state. */
   protected constructor(
     label: string,
@@ -369,10 +378,13 @@ export abstract class ArenaGame<S extends ArenaState> implements Game {
     const q = this.walls.query;
     q[0] = s.x[p]! + vx * dt;
     q[1] = s.y[p]! + vy * dt;
-    this.walls.pushOutQuery(r, moved);
+    const pushed = this.walls.pushOutQuery(r, moved);
     // Keep everyone on the field whatever happened (the naive game can push one out of it).
-    s.x[p] = clamp(moved[0]!, r, spec.width - r);
-    s.y[p] = clamp(moved[1]!, r, spec.height - r);
+    const x = clamp(moved[0]!, r, spec.width - r);
+    const y = clamp(moved[1]!, r, spec.height - r);
+    s.x[p] = x;
+    s.y[p] = y;
+    this.walkedClear = !pushed && x === q[0] && y === q[1] && spec.playerSpeed * dt < r - 1;
     return true;
   }
 }

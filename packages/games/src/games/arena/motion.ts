@@ -66,15 +66,45 @@ export function inputDir(input: ButtonInput): number {
 
 /** The direction (0–7) closest to the vector (dx, dy); 0 for the zero vector. Exact, no trig. */
 export function dirToward(dx: number, dy: number): number {
+  // The loop over DIR_X, DIR_Y unrolled, each dot product as it computes it (dx · DIR_X[d] +
+  // dy · DIR_Y[d], the same constants, the same order): the same numbers, NaN and signed zeros
+  // included; the first of equals wins. Bots call this every tick.
   let best = 0;
-  let bestDot = -Infinity;
-  for (let d = 0; d < 8; d++) {
-    const dot = dx * DIR_X[d]! + dy * DIR_Y[d]!;
-    if (dot > bestDot) {
-      bestDot = dot;
-      best = d;
-    }
+  let bestDot = dx * 1 + dy * 0;
+  // (-Infinity < bestDot, unless it is NaN: then the loop would have taken the next number.)
+  if (!(bestDot > -Infinity)) bestDot = -Infinity;
+  let dot = dx * S + dy * S;
+  if (dot > bestDot) {
+    bestDot = dot;
+    best = 1;
   }
+  dot = dx * 0 + dy * 1;
+  if (dot > bestDot) {
+    bestDot = dot;
+    best = 2;
+  }
+  dot = dx * -S + dy * S;
+  if (dot > bestDot) {
+    bestDot = dot;
+    best = 3;
+  }
+  dot = dx * -1 + dy * 0;
+  if (dot > bestDot) {
+    bestDot = dot;
+    best = 4;
+  }
+  dot = dx * -S + dy * -S;
+  if (dot > bestDot) {
+    bestDot = dot;
+    best = 5;
+  }
+  dot = dx * 0 + dy * -1;
+  if (dot > bestDot) {
+    bestDot = dot;
+    best = 6;
+  }
+  dot = dx * S + dy * -S;
+  if (dot > bestDot) best = 7;
   return best;
 }
 

@@ -8,15 +8,26 @@ const UNREACHABLE = 0x7fffffff;
 
 /** Scratch for {@link NavGrid.waypoint}'s goal search; never part of any state. */
 const goal = new Int32Array(1);
-/** Scratch: the candidate waypoints of a search (at most the 5 × 5 cells) and their costs. */
+/**
+ * Scratch: the candidate waypoints of a search (at most the 5 × 5 cells), their costs, and
+ * whether a body is known to reach each in a straight line (see {@link NavGrid}'s `ringSure`).
+ */
 const candidateNode = new Int32Array(25);
 const candidateCost = new Float64Array(25);
+const candidateSure = new Uint8Array(25);
 /** Scratch: the bits of two coordinates, for {@link NavGrid.nearestNode}'s memo. */
 const bits = new Float64Array(2);
 const words = new Int32Array(bits.buffer);
 
 /** Entries of {@link NavGrid.nearestNode}'s memo (a power of two: indexed by a hash's top bits). */
 const MEMO_BITS = 6;
+
+/**
+ * Arena units by which a straight move from a cell to a waypoint must miss every wall (beyond the
+ * body's radius) to be taken as clear without the walls' test: a million times more than any
+ * rounding of that test on an arena a thousand units across, so the test could not say otherwise.
+ */
+const SURE_SLACK = 1;
 
 /**
  * Navigation for the bots: a grid of waypoints at cell centres (those a body of radius
@@ -55,6 +66,22 @@ export class NavGrid {
    * rather than a column strided across the whole table.
    */
   private readonly symmetric: boolean;
+
+  /**
+   * The candidates of the searches, per cell (`row * cols + col`): the waypoints of the 3 × 3
+   * cells around it, then those of the ring of the 5 × 5 around those, each in row-major order —
+   * what the searches' loops over the neighbouring cells visit, without the bounds and empty
+   * cells. Cell c's 3 × 3 are `ringNode[ringStart[2c] … ringStart[2c + 1] − 1]`, its ring up to
+   * `ringStart[2c + 2]`.
+   */
+  private readonly ringStart: Int32Array;
+  private readonly ringNode: Int32Array;
+  /**
+   * Per entry of `ringNode`: 1 when a body of radius `clearance` anywhere in the cell reaches the
+   * waypoint in a straight line, missing every wall by more than {@link SURE_SLACK} — the walls'
+   * test would say it is clear, so the searches skip it (static, from the walls).
+   */
+  private readonly ringSure: Uint8Array;
 
   /** {@link nearestNode}'s last answers by hash of the coordinates: a cache, not state (NaN: empty). */
   private readonly memoX = new Float64Array(1 << MEMO_BITS).fill(NaN);
@@ -183,6 +210,46 @@ export class NavGrid {
       }
     }
     this.symmetric = symmetric;
+
+    // The searches' candidates per cell, and which of them are surely reachable.
+    const ringStart = new Int32Array(cells * 2 + 1);
+    const ringNode: number[] = [];
+    const ringSure: number[] = [];
+    for (let row = 0; row < this.rows; row++) {
+      for (let col = 0; col < this.cols; col++) {
+        const c = row * this.cols + col;
+        for (let rad = 1; rad <= 2; rad++) {
+          for (let dr = -rad; dr <= rad; dr++) {
+            for (let dc = -rad; dc <= rad; dc++) {
+              if (rad === 2 && dr > -2 && dr < 2 && dc > -2 && dc < 2) continue;
+              const r2 = row + dr;
+              const c2 = col + dc;
+              if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
+              const nd = this.cellNode[r2 * this.cols + c2]!;
+              if (nd < 0) continue;
+              ringNode.push(nd);
+              ringSure.push(
+                cellSeesPoint(
+                  walls,
+                  col * spacing,
+                  row * spacing,
+                  spacing,
+                  xs[nd]!,
+                  ys[nd]!,
+                  clearance,
+                )
+                  ? 1
+                  : 0,
+              );
+            }
+          }
+          ringStart[2 * c + rad] = ringNode.length;
+        }
+      }
+    }
+    this.ringStart = ringStart;
+    this.ringNode = Int32Array.from(ringNode);
+    this.ringSure = Uint8Array.from(ringSure);
   }
 
   /**
@@ -237,23 +304,44 @@ export class NavGrid {
     // The 3 × 3 cells around, or the ring of the 5 × 5 around those if none of them will do. The
     // cheapest first: the first that a body can go straight to is the one to head for, so the
     // line tests (the costly part) stop there.
+    const ringStart = this.ringStart;
+    const ringNode = this.ringNode;
+    const ringSure = this.ringSure;
+    const onGrid = col >= 0 && row >= 0 && col < this.cols && row < this.rows;
+    const cell = 2 * (row * this.cols + col);
     for (let rad = 1; rad <= 2; rad++) {
       let n = 0;
-      for (let dr = -rad; dr <= rad; dr++) {
-        for (let dc = -rad; dc <= rad; dc++) {
-          if (rad === 2 && dr > -2 && dr < 2 && dc > -2 && dc < 2) continue; // tried already
-          const r2 = row + dr;
-          const c2 = col + dc;
-          if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
-          const nd = this.cellNode[r2 * this.cols + c2]!;
-          if (nd < 0) continue;
+      if (onGrid) {
+        for (let k = ringStart[cell + rad - 1]!, end = ringStart[cell + rad]!; k < end; k++) {
+          const nd = ringNode[k]!;
           const rest = this.dist[restAt + nd * restStride]!;
           if (rest === UNREACHABLE) continue;
           const ex = this.nodeX[nd]! - x;
           const ey = this.nodeY[nd]! - y;
           candidateNode[n] = nd;
           candidateCost[n] = Math.sqrt(ex * ex + ey * ey) * scale + rest;
+          candidateSure[n] = ringSure[k]!;
           n++;
+        }
+      } else {
+        // Off the grid (a point beyond the field): the neighbouring cells one by one.
+        for (let dr = -rad; dr <= rad; dr++) {
+          for (let dc = -rad; dc <= rad; dc++) {
+            if (rad === 2 && dr > -2 && dr < 2 && dc > -2 && dc < 2) continue; // tried already
+            const r2 = row + dr;
+            const c2 = col + dc;
+            if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
+            const nd = this.cellNode[r2 * this.cols + c2]!;
+            if (nd < 0) continue;
+            const rest = this.dist[restAt + nd * restStride]!;
+            if (rest === UNREACHABLE) continue;
+            const ex = this.nodeX[nd]! - x;
+            const ey = this.nodeY[nd]! - y;
+            candidateNode[n] = nd;
+            candidateCost[n] = Math.sqrt(ex * ex + ey * ey) * scale + rest;
+            candidateSure[n] = 0;
+            n++;
+          }
         }
       }
       const nd = this.firstClear(q, 0, n);
@@ -296,22 +384,40 @@ export class NavGrid {
     }
     const col = Math.floor(x / this.spacing);
     const row = Math.floor(y / this.spacing);
+    const ringStart = this.ringStart;
+    const ringNode = this.ringNode;
+    const ringSure = this.ringSure;
+    const onGrid = col >= 0 && row >= 0 && col < this.cols && row < this.rows;
+    const cell = 2 * (row * this.cols + col);
     let found = -1;
     for (let rad = 1; rad <= 2 && found < 0; rad++) {
       let n = 0;
-      for (let dr = -rad; dr <= rad; dr++) {
-        for (let dc = -rad; dc <= rad; dc++) {
-          if (rad === 2 && dr > -2 && dr < 2 && dc > -2 && dc < 2) continue; // tried already
-          const r2 = row + dr;
-          const c2 = col + dc;
-          if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
-          const nd = this.cellNode[r2 * this.cols + c2]!;
-          if (nd < 0) continue;
+      if (onGrid) {
+        for (let k = ringStart[cell + rad - 1]!, end = ringStart[cell + rad]!; k < end; k++) {
+          const nd = ringNode[k]!;
           const ex = this.nodeX[nd]! - x;
           const ey = this.nodeY[nd]! - y;
           candidateNode[n] = nd;
           candidateCost[n] = ex * ex + ey * ey;
+          candidateSure[n] = ringSure[k]!;
           n++;
+        }
+      } else {
+        for (let dr = -rad; dr <= rad; dr++) {
+          for (let dc = -rad; dc <= rad; dc++) {
+            if (rad === 2 && dr > -2 && dr < 2 && dc > -2 && dc < 2) continue; // tried already
+            const r2 = row + dr;
+            const c2 = col + dc;
+            if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
+            const nd = this.cellNode[r2 * this.cols + c2]!;
+            if (nd < 0) continue;
+            const ex = this.nodeX[nd]! - x;
+            const ey = this.nodeY[nd]! - y;
+            candidateNode[n] = nd;
+            candidateCost[n] = ex * ex + ey * ey;
+            candidateSure[n] = 0;
+            n++;
+          }
         }
       }
       found = this.firstClear(from, at, n);
@@ -327,7 +433,8 @@ export class NavGrid {
    * Of the first `n` candidates (`candidateNode`, `candidateCost`), the cheapest that a body can
    * reach in a straight line from the point in `from[at]`, `from[at + 1]` — of equals, the
    * first — or -1. Tries them cheapest first, so it answers what a scan keeping the cheapest
-   * reachable one would, with fewer line tests. Uses up the candidates.
+   * reachable one would, with fewer line tests (none for a candidate marked in `candidateSure`:
+   * reachable from anywhere in the cell). Uses up the candidates.
    */
   private firstClear(from: Float64Array, at: number, n: number): number {
     const x = from[at]!;
@@ -346,6 +453,7 @@ export class NavGrid {
       if (pick < 0) return -1;
       const nd = candidateNode[pick]!;
       candidateNode[pick] = -1;
+      if (candidateSure[pick] === 1) return nd;
       wq[0] = x;
       wq[1] = y;
       wq[2] = this.nodeX[nd]!;
@@ -427,4 +535,64 @@ export function sharedNav(
 ): () => NavGrid {
   let nav: NavGrid | undefined;
   return () => (nav ??= new NavGrid(walls, width, height, 40, playerRadius + 2));
+}
+
+/**
+ * Whether a circle of radius `r` moving in a straight line from anywhere in the square cell
+ * [x0, x0 + size] × [y0, y0 + size] to (px, py) misses every wall by more than
+ * {@link SURE_SLACK}: whether the convex hull of the cell and the point stays clear of every wall
+ * grown by `r + SURE_SLACK` (square corners: more than the round ones, so never a wrong yes). The
+ * separating-axis test on the hull's and the box's edge directions — the axes and the normals of
+ * the segments from each corner to the point, which include the hull's edges.
+ */
+function cellSeesPoint(
+  walls: Walls,
+  x0: number,
+  y0: number,
+  size: number,
+  px: number,
+  py: number,
+  r: number,
+): boolean {
+  const x1 = x0 + size;
+  const y1 = y0 + size;
+  // The hull's box, for the x and y axes.
+  const hx0 = Math.min(x0, px);
+  const hx1 = Math.max(x1, px);
+  const hy0 = Math.min(y0, py);
+  const hy1 = Math.max(y1, py);
+  const grow = r + SURE_SLACK;
+  for (let i = 0; i < walls.count; i++) {
+    const bx0 = walls.cx[i]! - walls.hw[i]! - grow;
+    const bx1 = walls.cx[i]! + walls.hw[i]! + grow;
+    const by0 = walls.cy[i]! - walls.hh[i]! - grow;
+    const by1 = walls.cy[i]! + walls.hh[i]! + grow;
+    if (hx1 < bx0 || bx1 < hx0 || hy1 < by0 || by1 < hy0) continue; // the x or the y axis
+    let separated = false;
+    // The normals of the segments from the cell's corners to the point.
+    for (let k = 0; k < 4 && !separated; k++) {
+      const cx = (k & 1) === 0 ? x0 : x1;
+      const cy = (k & 2) === 0 ? y0 : y1;
+      const ax = cy - py;
+      const ay = px - cx;
+      if (ax === 0 && ay === 0) continue;
+      let hullMin = px * ax + py * ay;
+      let hullMax = hullMin;
+      for (let j = 0; j < 4; j++) {
+        const v = ((j & 1) === 0 ? x0 : x1) * ax + ((j & 2) === 0 ? y0 : y1) * ay;
+        hullMin = Math.min(hullMin, v);
+        hullMax = Math.max(hullMax, v);
+      }
+      let boxMin = Infinity;
+      let boxMax = -Infinity;
+      for (let j = 0; j < 4; j++) {
+        const v = ((j & 1) === 0 ? bx0 : bx1) * ax + ((j & 2) === 0 ? by0 : by1) * ay;
+        boxMin = Math.min(boxMin, v);
+        boxMax = Math.max(boxMax, v);
+      }
+      separated = hullMax < boxMin || boxMax < hullMin;
+    }
+    if (!separated) return false;
+  }
+  return true;
 }

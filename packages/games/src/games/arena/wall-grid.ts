@@ -21,7 +21,7 @@ const SLACK = 1;
 const REACH = GRID_MAX_RADIUS + SLACK;
 
 /** Entries of the cache of cell pairs' masks (a power of two: indexed by a hash's top bits). */
-const PAIR_CACHE_BITS = 14;
+const PAIR_CACHE_BITS = 16;
 
 /** Cells are at least this big, arena units. */
 const MIN_CELL = 32;
@@ -66,9 +66,17 @@ export class WallGrid {
   private readonly inverse: number;
   private readonly cells: number;
   private readonly rects: readonly Rect[];
-  /** {@link pairMask}'s cache of {@link pairMaskOf}'s answers, by a hash of the pair (-1: empty). */
-  private readonly pairKeys = new Int32Array(1 << PAIR_CACHE_BITS).fill(-1);
-  private readonly pairMasks = new Int32Array(1 << PAIR_CACHE_BITS);
+  /**
+   * The pairs' cache, 4 numbers an entry so that a look-up reads one cache line: the pair's key
+   * (`from × cells + to`; -1: empty), its mask ({@link pairMaskOf}), and the radii for which every
+   * move between the two cells surely touches a wall of it, in 1/256 units: a circle of radius r
+   * with `lo < 256 r < hi` moving in a straight line from anywhere in the first cell to anywhere
+   * in the second touches one, with {@link SLACK} to spare ({@link blockOf}, lo rounded up and hi
+   * down; lo ≥ hi when no wall is sure to). Static, like the masks.
+   */
+  readonly pairs = new Int32Array(4 << PAIR_CACHE_BITS).fill(-1);
+  /** {@link blockOf}'s answer. */
+  private readonly block = new Float64Array(2);
 
   /** `rects`: at most {@link GRID_MAX_WALLS}, with finite coordinates (checked by the caller). */
   constructor(rects: readonly Rect[]) {
@@ -136,13 +144,78 @@ export class WallGrid {
    * `from` to anywhere in cell `to` can touch (and more): {@link pairMaskOf}, remembered.
    */
   pairMask(from: number, to: number): number {
+    return this.pairs[this.pairSlot(from, to) + 1]!;
+  }
+
+  /**
+   * Where in {@link pairs} the entry of the pair (`from`, `to`) of different cells begins, filled
+   * now if it held another pair.
+   */
+  pairSlot(from: number, to: number): number {
     const key = from * this.cells + to;
-    const slot = Math.imul(key, 0x9e3779b1) >>> (32 - PAIR_CACHE_BITS);
-    if (this.pairKeys[slot] === key) return this.pairMasks[slot]!;
+    const slot = (Math.imul(key, 0x9e3779b1) >>> (32 - PAIR_CACHE_BITS)) << 2;
+    const pairs = this.pairs;
+    if (pairs[slot] === key) return slot;
     const m = this.pairMaskOf(from, to);
-    this.pairKeys[slot] = key;
-    this.pairMasks[slot] = m;
-    return m;
+    this.blockOf(from, to, m);
+    // Radii beyond 32 matter to no query of the grid (at most GRID_MAX_RADIUS).
+    const lo = Math.ceil(Math.min(this.block[0]!, 32) * 256);
+    const hi = Math.floor(Math.min(this.block[1]!, 32) * 256);
+    pairs[slot] = key;
+    pairs[slot + 1] = m;
+    pairs[slot + 2] = lo < hi ? lo : 0;
+    pairs[slot + 3] = lo < hi ? hi : 0;
+    return slot;
+  }
+
+  /**
+   * The radii r (lo < r < hi, to `block[0]`, `block[1]`; lo ≥ hi: none) for which a circle of
+   * radius r moving in a straight line from anywhere in cell `from` to anywhere in cell `to`
+   * surely touches one of the walls of `mask`: the swept test would say so for every such move.
+   *
+   * A wall does when the first cell lies on one side of it, clear of it by more than r plus
+   * {@link SLACK} along one axis (so the move starts outside the wall grown by r and enters it),
+   * the second cell lies beyond the wall's centre line across that axis (so every move crosses
+   * that line), and every such move crosses the centre line within the wall's half-length plus r,
+   * less {@link SLACK}: inside the grown wall (its rounded corners are off the centre line). Where
+   * the moves cross the line is the hull of the two cells cut by it: its ends are on segments
+   * between a corner of each cell. Of the walls' intervals, those that overlap are joined and the
+   * widest kept.
+   */
+  private blockOf(from: number, to: number, mask: number): void {
+    const cols = this.cols;
+    const size = this.cell;
+    const ax0 = this.originX + (from % cols) * size;
+    const ay0 = this.originY + Math.floor(from / cols) * size;
+    const bx0 = this.originX + (to % cols) * size;
+    const by0 = this.originY + Math.floor(to / cols) * size;
+    let lo = 0;
+    let hi = 0;
+    for (let m = mask; m !== 0; m &= m - 1) {
+      const r = this.rects[31 - Math.clz32(m & -m)]!;
+      const cx = (r.x0 + r.x1) / 2;
+      const cy = (r.y0 + r.y1) / 2;
+      const hw = (r.x1 - r.x0) / 2;
+      const hh = (r.y1 - r.y0) / 2;
+      // Across the wall's vertical centre line, then across its horizontal one.
+      for (let axis = 0; axis < 2; axis++) {
+        const block = this.block;
+        if (axis === 0) crossing(ax0, ay0, bx0, by0, size, cx, cy, hw, hh, block);
+        else crossing(ay0, ax0, by0, bx0, size, cy, cx, hh, hw, block);
+        const l = block[0]!;
+        const h = block[1]!;
+        if (!(l < h)) continue;
+        if (lo < hi && l <= hi && lo <= h) {
+          lo = Math.min(lo, l);
+          hi = Math.max(hi, h);
+        } else if (!(lo < hi) || coverage(l, h) > coverage(lo, hi)) {
+          lo = l;
+          hi = h;
+        }
+      }
+    }
+    this.block[0] = lo;
+    this.block[1] = hi;
   }
 
   /**
@@ -174,6 +247,61 @@ export class WallGrid {
 }
 
 /** Whether the segment from (x0, y0) by (dx, dy) meets the closed box [bx0, bx1] × [by0, by1]. */
+/** How much of the grid's radii, 0 to {@link GRID_MAX_RADIUS}, the interval (lo, hi) holds. */
+function coverage(lo: number, hi: number): number {
+  return Math.min(hi, GRID_MAX_RADIUS) - Math.max(lo, 0);
+}
+
+/**
+ * {@link WallGrid}'s `blockOf` for one wall and one axis, written with u along the axis and v
+ * across it: the cells [au0, au0 + size] × [av0, av0 + size] (the start) and from bu0, bv0 (the
+ * end), the wall centred at (cu, cv), half-extents hu, hv. The radii (lo, hi) for which every move
+ * from the first cell to the second surely enters the wall grown by the radius through its centre
+ * line u = cu, to `out[0]`, `out[1]` (lo ≥ hi: none).
+ */
+function crossing(
+  au0: number,
+  av0: number,
+  bu0: number,
+  bv0: number,
+  size: number,
+  cu: number,
+  cv: number,
+  hu: number,
+  hv: number,
+  out: Float64Array,
+): void {
+  out[0] = 0;
+  out[1] = 0;
+  const au1 = au0 + size;
+  const bu1 = bu0 + size;
+  // The start clear of the grown wall along u (r < gap − SLACK), the end beyond the centre line.
+  let gap: number;
+  if (au1 < cu && bu0 > cu + SLACK) gap = cu - hu - au1;
+  else if (au0 > cu && bu1 < cu - SLACK) gap = au0 - (cu + hu);
+  else return;
+  const hi = gap - SLACK;
+  if (!(hi > 0)) return;
+  // Where the moves cross u = cu: between a corner of each cell.
+  let vMin = Infinity;
+  let vMax = -Infinity;
+  for (let j = 0; j < 4; j++) {
+    const pu = (j & 1) === 0 ? au0 : au1;
+    const pv = (j & 2) === 0 ? av0 : av0 + size;
+    for (let k = 0; k < 4; k++) {
+      const qu = (k & 1) === 0 ? bu0 : bu1;
+      const qv = (k & 2) === 0 ? bv0 : bv0 + size;
+      const v = pv + ((qv - pv) * (cu - pu)) / (qu - pu);
+      vMin = Math.min(vMin, v);
+      vMax = Math.max(vMax, v);
+    }
+  }
+  // Within hv + r − SLACK of the centre: r > (farthest − hv) + SLACK.
+  const lo = Math.max(vMax - cv, cv - vMin) - hv + SLACK;
+  out[0] = Math.max(lo, 0);
+  out[1] = hi;
+}
+
 function segmentMeetsBox(
   x0: number,
   y0: number,

@@ -135,23 +135,23 @@ export class Walls {
    * This is all a discrete game has. If the centre has crossed the middle of a wall, the nearer
    * face is the far one and the circle comes out on the other side: that is tunnelling. It cannot
    * happen while every step moves the circle at most `thickness / 2 + r` (see `maxSafeSpeed`).
+   *
+   * Returns whether a wall pushed it: false means the centre was at least `r` from every wall
+   * (touching at most) and `out` holds it unchanged.
    */
-  pushOut(x: number, y: number, r: number, out: Float64Array): void {
+  pushOut(x: number, y: number, r: number, out: Float64Array): boolean {
     this.query[0] = x;
     this.query[1] = y;
-    this.pushOutQuery(r, out);
+    return this.pushOutQuery(r, out);
   }
 
   /** {@link pushOut} of the circle centred at `query[0]`, `query[1]`. */
-  pushOutQuery(r: number, out: Float64Array): void {
+  pushOutQuery(r: number, out: Float64Array): boolean {
     let x = this.query[0]!;
     let y = this.query[1]!;
     const grid = this.grid;
     let cell = grid === null || !(r <= GRID_MAX_RADIUS) ? -1 : grid.cellOf(this.query, 0);
-    if (grid === null || cell < 0) {
-      this.pushOutAll(x, y, r, out);
-      return;
-    }
+    if (grid === null || cell < 0) return this.pushOutAll(x, y, r, out);
     // The all-walls loop, visiting only the walls near the cell the centre is in now: the others
     // are too far to overlap it, and the loop would pass over them. A push moves the centre, so
     // the walls after it come from its new cell.
@@ -159,6 +159,7 @@ export class Walls {
     // A pass that pushes nothing leaves nothing for the next one to push (the same walls, at the
     // same place): it is the last.
     let pushed = true;
+    let any = false;
     for (let pass = 0; pass < 2 && cell >= 0 && pushed; pass++) {
       pushed = false;
       let m = masks[cell]!;
@@ -196,6 +197,7 @@ export class Walls {
           y = qy + (ey / d) * r;
         }
         pushed = true;
+        any = true;
         // Moved: the walls after i come from the new cell (bits above i; none when i is 31). A
         // push ends within the wall's reach, so on the grid; were it ever off it, every other
         // wall would be too far to overlap.
@@ -208,6 +210,7 @@ export class Walls {
     }
     out[0] = x;
     out[1] = y;
+    return any;
   }
 
   /**
@@ -279,8 +282,22 @@ export class Walls {
     const y1 = q[3]!;
     const dx = x1 - x0;
     const dy = y1 - y0;
-    const walls = this.segmentWalls(q, r);
-    if (walls === ALL) return this.sweepAll(x0, y0, dx, dy, r) < 0;
+    let walls: number;
+    const grid = this.grid;
+    if (grid === null || !(r <= GRID_MAX_RADIUS)) return this.sweepAll(x0, y0, dx, dy, r) < 0;
+    const from = grid.cellOf(q, 0);
+    const to = grid.cellOf(q, 2);
+    if (from < 0 || to < 0) return this.sweepAll(x0, y0, dx, dy, r) < 0;
+    if (from === to) {
+      walls = grid.masks[from]!;
+    } else {
+      // (segmentWalls, and the pair's sure answer: a wall that every such move enters.)
+      const pairs = grid.pairs;
+      const slot = grid.pairSlot(from, to);
+      const r256 = r * 256;
+      if (r256 > pairs[slot + 2]! && r256 < pairs[slot + 3]!) return false;
+      walls = pairs[slot + 1]!;
+    }
     // `sweep(…) < 0`, stopping at the first wall touched.
     const move = this.move;
     move[0] = x0;
@@ -431,7 +448,8 @@ export class Walls {
     }
     return false;
   }
-  private pushOutAll(x: number, y: number, r: number, out: Float64Array): void {
+  private pushOutAll(x: number, y: number, r: number, out: Float64Array): boolean {
+    let any = false;
     for (let pass = 0; pass < 2; pass++) {
       for (let i = 0; i < this.count; i++) {
         const cx = this.cx[i]!;
@@ -464,10 +482,12 @@ export class Walls {
           x = qx + (ex / d) * r;
           y = qy + (ey / d) * r;
         }
+        any = true;
       }
     }
     out[0] = x;
     out[1] = y;
+    return any;
   }
   private sweepAll(x: number, y: number, dx: number, dy: number, r: number): number {
     let best = -1;

@@ -323,6 +323,8 @@ export class CtfGame extends ArenaGame<CtfState> implements BulletTargets {
       s.prevY[p] = y;
       if (s.alive[p] === 0) continue;
       if (!this.walk(p, inputs[p]!, dt)) continue;
+      // The tunnelling diagnostic; a move that met no wall (see `walkedClear`) needs no test.
+      if (this.walkedClear) continue;
       // (The walls' register form: see `Walls`.)
       const q = this.walls.query;
       q[0] = x;
@@ -379,7 +381,10 @@ export class CtfGame extends ArenaGame<CtfState> implements BulletTargets {
           continue;
         }
       }
-      for (let p = 0; p < SLOTS; p++) {
+      // Who touches it first, in slot order. A flag at home does nothing for its own team, so
+      // only the other team's slots (every other one) need a look then.
+      const home = s.flagState[t] === FlagState.home;
+      for (let p = home ? 1 - t : 0; p < SLOTS; p += home ? 2 : 1) {
         if (s.alive[p] === 0) continue;
         const ex = s.x[p]! - s.flagX[t]!;
         const ey = s.y[p]! - s.flagY[t]!;

@@ -521,7 +521,8 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
       const q = this.walls.query;
       q[0] = x + vx * dt + sx;
       q[1] = y + vy * dt + sy;
-      this.walls.pushOutQuery(ER, moved);
+      // Whether the last push-out left the point as it was (it was at least ER from every wall).
+      let unpushed = !this.walls.pushOutQuery(ER, moved);
       // Nearly head-on into a wall (it let through less than a quarter of the run)? Run along
       // it instead, and keep to that side until free: the way the wall already deflects it (or,
       // dead straight, the way the enemy's serial picks), else the other way.
@@ -540,7 +541,7 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
           const wy = vx * sgn;
           q[0] = x + wx * dt + sx;
           q[1] = y + wy * dt + sy;
-          this.walls.pushOutQuery(ER, moved);
+          unpushed = !this.walls.pushOutQuery(ER, moved);
           if (((moved[0]! - x) * wx + (moved[1]! - y) * wy) * 2 >= want) {
             vx = wx;
             vy = wy;
@@ -555,11 +556,19 @@ export class SurvivalGame extends ArenaGame<SurvivalState> implements BulletTarg
       }
       const nx = clamp(moved[0]!, ER, SURVIVAL.width - ER);
       const ny = clamp(moved[1]!, ER, SURVIVAL.height - ER);
-      q[0] = x;
-      q[1] = y;
-      q[2] = nx;
-      q[3] = ny;
-      if (this.walls.crossesQuery()) s.enemiesThroughWalls++;
+      // The tunnelling diagnostic. A move that ended where it was headed, at least ER from every
+      // wall, and was shorter than ER less a unit has every point more than a unit from every
+      // wall: it crossed none, and needs no test.
+      const ox = nx - x;
+      const oy = ny - y;
+      const short = ox * ox + oy * oy < (ER - 1) * (ER - 1);
+      if (!(unpushed && nx === moved[0] && ny === moved[1] && short)) {
+        q[0] = x;
+        q[1] = y;
+        q[2] = nx;
+        q[3] = ny;
+        if (this.walls.crossesQuery()) s.enemiesThroughWalls++;
+      }
       s.ex[e] = nx;
       s.ey[e] = ny;
     }
