@@ -67,6 +67,8 @@ describe('the bench runner', { timeout: 60_000 }, () => {
     expect(run.stdout).toMatch(/== first: fixture: marks its process\n\n {2}pid \d+/);
     expect(run.stdout).toMatch(/== second:[^\n]*\n\n {2}pid \d+[^\n]*\n\nnumbers\n/);
     expect(run.stdout).toMatch(/2 suite\(s\) in [\d.]+ s\n/);
+    // Its process imported its own suite's file, not the others' (nor what they import).
+    expect(notes(result.suites[1]!)[1]).toBe('suite files imported here: second');
   });
 
   it('reports a suite whose process dies as failed, and runs the others', async () => {
