@@ -8,45 +8,10 @@
  */
 import { existsSync } from 'node:fs';
 import { isMainThread } from 'node:worker_threads';
-import {
-  ByteReader,
-  ByteWriter,
-  BUTTON_WORD,
-  defineGame,
-  fnv1a64,
-  type ButtonInput,
-  type Simulation,
-} from 'fixedstep';
+import { BUTTON_WORD, defineGame } from 'fixedstep';
+import { Counter } from './counter-game.js';
 
 type Hook = ((tick: number) => void) | undefined;
-
-class Counter implements Simulation {
-  tick = 0;
-  readonly n: Uint32Array;
-  constructor(
-    players: number,
-    private readonly hook: Hook,
-  ) {
-    this.n = new Uint32Array(players);
-  }
-  step(inputs: readonly ButtonInput[]): void {
-    this.hook?.(this.tick);
-    for (let p = 0; p < this.n.length; p++) this.n[p] = (this.n[p]! + 1 + (inputs[p]! & 1)) >>> 0;
-    this.tick++;
-  }
-  save(): Uint8Array {
-    return new ByteWriter(16).u32(this.tick).ints(this.n).finish();
-  }
-  load(bytes: Uint8Array): void {
-    const r = new ByteReader(bytes);
-    this.tick = r.u32();
-    r.ints(this.n);
-    r.end();
-  }
-  hash(): bigint {
-    return fnv1a64(this.save());
-  }
-}
 
 const pause = new Int32Array(new SharedArrayBuffer(4));
 
