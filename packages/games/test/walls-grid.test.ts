@@ -217,6 +217,16 @@ function expectSameAnswers(rects: readonly Rect[], n: number, seed: number): voi
   }
 }
 
+/** A wall of a random layout: integer or fractional sizes, some reaching past the field. */
+const rect = fc
+  .record({
+    x: fc.integer({ min: -20, max: 980 }),
+    y: fc.integer({ min: -20, max: 680 }),
+    w: fc.oneof(fc.integer({ min: 1, max: 300 }), fc.double({ min: 0.5, max: 40, noNaN: true })),
+    h: fc.oneof(fc.integer({ min: 1, max: 300 }), fc.double({ min: 0.5, max: 40, noNaN: true })),
+  })
+  .map((r): Rect => ({ x0: r.x, y0: r.y, x1: r.x + r.w, y1: r.y + r.h }));
+
 describe('the walls’ grid', () => {
   it('answers as the all-walls loops on capture the flag’s walls', () => {
     expectSameAnswers(CTF_WALLS.rects, 15000, 1);
@@ -227,20 +237,6 @@ describe('the walls’ grid', () => {
   });
 
   it('answers as the all-walls loops on random layouts of up to 32 walls (and 40: no grid)', () => {
-    const rect = fc
-      .record({
-        x: fc.integer({ min: -20, max: 980 }),
-        y: fc.integer({ min: -20, max: 680 }),
-        w: fc.oneof(
-          fc.integer({ min: 1, max: 300 }),
-          fc.double({ min: 0.5, max: 40, noNaN: true }),
-        ),
-        h: fc.oneof(
-          fc.integer({ min: 1, max: 300 }),
-          fc.double({ min: 0.5, max: 40, noNaN: true }),
-        ),
-      })
-      .map((r): Rect => ({ x0: r.x, y0: r.y, x1: r.x + r.w, y1: r.y + r.h }));
     fc.assert(
       fc.property(
         fc.oneof(
@@ -405,20 +401,6 @@ describe('the grid’s sure-blocked cell pairs', () => {
   });
 
   it('hold only moves that touch a wall, on random layouts', () => {
-    const rect = fc
-      .record({
-        x: fc.integer({ min: -20, max: 980 }),
-        y: fc.integer({ min: -20, max: 680 }),
-        w: fc.oneof(
-          fc.integer({ min: 1, max: 300 }),
-          fc.double({ min: 0.5, max: 40, noNaN: true }),
-        ),
-        h: fc.oneof(
-          fc.integer({ min: 1, max: 300 }),
-          fc.double({ min: 0.5, max: 40, noNaN: true }),
-        ),
-      })
-      .map((r): Rect => ({ x0: r.x, y0: r.y, x1: r.x + r.w, y1: r.y + r.h }));
     fc.assert(
       fc.property(
         fc.array(rect, { minLength: 1, maxLength: 32 }),
