@@ -35,9 +35,6 @@ describe('where an online match ends', () => {
     const hud = game.hud();
     const byFlags = Math.max(hud.red ?? 0, hud.blue ?? 0) === CTF.captureLimit;
     expect(byFlags || (end.tick === TICKS_OF_CLOCK && hud.timeLeft === 0)).toBe(true);
-    console.log(
-      `CTF seed 7 ends at tick ${end.tick} (${hud.red} : ${hud.blue}, ${hud.timeLeft} s left), hash ${end.hash}`,
-    );
     // Told once; the saved final state is the game's state there, byte for byte.
     game.step(still);
     expect(ends).toHaveLength(1);
@@ -157,6 +154,5 @@ describe('where an online match ends', () => {
     const start = new CtfGame({ seed: 0, players: 2 });
     expect(final.state.x[0]!).toBeGreaterThan(start.state.x[0]! + 50);
     expect(final.state.x[1]!).toBeLessThan(start.state.x[1]! - 50);
-    console.log(`final hash at tick ${ticks}: ${a.end!.hash}`);
   });
 });

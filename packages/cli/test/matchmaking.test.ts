@@ -320,7 +320,6 @@ describe('quick match over real sockets through createServer', () => {
     }
     const hashes = sessions.map((s) => hex64(s.hashAt(ticks)!));
     expect(hashes[0]).toBe(hashes[1]);
-    console.log(`quick match ${results[0]!.room}: hash at tick ${ticks} ${hashes[0]} on both`);
     const room = server.relay!.relay.room(results[0]!.room)!;
     expect(room.desyncs).toHaveLength(0);
     expect(room.hashChecks).toBeGreaterThanOrEqual(1);

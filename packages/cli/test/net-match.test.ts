@@ -21,31 +21,9 @@ function tenMinutes(kind: 'lockstep' | 'rollback'): MatchResult {
   return match.run(700_000);
 }
 
-function report(kind: string, r: MatchResult): void {
-  const players = r.clients.filter((c) => c.kind !== 'spectator');
-  const spectator = r.clients.find((c) => c.kind === 'spectator')!;
-  const sum = (f: (c: (typeof r.clients)[number]) => number) =>
-    players.reduce((a, c) => a + f(c), 0);
-  console.log(
-    [
-      `${kind}: 36000 ticks (${(r.simulatedMs / 60000).toFixed(2)} min simulated) in ${(r.wallMs / 1000).toFixed(2)} s wall`,
-      `  final hash ${players[0]!.finalHash} on all ${r.clients.length} clients: ${r.hashesAgree}`,
-      `  rollbacks ${sum((c) => c.stats.rollbacks)} (${players.map((c) => c.stats.rollbacks).join(' + ')}), ` +
-        `resimulated ticks ${sum((c) => c.stats.resimulatedTicks)}, max depth ${Math.max(...players.map((c) => c.stats.maxRollbackDepth))}`,
-      `  stalls: players ${players.map((c) => `${c.stats.stalls} (${c.stats.stallFrames} frames)`).join(', ')}; spectator ${spectator.stats.stalls}`,
-      `  input delay ${players.map((c) => c.stats.inputDelay).join('/')} ticks, lead ${players.map((c) => c.stats.lead).join('/')}, ` +
-        `playout ${players.map((c) => c.stats.playoutDelay).join('/')}, rtt ${players.map((c) => c.stats.rtt.toFixed(0)).join('/')} ms`,
-      `  link loss ${players.map((c) => `${c.link![0].lost}/${c.link![0].sent} up, ${c.link![1].lost}/${c.link![1].sent} down`).join('; ')}`,
-      `  relay: ${r.relay.messagesIn} in / ${r.relay.messagesOut} out, ${(r.relay.bytesOut / 1024).toFixed(0)} KiB out, ` +
-        `hash checks ${r.relay.hashChecks}, inputs filled after the deadline ${r.relay.filledInputs}`,
-    ].join('\n'),
-  );
-}
-
 describe('a 10-minute match at 100 ms ± 30 ms and 5 % loss', () => {
   it('lockstep: every client ends on the same hash', () => {
     const r = tenMinutes('lockstep');
-    report('lockstep', r);
     expect(r.finished).toBe(true);
     expect(r.hashesAgree).toBe(true);
     expect(r.room!.closedTick).toBeGreaterThanOrEqual(36_000);
@@ -67,7 +45,6 @@ describe('a 10-minute match at 100 ms ± 30 ms and 5 % loss', () => {
 
   it('rollback: every client ends on the same hash', () => {
     const r = tenMinutes('rollback');
-    report('rollback', r);
     expect(r.finished).toBe(true);
     expect(r.hashesAgree).toBe(true);
     expect(r.room!.desyncs).toHaveLength(0);

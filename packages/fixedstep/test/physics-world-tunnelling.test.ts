@@ -90,9 +90,6 @@ describe('discrete detection: the share that tunnels is max(0, 1 − (w + 2r) / 
     // w = 0.4 ≥ v·dt = 0.3 > w/2 + r = 0.22
     const share = fire({ speed: 10, wall: 0.4, radius: 0.02, dt: 0.03, ccd: 'off' });
     expect(share).toBeGreaterThan(0.2);
-    console.log(
-      ['| v | w | r | dt | body | w ≥ v·dt | theory | measured |', ...rows.sort()].join('\n'),
-    );
   });
 });
 

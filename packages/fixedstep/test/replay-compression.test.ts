@@ -22,12 +22,6 @@ describe('replay compression', () => {
     const inputPerMinute = sectionBytes(run.bytes, 'INPUTS') / minutes;
     const filePerMinute = run.bytes.length / minutes;
     const changesPerMinute = r.runCount(0) / minutes;
-    console.log(
-      `replay size, 1 player, 60 Hz: inputs ${inputPerMinute.toFixed(0)} B/min ` +
-        `(${changesPerMinute.toFixed(0)} input changes/min, ${(inputPerMinute / changesPerMinute).toFixed(2)} B each); ` +
-        `whole file with a checkpoint every second ${filePerMinute.toFixed(0)} B/min ` +
-        `(uncompressed inputs would be ${MINUTE * 4} B/min)`,
-    );
     // The bot changes its input ~100 times a minute (a direction every 0.5–4 s, a jump tap every
     // 1–3 s, fire bursts), each change being a run of ≈ 2–4 bytes: well under 1 KB/min. The
     // checkpoints add 8 B/s = 480 B/min; 2 KB/min leaves room for a busier player.

@@ -116,10 +116,6 @@ describe('capture the flag: a bot match', () => {
     const s = game.state;
     const hud = game.hud();
     const total = (a: Uint32Array) => a.reduce((x, y) => x + y, 0);
-    console.log(
-      `ctf bot match, seed ${MATCH_SEED}, ${(game.tick / 3600).toFixed(1)} min: player 0 ${JSON.stringify(hud)}; ` +
-        `all: ${total(s.kills)} kills, ${total(s.captures)} captures, ${s.shots} shots`,
-    );
     expect(hud.kills).toBeGreaterThan(0);
     expect(hud.flags).toBeGreaterThan(0);
     expect(hud.deaths).toBeGreaterThan(0);
@@ -182,11 +178,6 @@ describe("capture the flag: the talk's breakage, for real", () => {
     it(`bullets vs a 4-unit wall on a ${d.name} display: through under update, none under step`, () => {
       const naive = shootAtThinWall('variable', d.hz, d.jitter, d.events);
       const fixed = shootAtThinWall('fixed', d.hz, d.jitter, d.events);
-      console.log(
-        `ctf thin wall, ${d.name}: variable Δt (discrete) ${naive.through}/${naive.shots} bullets through, ` +
-          `${naive.kills} kills behind the wall (longest frame ${naive.maxDtMs.toFixed(0)} ms); ` +
-          `fixed step (CCD) ${fixed.through}/${fixed.shots}, ${fixed.kills} kills`,
-      );
       expect(naive.shots).toBeGreaterThan(50);
       expect(naive.through).toBeGreaterThan(naive.shots / 2);
       expect(naive.counted).toBeGreaterThanOrEqual(naive.through);
@@ -213,9 +204,6 @@ describe("capture the flag: the talk's breakage, for real", () => {
     };
     const naive = play('variable');
     const fixed = play('fixed');
-    console.log(
-      `ctf bot minute at 25 Hz: variable ${JSON.stringify(naive)}; fixed ${JSON.stringify(fixed)}`,
-    );
     expect(naive.throughWalls).toBeGreaterThan(0);
     expect(fixed.throughWalls).toBe(0);
   });
@@ -268,7 +256,6 @@ describe('capture the flag: replays', () => {
     expect(replay.header.players).toEqual(['ann', 'bob']);
     const result = verifyReplay(match.bytes, gameFromReplayHeader);
     expect(result).toMatchObject({ ok: true, ticks: match.ticks, lastGoodTick: match.ticks });
-    console.log(`ctf replay, 2 min, 2 players: ${match.bytes.length} bytes`);
   });
 
   it('an edited input is caught at the next checkpoint', () => {

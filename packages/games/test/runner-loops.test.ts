@@ -93,10 +93,6 @@ describe('runner: the same play under a variable Δt and a fixed step', () => {
     expect(at20.apex).toBeCloseTo(1.74, 4);
     expect(at60.length).toBeCloseTo(6.59, 2);
     expect(at20.length).toBeCloseTo(6.08, 2);
-    console.log(
-      `variable Δt: jump apex ${at60.apex.toFixed(3)} m at 60 Hz, ${at20.apex.toFixed(3)} m at 20 Hz; ` +
-        `length ${at60.length.toFixed(2)} m vs ${at20.length.toFixed(2)} m`,
-    );
     expect(at60.over).toBe(false);
     expect(at60.distance).toBeGreaterThan(RUNNER_TUNING.firstObstacle + 5);
     expect(crashedAtFirst(at20)).toBe(true);

@@ -100,14 +100,6 @@ describe('runner replays: a 10-minute bot game', () => {
     const section = (name: string) => replay.sections.find((s) => s.name === name)!.length;
     const inputsPerMinute = section('INPUTS') / MINUTES;
     const filePerMinute = run.bytes.length / MINUTES;
-    const checkpointsPerMinute = section('CHECKPOINTS') / MINUTES;
-    const keyframesPerMinute = section('KEYFRAMES') / MINUTES;
-    console.log(
-      `runner replay, ${MINUTES} min of the bot: ${run.bytes.length} B = ${filePerMinute.toFixed(0)} B/min ` +
-        `(inputs ${inputsPerMinute.toFixed(0)} B/min over ${replay.runCount(0)} input runs, ` +
-        `checkpoints ${checkpointsPerMinute.toFixed(0)}, keyframes ${keyframesPerMinute.toFixed(0)}); ` +
-        `raw u32 inputs would be ${(TICKS * 4) / MINUTES} B/min`,
-    );
     expect(inputsPerMinute).toBeLessThan(400);
     expect(filePerMinute).toBeLessThan(1200);
     // A checkpoint (8 bytes) every 10 s (the default), and one at tick 0.

@@ -131,9 +131,6 @@ describe('survival: a bot match', () => {
   it('3 minutes of the bot: waves cleared, enemies killed, lives lost', () => {
     const game = botMatch(SURVIVAL_SHOOTER, 1, 1, 3 * 60 * 60);
     const hud = game.hud();
-    console.log(
-      `survival bot match, seed 1, ${(game.tick / 3600).toFixed(1)} min: ${JSON.stringify(hud)}`,
-    );
     expect(hud.cleared).toBeGreaterThan(3);
     expect(hud.kills).toBeGreaterThan(50);
     expect(hud.lives).toBeLessThan(SURVIVAL.lives);
@@ -144,9 +141,6 @@ describe('survival: a bot match', () => {
     const game = botMatch(SURVIVAL_SHOOTER, 2, 1, 20 * 60 * 60);
     expect(game.over).toBe(true);
     expect(game.hud().lives).toBe(0);
-    console.log(
-      `survival to the end, seed 2: ${(game.tick / 3600).toFixed(1)} min, ${JSON.stringify(game.hud())}`,
-    );
     const hud = game.hud();
     const tick = game.tick;
     game.step([survivalBot(game, 0)]);
@@ -210,11 +204,6 @@ describe("survival: the talk's breakage, for real", () => {
     it(`fast enemies vs a 10-unit wall on a ${d.name} display: through under update, none under step`, () => {
       const naive = rushAtWall('variable', d.hz, d.jitter, d.events);
       const fixed = rushAtWall('fixed', d.hz, d.jitter, d.events);
-      console.log(
-        `survival wall, ${d.name}: variable Δt ${naive.through}/${naive.spawned} enemies through ` +
-          `(longest frame ${naive.maxDtMs.toFixed(0)} ms); fixed step ${fixed.through}/${fixed.spawned}; ` +
-          `lives lost ${naive.livesLost} vs ${fixed.livesLost}`,
-      );
       expect(naive.spawned).toBeGreaterThanOrEqual(39);
       expect(naive.through).toBeGreaterThan(naive.spawned / 2);
       expect(naive.counted).toBeGreaterThanOrEqual(naive.through);
@@ -249,7 +238,6 @@ describe('survival: replays', () => {
       ticks: match.ticks,
       lastGoodTick: match.ticks,
     });
-    console.log(`survival replay, 2 min with keyframes every 20 s: ${match.bytes.length} bytes`);
   });
 
   it('an edited input is caught at the next checkpoint', () => {
