@@ -3,6 +3,7 @@
  * tick it holds, so a stale slot is never mistaken for a newer tick.
  * @internal
  */
+import type { Simulation } from '../sim/simulation.js';
 
 /** `lanes` u32 inputs per tick for the last `capacity` ticks written. */
 export class InputRing {
@@ -64,10 +65,7 @@ export class InputRing {
 }
 
 /** A simulation that can write its snapshot into a buffer it is given (see `Simulation.saveInto`). */
-export interface SavesInto {
-  readonly snapshotSize: number;
-  saveInto(out: Uint8Array): number;
-}
+export type SavesInto = Required<Pick<Simulation<unknown>, 'snapshotSize' | 'saveInto'>>;
 
 /** The snapshots (`save()` bytes) of the last `capacity` ticks stored. */
 export class SnapshotRing {
