@@ -1,5 +1,6 @@
 import { readFileSync } from 'node:fs';
 import { describe, expect, it } from 'vitest';
+import fc from 'fast-check';
 import {
   PhysicsWorld,
   Random,
@@ -10,7 +11,9 @@ import {
   circlesInBoxScene,
   hex64,
   runForHash,
+  type CcdMode,
 } from 'fixedstep';
+import { wallMarksSetting } from '../src/physics/world/broad-phase.js';
 import { solverKernelsSetting } from '../src/physics/world/solver-kernels.js';
 import { SOLVER_KERNELS_WASM } from '../src/physics/world/solver-wasm.js';
 import { KERNELS, assembleKernels, kernelsModule } from '../../../scripts/wasm.mjs';
@@ -188,5 +191,132 @@ describe('the solver kernels', () => {
     }
     expect(outOfOrder).toBe(0);
     expect(neighbours).toBeLessThan(count / 20);
+  });
+});
+
+describe('the cells marked near walls', () => {
+  /** A field of bodies among walls: some fast, some bullets, walls in the middle of the crowd. */
+  const field = fc.record({
+    seed: fc.integer({ min: 1, max: 2 ** 31 - 1 }),
+    bodies: fc.integer({ min: 40, max: 160 }),
+    walls: fc.integer({ min: 1, max: 8 }),
+    ccd: fc.constantFrom<CcdMode>('auto', 'bullets', 'off'),
+    maxCcdIterations: fc.integer({ min: 1, max: 4 }),
+    cellSize: fc.constantFrom(0, 0.7),
+    enableSleep: fc.boolean(),
+  });
+
+  function build(spec: typeof field extends fc.Arbitrary<infer T> ? T : never): PhysicsWorld {
+    const r = new Random(spec.seed);
+    const w = new PhysicsWorld({
+      ccd: spec.ccd,
+      maxCcdIterations: spec.maxCcdIterations,
+      cellSize: spec.cellSize,
+      enableSleep: spec.enableSleep,
+    });
+    w.addStaticBox(0, -0.5, 12, 0.5);
+    for (let k = 0; k < spec.walls; k++) {
+      // Walls of up to 3 m among the bodies (long ones would have every cell marked).
+      const ax = r.range(-10, 10);
+      const ay = r.range(0, 8);
+      if (r.next() < 0.5) w.addSegment(ax, ay, ax + r.range(-3, 3), ay + r.range(-3, 3));
+      else w.addStaticBox(ax, ay, r.range(0.02, 1.5), r.range(0.02, 1.5));
+    }
+    for (let k = 0; k < spec.bodies; k++) {
+      // Speeds from resting to several cells a step (a cell is 0.6 m here, a step 1/60 s).
+      const speed = [3, 30, 90, 250][Math.floor(r.next() * 4)]!;
+      const common = {
+        x: r.range(-11, 11),
+        y: r.range(0.2, 9),
+        vx: r.range(-speed, speed),
+        vy: r.range(-speed, speed),
+        bullet: r.next() < 0.1,
+      };
+      if (r.next() < 0.3)
+        w.createBox({ ...common, halfWidth: r.range(0.05, 0.3), halfHeight: r.range(0.05, 0.3) });
+      else w.createCircle({ ...common, radius: r.range(0.05, 0.3) });
+    }
+    return w;
+  }
+
+  it('skip only bodies no wall can reach: the same bits as testing every body (property)', () => {
+    let marked = 0;
+    let runs = 0;
+    fc.assert(
+      fc.property(field, (spec) => {
+        const fast = build(spec);
+        wallMarksSetting.enabled = false;
+        const slow = build(spec);
+        try {
+          for (let t = 0; t < 60; t++) {
+            wallMarksSetting.enabled = true;
+            fast.step();
+            wallMarksSetting.enabled = false;
+            slow.step();
+            if (fast.hash() !== slow.hash()) return false;
+            if ((fast as unknown as { grid: { wallMarks: boolean } }).grid.wallMarks) marked++;
+          }
+        } finally {
+          wallMarksSetting.enabled = true;
+        }
+        runs++;
+        return true;
+      }),
+      { numRuns: 60 },
+    );
+    // The marks were in use in most steps (a test of nothing otherwise).
+    expect(marked).toBeGreaterThan(runs * 60 * 0.5);
+  });
+
+  it('let the wall guard skip only paths that cannot cross a wall (property)', () => {
+    // The guard moves a body back where its path crossed a wall. Steps seldom give it a long
+    // path (continuous detection stops those first), so paths of up to 5 cells are made here,
+    // from where each body started its last step, and the guard runs with and without the marks.
+    let guarded = 0;
+    let skipped = 0;
+    fc.assert(
+      fc.property(field, fc.integer({ min: 1, max: 2 ** 31 - 1 }), (spec, pathSeed) => {
+        const w = build(spec);
+        w.step();
+        const { bodies, grid, ccd } = w as unknown as {
+          bodies: {
+            slotCount: number;
+            x: Float64Array;
+            y: Float64Array;
+            startX: Float64Array;
+            startY: Float64Array;
+          };
+          grid: { wallMarks: boolean; cellSize: number; nearWall: Uint8Array; cellOf: Int32Array };
+          ccd: { guardWalls(all: boolean): void };
+        };
+        if (!grid.wallMarks) return true;
+        const r = new Random(pathSeed);
+        const n = bodies.slotCount;
+        const reach = 5 * grid.cellSize;
+        for (let i = 0; i < n; i++) {
+          bodies.x[i] = bodies.startX[i]! + r.range(-reach, reach);
+          bodies.y[i] = bodies.startY[i]! + r.range(-reach, reach);
+        }
+        const x = bodies.x.slice(0, n);
+        const y = bodies.y.slice(0, n);
+        ccd.guardWalls(true);
+        const markedX = bodies.x.slice(0, n);
+        const markedY = bodies.y.slice(0, n);
+        bodies.x.set(x);
+        bodies.y.set(y);
+        grid.wallMarks = false;
+        ccd.guardWalls(true);
+        for (let i = 0; i < n; i++) {
+          if (markedX[i] !== bodies.x[i] || markedY[i] !== bodies.y[i]) return false;
+          if (bodies.x[i] !== x[i] || bodies.y[i] !== y[i]) guarded++;
+          if (grid.nearWall[grid.cellOf[i]!] === 0) skipped++;
+        }
+        return true;
+      }),
+      { numRuns: 60 },
+    );
+    // Paths were cut, and bodies were skipped.
+    expect(guarded).toBeGreaterThan(100);
+    expect(skipped).toBeGreaterThan(100);
   });
 });

@@ -40,6 +40,13 @@ export class Grid {
   private cellCursor = new Int32Array(0);
   /** Body ids sorted by cell, in id order within a cell. */
   cellItems = new Int32Array(0);
+  /**
+   * By cell: 1 if a wall may reach a body whose centre starts the step in it (see
+   * {@link markWalls}); valid when {@link wallMarks} is true.
+   */
+  nearWall = new Uint8Array(0);
+  /** Whether {@link nearWall} holds this step's marks (false: test every body against the walls). */
+  wallMarks = false;
 
   /** Room for `capacity` bodies (and the cells a grid of them may use). */
   resize(capacity: number): void {
@@ -48,6 +55,7 @@ export class Grid {
     const maxCells = 4 * capacity + 64;
     this.cellStart = new Int32Array(maxCells + 2);
     this.cellCursor = new Int32Array(maxCells + 1);
+    this.nearWall = new Uint8Array(maxCells + 1);
   }
 
   /**
@@ -144,7 +152,68 @@ export class Grid {
       items[cursor[c]!++] = i;
     }
   }
+
+  /**
+   * Marks the cells near a wall, so the body–wall loops (`wallPairs` here, the wall guard in
+   * `ccd.ts`) skip at once the bodies in the middle of the world, which no wall can reach. A cell
+   * is marked when it is within {@link WALL_MARGIN} cells of a wall's bounding box. A body pokes
+   * out of its cell's centre by at most half a cell (a cell is twice the largest half extent),
+   * and the guard asks only about bodies that moved at most a cell along each axis: from an
+   * unmarked cell neither reaches within a cell of the wall, so skipping it changes nothing (the
+   * loops still run their own exact tests on every body they do not skip). Index arithmetic is
+   * the same monotone `floor((v − min) / cell)` the bodies were sorted with. Leaves
+   * {@link wallMarks} false (every body is tested) when there is no grid this step, or when the
+   * walls' boxes cover more cells than the bodies' share of them (marking would cost more than
+   * it saves).
+   */
+  markWalls(statics: StaticStore): void {
+    this.wallMarks = false;
+    const cols = this.cols;
+    const rows = this.rows;
+    const count = statics.count;
+    if (cols === 0 || count === 0 || !wallMarksSetting.enabled) return;
+    const cells = cols * rows;
+    const inv = this.inverseCellSize;
+    const minX = this.minX;
+    const minY = this.minY;
+    const wallMinX = statics.minX;
+    const wallMinY = statics.minY;
+    const wallMaxX = statics.maxX;
+    const wallMaxY = statics.maxY;
+    const mark = this.nearWall;
+    mark.fill(0, 0, cells);
+    let area = 0;
+    for (let pass = 0; pass < 2; pass++) {
+      for (let s = 0; s < count; s++) {
+        const x0 = Math.floor((wallMinX[s]! - minX) * inv) - WALL_MARGIN;
+        const x1 = Math.floor((wallMaxX[s]! - minX) * inv) + WALL_MARGIN;
+        const y0 = Math.floor((wallMinY[s]! - minY) * inv) - WALL_MARGIN;
+        const y1 = Math.floor((wallMaxY[s]! - minY) * inv) + WALL_MARGIN;
+        if (x1 < 0 || y1 < 0 || x0 >= cols || y0 >= rows) continue; // beside the grid
+        const fromX = x0 > 0 ? x0 : 0;
+        const toX = x1 < cols ? x1 : cols - 1;
+        const fromY = y0 > 0 ? y0 : 0;
+        const toY = y1 < rows ? y1 : rows - 1;
+        if (pass === 0) {
+          area += (toX - fromX + 1) * (toY - fromY + 1);
+          continue;
+        }
+        for (let cy = fromY; cy <= toY; cy++) mark.fill(1, cy * cols + fromX, cy * cols + toX + 1);
+      }
+      if (pass === 0 && area > cells) return;
+    }
+    this.wallMarks = true;
+  }
 }
+
+/**
+ * Whether steps mark the cells near walls (true); tests switch it off to compare the bits.
+ * @internal
+ */
+export const wallMarksSetting = { enabled: true };
+
+/** Cells of margin around a wall's box in {@link Grid.markWalls} (one would do; two for rounding). */
+const WALL_MARGIN = 2;
 
 /**
  * Every contact of this step into `contacts`: body–body pairs through the grid (cell order, then
@@ -168,7 +237,7 @@ export function findContacts(
   contacts.count = 0;
   if (!schedule.circlePairs(grid, bodies, contacts)) bodyPairs(grid, bodies, statics, contacts);
   contacts.bodyPairCount = contacts.count;
-  wallPairs(bodies, statics, contacts, gravityPending, def);
+  wallPairs(grid, bodies, statics, contacts, gravityPending, def);
 }
 
 /** The body–body contacts through the grid: cell order, then id order. */
@@ -241,8 +310,9 @@ function bodyPairs(
   }
 }
 
-/** The body–wall contacts: body order, then wall order. */
+/** The body–wall contacts: body order, then wall order (bodies far from every wall skipped). */
 function wallPairs(
+  grid: Grid,
   bodies: BodyStore,
   statics: StaticStore,
   contacts: ContactList,
@@ -263,9 +333,12 @@ function wallPairs(
   const wallMaxX = statics.maxX;
   const wallMaxY = statics.maxY;
   const n = bodies.slotCount;
+  const marks = grid.wallMarks;
+  const nearWall = grid.nearWall;
+  const cellOf = grid.cellOf;
   for (let i = 0; i < n; i++) {
     const f = flags[i]!;
-    if (f === 0 || im[i] === 0) continue;
+    if (f === 0 || im[i] === 0 || (marks && nearWall[cellOf[i]!] === 0)) continue;
     const xi = x[i]!;
     const yi = y[i]!;
     const wi = hw[i]!;

@@ -690,6 +690,13 @@ export class ContinuousSolver {
     const halfWidth = statics.halfWidth;
     const halfHeight = statics.halfHeight;
     const wallCount = statics.count;
+    // A body that starts in a cell far from every wall and moves at most a cell along each axis
+    // cannot cross one (Grid.markWalls): skipped without the wall loop.
+    const grid = this.grid;
+    const marks = grid.wallMarks;
+    const nearWall = grid.nearWall;
+    const cellOf = grid.cellOf;
+    const cell = grid.cellSize;
     for (let i = 0; i < n; i++) {
       const f = flags[i]!;
       if (f === 0 || inverseMass[i] === 0 || (!all && (f & BULLET) === 0)) continue;
@@ -697,6 +704,11 @@ export class ContinuousSolver {
       const p0y = startY[i]!;
       let p1x = x[i]!;
       let p1y = y[i]!;
+      if (marks && nearWall[cellOf[i]!] === 0) {
+        const dx = p1x - p0x;
+        const dy = p1y - p0y;
+        if (dx <= cell && dx >= -cell && dy <= cell && dy >= -cell) continue;
+      }
       // The path's bounding box, made again only when a wall moves the end.
       let loX = p0x < p1x ? p0x : p1x;
       let hiX = p0x < p1x ? p1x : p0x;

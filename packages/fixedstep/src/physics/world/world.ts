@@ -472,6 +472,7 @@ export class PhysicsWorld implements Simulation<unknown> {
     // Contacts where the bodies are now (a new one wakes what it touches), gravity, velocities.
     this.beginStep();
     this.grid.build(bodies, def);
+    this.grid.markWalls(this.statics);
     this.findContactsOrUndo(def);
     this.solverStep(def);
 
