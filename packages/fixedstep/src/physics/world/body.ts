@@ -77,9 +77,6 @@ export class BodyStore {
   pathStartY = new Float64Array(0);
   /** Inverse mass as the solvers see it this step: 0 for kinematic and sleeping bodies. */
   solverInverseMass = new Float64Array(0);
-  /** How far each body has moved since its contacts were found (the push-out's prediction). */
-  movedX = new Float64Array(0);
-  movedY = new Float64Array(0);
 
   /** The lowest free slot: the id the next body gets. */
   nextId(): number {
@@ -178,8 +175,6 @@ export class BodyStore {
     this.pathStartX = new Float64Array(capacity);
     this.pathStartY = new Float64Array(capacity);
     this.solverInverseMass = new Float64Array(capacity);
-    this.movedX = new Float64Array(capacity);
-    this.movedY = new Float64Array(capacity);
     this.capacity = capacity;
   }
 }

@@ -248,7 +248,8 @@ export class SolverSchedule {
     this.visitsAt = 48 * all;
     // After the visits, room for the WebAssembly plan's inputs and scratch (see planInKernel).
     const cached = cache.count;
-    const scratch = 44 * count + 28 * slots + 24 * cached + 16;
+    // (solvePositions' columns, 12 bytes a contact and 40 a body, fit in the same room.)
+    const scratch = 44 * count + 40 * slots + 24 * cached + 16;
     const kernels = this.reserve(this.visitsAt + VISIT_BYTES * count + scratch, count);
     if (this.order.length < count) {
       const room = Math.max(count, 2 * this.order.length);
@@ -649,8 +650,8 @@ export function solveVelocities(
  * Relaxation of positions (see the file comment): `positionIterations` sweeps over the contacts in
  * the order {@link solveVelocities} planned for this step (every body meets its contacts in list
  * order: body–body, then body–wall), pushing apart what overlaps deeper than the slop along the
- * contact normal, on separations predicted from `bodies.movedX/Y` (how far each body has moved
- * since its contacts were found; updated as it goes). Writes positions.
+ * contact normal, on separations predicted from how far each body has moved since its contacts
+ * were found (`x − startX`, updated as it goes). Writes positions.
  */
 export function solvePositions(
   contacts: ContactList,
@@ -667,32 +668,46 @@ export function solvePositions(
   const separation = contacts.separation;
   const x = bodies.x;
   const y = bodies.y;
-  const movedX = bodies.movedX;
-  const movedY = bodies.movedY;
+  const startX = bodies.startX;
+  const startY = bodies.startY;
   const inverseMass = bodies.solverInverseMass;
   const f64 = schedule.f64;
   const i32 = schedule.i32;
   const order = schedule.order;
   const first = schedule.visitsAt >>> 3;
   const positions = schedule.positionsAt >>> 3;
-  for (let i = 0, p = positions; i < n; i++, p += 4) {
-    f64[p] = movedX[i]!;
-    f64[p + 1] = movedY[i]!;
-    f64[p + 2] = x[i]!;
-    f64[p + 3] = y[i]!;
-  }
-  f64.fill(0, positions + 4 * n, positions + 4 * all);
   const kernels = schedule.kernels;
+  // Columns after the visits for the WebAssembly preparation: separations, inverse masses, the
+  // order, then x, y, startX, startY.
+  const separationAt = schedule.visitsAt + VISIT_BYTES * count;
+  const inverseMassAt = separationAt + 8 * count;
+  const orderAt = inverseMassAt + 8 * n;
+  const xAt = (orderAt + 4 * count + 7) & ~7;
+  const yAt = xAt + 8 * n;
+  const startXAt = yAt + 8 * n;
+  const startYAt = startXAt + 8 * n;
   if (kernels) {
-    // The same preparation in WebAssembly, from columns copied in after the visits.
-    const separationAt = schedule.visitsAt + VISIT_BYTES * count;
-    const inverseMassAt = separationAt + 8 * count;
-    const orderAt = inverseMassAt + 8 * n;
     f64.set(separation.subarray(0, count), separationAt >>> 3);
     f64.set(inverseMass.subarray(0, n), inverseMassAt >>> 3);
     i32.set(order.subarray(0, count), orderAt >>> 2);
+    f64.set(x.subarray(0, n), xAt >>> 3);
+    f64.set(y.subarray(0, n), yAt >>> 3);
+    f64.set(startX.subarray(0, n), startXAt >>> 3);
+    f64.set(startY.subarray(0, n), startYAt >>> 3);
+    kernels.positionsIn(n, all - n, schedule.positionsAt, xAt, yAt, startXAt, startYAt);
     kernels.positionsPrep(schedule.visitsAt, count, pairs, orderAt, separationAt, inverseMassAt);
   } else {
+    // How far each body has moved since its contacts were found, then where it is (a free slot's
+    // values are never read: it has no contact).
+    for (let i = 0, p = positions; i < n; i++, p += 4) {
+      const px = x[i]!;
+      const py = y[i]!;
+      f64[p] = px - startX[i]!;
+      f64[p + 1] = py - startY[i]!;
+      f64[p + 2] = px;
+      f64[p + 3] = py;
+    }
+    f64.fill(0, positions + 4 * n, positions + 4 * all);
     for (let s = 0, o = first; s < count; s++, o += 8) {
       const k = order[s]!;
       f64[o + SEPARATION] = separation[k]!;
@@ -726,9 +741,13 @@ export function solvePositions(
       def.linearSlop,
       def.positionCorrection,
     );
+  if (kernels) {
+    kernels.positionsOut(n, schedule.positionsAt, xAt, yAt);
+    x.set(f64.subarray(xAt >>> 3, (xAt >>> 3) + n));
+    y.set(f64.subarray(yAt >>> 3, (yAt >>> 3) + n));
+    return;
+  }
   for (let i = 0, p = positions; i < n; i++, p += 4) {
-    movedX[i] = f64[p]!;
-    movedY[i] = f64[p + 1]!;
     x[i] = f64[p + 2]!;
     y[i] = f64[p + 3]!;
   }

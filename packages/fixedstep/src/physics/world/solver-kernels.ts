@@ -26,6 +26,16 @@ export interface SolverKernels {
     beta: number,
   ): void;
   velocitiesIn(slots: number, standIns: number, vx: number, vy: number): void;
+  positionsIn(
+    slots: number,
+    standIns: number,
+    at: number,
+    x: number,
+    y: number,
+    startX: number,
+    startY: number,
+  ): void;
+  positionsOut(slots: number, at: number, x: number, y: number): void;
   velocitiesOut(
     first: number,
     count: number,
@@ -114,6 +124,8 @@ export function solverKernels(): SolverKernels | undefined {
       plan: e.plan,
       positionsPrep: e.positionsPrep,
       velocitiesIn: e.velocitiesIn,
+      positionsIn: e.positionsIn,
+      positionsOut: e.positionsOut,
       velocitiesOut: e.velocitiesOut,
     };
   } catch {

@@ -452,4 +452,40 @@
         (f64.store (i32.add (local.get $jt) (local.get $k)) (f64.load offset=48 (local.get $p)))
         (local.set $s (i32.add (local.get $s) (i32.const 1)))
         (br $visit))))
+
+  ;; Positions in: for each of the $slots bodies, 32 bytes from $at — how far it has moved since its
+  ;; contacts were found (x − startX, y − startY: the columns at $x, $y, $sx, $sy, f64 by body),
+  ;; then x and y — and the $standIns wall stand-ins after them set to 0.
+  (func (export "positionsIn") (param $slots i32) (param $standIns i32) (param $at i32)
+        (param $x i32) (param $y i32) (param $sx i32) (param $sy i32)
+    (local $i i32) (local $q i32) (local $p i32) (local $px f64) (local $py f64)
+    (local.set $p (local.get $at))
+    (block $done
+      (loop $body
+        (br_if $done (i32.ge_s (local.get $i) (local.get $slots)))
+        (local.set $q (i32.shl (local.get $i) (i32.const 3)))
+        (local.set $px (f64.load (i32.add (local.get $x) (local.get $q))))
+        (local.set $py (f64.load (i32.add (local.get $y) (local.get $q))))
+        (f64.store (local.get $p) (f64.sub (local.get $px) (f64.load (i32.add (local.get $sx) (local.get $q)))))
+        (f64.store offset=8 (local.get $p) (f64.sub (local.get $py) (f64.load (i32.add (local.get $sy) (local.get $q)))))
+        (f64.store offset=16 (local.get $p) (local.get $px))
+        (f64.store offset=24 (local.get $p) (local.get $py))
+        (local.set $p (i32.add (local.get $p) (i32.const 32)))
+        (local.set $i (i32.add (local.get $i) (i32.const 1)))
+        (br $body)))
+    (memory.fill (local.get $p) (i32.const 0) (i32.shl (local.get $standIns) (i32.const 5))))
+
+  ;; Positions out: each body's x and y from the 32 bytes a body from $at into the columns at $x, $y.
+  (func (export "positionsOut") (param $slots i32) (param $at i32) (param $x i32) (param $y i32)
+    (local $i i32) (local $q i32) (local $p i32)
+    (local.set $p (local.get $at))
+    (block $done
+      (loop $body
+        (br_if $done (i32.ge_s (local.get $i) (local.get $slots)))
+        (local.set $q (i32.shl (local.get $i) (i32.const 3)))
+        (f64.store (i32.add (local.get $x) (local.get $q)) (f64.load offset=16 (local.get $p)))
+        (f64.store (i32.add (local.get $y) (local.get $q)) (f64.load offset=24 (local.get $p)))
+        (local.set $p (i32.add (local.get $p) (i32.const 32)))
+        (local.set $i (i32.add (local.get $i) (i32.const 1)))
+        (br $body))))
 )

@@ -479,19 +479,6 @@ export class PhysicsWorld implements Simulation<unknown> {
     this.ccd.integratePositions(def);
 
     // Push-out, on separations predicted from each body's motion since its contacts were found.
-    const n = bodies.slotCount;
-    const flags = bodies.flags;
-    const x = bodies.x;
-    const y = bodies.y;
-    const startX = bodies.startX;
-    const startY = bodies.startY;
-    const movedX = bodies.movedX;
-    const movedY = bodies.movedY;
-    for (let i = 0; i < n; i++) {
-      if (flags[i] === 0) continue;
-      movedX[i] = x[i]! - startX[i]!;
-      movedY[i] = y[i]! - startY[i]!;
-    }
     solvePositions(this.contacts, bodies, def, this.schedule);
     if (def.ccd !== 'off' && this.statics.count > 0) this.ccd.guardWalls(def.ccd === 'auto');
     this.islands.update(bodies, this.contacts, def, this._tick);
