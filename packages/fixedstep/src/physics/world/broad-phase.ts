@@ -63,29 +63,54 @@ export class Grid {
    * (or `cellSize` if larger), doubled until the grid has at most `4 × slots + 64` cells — a
    * budget from the slot count (state), not the capacity (history).
    */
-  build(bodies: BodyStore, def: Readonly<WorldDef>): void {
-    const cellSizeSetting = def.cellSize;
+  build(bodies: BodyStore, def: Readonly<WorldDef>, schedule: SolverSchedule): void {
     const n = bodies.slotCount;
-    const flags = bodies.flags;
-    const x = bodies.x;
-    const y = bodies.y;
-    const cellOf = this.cellOf;
+    const budget = 4 * n + 64;
+    // In WebAssembly once the solver's kernels run (gridBounds and gridCells in solver.wat: the
+    // same comparisons and arithmetic), over columns copied in: x, y (f64), the bounds (4 f64),
+    // cellOf, items (i32), start (budget + 2), cursor (budget + 1), flags (u8).
+    const even = (n + 1) & ~1;
+    const yAt = 8 * even;
+    const boundsAt = yAt + 8 * even;
+    const cellOfAt = boundsAt + 32;
+    const itemsAt = cellOfAt + 4 * even;
+    const startAt = itemsAt + 4 * even;
+    const cursorAt = startAt + 4 * (budget + 2);
+    const flagsAt = cursorAt + 4 * (budget + 1);
+    const kernels = n > 0 ? schedule.kernelsWith(flagsAt + n) : null;
     let minX = Infinity;
     let minY = Infinity;
     let maxX = -Infinity;
     let maxY = -Infinity;
-    for (let i = 0; i < n; i++) {
-      if (flags[i] === 0) {
-        cellOf[i] = -1;
-        continue;
+    if (kernels) {
+      const f64 = schedule.f64;
+      f64.set(bodies.x.subarray(0, n), 0);
+      f64.set(bodies.y.subarray(0, n), yAt >>> 3);
+      new Uint8Array(schedule.memory, flagsAt, n).set(bodies.flags.subarray(0, n));
+      kernels.gridBounds(n, 0, yAt, flagsAt, cellOfAt, boundsAt);
+      const b = boundsAt >>> 3;
+      minX = f64[b]!;
+      minY = f64[b + 1]!;
+      maxX = f64[b + 2]!;
+      maxY = f64[b + 3]!;
+    } else {
+      const flags = bodies.flags;
+      const x = bodies.x;
+      const y = bodies.y;
+      const cellOf = this.cellOf;
+      for (let i = 0; i < n; i++) {
+        if (flags[i] === 0) {
+          cellOf[i] = -1;
+          continue;
+        }
+        const a = x[i]!;
+        const b = y[i]!;
+        cellOf[i] = 0;
+        if (a < minX) minX = a;
+        if (a > maxX) maxX = a;
+        if (b < minY) minY = b;
+        if (b > maxY) maxY = b;
       }
-      const a = x[i]!;
-      const b = y[i]!;
-      cellOf[i] = 0;
-      if (a < minX) minX = a;
-      if (a > maxX) maxX = a;
-      if (b < minY) minY = b;
-      if (b > maxY) maxY = b;
     }
     let spanX = maxX - minX;
     let spanY = maxY - minY;
@@ -108,15 +133,14 @@ export class Grid {
       // No bodies, or a position that is not finite (the world never lets one in): no pairs.
       this.cols = 0;
       this.rows = 0;
-      for (let i = 0; i < n; i++) cellOf[i] = -1;
+      this.cellOf.fill(-1, 0, n);
       return;
     }
     const twice = 2 * bodies.largestHalfExtent;
-    let h = cellSizeSetting > twice ? cellSizeSetting : twice;
+    let h = def.cellSize > twice ? def.cellSize : twice;
     let inv = 1 / h;
     let cols = Math.floor(spanX * inv) + 1;
     let rows = Math.floor(spanY * inv) + 1;
-    const budget = 4 * n + 64;
     while (cols * rows > budget) {
       h *= 2;
       inv = 1 / h;
@@ -131,6 +155,41 @@ export class Grid {
     this.inverseCellSize = inv;
     this.cellSize = h;
     const cells = cols * rows;
+    if (kernels) {
+      kernels.gridCells(
+        n,
+        0,
+        yAt,
+        cellOfAt,
+        minX,
+        minY,
+        inv,
+        cols,
+        cells,
+        startAt,
+        cursorAt,
+        itemsAt,
+      );
+      const i32 = schedule.i32;
+      const start = startAt >>> 2;
+      this.cellOf.set(i32.subarray(cellOfAt >>> 2, (cellOfAt >>> 2) + n));
+      this.cellStart.set(i32.subarray(start, start + cells + 1));
+      this.cellItems.set(i32.subarray(itemsAt >>> 2, (itemsAt >>> 2) + i32[start + cells]!));
+      return;
+    }
+    this.sort(bodies, cells);
+  }
+
+  /** The counting sort of {@link build} in JavaScript: cells, their starts, the ids in cell order. */
+  private sort(bodies: BodyStore, cells: number): void {
+    const n = bodies.slotCount;
+    const x = bodies.x;
+    const y = bodies.y;
+    const cellOf = this.cellOf;
+    const minX = this.minX;
+    const minY = this.minY;
+    const inv = this.inverseCellSize;
+    const cols = this.cols;
     const start = this.cellStart;
     const cursor = this.cellCursor;
     const items = this.cellItems;

@@ -157,6 +157,15 @@ export class SolverSchedule {
   }
 
   /**
+   * The kernels over at least `bytes` of working memory (its contents need not survive), once a
+   * step has started them; null while the JavaScript loops run (see {@link kernels}).
+   */
+  kernelsWith(bytes: number): SolverKernels | null {
+    if (!this.kernels) return null;
+    return this.reserve(bytes, 0) ?? null;
+  }
+
+  /**
    * The body–body pass of `findContacts` in WebAssembly (`circlePairs` in solver.wat: the same
    * cells, order and arithmetic), for a world of circles only once the kernels run; puts the
    * contacts in `contacts` (from 0) and returns true. Returns false, having changed nothing, when

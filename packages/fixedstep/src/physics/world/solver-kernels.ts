@@ -36,6 +36,21 @@ export interface SolverKernels {
     startY: number,
   ): void;
   positionsOut(slots: number, at: number, x: number, y: number): void;
+  gridBounds(n: number, x: number, y: number, flags: number, cellOf: number, out: number): void;
+  gridCells(
+    n: number,
+    x: number,
+    y: number,
+    cellOf: number,
+    minX: number,
+    minY: number,
+    inv: number,
+    cols: number,
+    cells: number,
+    start: number,
+    cursor: number,
+    items: number,
+  ): void;
   velocitiesOut(
     first: number,
     count: number,
@@ -126,6 +141,8 @@ export function solverKernels(): SolverKernels | undefined {
       velocitiesIn: e.velocitiesIn,
       positionsIn: e.positionsIn,
       positionsOut: e.positionsOut,
+      gridBounds: e.gridBounds,
+      gridCells: e.gridCells,
       velocitiesOut: e.velocitiesOut,
     };
   } catch {

@@ -488,4 +488,88 @@
         (local.set $p (i32.add (local.get $p) (i32.const 32)))
         (local.set $i (i32.add (local.get $i) (i32.const 1)))
         (br $body))))
+
+  ;; Grid.build's first pass (broad-phase.ts): the bounds of the live bodies' centres (the columns
+  ;; at $x, $y, f64, and $flags, u8, by body) into 4 f64 at $out (min x, min y, max x, max y), each
+  ;; compared as the JavaScript compares (`if (v < min) min = v`); $cellOf (i32 by body) gets −1 for
+  ;; a free slot, else 0.
+  (func (export "gridBounds") (param $n i32) (param $x i32) (param $y i32) (param $flags i32)
+        (param $cellOf i32) (param $out i32)
+    (local $i i32) (local $q i32) (local $a f64) (local $b f64)
+    (local $minX f64) (local $minY f64) (local $maxX f64) (local $maxY f64)
+    (local.set $minX (f64.const inf))
+    (local.set $minY (f64.const inf))
+    (local.set $maxX (f64.const -inf))
+    (local.set $maxY (f64.const -inf))
+    (block $done
+      (loop $body
+        (br_if $done (i32.ge_s (local.get $i) (local.get $n)))
+        (if (i32.eqz (i32.load8_u (i32.add (local.get $flags) (local.get $i))))
+          (then (i32.store (i32.add (local.get $cellOf) (i32.shl (local.get $i) (i32.const 2))) (i32.const -1)))
+          (else
+            (i32.store (i32.add (local.get $cellOf) (i32.shl (local.get $i) (i32.const 2))) (i32.const 0))
+            (local.set $q (i32.shl (local.get $i) (i32.const 3)))
+            (local.set $a (f64.load (i32.add (local.get $x) (local.get $q))))
+            (local.set $b (f64.load (i32.add (local.get $y) (local.get $q))))
+            (local.set $minX (select (local.get $a) (local.get $minX) (f64.lt (local.get $a) (local.get $minX))))
+            (local.set $maxX (select (local.get $a) (local.get $maxX) (f64.gt (local.get $a) (local.get $maxX))))
+            (local.set $minY (select (local.get $b) (local.get $minY) (f64.lt (local.get $b) (local.get $minY))))
+            (local.set $maxY (select (local.get $b) (local.get $maxY) (f64.gt (local.get $b) (local.get $maxY))))))
+        (local.set $i (i32.add (local.get $i) (i32.const 1)))
+        (br $body)))
+    (f64.store (local.get $out) (local.get $minX))
+    (f64.store offset=8 (local.get $out) (local.get $minY))
+    (f64.store offset=16 (local.get $out) (local.get $maxX))
+    (f64.store offset=24 (local.get $out) (local.get $maxY)))
+
+  ;; Grid.build's counting sort: each live body's cell, floor((x − minX)·inv) + floor((y − minY)·inv)
+  ;; · cols, into $cellOf; the cells' starts (i32, $cells + 1 of them) at $start; the body ids in cell
+  ;; order, id order within a cell, at $items; $cursor is scratch ($cells of i32).
+  (func (export "gridCells") (param $n i32) (param $x i32) (param $y i32) (param $cellOf i32)
+        (param $minX f64) (param $minY f64) (param $inv f64) (param $cols i32) (param $cells i32)
+        (param $start i32) (param $cursor i32) (param $items i32)
+    (local $i i32) (local $q i32) (local $c i32) (local $at i32) (local $s i32) (local $colsF f64)
+    (local.set $colsF (f64.convert_i32_s (local.get $cols)))
+    (memory.fill (local.get $start) (i32.const 0) (i32.shl (i32.add (local.get $cells) (i32.const 1)) (i32.const 2)))
+    (block $done
+      (loop $body
+        (br_if $done (i32.ge_s (local.get $i) (local.get $n)))
+        (local.set $at (i32.add (local.get $cellOf) (i32.shl (local.get $i) (i32.const 2))))
+        (if (i32.ne (i32.load (local.get $at)) (i32.const -1))
+          (then
+            (local.set $q (i32.shl (local.get $i) (i32.const 3)))
+            (local.set $c (i32.trunc_f64_s
+              (f64.add
+                (f64.floor (f64.mul (f64.sub (f64.load (i32.add (local.get $x) (local.get $q))) (local.get $minX)) (local.get $inv)))
+                (f64.mul
+                  (f64.floor (f64.mul (f64.sub (f64.load (i32.add (local.get $y) (local.get $q))) (local.get $minY)) (local.get $inv)))
+                  (local.get $colsF)))))
+            (i32.store (local.get $at) (local.get $c))
+            (local.set $at (i32.add (local.get $start) (i32.shl (i32.add (local.get $c) (i32.const 1)) (i32.const 2))))
+            (i32.store (local.get $at) (i32.add (i32.load (local.get $at)) (i32.const 1)))))
+        (local.set $i (i32.add (local.get $i) (i32.const 1)))
+        (br $body)))
+    (local.set $c (i32.const 0))
+    (block $done
+      (loop $cell
+        (br_if $done (i32.ge_s (local.get $c) (local.get $cells)))
+        (local.set $at (i32.add (local.get $start) (i32.shl (local.get $c) (i32.const 2))))
+        (local.set $s (i32.load (local.get $at)))
+        (i32.store offset=4 (local.get $at) (i32.add (i32.load offset=4 (local.get $at)) (local.get $s)))
+        (i32.store (i32.add (local.get $cursor) (i32.shl (local.get $c) (i32.const 2))) (local.get $s))
+        (local.set $c (i32.add (local.get $c) (i32.const 1)))
+        (br $cell)))
+    (local.set $i (i32.const 0))
+    (block $done
+      (loop $body
+        (br_if $done (i32.ge_s (local.get $i) (local.get $n)))
+        (local.set $c (i32.load (i32.add (local.get $cellOf) (i32.shl (local.get $i) (i32.const 2)))))
+        (if (i32.ne (local.get $c) (i32.const -1))
+          (then
+            (local.set $at (i32.add (local.get $cursor) (i32.shl (local.get $c) (i32.const 2))))
+            (local.set $s (i32.load (local.get $at)))
+            (i32.store (local.get $at) (i32.add (local.get $s) (i32.const 1)))
+            (i32.store (i32.add (local.get $items) (i32.shl (local.get $s) (i32.const 2))) (local.get $i))))
+        (local.set $i (i32.add (local.get $i) (i32.const 1)))
+        (br $body))))
 )

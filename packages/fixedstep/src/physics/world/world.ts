@@ -471,7 +471,7 @@ export class PhysicsWorld implements Simulation<unknown> {
 
     // Contacts where the bodies are now (a new one wakes what it touches), gravity, velocities.
     this.beginStep();
-    this.grid.build(bodies, def);
+    this.grid.build(bodies, def, this.schedule);
     this.grid.markWalls(this.statics);
     this.findContactsOrUndo(def);
     this.solverStep(def);
