@@ -45,6 +45,8 @@ export class Grid {
    * {@link markWalls}); valid when {@link wallMarks} is true.
    */
   nearWall = new Uint8Array(0);
+  /** Every live body's flags or-ed together (a {@link BodyFlag} BOX bit: some body is a box). */
+  flagUnion = 0;
   /** Whether {@link nearWall} holds this step's marks (false: test every body against the walls). */
   wallMarks = false;
 
@@ -68,11 +70,12 @@ export class Grid {
     const budget = 4 * n + 64;
     // In WebAssembly once the solver's kernels run (gridBounds and gridCells in solver.wat: the
     // same comparisons and arithmetic), over columns copied in: x, y (f64), the bounds (4 f64),
-    // cellOf, items (i32), start (budget + 2), cursor (budget + 1), flags (u8).
+    // the flags or-ed (i32, 8 bytes), cellOf, items (i32), start (budget + 2), cursor (budget + 1),
+    // flags (u8).
     const even = (n + 1) & ~1;
     const yAt = 8 * even;
     const boundsAt = yAt + 8 * even;
-    const cellOfAt = boundsAt + 32;
+    const cellOfAt = boundsAt + 40;
     const itemsAt = cellOfAt + 4 * even;
     const startAt = itemsAt + 4 * even;
     const cursorAt = startAt + 4 * (budget + 2);
@@ -93,13 +96,17 @@ export class Grid {
       minY = f64[b + 1]!;
       maxX = f64[b + 2]!;
       maxY = f64[b + 3]!;
+      this.flagUnion = schedule.i32[(boundsAt + 32) >>> 2]!;
     } else {
       const flags = bodies.flags;
       const x = bodies.x;
       const y = bodies.y;
       const cellOf = this.cellOf;
+      let union = 0;
       for (let i = 0; i < n; i++) {
-        if (flags[i] === 0) {
+        const f = flags[i]!;
+        union |= f;
+        if (f === 0) {
           cellOf[i] = -1;
           continue;
         }
@@ -111,6 +118,7 @@ export class Grid {
         if (b < minY) minY = b;
         if (b > maxY) maxY = b;
       }
+      this.flagUnion = union;
     }
     let spanX = maxX - minX;
     let spanY = maxY - minY;

@@ -172,10 +172,9 @@ export class SolverSchedule {
    * it does not apply. Throws {@link ContactOverflow} where `contacts.add` would.
    */
   circlePairs(grid: Grid, bodies: BodyStore, contacts: ContactList): boolean {
-    if (!this.kernels || grid.cols === 0) return false;
+    if (!this.kernels || grid.cols === 0 || (grid.flagUnion & BOX) !== 0) return false;
     const n = bodies.slotCount;
     const flags = bodies.flags;
-    for (let i = 0; i < n; i++) if ((flags[i]! & BOX) !== 0) return false;
     const cells = grid.cols * grid.rows;
     // Columns: x, y, halfWidth, inverse mass (f64), then cellStart, cellItems (i32), flags (u8),
     // then 8 bytes for an overflow's bodies and the contacts' five columns of `room`.

@@ -491,11 +491,11 @@
 
   ;; Grid.build's first pass (broad-phase.ts): the bounds of the live bodies' centres (the columns
   ;; at $x, $y, f64, and $flags, u8, by body) into 4 f64 at $out (min x, min y, max x, max y), each
-  ;; compared as the JavaScript compares (`if (v < min) min = v`); $cellOf (i32 by body) gets −1 for
-  ;; a free slot, else 0.
+  ;; compared as the JavaScript compares (`if (v < min) min = v`), then every flag or-ed (i32);
+  ;; $cellOf (i32 by body) gets −1 for a free slot, else 0.
   (func (export "gridBounds") (param $n i32) (param $x i32) (param $y i32) (param $flags i32)
         (param $cellOf i32) (param $out i32)
-    (local $i i32) (local $q i32) (local $a f64) (local $b f64)
+    (local $i i32) (local $q i32) (local $f i32) (local $union i32) (local $a f64) (local $b f64)
     (local $minX f64) (local $minY f64) (local $maxX f64) (local $maxY f64)
     (local.set $minX (f64.const inf))
     (local.set $minY (f64.const inf))
@@ -504,7 +504,9 @@
     (block $done
       (loop $body
         (br_if $done (i32.ge_s (local.get $i) (local.get $n)))
-        (if (i32.eqz (i32.load8_u (i32.add (local.get $flags) (local.get $i))))
+        (local.set $f (i32.load8_u (i32.add (local.get $flags) (local.get $i))))
+        (local.set $union (i32.or (local.get $union) (local.get $f)))
+        (if (i32.eqz (local.get $f))
           (then (i32.store (i32.add (local.get $cellOf) (i32.shl (local.get $i) (i32.const 2))) (i32.const -1)))
           (else
             (i32.store (i32.add (local.get $cellOf) (i32.shl (local.get $i) (i32.const 2))) (i32.const 0))
@@ -520,7 +522,8 @@
     (f64.store (local.get $out) (local.get $minX))
     (f64.store offset=8 (local.get $out) (local.get $minY))
     (f64.store offset=16 (local.get $out) (local.get $maxX))
-    (f64.store offset=24 (local.get $out) (local.get $maxY)))
+    (f64.store offset=24 (local.get $out) (local.get $maxY))
+    (i32.store offset=32 (local.get $out) (local.get $union)))
 
   ;; Grid.build's counting sort: each live body's cell, floor((x − minX)·inv) + floor((y − minY)·inv)
   ;; · cols, into $cellOf; the cells' starts (i32, $cells + 1 of them) at $start; the body ids in cell

@@ -487,24 +487,20 @@ export class PhysicsWorld implements Simulation<unknown> {
     if (this.onTunnellingWarning !== null) this.rule.afterStep(def, this.onTunnellingWarning);
   }
 
-  /** Remembers where every body starts, and which bodies the solvers move this step. */
+  /**
+   * Remembers where every body starts, and which bodies the solvers move this step. Whole columns
+   * are copied (a free slot's copies are never read), then the sleepers' solver masses zeroed.
+   */
   private beginStep(): void {
     const b = this.bodies;
     const n = b.slotCount;
+    b.startX.set(b.x.subarray(0, n));
+    b.startY.set(b.y.subarray(0, n));
+    b.solverInverseMass.set(b.inverseMass.subarray(0, n));
+    if (b.sleepingCount === 0) return;
     const flags = b.flags;
-    const x = b.x;
-    const y = b.y;
-    const inverseMass = b.inverseMass;
     const solverInverseMass = b.solverInverseMass;
-    const startX = b.startX;
-    const startY = b.startY;
-    for (let i = 0; i < n; i++) {
-      const f = flags[i]!;
-      if (f === 0) continue;
-      startX[i] = x[i]!;
-      startY[i] = y[i]!;
-      solverInverseMass[i] = (f & ASLEEP) !== 0 ? 0 : inverseMass[i]!;
-    }
+    for (let i = 0; i < n; i++) if ((flags[i]! & ASLEEP) !== 0) solverInverseMass[i] = 0;
   }
 
   /**
