@@ -112,12 +112,15 @@
         (local.set $it (i32.add (local.get $it) (i32.const 1)))
         (br $iteration))))
 
-  ;; `iterations` sweeps of the position relaxation; positions start at byte `positions`.
+  ;; `iterations` sweeps of the position relaxation; positions start at byte `positions`. A body's
+  ;; (movedX, movedY) is one f64x2 and its (x, y) the next, and so is a normal: every lane does what
+  ;; the JavaScript does to that component (no fused operations), and the predicted separation adds
+  ;; lane 0, then lane 1, as the JavaScript does.
   (func (export "positions") (param $first i32) (param $count i32) (param $positions i32)
         (param $iterations i32) (param $slop f64) (param $beta f64)
     (local $p i32) (local $end i32) (local $it i32) (local $a i32) (local $b i32)
-    (local $nx f64) (local $ny f64) (local $max f64) (local $may f64) (local $mbx f64) (local $mby f64)
-    (local $s f64) (local $ia f64) (local $ib f64) (local $c f64) (local $pa f64) (local $pb f64)
+    (local $n v128) (local $movedA v128) (local $movedB v128) (local $q v128) (local $push v128)
+    (local $s f64) (local $ia f64) (local $ib f64) (local $c f64)
     (local.set $end (i32.add (local.get $first) (i32.shl (local.get $count) (i32.const 6))))
     (block $done
       (loop $iteration
@@ -129,35 +132,31 @@
             ;; 32 bytes a body here, twice a velocity's 16.
             (local.set $a (i32.add (local.get $positions) (i32.shl (i32.load offset=56 (local.get $p)) (i32.const 1))))
             (local.set $b (i32.add (local.get $positions) (i32.shl (i32.load offset=60 (local.get $p)) (i32.const 1))))
-            (local.set $nx (f64.load (local.get $p)))
-            (local.set $ny (f64.load offset=8 (local.get $p)))
-            (local.set $max (f64.load (local.get $a)))
-            (local.set $may (f64.load offset=8 (local.get $a)))
-            (local.set $mbx (f64.load (local.get $b)))
-            (local.set $mby (f64.load offset=8 (local.get $b)))
-            (local.set $s (f64.add (f64.add (f64.load offset=16 (local.get $p))
-                                            (f64.mul (f64.sub (local.get $max) (local.get $mbx)) (local.get $nx)))
-                                   (f64.mul (f64.sub (local.get $may) (local.get $mby)) (local.get $ny))))
+            (local.set $n (v128.load (local.get $p)))
+            (local.set $movedA (v128.load (local.get $a)))
+            (local.set $movedB (v128.load (local.get $b)))
+            ;; s = s0 + (ΔAx − ΔBx)·nx + (ΔAy − ΔBy)·ny
+            (local.set $q (f64x2.mul (f64x2.sub (local.get $movedA) (local.get $movedB)) (local.get $n)))
+            (local.set $s (f64.add (f64.add (f64.load offset=16 (local.get $p)) (f64x2.extract_lane 0 (local.get $q)))
+                                   (f64x2.extract_lane 1 (local.get $q))))
             (if (i32.eqz (f64.ge (local.get $s) (f64.neg (local.get $slop))))
               (then
                 (local.set $ia (f64.load offset=24 (local.get $p)))
                 (local.set $ib (f64.load offset=32 (local.get $p)))
                 (local.set $c (f64.div (f64.mul (f64.neg (f64.add (local.get $s) (local.get $slop))) (local.get $beta))
                                        (f64.add (local.get $ia) (local.get $ib))))
-                (local.set $pa (f64.mul (local.get $c) (local.get $ia)))
-                (local.set $pb (f64.mul (local.get $c) (local.get $ib)))
-                (f64.store (local.get $a) (f64.add (local.get $max) (f64.mul (local.get $pa) (local.get $nx))))
-                (f64.store offset=8 (local.get $a) (f64.add (local.get $may) (f64.mul (local.get $pa) (local.get $ny))))
-                (f64.store offset=16 (local.get $a) (f64.add (f64.load offset=16 (local.get $a)) (f64.mul (local.get $pa) (local.get $nx))))
-                (f64.store offset=24 (local.get $a) (f64.add (f64.load offset=24 (local.get $a)) (f64.mul (local.get $pa) (local.get $ny))))
-                (f64.store (local.get $b) (f64.sub (local.get $mbx) (f64.mul (local.get $pb) (local.get $nx))))
-                (f64.store offset=8 (local.get $b) (f64.sub (local.get $mby) (f64.mul (local.get $pb) (local.get $ny))))
-                (f64.store offset=16 (local.get $b) (f64.sub (f64.load offset=16 (local.get $b)) (f64.mul (local.get $pb) (local.get $nx))))
-                (f64.store offset=24 (local.get $b) (f64.sub (f64.load offset=24 (local.get $b)) (f64.mul (local.get $pb) (local.get $ny))))))
+                ;; A moves by (c·ia)·n, B by −(c·ib)·n: its motion and its position alike.
+                (local.set $push (f64x2.mul (f64x2.splat (f64.mul (local.get $c) (local.get $ia))) (local.get $n)))
+                (v128.store (local.get $a) (f64x2.add (local.get $movedA) (local.get $push)))
+                (v128.store offset=16 (local.get $a) (f64x2.add (v128.load offset=16 (local.get $a)) (local.get $push)))
+                (local.set $push (f64x2.mul (f64x2.splat (f64.mul (local.get $c) (local.get $ib))) (local.get $n)))
+                (v128.store (local.get $b) (f64x2.sub (local.get $movedB) (local.get $push)))
+                (v128.store offset=16 (local.get $b) (f64x2.sub (v128.load offset=16 (local.get $b)) (local.get $push)))))
             (local.set $p (i32.add (local.get $p) (i32.const 64)))
             (br $visit)))
         (local.set $it (i32.add (local.get $it) (i32.const 1)))
         (br $iteration))))
+
   ;; The body–body pairs of a world of circles only, as broad-phase.ts's findContacts finds them
   ;; (same cells, same order, same arithmetic). Bodies by id in columns of f64 at $x, $y, $hw (the
   ;; radius), $im (solver inverse mass) and u8 at $flags; the grid's cellStart and cellItems (i32). Contacts
