@@ -175,12 +175,12 @@ export class ContinuousSolver {
     let reach2 = 0;
     let far = 0;
     let queued = 0;
+    isFar.fill(0, 0, n);
+    pathTime.fill(0, 0, n);
+    state.fill(DISCRETE, 0, n);
+    sweeps.fill(0, 0, n);
     for (let i = 0; i < n; i++) {
       const f = flags[i]!;
-      isFar[i] = 0;
-      pathTime[i] = 0;
-      state[i] = DISCRETE;
-      sweeps[i] = 0;
       if (f === 0) continue;
       if ((f & ASLEEP) !== 0) {
         pathStartX[i] = x[i]!;
