@@ -322,13 +322,13 @@ export class SolverSchedule {
     f64.set(contacts.normalX.subarray(0, count), nxAt >>> 3);
     f64.set(contacts.normalY.subarray(0, count), nyAt >>> 3);
     f64.set(bodies.solverInverseMass.subarray(0, slots), imAt >>> 3);
-    f64.set(cache.normalImpulse.subarray(0, cached), cachedNAt >>> 3);
-    f64.set(cache.tangentImpulse.subarray(0, cached), cachedTAt >>> 3);
+    f64.set(cache.normalImpulse, cachedNAt >>> 3);
+    f64.set(cache.tangentImpulse, cachedTAt >>> 3);
     i32.set(contacts.bodyA.subarray(0, count), bodyAAt >>> 2);
     i32.set(contacts.bodyB.subarray(0, count), bodyBAt >>> 2);
     i32.set(cache.head.subarray(0, slots), headAt >>> 2);
     i32.set(cache.next.subarray(0, cached), nextAt >>> 2);
-    i32.set(cache.bodyB.subarray(0, cached), cachedBAt >>> 2);
+    i32.set(cache.bodyB, cachedBAt >>> 2);
     kernels.plan(
       count,
       this.pairs,

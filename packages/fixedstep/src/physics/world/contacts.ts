@@ -103,42 +103,67 @@ export class ContactList {
   }
 }
 
+/** Bytes of one warm-start entry: two i32 ids and two f64 impulses. */
+export const CACHE_ENTRY_BYTES = 24;
+
 /**
  * Last step's contacts — pair and impulses — so this step's solver can start from them (warm
  * starting). Part of the state. Each body's entries are chained in cache order from
  * {@link head}, so a lookup walks only that body's few contacts.
+ *
+ * The four columns are views of one buffer laid out as a snapshot stores them — bodyA and bodyB
+ * (i32), then the normal and tangent impulses (f64), `count` of each — so a snapshot copies the
+ * whole cache at once ({@link image}). Their offsets follow the count: {@link resize} makes new
+ * views when it changes.
  */
 export class WarmStartCache {
   count = 0;
+  /** Entries the buffer has room for. */
   capacity = 0;
   bodyA = new Int32Array(0);
   bodyB = new Int32Array(0);
   normalImpulse = new Float64Array(0);
   tangentImpulse = new Float64Array(0);
+  /** The four columns' bytes, in that order: what a snapshot holds after the entry count. */
+  image = new Uint8Array(0);
   /** The next entry with the same `bodyA`, or -1. */
   next = new Int32Array(0);
   /** By body id: its first entry, or -1. */
   head = new Int32Array(0);
+  private buffer = new ArrayBuffer(0);
+
+  /**
+   * Sets the entry count: the columns become views of `count` entries each. Their values are
+   * undefined unless the count is unchanged (then the views, and values, stay as they were).
+   */
+  resize(count: number): void {
+    if (count > this.capacity) this.grow(Math.max(count, 2 * this.capacity));
+    else if (count === this.count && this.bodyA.length === count) return;
+    this.view(count);
+  }
+
+  private view(count: number): void {
+    const b = this.buffer;
+    this.bodyA = new Int32Array(b, 0, count);
+    this.bodyB = new Int32Array(b, 4 * count, count);
+    this.normalImpulse = new Float64Array(b, 8 * count, count);
+    this.tangentImpulse = new Float64Array(b, 16 * count, count);
+    this.image = new Uint8Array(b, 0, CACHE_ENTRY_BYTES * count);
+    this.count = count;
+  }
 
   /** Keeps this step's contacts and impulses (a zero impulse is stored as +0, never −0). */
   store(contacts: ContactList, slotCount: number): void {
     const n = contacts.count;
-    if (n > this.capacity) this.grow(Math.max(n, 2 * this.capacity));
-    const cA = contacts.bodyA;
-    const cB = contacts.bodyB;
-    const jn = contacts.normalImpulse;
+    this.resize(n);
     const jt = contacts.tangentImpulse;
-    const wA = this.bodyA;
-    const wB = this.bodyB;
-    const wJn = this.normalImpulse;
     const wJt = this.tangentImpulse;
-    wA.set(cA.subarray(0, n));
-    wB.set(cB.subarray(0, n));
-    wJn.set(jn.subarray(0, n));
+    this.bodyA.set(contacts.bodyA.subarray(0, n));
+    this.bodyB.set(contacts.bodyB.subarray(0, n));
+    this.normalImpulse.set(contacts.normalImpulse.subarray(0, n));
     // A friction impulse clamped to −(μ·0) is −0: store +0, so the state is canonical as it is
     // (a snapshot is a plain copy). The sign of a zero impulse changes no velocity.
     for (let k = 0; k < n; k++) wJt[k] = jt[k]! + 0;
-    this.count = n;
     this.link(slotCount);
   }
 
@@ -155,39 +180,39 @@ export class WarmStartCache {
     }
   }
 
-  /** Forgets every entry of body `id` (its slot's next body must not inherit them). */
-  forget(id: number, slotCount: number): void {
-    let m = 0;
-    for (let k = 0; k < this.count; k++) {
-      if (this.bodyA[k] === id || this.bodyB[k] === id) continue;
-      this.bodyA[m] = this.bodyA[k]!;
-      this.bodyB[m] = this.bodyB[k]!;
-      this.normalImpulse[m] = this.normalImpulse[k]!;
-      this.tangentImpulse[m] = this.tangentImpulse[k]!;
-      m++;
-    }
-    this.count = m;
+  /** No entries (and no chains over the first `slotCount` bodies). */
+  clear(slotCount: number): void {
+    this.resize(0);
     this.link(slotCount);
   }
 
-  /** Room for `capacity` entries. */
+  /** Forgets every entry of body `id` (its slot's next body must not inherit them). */
+  forget(id: number, slotCount: number): void {
+    const kept: number[] = [];
+    for (let k = 0; k < this.count; k++)
+      if (this.bodyA[k] !== id && this.bodyB[k] !== id) kept.push(k);
+    const bodyA = kept.map((k) => this.bodyA[k]!);
+    const bodyB = kept.map((k) => this.bodyB[k]!);
+    const normal = kept.map((k) => this.normalImpulse[k]!);
+    const tangent = kept.map((k) => this.tangentImpulse[k]!);
+    this.resize(kept.length);
+    this.bodyA.set(bodyA);
+    this.bodyB.set(bodyB);
+    this.normalImpulse.set(normal);
+    this.tangentImpulse.set(tangent);
+    this.link(slotCount);
+  }
+
+  /** Room for `capacity` entries, keeping the current ones. */
   grow(capacity: number): void {
-    const i32 = (a: Int32Array) => {
-      const b = new Int32Array(capacity);
-      b.set(a.subarray(0, Math.min(a.length, capacity)));
-      return b;
-    };
-    const f64 = (a: Float64Array) => {
-      const b = new Float64Array(capacity);
-      b.set(a.subarray(0, Math.min(a.length, capacity)));
-      return b;
-    };
-    this.bodyA = i32(this.bodyA);
-    this.bodyB = i32(this.bodyB);
-    this.normalImpulse = f64(this.normalImpulse);
-    this.tangentImpulse = f64(this.tangentImpulse);
-    this.next = i32(this.next);
+    const image = this.image;
+    this.buffer = new ArrayBuffer(CACHE_ENTRY_BYTES * capacity);
+    new Uint8Array(this.buffer).set(image);
+    const next = new Int32Array(capacity);
+    next.set(this.next.subarray(0, Math.min(this.next.length, capacity)));
+    this.next = next;
     this.capacity = capacity;
+    this.view(this.count);
   }
 
   /** Room for `capacity` bodies in {@link head}. */

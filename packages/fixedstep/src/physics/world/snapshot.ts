@@ -28,7 +28,7 @@
  */
 import { ByteWriter } from '../../det/bytes.js';
 import { BodyFlag, KNOWN_FLAGS, type BodyStore } from './body.js';
-import type { WarmStartCache } from './contacts.js';
+import { CACHE_ENTRY_BYTES, type WarmStartCache } from './contacts.js';
 import { CCD_MODES, type WorldDef } from './def.js';
 import { WallKind, type StaticStore } from './statics.js';
 import { WORLD_LIMITS, checkDef, show } from './validate.js';
@@ -50,8 +50,6 @@ const WALL_BYTES = 33;
 const BODY_BYTES = 69;
 /** f64 columns per body slot. */
 const BODY_F64_COLUMNS = 8;
-/** Bytes per warm-start entry: two i32, two f64. */
-const CACHE_ENTRY_BYTES = 24;
 
 /** Whether typed arrays on this platform are little-endian (all JavaScript platforms in use). */
 const LITTLE_ENDIAN = new Uint8Array(new Uint16Array([1]).buffer)[0] === 1;
@@ -247,41 +245,15 @@ export class SnapshotWriter {
       bytes.set(column, p);
       p += column.length;
     }
-    // The warm-start columns, value by value (their length changes every step).
+    // The warm-start entries: their count, then their columns, which the cache lays out as the
+    // snapshot stores them.
     const c = s.cache;
-    const wc = c.count;
-    data.setUint32(p, wc, true);
+    data.setUint32(p, c.count, true);
     p += 4;
-    p = putInts(v, p, c.bodyA, wc);
-    p = putInts(v, p, c.bodyB, wc);
-    p = putFloats(v, p, c.normalImpulse, wc);
-    p = putFloats(v, p, c.tangentImpulse, wc);
+    bytes.set(c.image, p);
+    p += c.image.length;
     return p - base;
   }
-}
-
-function putInts(v: BufferViews, p: number, src: Int32Array, count: number): number {
-  if ((p & 3) === 0) {
-    const i32 = v.i32;
-    const at = p >>> 2;
-    for (let k = 0; k < count; k++) i32[at + k] = src[k]!;
-  } else {
-    const data = v.data;
-    for (let k = 0; k < count; k++) data.setInt32(p + 4 * k, src[k]!, true);
-  }
-  return p + 4 * count;
-}
-
-function putFloats(v: BufferViews, p: number, src: Float64Array, count: number): number {
-  if ((p & 7) === 0) {
-    const f64 = v.f64;
-    const at = p >>> 3;
-    for (let k = 0; k < count; k++) f64[at + k] = src[k]!;
-  } else {
-    const data = v.data;
-    for (let k = 0; k < count; k++) data.setFloat64(p + 8 * k, src[k]!, true);
-  }
-  return p + 8 * count;
 }
 
 /** Swaps the byte order of `count` values of `width` bytes at `p` (a big-endian platform). */
@@ -776,7 +748,7 @@ export class SnapshotReader {
     bodies.recomputeExtents();
 
     const count = this.cacheCount;
-    if (count > cache.capacity) cache.grow(count);
+    cache.resize(count);
     const ids = this.cacheIdsAt;
     const impulses = this.cacheImpulsesAt;
     const bodyA = cache.bodyA;
@@ -792,7 +764,6 @@ export class SnapshotReader {
       normal[k] = f64[impulses + k]! + 0;
       tangent[k] = f64[impulses + count + k]! + 0;
     }
-    cache.count = count;
     cache.link(n);
   }
 }

@@ -460,10 +460,7 @@ export class PhysicsWorld implements Simulation<unknown> {
       this.contacts.count = 0;
       this.contacts.bodyPairCount = 0;
       this.ccd.sweptCount = 0;
-      if (this.cache.count > 0) {
-        this.cache.count = 0;
-        this.cache.link(bodies.slotCount);
-      }
+      if (this.cache.count > 0) this.cache.clear(bodies.slotCount);
       this.rule.wasBroken = false;
       this._tick++;
       return;
