@@ -4,6 +4,7 @@
  *
  *   packages/fixedstep/src/physics/dynamics/kernels.wat -> kernels-wasm.ts
  *   packages/fixedstep/src/physics/world/solver.wat -> solver-wasm.ts
+ *   packages/fixedstep/src/physics/world/broad-phase.wat -> broad-phase-wasm.ts
  *
  * Run with `npm run build:wasm` after editing a .wat file. `--check` only compares and exits 1
  * when the committed bytes are stale (a unit test does the same).
@@ -23,6 +24,12 @@ export const KERNELS = [
     name: 'SPRING_KERNELS_WASM',
   },
   { dir: `${src}world/`, wat: 'solver.wat', ts: 'solver-wasm.ts', name: 'SOLVER_KERNELS_WASM' },
+  {
+    dir: `${src}world/`,
+    wat: 'broad-phase.wat',
+    ts: 'broad-phase-wasm.ts',
+    name: 'BROAD_PHASE_KERNELS_WASM',
+  },
 ];
 
 /** The bytes of a kernel's .wat (the spring kernels' by default), assembled. */

@@ -15,10 +15,9 @@ import {
 } from 'fixedstep';
 import { wallMarksSetting } from '../src/physics/world/broad-phase.js';
 import { solverKernelsSetting } from '../src/physics/world/solver-kernels.js';
+import { BROAD_PHASE_KERNELS_WASM } from '../src/physics/world/broad-phase-wasm.js';
 import { SOLVER_KERNELS_WASM } from '../src/physics/world/solver-wasm.js';
 import { KERNELS, assembleKernels, kernelsModule } from '../../../scripts/wasm.mjs';
-
-const SOLVER = KERNELS.find((k) => k.wat === 'solver.wat')!;
 
 // Golden hashes over what the solver's speed work touches: big piles (long contact chains),
 // boxes with circles, restitution, kinematic bodies waking sleeping ones, a rollback of 8 ticks.
@@ -102,15 +101,24 @@ describe('golden hashes of the solver', () => {
 });
 
 describe('the solver kernels', () => {
-  it('are solver.wat, assembled: the committed bytes are not stale', async () => {
-    const bytes = await assembleKernels(SOLVER);
-    expect(Array.from(SOLVER_KERNELS_WASM)).toEqual(Array.from(bytes));
-    const generated = readFileSync(
-      new URL('../src/physics/world/solver-wasm.ts', import.meta.url),
-      'utf8',
-    );
-    expect(generated).toBe(kernelsModule(bytes, SOLVER));
-  });
+  it.each([
+    ['solver.wat', 'solver-wasm.ts', () => SOLVER_KERNELS_WASM],
+    ['broad-phase.wat', 'broad-phase-wasm.ts', () => BROAD_PHASE_KERNELS_WASM],
+  ] as const)(
+    'are %s, assembled: the committed bytes are not stale, and under 4 KB',
+    async (wat, ts, committed) => {
+      const kernel = KERNELS.find((k) => k.wat === wat)!;
+      const bytes = await assembleKernels(kernel);
+      expect(Array.from(committed())).toEqual(Array.from(bytes));
+      const generated = readFileSync(
+        new URL(`../src/physics/world/${ts}`, import.meta.url),
+        'utf8',
+      );
+      expect(generated).toBe(kernelsModule(bytes, kernel));
+      // Chromium refuses to compile a module of more than 4 KB synchronously on its main thread.
+      expect(bytes.length).toBeLessThanOrEqual(4096);
+    },
+  );
 
   it('give the JavaScript loops’ bits, tick for tick, with and without WebAssembly', () => {
     const scenes: [string, () => PhysicsWorld][] = [

@@ -9,7 +9,7 @@
  * are a linear scan (walls are few). Each candidate pair goes to `manifold.ts`.
  *
  * In a world of circles only, once the solver's WebAssembly kernels run (`contact-solver.ts`), the
- * body–body pass runs there (`circlePairs` in solver.wat): the same cells, order and arithmetic,
+ * body–body pass runs there (`circlePairs` in broad-phase.wat): the same cells, order and arithmetic,
  * so the same contacts to the bit (a test runs both), in about half the time.
  */
 import { BodyFlag, type BodyStore } from './body.js';
@@ -68,7 +68,7 @@ export class Grid {
   build(bodies: BodyStore, def: Readonly<WorldDef>, schedule: SolverSchedule): void {
     const n = bodies.slotCount;
     const budget = 4 * n + 64;
-    // In WebAssembly once the solver's kernels run (gridBounds and gridCells in solver.wat: the
+    // In WebAssembly once the solver's kernels run (gridBounds and gridCells in broad-phase.wat: the
     // same comparisons and arithmetic), over columns copied in: x, y (f64), the bounds (4 f64),
     // the flags or-ed (i32, 8 bytes), cellOf, items (i32), start (budget + 2), cursor (budget + 1),
     // flags (u8).

@@ -1,11 +1,13 @@
 /**
- * The WebAssembly twin of the contact solver's inner loops (solver.wat, bytes in solver-wasm.ts):
- * compiled once, on first use, synchronously (3 KB, under the 4 KB that Chromium allows for
- * compiling on the main thread). Where WebAssembly is missing or refused (a
+ * The WebAssembly twins of the world's inner loops — the contact solver's (solver.wat, bytes in
+ * solver-wasm.ts) and the broad phase's (broad-phase.wat, in broad-phase-wasm.ts), two modules
+ * over one memory: compiled once, on first use, synchronously (each under the 4 KB that Chromium
+ * allows for compiling on the main thread; a test holds them there). Where WebAssembly is missing or refused (a
  * Content-Security-Policy without `wasm-unsafe-eval`) or lacks the 128-bit SIMD the velocity sweep
  * uses (Chrome before 91, Firefox before 89, Safari before 16.4), {@link solverKernels} returns
  * undefined and the solver runs its JavaScript loops, which give the same bits.
  */
+import { BROAD_PHASE_KERNELS_WASM } from './broad-phase-wasm.js';
 import { SOLVER_KERNELS_WASM } from './solver-wasm.js';
 
 /** An instance of the kernels over one memory. Offsets are bytes into that memory. */
@@ -104,7 +106,8 @@ export interface SolverKernels {
   ): number;
 }
 
-let compiled: WebAssembly.Module | null | undefined;
+/** The two modules, compiled (null: they cannot be here; undefined: not tried yet). */
+let compiled: [solver: WebAssembly.Module, broadPhase: WebAssembly.Module] | null | undefined;
 
 /**
  * `enabled`: whether new solvers may use the WebAssembly kernels (true); `minContacts`: from how
@@ -120,7 +123,12 @@ export function solverKernels(): SolverKernels | undefined {
   if (compiled === undefined) {
     try {
       compiled =
-        typeof WebAssembly === 'object' ? new WebAssembly.Module(SOLVER_KERNELS_WASM) : null;
+        typeof WebAssembly === 'object'
+          ? [
+              new WebAssembly.Module(SOLVER_KERNELS_WASM),
+              new WebAssembly.Module(BROAD_PHASE_KERNELS_WASM),
+            ]
+          : null;
     } catch {
       compiled = null;
     }
@@ -128,8 +136,10 @@ export function solverKernels(): SolverKernels | undefined {
   if (compiled === null) return undefined;
   try {
     const memory = new WebAssembly.Memory({ initial: 1 });
-    const instance = new WebAssembly.Instance(compiled, { env: { memory } });
-    const e = instance.exports as unknown as Omit<SolverKernels, 'memory'>;
+    const imports = { env: { memory } };
+    const solver = new WebAssembly.Instance(compiled[0], imports).exports;
+    const broadPhase = new WebAssembly.Instance(compiled[1], imports).exports;
+    const e = { ...solver, ...broadPhase } as unknown as Omit<SolverKernels, 'memory'>;
     return {
       memory,
       warmStart: e.warmStart,
