@@ -166,6 +166,7 @@ beforeAll(async () => {
       version: `Node ${process.version}`,
       jsVersion: `V8 ${process.versions.v8}`,
       wasm: reference.wasm,
+      worldWasm: reference.worldWasm,
       userAgent: `Node.js/${process.version} (${process.platform}; ${process.arch})`,
       startMs: 0, // Node is already running
       runMs: reference.ms,
@@ -211,6 +212,7 @@ beforeAll(async () => {
           version: session.version,
           jsVersion: session.jsVersion,
           wasm: run.wasm,
+          worldWasm: run.worldWasm,
           userAgent: session.userAgent,
           startMs: session.startMs,
           runMs: run.ms,
@@ -281,6 +283,9 @@ function assertSame(id: EngineId): void {
   const c = o.comparison!;
   expect(c.scenes, 'required scenes compared').toBe(scenes.filter((s) => !s.informational).length);
   expect(c.mismatches.map(formatMismatch), `${ENGINE_NAMES[id]}: mismatches`).toEqual([]);
+  // The piles (circlesInBox(250)) ran PhysicsWorld's WebAssembly kernels, not only its JavaScript
+  // loops: both modules compile and instantiate here (Chromium refuses more than 4 KB at once).
+  expect(o.report.worldWasm, `${ENGINE_NAMES[id]}: PhysicsWorld's WebAssembly kernels`).toBe(true);
 }
 
 describe('determinism across engines and display rates', () => {

@@ -19,6 +19,8 @@ export interface EngineReport {
   jsVersion?: string;
   /** Whether the engine ran the WebAssembly spring kernel (the cloth scenes). */
   wasm?: boolean;
+  /** Whether it ran PhysicsWorld's WebAssembly kernels (the big piles). */
+  worldWasm?: boolean;
   userAgent?: string;
   /** Start-up and page load, ms. */
   startMs?: number;
@@ -79,13 +81,13 @@ export function reportMarkdown(r: DeterminismReport): string {
     '',
   );
   lines.push(
-    '| Engine | Status | Version | JS engine | WebAssembly kernel | Scenes | Ticks compared | Start | Run |',
+    '| Engine | Status | Version | JS engine | WebAssembly kernels (springs / world) | Scenes | Ticks compared | Start | Run |',
   );
   lines.push('|---|---|---|---|---|---|---|---|---|');
   for (const e of r.engines) {
     lines.push(
       `| ${e.name} | ${e.status}${e.status === 'failed' && e.mismatches.length ? ` (${String(e.mismatches.length)} mismatches)` : ''} | ` +
-        `${e.version ?? '—'} | ${dash(e.jsVersion)} | ${e.wasm === undefined ? '—' : e.wasm ? 'yes' : 'no'} | ${e.scenes === undefined ? '—' : String(e.scenes)} | ` +
+        `${e.version ?? '—'} | ${dash(e.jsVersion)} | ${yesNo(e.wasm)} / ${yesNo(e.worldWasm)} | ${e.scenes === undefined ? '—' : String(e.scenes)} | ` +
         `${e.ticks === undefined ? '—' : e.ticks.toLocaleString('en-US')} | ${seconds(e.startMs)} | ${seconds(e.runMs)} |`,
     );
   }
@@ -182,7 +184,7 @@ export function consoleSummary(r: DeterminismReport, files: { json: string; md: 
           ? `FAILED to run — ${e.reason}`
           : `${e.status === 'passed' ? 'same traces' : `${String(e.mismatches.length)} MISMATCHES`}: ` +
             `${String(e.scenes ?? 0)} scenes, ${(e.ticks ?? 0).toLocaleString('en-US')} ticks; ` +
-            `${e.version ?? ''}${e.jsVersion ? `, ${e.jsVersion}` : ''}${e.wasm === undefined ? '' : e.wasm ? ', WebAssembly' : ', no WebAssembly'}; start ${seconds(e.startMs)}, run ${seconds(e.runMs)}`;
+            `${e.version ?? ''}${e.jsVersion ? `, ${e.jsVersion}` : ''}${e.wasm === undefined ? '' : `, WebAssembly springs ${yesNo(e.wasm)}, world ${yesNo(e.worldWasm)}`}; start ${seconds(e.startMs)}, run ${seconds(e.runMs)}`;
     lines.push(`  ${ENGINE_NAMES[e.id].padEnd(27)} ${what}`);
   }
   for (const m of r.engines.flatMap((e) => e.mismatches).slice(0, 20)) {
@@ -190,4 +192,8 @@ export function consoleSummary(r: DeterminismReport, files: { json: string; md: 
   }
   lines.push(`  report: ${files.md}`);
   return lines.join('\n');
+}
+
+function yesNo(flag: boolean | undefined): string {
+  return flag === undefined ? '—' : flag ? 'yes' : 'no';
 }

@@ -2,7 +2,7 @@
  * Runs the scenes and packs the traces — the one function every engine calls (the browser page
  * wraps it; Node calls it directly), so every engine's answer has the same shape.
  */
-import { springKernelsAvailable } from 'fixedstep';
+import { springKernelsAvailable, worldKernelsAvailable } from 'fixedstep';
 import { bytesToHex, sceneStateAt, traceScene, type TraceScene } from '@fixedstep/games';
 
 /** One scene's result in one engine. */
@@ -24,6 +24,8 @@ export interface EngineRun {
   ms: number;
   /** Whether this engine ran SpringModel's WebAssembly kernel (else the JavaScript one). */
   wasm: boolean;
+  /** Whether it ran PhysicsWorld's WebAssembly kernels (the big piles), else its JavaScript loops. */
+  worldWasm: boolean;
 }
 
 function now(): number {
@@ -58,7 +60,12 @@ function select(scenes: readonly TraceScene[], ids?: readonly string[]): TraceSc
 export function runScenes(scenes: readonly TraceScene[], ids?: readonly string[]): EngineRun {
   const start = now();
   const results = select(scenes, ids).map(runScene);
-  return { scenes: results, ms: now() - start, wasm: springKernelsAvailable() };
+  return {
+    scenes: results,
+    ms: now() - start,
+    wasm: springKernelsAvailable(),
+    worldWasm: worldKernelsAvailable(),
+  };
 }
 
 /** The same, yielding to the event loop between scenes (Node, while browsers are driven). */
@@ -72,7 +79,12 @@ export async function runScenesYielding(
     await new Promise<void>((resolve) => setTimeout(resolve, 0));
     results.push(runScene(scene));
   }
-  return { scenes: results, ms: now() - start, wasm: springKernelsAvailable() };
+  return {
+    scenes: results,
+    ms: now() - start,
+    wasm: springKernelsAvailable(),
+    worldWasm: worldKernelsAvailable(),
+  };
 }
 
 /** The state bytes of scene `id` after tick `tick`, as hex. */

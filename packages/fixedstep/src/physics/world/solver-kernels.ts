@@ -1,8 +1,9 @@
 /**
  * The WebAssembly twins of the world's inner loops — the contact solver's (solver.wat, bytes in
  * solver-wasm.ts) and the broad phase's (broad-phase.wat, in broad-phase-wasm.ts), two modules
- * over one memory: compiled once, on first use, synchronously (each under the 4 KB that Chromium
- * allows for compiling on the main thread; a test holds them there). Where WebAssembly is missing or refused (a
+ * over one memory: compiled once, on first use, synchronously (each under 4 KB, which every
+ * Chromium allows on its main thread — recent desktop builds allow 8 MB, some WebViews still only
+ * 4 KB; a test holds both there). Where WebAssembly is missing or refused (a
  * Content-Security-Policy without `wasm-unsafe-eval`) or lacks the 128-bit SIMD the velocity sweep
  * uses (Chrome before 91, Firefox before 89, Safari before 16.4), {@link solverKernels} returns
  * undefined and the solver runs its JavaScript loops, which give the same bits.
@@ -117,6 +118,18 @@ let compiled: [solver: WebAssembly.Module, broadPhase: WebAssembly.Module] | nul
  * @internal
  */
 export const solverKernelsSetting = { enabled: true, minContacts: 256 };
+
+let available: boolean | undefined;
+
+/**
+ * Whether the world's WebAssembly kernels run here: both modules compile and instantiate (the
+ * first call tries once). Where they do not, a PhysicsWorld runs its JavaScript loops,
+ * which give the same bits, more slowly.
+ */
+export function worldKernelsAvailable(): boolean {
+  available ??= solverKernels() !== undefined;
+  return available;
+}
 
 /** The kernels over a new memory, or undefined if they cannot run here. */
 export function solverKernels(): SolverKernels | undefined {
