@@ -756,8 +756,8 @@ export class SnapshotReader {
     const normal = cache.normalImpulse;
     const tangent = cache.tangentImpulse;
     // Value by value: copying whole columns with `set` of subarray views of staging takes
-    // ~0.8x the time of load() at 2,000 bodies, but makes four views (384 B) per load whenever
-    // the entry count differs from the previous load's, and a load allocates nothing.
+    // ~0.8x the time of load() at 2,000 bodies, but makes four views (384 B) per load; this way a
+    // load allocates only when the entry count changes (the cache's own views, in resize).
     for (let k = 0; k < count; k++) {
       bodyA[k] = i32[ids + k]!;
       bodyB[k] = i32[ids + count + k]!;
