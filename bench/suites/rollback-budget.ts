@@ -7,8 +7,9 @@
  * `RollbackSession` does it — load the confirmed tick, then 8 × (step + save). Then the largest N
  * whose rollback fits in 4 ms (a quarter of a 60 Hz frame), searched by bisection on N.
  *
- * The own world is used only through its public `save()`, `load()` and `step()` (see
- * {@link ownWorld}): switch it to a faster save there.
+ * The own world is used only through its public API (see {@link ownWorld}): `load()`, `step()`,
+ * and `saveInto` a buffer kept per tick, as `RollbackSession` saves a simulation that has
+ * `snapshotSize` and `saveInto`.
  */
 import { ByteWriter, buildWorld, circlesInBoxScene, fnv1a64, type PhysicsScene } from 'fixedstep';
 import {
