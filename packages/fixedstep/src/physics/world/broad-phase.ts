@@ -6,17 +6,20 @@
  * sit in the same or neighbouring cells. Pairs are taken in cell order, then in id order: a
  * function of the current state only, never of the grid's history or the arrays' capacity, so a
  * world loaded from a snapshot finds the very same pairs in the very same order. Body–wall pairs
- * are a linear scan (walls are few). Each candidate pair goes to `manifold.ts`.
+ * are a linear scan over the bodies near a wall (the grid marks their cells). Each candidate pair
+ * goes to `manifold.ts`.
  *
- * In a world of circles only, once the solver's WebAssembly kernels run (`contact-solver.ts`), the
- * body–body pass runs there (`circlePairs` in broad-phase.wat): the same cells, order and arithmetic,
- * so the same contacts to the bit (a test runs both), in about half the time.
+ * Once the world's WebAssembly kernels run (they start in a step with many contacts; see
+ * `solver-kernels.ts`), the grid is built there (`gridBounds`, `gridCells` in broad-phase.wat), and
+ * in a world of circles only so is the body–body pass (`circlePairs`): the same cells, order and
+ * arithmetic, so the same contacts to the bit (a test runs both), in about half the time. They use
+ * the world's kernel memory, which the solvers lay out afresh after them.
  */
 import { BodyFlag, type BodyStore } from './body.js';
-import type { SolverSchedule } from './contact-solver.js';
-import type { ContactList } from './contacts.js';
+import { ContactOverflow, type ContactList } from './contacts.js';
 import type { WorldDef } from './def.js';
 import { boxBox, boxSegment, circleBox, circleCircle, circleSegment } from './manifold.js';
+import type { KernelMemory } from './solver-kernels.js';
 import { WallKind, staticRef, type StaticStore } from './statics.js';
 
 const { ASLEEP, BOX, KINEMATIC } = BodyFlag;
@@ -65,7 +68,7 @@ export class Grid {
    * (or `cellSize` if larger), doubled until the grid has at most `4 × slots + 64` cells — a
    * budget from the slot count (state), not the capacity (history).
    */
-  build(bodies: BodyStore, def: Readonly<WorldDef>, schedule: SolverSchedule): void {
+  build(bodies: BodyStore, def: Readonly<WorldDef>, work: KernelMemory): void {
     const n = bodies.slotCount;
     const budget = 4 * n + 64;
     // In WebAssembly once the solver's kernels run (gridBounds and gridCells in broad-phase.wat: the
@@ -80,23 +83,23 @@ export class Grid {
     const startAt = itemsAt + 4 * even;
     const cursorAt = startAt + 4 * (budget + 2);
     const flagsAt = cursorAt + 4 * (budget + 1);
-    const kernels = n > 0 ? schedule.kernelsWith(flagsAt + n) : null;
+    const kernels = n > 0 ? work.kernelsWith(flagsAt + n) : null;
     let minX = Infinity;
     let minY = Infinity;
     let maxX = -Infinity;
     let maxY = -Infinity;
     if (kernels) {
-      const f64 = schedule.f64;
+      const f64 = work.f64;
       f64.set(bodies.x.subarray(0, n), 0);
       f64.set(bodies.y.subarray(0, n), yAt >>> 3);
-      new Uint8Array(schedule.memory, flagsAt, n).set(bodies.flags.subarray(0, n));
+      new Uint8Array(work.memory, flagsAt, n).set(bodies.flags.subarray(0, n));
       kernels.gridBounds(n, 0, yAt, flagsAt, cellOfAt, boundsAt);
       const b = boundsAt >>> 3;
       minX = f64[b]!;
       minY = f64[b + 1]!;
       maxX = f64[b + 2]!;
       maxY = f64[b + 3]!;
-      this.flagUnion = schedule.i32[(boundsAt + 32) >>> 2]!;
+      this.flagUnion = work.i32[(boundsAt + 32) >>> 2]!;
     } else {
       const flags = bodies.flags;
       const x = bodies.x;
@@ -178,7 +181,7 @@ export class Grid {
         cursorAt,
         itemsAt,
       );
-      const i32 = schedule.i32;
+      const i32 = work.i32;
       const start = startAt >>> 2;
       this.cellOf.set(i32.subarray(cellOfAt >>> 2, (cellOfAt >>> 2) + n));
       this.cellStart.set(i32.subarray(start, start + cells + 1));
@@ -284,10 +287,9 @@ const WALL_MARGIN = 2;
 
 /**
  * Every contact of this step into `contacts`: body–body pairs through the grid (cell order, then
- * id order; in WebAssembly when `schedule` can), then body–wall pairs (body order, then wall
- * order). `inverseMass` is the solver's
- * (0 for kinematic and sleeping bodies): a pair of two such bodies is skipped — unless a kinematic
- * body touches a sleeping one, which must wake. `gravityPending`: gravity is still to be added to
+ * id order; in WebAssembly when the kernels of `work` run), then body–wall pairs (body order, then
+ * wall order). `inverseMass` is the solver's (0 for kinematic and sleeping bodies): a pair of two
+ * such bodies is skipped — unless a kinematic body touches a sleeping one, which must wake. `gravityPending`: gravity is still to be added to
  * the moving bodies' velocities this step (`def`'s), for the one test that reads a velocity.
  * (Flags and objects as arguments, not doubles: V8 boxes a double passed to a call it does not
  * inline, and this one is too large to inline.)
@@ -299,12 +301,84 @@ export function findContacts(
   contacts: ContactList,
   gravityPending: boolean,
   def: Readonly<WorldDef>,
-  schedule: SolverSchedule,
+  work: KernelMemory,
 ): void {
   contacts.count = 0;
-  if (!schedule.circlePairs(grid, bodies, contacts)) bodyPairs(grid, bodies, statics, contacts);
+  if (!circlePairsInKernel(grid, bodies, contacts, work))
+    bodyPairs(grid, bodies, statics, contacts);
   contacts.bodyPairCount = contacts.count;
   wallPairs(grid, bodies, statics, contacts, gravityPending, def);
+}
+
+/**
+ * The body–body pass of `findContacts` in WebAssembly (`circlePairs` in broad-phase.wat: the same
+ * cells, order and arithmetic), for a world of circles only once the kernels run; puts the
+ * contacts in `contacts` (from 0) and returns true. Returns false, having changed nothing, when
+ * it does not apply. Throws {@link ContactOverflow} where `contacts.add` would.
+ */
+function circlePairsInKernel(
+  grid: Grid,
+  bodies: BodyStore,
+  contacts: ContactList,
+  work: KernelMemory,
+): boolean {
+  if (!work.kernels || grid.cols === 0 || (grid.flagUnion & BOX) !== 0) return false;
+  const n = bodies.slotCount;
+  const flags = bodies.flags;
+  const cells = grid.cols * grid.rows;
+  // Columns: x, y, halfWidth, inverse mass (f64), then cellStart, cellItems (i32), flags (u8),
+  // then 8 bytes for an overflow's bodies and the contacts' five columns of `room`.
+  const columns = 8 * ((n + 1) & ~1);
+  const startAt = 4 * columns;
+  const itemsAt = startAt + 4 * (cells + 2);
+  const flagsAt = itemsAt + 4 * n;
+  const outAt = ((flagsAt + n + 7) & ~7) + 8;
+  const limit = contacts.limit;
+  let room = Math.min(limit, Math.max(contacts.capacity, 4 * n));
+  for (;;) {
+    // kernelsWith() drops the kernels when their memory cannot grow: JavaScript does it then.
+    const kernels = work.kernelsWith(outAt + 32 * room);
+    if (!kernels) return false;
+    const f64 = work.f64;
+    const i32 = work.i32;
+    f64.set(bodies.x.subarray(0, n), 0);
+    f64.set(bodies.y.subarray(0, n), columns >>> 3);
+    f64.set(bodies.halfWidth.subarray(0, n), (2 * columns) >>> 3);
+    f64.set(bodies.solverInverseMass.subarray(0, n), (3 * columns) >>> 3);
+    i32.set(grid.cellStart.subarray(0, cells + 1), startAt >>> 2);
+    i32.set(grid.cellItems.subarray(0, n), itemsAt >>> 2);
+    new Uint8Array(work.memory, flagsAt, n).set(flags.subarray(0, n));
+    const count = kernels.circlePairs(
+      0,
+      columns,
+      2 * columns,
+      3 * columns,
+      flagsAt,
+      startAt,
+      itemsAt,
+      grid.rows,
+      grid.cols,
+      outAt,
+      room,
+    );
+    if (count < 0) {
+      if (room < limit) {
+        room = Math.min(limit, 2 * room);
+        continue;
+      }
+      throw new ContactOverflow(limit, i32[(outAt >>> 2) - 2]!, i32[(outAt >>> 2) - 1]!);
+    }
+    if (contacts.capacity < count) contacts.grow(count);
+    const ids = outAt >>> 2;
+    const values = (outAt + 8 * room) >>> 3;
+    contacts.bodyA.set(i32.subarray(ids, ids + count));
+    contacts.bodyB.set(i32.subarray(ids + room, ids + room + count));
+    contacts.normalX.set(f64.subarray(values, values + count));
+    contacts.normalY.set(f64.subarray(values + room, values + room + count));
+    contacts.separation.set(f64.subarray(values + 2 * room, values + 2 * room + count));
+    contacts.count = count;
+    return true;
+  }
 }
 
 /** The body–body contacts through the grid: cell order, then id order. */

@@ -69,13 +69,10 @@
  * where it can run, else in the JavaScript loops below:
  * the same IEEE-754 operations in the same order, so the same bits (a test runs both).
  */
-import { BodyFlag, type BodyStore } from './body.js';
-import type { Grid } from './broad-phase.js';
-import { ContactOverflow, type ContactList, type WarmStartCache } from './contacts.js';
+import type { BodyStore } from './body.js';
+import type { ContactList, WarmStartCache } from './contacts.js';
 import type { WorldDef } from './def.js';
-import { solverKernels, solverKernelsSetting, type SolverKernels } from './solver-kernels.js';
-
-const { BOX } = BodyFlag;
+import { KernelMemory, type SolverKernels } from './solver-kernels.js';
 
 // The working memory of one step's solvers (bytes; see "Visiting order" in the file comment):
 // velocities (vx, vy: 16 bytes per body, then per wall stand-in), positions (movedX, movedY, x, y:
@@ -97,10 +94,10 @@ const VELOCITY_A = 14;
 const VELOCITY_B = 15;
 
 /**
- * The order in which the solvers visit this step's contacts, and their working memory (see the
- * file comment, "Visiting order").
+ * The order in which the solvers visit this step's contacts, over the world's kernel memory (see
+ * the file comment, "Visiting order"; the broad phase uses the same memory before them).
  */
-export class SolverSchedule {
+export class SolverSchedule extends KernelMemory {
   /** Contacts of this step, and how many of them are body–body. */
   count = 0;
   pairs = 0;
@@ -111,126 +108,10 @@ export class SolverSchedule {
   /** Byte offsets of the position and visit regions in {@link memory}. */
   positionsAt = 0;
   visitsAt = 0;
-  /** The working memory and views of it. */
-  memory = new ArrayBuffer(0);
-  f64 = new Float64Array(0);
-  i32 = new Int32Array(0);
-  /**
-   * The WebAssembly loops, whose memory is {@link memory}; null: the JavaScript ones; undefined:
-   * not tried yet (they are, the first time a step has `solverKernelsSetting.minContacts`).
-   */
-  kernels: SolverKernels | null | undefined = solverKernelsSetting.enabled ? undefined : null;
   /** By body: the wave of its last contact so far; by contact: its wave; by wave: where it starts. */
   private lastWave = new Int32Array(0);
   private waveOf = new Int32Array(0);
   private waveStart = new Int32Array(0);
-
-  /**
-   * Room for `bytes` of working memory (its contents need not survive); returns the kernels that
-   * run on it (none: the JavaScript loops).
-   */
-  private reserve(bytes: number, contacts: number): SolverKernels | null | undefined {
-    if (this.kernels === undefined && contacts >= solverKernelsSetting.minContacts) {
-      const kernels = solverKernels();
-      this.kernels = kernels ?? null;
-      if (kernels !== undefined) {
-        this.memory = kernels.memory.buffer;
-        this.f64 = new Float64Array(this.memory);
-        this.i32 = new Int32Array(this.memory);
-      }
-    }
-    if (this.memory.byteLength >= bytes) return this.kernels;
-    const size = Math.max((bytes + 7) & ~7, 2 * this.memory.byteLength);
-    const kernels = this.kernels;
-    if (kernels) {
-      try {
-        kernels.memory.grow(Math.ceil((size - this.memory.byteLength) / 65536));
-        this.memory = kernels.memory.buffer;
-      } catch {
-        // No more memory for the kernels: go on in JavaScript, which gives the same bits.
-        this.kernels = null;
-        this.memory = new ArrayBuffer(size);
-      }
-    } else this.memory = new ArrayBuffer(size);
-    this.f64 = new Float64Array(this.memory);
-    this.i32 = new Int32Array(this.memory);
-    return this.kernels;
-  }
-
-  /**
-   * The kernels over at least `bytes` of working memory (its contents need not survive), once a
-   * step has started them; null while the JavaScript loops run (see {@link kernels}).
-   */
-  kernelsWith(bytes: number): SolverKernels | null {
-    if (!this.kernels) return null;
-    return this.reserve(bytes, 0) ?? null;
-  }
-
-  /**
-   * The body–body pass of `findContacts` in WebAssembly (`circlePairs` in broad-phase.wat: the same
-   * cells, order and arithmetic), for a world of circles only once the kernels run; puts the
-   * contacts in `contacts` (from 0) and returns true. Returns false, having changed nothing, when
-   * it does not apply. Throws {@link ContactOverflow} where `contacts.add` would.
-   */
-  circlePairs(grid: Grid, bodies: BodyStore, contacts: ContactList): boolean {
-    if (!this.kernels || grid.cols === 0 || (grid.flagUnion & BOX) !== 0) return false;
-    const n = bodies.slotCount;
-    const flags = bodies.flags;
-    const cells = grid.cols * grid.rows;
-    // Columns: x, y, halfWidth, inverse mass (f64), then cellStart, cellItems (i32), flags (u8),
-    // then 8 bytes for an overflow's bodies and the contacts' five columns of `room`.
-    const columns = 8 * ((n + 1) & ~1);
-    const startAt = 4 * columns;
-    const itemsAt = startAt + 4 * (cells + 2);
-    const flagsAt = itemsAt + 4 * n;
-    const outAt = ((flagsAt + n + 7) & ~7) + 8;
-    const limit = contacts.limit;
-    let room = Math.min(limit, Math.max(contacts.capacity, 4 * n));
-    for (;;) {
-      // reserve() drops the kernels when their memory cannot grow: JavaScript does it then.
-      const kernels = this.reserve(outAt + 32 * room, 0);
-      if (!kernels) return false;
-      const f64 = this.f64;
-      const i32 = this.i32;
-      f64.set(bodies.x.subarray(0, n), 0);
-      f64.set(bodies.y.subarray(0, n), columns >>> 3);
-      f64.set(bodies.halfWidth.subarray(0, n), (2 * columns) >>> 3);
-      f64.set(bodies.solverInverseMass.subarray(0, n), (3 * columns) >>> 3);
-      i32.set(grid.cellStart.subarray(0, cells + 1), startAt >>> 2);
-      i32.set(grid.cellItems.subarray(0, n), itemsAt >>> 2);
-      new Uint8Array(this.memory, flagsAt, n).set(flags.subarray(0, n));
-      const count = kernels.circlePairs(
-        0,
-        columns,
-        2 * columns,
-        3 * columns,
-        flagsAt,
-        startAt,
-        itemsAt,
-        grid.rows,
-        grid.cols,
-        outAt,
-        room,
-      );
-      if (count < 0) {
-        if (room < limit) {
-          room = Math.min(limit, 2 * room);
-          continue;
-        }
-        throw new ContactOverflow(limit, i32[(outAt >>> 2) - 2]!, i32[(outAt >>> 2) - 1]!);
-      }
-      if (contacts.capacity < count) contacts.grow(count);
-      const ids = outAt >>> 2;
-      const values = (outAt + 8 * room) >>> 3;
-      contacts.bodyA.set(i32.subarray(ids, ids + count));
-      contacts.bodyB.set(i32.subarray(ids + room, ids + room + count));
-      contacts.normalX.set(f64.subarray(values, values + count));
-      contacts.normalY.set(f64.subarray(values + room, values + room + count));
-      contacts.separation.set(f64.subarray(values + 2 * room, values + 2 * room + count));
-      contacts.count = count;
-      return true;
-    }
-  }
 
   /**
    * Plans the visits of this step's contacts wave by wave: a contact's wave is one more than the

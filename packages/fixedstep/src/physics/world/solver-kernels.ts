@@ -173,3 +173,62 @@ export function solverKernels(): SolverKernels | undefined {
     return undefined;
   }
 }
+
+/**
+ * A world's working memory for the kernels: the broad phase and then the solvers lay their columns
+ * out in it afresh each pass (its contents need not survive from one to the next). It is the
+ * kernels' `WebAssembly.Memory` once they run — they start the first time a step has
+ * `solverKernelsSetting.minContacts` contacts — else a plain ArrayBuffer for the JavaScript loops.
+ */
+export class KernelMemory {
+  /** The working memory and views of it. */
+  memory = new ArrayBuffer(0);
+  f64 = new Float64Array(0);
+  i32 = new Int32Array(0);
+  /**
+   * The WebAssembly loops, whose memory is {@link memory}; null: the JavaScript ones; undefined:
+   * not tried yet.
+   */
+  kernels: SolverKernels | null | undefined = solverKernelsSetting.enabled ? undefined : null;
+
+  /**
+   * Room for `bytes` of working memory (its contents need not survive); returns the kernels that
+   * run on it (none: the JavaScript loops).
+   */
+  protected reserve(bytes: number, contacts: number): SolverKernels | null | undefined {
+    if (this.kernels === undefined && contacts >= solverKernelsSetting.minContacts) {
+      const kernels = solverKernels();
+      this.kernels = kernels ?? null;
+      if (kernels !== undefined) {
+        this.memory = kernels.memory.buffer;
+        this.f64 = new Float64Array(this.memory);
+        this.i32 = new Int32Array(this.memory);
+      }
+    }
+    if (this.memory.byteLength >= bytes) return this.kernels;
+    const size = Math.max((bytes + 7) & ~7, 2 * this.memory.byteLength);
+    const kernels = this.kernels;
+    if (kernels) {
+      try {
+        kernels.memory.grow(Math.ceil((size - this.memory.byteLength) / 65536));
+        this.memory = kernels.memory.buffer;
+      } catch {
+        // No more memory for the kernels: go on in JavaScript, which gives the same bits.
+        this.kernels = null;
+        this.memory = new ArrayBuffer(size);
+      }
+    } else this.memory = new ArrayBuffer(size);
+    this.f64 = new Float64Array(this.memory);
+    this.i32 = new Int32Array(this.memory);
+    return this.kernels;
+  }
+
+  /**
+   * The kernels over at least `bytes` of working memory (its contents need not survive), once a
+   * step has started them; null while the JavaScript loops run (see {@link kernels}).
+   */
+  kernelsWith(bytes: number): SolverKernels | null {
+    if (!this.kernels) return null;
+    return this.reserve(bytes, 0) ?? null;
+  }
+}
