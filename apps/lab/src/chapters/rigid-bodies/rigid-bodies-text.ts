@@ -53,8 +53,8 @@ export const MEASURED = {
   ownBytesPerBody: 97,
   rapierBytesPerBody: 1579,
   /** The largest pile whose 8-tick rollback fit in 4 ms. */
-  ownRollbackBodies: 1080,
-  rapierRollbackBodies: 135,
+  ownRollbackBodies: 2363,
+  rapierRollbackBodies: 180,
 } as const;
 
 /** "What it costs": this scene's snapshots now (from the model), then the measured budget. */
