@@ -70,8 +70,6 @@ export class ContinuousSolver {
   private queueLength = 0;
   /** Bodies whose path strays further than `reach` from where the grid put them. */
   private farList = new Int32Array(0);
-  /** The bodies {@link guardWalls} tests against the walls this step. */
-  private guarded = new Int32Array(0);
   private farCount = 0;
   private isFar = new Uint8Array(0);
   /** How far the other bodies' paths stray from where the grid put them, at most. Metres. */
@@ -114,7 +112,6 @@ export class ContinuousSolver {
     this.sweeps = new Uint8Array(capacity);
     this.queue = new Int32Array(capacity * MAX_SWEEPS);
     this.farList = new Int32Array(capacity);
-    this.guarded = new Int32Array(capacity);
     this.isFar = new Uint8Array(capacity);
   }
 
@@ -700,26 +697,18 @@ export class ContinuousSolver {
     const nearWall = grid.nearWall;
     const cellOf = grid.cellOf;
     const cell = grid.cellSize;
-    // First the bodies to guard, in a short loop the engine keeps tight…
-    const guarded = this.guarded;
-    let count = 0;
     for (let i = 0; i < n; i++) {
       const f = flags[i]!;
       if (f === 0 || inverseMass[i] === 0 || (!all && (f & BULLET) === 0)) continue;
-      if (marks && nearWall[cellOf[i]!] === 0) {
-        const dx = x[i]! - startX[i]!;
-        const dy = y[i]! - startY[i]!;
-        if (dx <= cell && dx >= -cell && dy <= cell && dy >= -cell) continue;
-      }
-      guarded[count++] = i;
-    }
-    // …then their paths against the walls (each body's own: the order does not matter).
-    for (let g = 0; g < count; g++) {
-      const i = guarded[g]!;
       const p0x = startX[i]!;
       const p0y = startY[i]!;
       let p1x = x[i]!;
       let p1y = y[i]!;
+      if (marks && nearWall[cellOf[i]!] === 0) {
+        const dx = p1x - p0x;
+        const dy = p1y - p0y;
+        if (dx <= cell && dx >= -cell && dy <= cell && dy >= -cell) continue;
+      }
       // The path's bounding box, made again only when a wall moves the end.
       let loX = p0x < p1x ? p0x : p1x;
       let hiX = p0x < p1x ? p1x : p0x;
