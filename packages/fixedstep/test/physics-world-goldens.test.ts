@@ -128,6 +128,16 @@ describe('the solver kernels', () => {
       ['bullets', () => buildWorld(bulletsScene(3))],
       ['restitution', () => circlesInBox(200, 2, { restitution: 0.5, restitutionThreshold: 0.3 })],
       ['crowd', crowd],
+      // A body 900,000 km away: the grid's cells grow until it fits the budget (a huge span in
+      // the WebAssembly bounds and counting sort), and the pile shares a few cells.
+      [
+        'far',
+        () => {
+          const w = circlesInBox(400, 5, { enableSleep: false });
+          w.createCircle({ x: 9e8, y: 3, vx: -40, vy: 0, radius: 0.2 });
+          return w;
+        },
+      ],
     ];
     const kernels = (w: PhysicsWorld) =>
       (w as unknown as { schedule: { kernels: object | null | undefined } }).schedule.kernels;
