@@ -283,23 +283,17 @@
         (i32.store offset=4 (local.get $p) (i32.add (i32.load offset=4 (local.get $p)) (i32.load (local.get $p))))
         (local.set $w (i32.add (local.get $w) (i32.const 1)))
         (br $sum)))
+    ;; The order, stable within a wave, and each contact's visit at its place in it (the contacts'
+    ;; columns read in list order).
     (local.set $k (i32.const 0))
-    (block $orderDone
-      (loop $orderLoop
-        (br_if $orderDone (i32.ge_s (local.get $k) (local.get $count)))
+    (block $visitsDone
+      (loop $visit
+        (br_if $visitsDone (i32.ge_s (local.get $k) (local.get $count)))
         (local.set $p (i32.add (local.get $waveStart)
           (i32.shl (i32.load (i32.add (local.get $waveOf) (i32.shl (local.get $k) (i32.const 2)))) (i32.const 2))))
         (local.set $s (i32.load (local.get $p)))
         (i32.store (local.get $p) (i32.add (local.get $s) (i32.const 1)))
         (i32.store (i32.add (local.get $order) (i32.shl (local.get $s) (i32.const 2))) (local.get $k))
-        (local.set $k (i32.add (local.get $k) (i32.const 1)))
-        (br $orderLoop)))
-    ;; The visits, in order.
-    (local.set $s (i32.const 0))
-    (block $visitsDone
-      (loop $visit
-        (br_if $visitsDone (i32.ge_s (local.get $s) (local.get $count)))
-        (local.set $k (i32.load (i32.add (local.get $order) (i32.shl (local.get $s) (i32.const 2)))))
         (local.set $a (i32.load (i32.add (local.get $bodyA) (i32.shl (local.get $k) (i32.const 2)))))
         (local.set $b (i32.load (i32.add (local.get $bodyB) (i32.shl (local.get $k) (i32.const 2)))))
         (local.set $p (i32.add (local.get $visits) (i32.shl (local.get $s) (i32.const 6))))
@@ -337,7 +331,7 @@
         (f64.store offset=40 (local.get $p) (local.get $jn))
         (f64.store offset=48 (local.get $p) (local.get $jt))
         (i32.store offset=56 (local.get $p) (i32.shl (local.get $a) (i32.const 4)))
-        (local.set $s (i32.add (local.get $s) (i32.const 1)))
+        (local.set $k (i32.add (local.get $k) (i32.const 1)))
         (br $visit))))
 
   ;; solvePositions' preparation of the visits: each visit's separation (from the column at $sep,
