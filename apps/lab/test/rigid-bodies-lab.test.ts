@@ -346,7 +346,7 @@ describe('the words', () => {
       `Rapier ${rapierSide.snapshotBytes.toLocaleString('en-US').replace(/,/g, '\u202f')} bytes`,
     );
     expect(text).toContain('1\u202f579 bytes a body against 97 at 100 bodies');
-    expect(text).toContain('about 180 bodies in Rapier against about 2\u202f363');
+    expect(text).toContain('about 180 bodies in Rapier against about 2\u202f468');
     lab.dispose();
   });
 

@@ -53,7 +53,7 @@ export const MEASURED = {
   ownBytesPerBody: 97,
   rapierBytesPerBody: 1579,
   /** The largest pile whose 8-tick rollback fit in 4 ms. */
-  ownRollbackBodies: 2363,
+  ownRollbackBodies: 2468,
   rapierRollbackBodies: 180,
 } as const;
 
