@@ -116,6 +116,49 @@ describe('npm start on a fresh copy', () => {
     }
   });
 
+  it('stops when the npm that started it is killed with SIGTERM (npm does not pass it on)', async () => {
+    // `npm start` in a process group of its own, so whatever is left can be cleaned up below.
+    const npm = spawn('npm', ['start', '--', '--port', '0'], {
+      cwd: copy,
+      env: { ...process.env, npm_config_prefer_offline: 'true', NO_COLOR: '1' },
+      stdio: ['ignore', 'pipe', 'pipe'],
+      detached: true,
+    });
+    try {
+      let output = '';
+      const url = await new Promise<string>((resolve, reject) => {
+        const onData = (d: Buffer) => {
+          output += d.toString('utf8');
+          const m = /fixedstep lab: (http:\/\/localhost:\d+\/)/.exec(output);
+          if (m) resolve(m[1]!.replace('localhost', '127.0.0.1'));
+        };
+        npm.stdout.on('data', onData);
+        npm.stderr.on('data', onData);
+        npm.on('exit', (code) => {
+          reject(new Error(`npm start exited (${String(code)}) before serving:\n${output}`));
+        });
+      });
+      expect((await fetch(url)).status).toBe(200);
+      process.kill(npm.pid!, 'SIGTERM');
+      // The server notices that npm is gone, drains (no match is running) and closes its port.
+      let closed = false;
+      for (const deadline = Date.now() + 60_000; !closed && Date.now() < deadline;) {
+        closed = await fetch(url).then(
+          () => false,
+          () => true,
+        );
+        if (!closed) await new Promise((r) => setTimeout(r, 100));
+      }
+      expect(closed, `still serving at ${url} after npm was killed:\n${output}`).toBe(true);
+    } finally {
+      try {
+        process.kill(-npm.pid!, 'SIGKILL');
+      } catch {
+        // The group is gone already: nothing was left behind.
+      }
+    }
+  });
+
   it('a second start skips every stage; a changed source rebuilds only what it feeds', async () => {
     const warm = await start();
     expect(warm.output).toMatch(/^✓ 1\/4 Dependencies: up to date/m);
