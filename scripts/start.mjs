@@ -165,11 +165,14 @@ await stage(
 // 4. The server, in this process.
 line(`▸ 4/${STAGES} Server: starting …`);
 // npm 11 does not pass on a SIGTERM sent to it (`kill <npm's pid>`, what a process manager sends):
-// npm exits and this process would go on holding the port. So when the process that started this
-// one is gone (this process is re-parented), stop as a SIGTERM asks: drain, then exit.
-const parent = process.ppid;
-setInterval(() => {
-  if (process.ppid !== parent) process.kill(process.pid, 'SIGTERM');
-}, 250).unref();
+// npm exits and this process would go on holding the port. So, run by npm, when the process that
+// started this one is gone (this process is re-parented), stop as a SIGTERM asks: drain, then exit.
+// Run directly (`nohup node scripts/start.mjs &`), it outlives its shell as such a process should.
+if (process.env.npm_lifecycle_event === 'start') {
+  const parent = process.ppid;
+  setInterval(() => {
+    if (process.ppid !== parent) process.kill(process.pid, 'SIGTERM');
+  }, 250).unref();
+}
 const { run } = await import(pathToFileURL(join(root, 'packages/cli/dist/cli.js')).href);
 process.exit(await run(['serve', ...process.argv.slice(2)]));

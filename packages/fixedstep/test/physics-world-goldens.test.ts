@@ -289,7 +289,7 @@ describe('the cells marked near walls', () => {
 
   it('let the wall guard skip only paths that cannot cross a wall (property)', () => {
     // The guard moves a body back where its path crossed a wall. Steps seldom give it a long
-    // path (continuous detection stops those first), so paths of up to 5 cells are made here,
+    // path (continuous detection stops those first), so paths of up to 1 or 5 cells are made here,
     // from where each body started its last step, and the guard runs with and without the marks.
     let guarded = 0;
     let skipped = 0;
@@ -311,8 +311,10 @@ describe('the cells marked near walls', () => {
         if (!grid.wallMarks) return true;
         const r = new Random(pathSeed);
         const n = bodies.slotCount;
-        const reach = 5 * grid.cellSize;
+        const cell = grid.cellSize;
         for (let i = 0; i < n; i++) {
+          // Half the paths within a cell along each axis (the guard may skip those), half longer.
+          const reach = r.next() < 0.5 ? cell : 5 * cell;
           bodies.x[i] = bodies.startX[i]! + r.range(-reach, reach);
           bodies.y[i] = bodies.startY[i]! + r.range(-reach, reach);
         }
@@ -328,13 +330,16 @@ describe('the cells marked near walls', () => {
         for (let i = 0; i < n; i++) {
           if (markedX[i] !== bodies.x[i] || markedY[i] !== bodies.y[i]) return false;
           if (bodies.x[i] !== x[i] || bodies.y[i] !== y[i]) guarded++;
-          if (grid.nearWall[grid.cellOf[i]!] === 0) skipped++;
+          const short =
+            Math.abs(x[i]! - bodies.startX[i]!) <= cell &&
+            Math.abs(y[i]! - bodies.startY[i]!) <= cell;
+          if (grid.nearWall[grid.cellOf[i]!] === 0 && short) skipped++;
         }
         return true;
       }),
       { numRuns: 60 },
     );
-    // Paths were cut, and bodies were skipped.
+    // Paths were cut, and bodies were skipped (far from every wall, a short path).
     expect(guarded).toBeGreaterThan(100);
     expect(skipped).toBeGreaterThan(100);
   });

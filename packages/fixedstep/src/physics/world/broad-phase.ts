@@ -52,6 +52,16 @@ export class Grid {
   flagUnion = 0;
   /** Whether {@link nearWall} holds this step's marks (false: test every body against the walls). */
   wallMarks = false;
+  /**
+   * Where {@link build} left its columns in the kernel memory this step, for the circle pass
+   * (byte offsets; see `build`), or `inKernel` false: built in JavaScript, or no grid.
+   */
+  inKernel = false;
+  kernelColumns = 0;
+  kernelStartAt = 0;
+  kernelItemsAt = 0;
+  kernelFlagsAt = 0;
+  kernelEnd = 0;
 
   /** Room for `capacity` bodies (and the cells a grid of them may use). */
   resize(capacity: number): void {
@@ -72,15 +82,17 @@ export class Grid {
     const n = bodies.slotCount;
     const budget = 4 * n + 64;
     // In WebAssembly once the solver's kernels run (gridBounds and gridCells in broad-phase.wat: the
-    // same comparisons and arithmetic), over columns copied in: x, y (f64), the bounds (4 f64),
-    // the flags or-ed (i32, 8 bytes), cellOf, items (i32), start (budget + 2), cursor (budget + 1),
-    // flags (u8).
-    const even = (n + 1) & ~1;
-    const yAt = 8 * even;
-    const boundsAt = yAt + 8 * even;
+    // same comparisons and arithmetic), over columns copied in — x, y, then room for the circle
+    // pass's half widths and inverse masses (f64 columns of `columns` bytes), the bounds (4 f64)
+    // and the flags or-ed (i32, 8 bytes), cellOf, items (i32), start (budget + 2), cursor
+    // (budget + 1), flags (u8) — which the circle pass then reads where they are.
+    this.inKernel = false;
+    const columns = 8 * ((n + 1) & ~1);
+    const yAt = columns;
+    const boundsAt = 4 * columns;
     const cellOfAt = boundsAt + 40;
-    const itemsAt = cellOfAt + 4 * even;
-    const startAt = itemsAt + 4 * even;
+    const itemsAt = cellOfAt + columns / 2;
+    const startAt = itemsAt + columns / 2;
     const cursorAt = startAt + 4 * (budget + 2);
     const flagsAt = cursorAt + 4 * (budget + 1);
     const kernels = n > 0 ? work.kernelsWith(flagsAt + n) : null;
@@ -186,6 +198,12 @@ export class Grid {
       this.cellOf.set(i32.subarray(cellOfAt >>> 2, (cellOfAt >>> 2) + n));
       this.cellStart.set(i32.subarray(start, start + cells + 1));
       this.cellItems.set(i32.subarray(itemsAt >>> 2, (itemsAt >>> 2) + i32[start + cells]!));
+      this.inKernel = true;
+      this.kernelColumns = columns;
+      this.kernelStartAt = startAt;
+      this.kernelItemsAt = itemsAt;
+      this.kernelFlagsAt = flagsAt;
+      this.kernelEnd = (flagsAt + n + 7) & ~7;
       return;
     }
     this.sort(bodies, cells);
@@ -289,8 +307,9 @@ const WALL_MARGIN = 2;
  * Every contact of this step into `contacts`: body–body pairs through the grid (cell order, then
  * id order; in WebAssembly when the kernels of `work` run), then body–wall pairs (body order, then
  * wall order). `inverseMass` is the solver's (0 for kinematic and sleeping bodies): a pair of two
- * such bodies is skipped — unless a kinematic body touches a sleeping one, which must wake. `gravityPending`: gravity is still to be added to
- * the moving bodies' velocities this step (`def`'s), for the one test that reads a velocity.
+ * such bodies is skipped — unless a kinematic body touches a sleeping one, which must wake.
+ * `gravityPending`: gravity is still to be added to the moving bodies' velocities this step
+ * (`def`'s), for the one test that reads a velocity.
  * (Flags and objects as arguments, not doubles: V8 boxes a double passed to a call it does not
  * inline, and this one is too large to inline.)
  */
@@ -312,9 +331,12 @@ export function findContacts(
 
 /**
  * The body–body pass of `findContacts` in WebAssembly (`circlePairs` in broad-phase.wat: the same
- * cells, order and arithmetic), for a world of circles only once the kernels run; puts the
- * contacts in `contacts` (from 0) and returns true. Returns false, having changed nothing, when
- * it does not apply. Throws {@link ContactOverflow} where `contacts.add` would.
+ * cells, order and arithmetic), for a world of circles only whose grid was built in the kernel
+ * memory this step: it reads the positions, cell starts and items where `Grid.build` left them,
+ * with the half widths, inverse masses and flags copied in (a wake between two calls changes the
+ * last two). Puts the contacts in `contacts` (from 0) and returns true. Returns false, having
+ * changed nothing, when it does not apply. Throws {@link ContactOverflow} where `contacts.add`
+ * would.
  */
 function circlePairsInKernel(
   grid: Grid,
@@ -322,40 +344,33 @@ function circlePairsInKernel(
   contacts: ContactList,
   work: KernelMemory,
 ): boolean {
-  if (!work.kernels || grid.cols === 0 || (grid.flagUnion & BOX) !== 0) return false;
+  if (!grid.inKernel || (grid.flagUnion & BOX) !== 0) return false;
   const n = bodies.slotCount;
-  const flags = bodies.flags;
-  const cells = grid.cols * grid.rows;
-  // Columns: x, y, halfWidth, inverse mass (f64), then cellStart, cellItems (i32), flags (u8),
-  // then 8 bytes for an overflow's bodies and the contacts' five columns of `room`.
-  const columns = 8 * ((n + 1) & ~1);
-  const startAt = 4 * columns;
-  const itemsAt = startAt + 4 * (cells + 2);
-  const flagsAt = itemsAt + 4 * n;
-  const outAt = ((flagsAt + n + 7) & ~7) + 8;
+  const columns = grid.kernelColumns;
+  const flagsAt = grid.kernelFlagsAt;
+  // After the grid's columns: 8 bytes for an overflow's bodies, then the contacts' five columns
+  // of `room`.
+  const outAt = grid.kernelEnd + 8;
   const limit = contacts.limit;
   let room = Math.min(limit, Math.max(contacts.capacity, 4 * n));
   for (;;) {
-    // kernelsWith() drops the kernels when their memory cannot grow: JavaScript does it then.
+    // kernelsWith() drops the kernels when their memory cannot grow (growing keeps the grid's
+    // columns): JavaScript does it then.
     const kernels = work.kernelsWith(outAt + 32 * room);
     if (!kernels) return false;
     const f64 = work.f64;
     const i32 = work.i32;
-    f64.set(bodies.x.subarray(0, n), 0);
-    f64.set(bodies.y.subarray(0, n), columns >>> 3);
     f64.set(bodies.halfWidth.subarray(0, n), (2 * columns) >>> 3);
     f64.set(bodies.solverInverseMass.subarray(0, n), (3 * columns) >>> 3);
-    i32.set(grid.cellStart.subarray(0, cells + 1), startAt >>> 2);
-    i32.set(grid.cellItems.subarray(0, n), itemsAt >>> 2);
-    new Uint8Array(work.memory, flagsAt, n).set(flags.subarray(0, n));
+    new Uint8Array(work.memory, flagsAt, n).set(bodies.flags.subarray(0, n));
     const count = kernels.circlePairs(
       0,
       columns,
       2 * columns,
       3 * columns,
       flagsAt,
-      startAt,
-      itemsAt,
+      grid.kernelStartAt,
+      grid.kernelItemsAt,
       grid.rows,
       grid.cols,
       outAt,

@@ -60,14 +60,15 @@
  * and the sweeps go wave by wave. Contacts in one wave share no body, so the processor overlaps
  * them instead of waiting for each body's previous update: in the settled 2,000-circle pile
  * (~3,500 contacts in ~176 waves) the WebAssembly sweep runs about 1.5× as fast in waves as in list
- * order, and faster again when it does two visits of a wave side by side in SIMD lanes. A wall is a stand-in body of its own per contact (velocity 0, inverse mass 0; for
- * positions the wall contact's masses are 1 and 0, so `C/(1 + 0)·1` is exactly the wall's `C`),
- * which makes one loop serve both kinds.
+ * order, and faster again doing two visits of a wave side by side in SIMD lanes. A wall is a
+ * stand-in body of its own per contact (velocity 0, inverse mass 0; for positions the wall
+ * contact's masses are 1 and 0, so `C/(1 + 0)·1` is exactly the wall's `C`), which makes one loop
+ * serve both kinds.
  *
  * The sweeps run over one working memory in visiting order (velocities, positions, then 64 bytes
  * per visit), in WebAssembly (`solver.wat`; the broad phase's loops are in `broad-phase.wat`)
- * where it can run, else in the JavaScript loops below:
- * the same IEEE-754 operations in the same order, so the same bits (a test runs both).
+ * where it can run, else in the JavaScript loops below: the same IEEE-754 operations in the same
+ * order, so the same bits (a test runs both).
  */
 import type { BodyStore } from './body.js';
 import type { ContactList, WarmStartCache } from './contacts.js';
@@ -75,8 +76,9 @@ import type { WorldDef } from './def.js';
 import { KernelMemory, type SolverKernels } from './solver-kernels.js';
 
 // The working memory of one step's solvers (bytes; see "Visiting order" in the file comment):
-// velocities (vx, vy: 16 bytes per body, then per wall stand-in), positions (movedX, movedY, x, y:
-// 32 bytes each), then the visits, 64 bytes each, in visiting order.
+// velocities (vx, vy: 16 bytes per body, then per wall stand-in), positions (the motion since the
+// contacts were found, movedX and movedY, then x, y: 32 bytes each), then the visits, 64 bytes
+// each, in visiting order.
 /** Bytes per visit. */
 const VISIT_BYTES = 64;
 // f64 offsets in a visit. For the position solver, SEPARATION replaces NORMAL_MASS and the inverse

@@ -44,8 +44,8 @@
 
   ;; `iterations` sweeps of sequential impulses over `count` visits from byte `first`. Two visits
   ;; in a row that share no body (in a wave, all of them) go side by side: lane 0 is the first
-  ;; visit's, lane 1 the second's, and each lane does exactly what one visit does below (about 1.15×
-  ;; as fast over the settling 2,000-circle pile). One visit alone: a body's (vx, vy) is one f64x2,
+  ;; visit's, lane 1 the second's, and each lane does exactly what one visit does below (a rollback
+  ;; of the settling 2,000-circle pile runs about 1.15× as fast for it). One visit alone: a body's (vx, vy) is one f64x2,
   ;; and so is a normal: every lane does what the JavaScript does to that component (IEEE-754 per
   ;; lane, no fused operations), and the dot products add lane 0 and lane 1 in the JavaScript's
   ;; order. The impulse is P = λ·(nx, ny) + τ·(−ny, nx): lane 0 adds −(τ·ny), which is subtracting

@@ -486,7 +486,8 @@ export class PhysicsWorld implements Simulation<unknown> {
 
   /**
    * Remembers where every body starts, and which bodies the solvers move this step. Whole columns
-   * are copied (a free slot's copies are never read), then the sleepers' solver masses zeroed.
+   * are copied (what a free slot gets is never used: it has no contact and moves nothing), then
+   * the sleepers' solver masses zeroed.
    */
   private beginStep(): void {
     const b = this.bodies;
