@@ -5,30 +5,20 @@
 //   node scripts/engines.mjs            what is found, what is missing and why
 //   node scripts/engines.mjs --install  the same, installing what is missing (root + apt-get)
 //
-// Engines: V8 (Node itself, and Chromium: CHROMIUM_PATH or /usr/bin/chromium, installed by
-// scripts/setup.mjs), SpiderMonkey (Firefox: FIREFOX_PATH, /usr/bin/firefox-esr, /usr/bin/firefox)
+// Engines: V8 (Node itself, and Chromium: CHROMIUM_PATH or /usr/bin/chromium), SpiderMonkey (Firefox: FIREFOX_PATH, /usr/bin/firefox-esr, /usr/bin/firefox)
 // and JavaScriptCore (WebKitGTK: WEBKIT_WEBDRIVER_PATH or WebKitWebDriver, MINIBROWSER_PATH or
-// webkit2gtk's MiniBrowser, and Xvfb — WebKitGTK has no headless mode). Installing never stops the
-// tests: an engine that is still missing afterwards is skipped by the suite, which says why.
-import { spawnSync } from 'node:child_process';
-import { accessSync, constants, existsSync, readdirSync } from 'node:fs';
+// webkit2gtk's MiniBrowser, and Xvfb — WebKitGTK has no headless mode). `npm test` installs the
+// missing ones; an engine that is still missing is skipped by the suite, which says why.
+import { existsSync, readdirSync } from 'node:fs';
 import { delimiter, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { canInstallPackages, installPackages, isExecutable } from './setup.mjs';
 
 /** Debian packages that provide each engine (and what it needs to run headless). */
 export const ENGINE_PACKAGES = Object.freeze({
   firefox: ['firefox-esr'],
   webkit: ['webkit2gtk-driver', 'xvfb', 'xauth'],
 });
-
-function isExecutable(path) {
-  try {
-    accessSync(path, constants.X_OK);
-    return true;
-  } catch {
-    return false;
-  }
-}
 
 /** The first executable named `name` on $PATH, or undefined. */
 function which(name, env) {
@@ -125,52 +115,17 @@ export function findEngines(env = process.env) {
   return result;
 }
 
-function run(cmd, args, env) {
-  console.log(`\n› ${[cmd, ...args].join(' ')}`);
-  const r = spawnSync(cmd, args, { stdio: 'inherit', env });
-  if (r.error) {
-    console.error(`could not run ${cmd}: ${r.error.message}`);
-    return 127;
-  }
-  return r.status ?? 1;
-}
-
 /**
- * Finds the engines and, if some are missing and we are root with apt-get (and `install` is not
- * false), installs their Debian packages (firefox-esr; webkit2gtk-driver, xvfb, xauth). Never
- * throws and never exits: whatever is still missing is reported and later skipped by the suite.
- * Returns what {@link findEngines} finds afterwards.
+ * The Debian packages of the engines {@link findEngines} does not find (Firefox ESR; WebKitGTK's
+ * driver, Xvfb and xauth), each `{ name, why }`, for `installPackages`.
  */
-export function ensureEngines({ install = true, env = process.env } = {}) {
-  let found = findEngines(env);
-  const wanted = [];
-  for (const id of ['firefox', 'webkit']) {
-    if (!found[id].ok) wanted.push(...found[id].packages);
-  }
-  if (wanted.length > 0 && install) {
-    const isRoot = typeof process.getuid === 'function' && process.getuid() === 0;
-    if (isRoot && isExecutable('/usr/bin/apt-get')) {
-      console.log(
-        `\nThe determinism suite's engines are missing packages: installing ${wanted.join(', ')}…`,
-      );
-      const aptEnv = { ...env, DEBIAN_FRONTEND: 'noninteractive' };
-      if (run('apt-get', ['update', '-qq'], aptEnv) !== 0) {
-        console.warn('apt-get update failed; trying the install anyway.');
-      }
-      if (
-        run('apt-get', ['install', '-y', '-qq', '--no-install-recommends', ...wanted], aptEnv) !== 0
-      ) {
-        console.warn(`apt-get install ${wanted.join(' ')} failed: those engines will be skipped.`);
-      }
-      found = findEngines(env);
-    } else {
-      console.log(
-        `\nNote: the determinism suite will skip engines it cannot find (${wanted.join(', ')} missing).` +
-          `\n  On Debian/Ubuntu: sudo apt-get install ${wanted.join(' ')}`,
-      );
-    }
-  }
-  return found;
+export function missingEnginePackages(env = process.env) {
+  const found = findEngines(env);
+  return ['firefox', 'webkit'].flatMap((id) =>
+    found[id].ok
+      ? []
+      : found[id].packages.map((name) => ({ name, why: `the determinism suite (${id})` })),
+  );
 }
 
 function describe(found) {
@@ -190,8 +145,10 @@ function describe(found) {
 }
 
 if (process.argv[1] && fileURLToPath(import.meta.url) === process.argv[1]) {
-  const install = process.argv.includes('--install');
-  const found = install ? ensureEngines() : findEngines();
+  if (process.argv.includes('--install') && canInstallPackages()) {
+    installPackages(missingEnginePackages());
+  }
+  const found = findEngines();
   console.log(
     `Engines of the determinism suite (plus Node ${process.version}):\n${describe(found)}`,
   );

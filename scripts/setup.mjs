@@ -99,7 +99,7 @@ export function ensureDependencies(scope = 'all', before = () => undefined) {
   return true;
 }
 
-function isExecutable(path) {
+export function isExecutable(path) {
   try {
     accessSync(path, constants.X_OK);
     return true;
@@ -108,33 +108,48 @@ function isExecutable(path) {
   }
 }
 
+/** Whether Debian packages can be installed here: we are root on a machine with apt-get. */
+export function canInstallPackages() {
+  const isRoot = typeof process.getuid === 'function' && process.getuid() === 0;
+  return isRoot && isExecutable('/usr/bin/apt-get');
+}
+
 /**
- * Find Chromium for the browser tests: $CHROMIUM_PATH, else /usr/bin/chromium, else install
- * Debian's `chromium` when we are root on a machine with apt-get. Returns its path.
+ * Installs Debian packages in one `apt-get update` and one `apt-get install` (each update costs
+ * tens of seconds: everything the tests need goes in one go). `wanted` lists `{ name, why }`.
+ * Returns true when apt-get succeeded; never exits (a caller decides what a missing tool means).
  */
-export function ensureChromium() {
+export function installPackages(wanted) {
+  const names = [...new Set(wanted.map((w) => w.name))];
+  if (names.length === 0) return true;
+  console.log('\nInstalling Debian packages the tests need:');
+  for (const w of wanted) console.log(`  ${w.name.padEnd(18)} ${w.why}`);
+  const env = { ...process.env, DEBIAN_FRONTEND: 'noninteractive' };
+  if (run('apt-get', ['update', '-qq'], { env }) !== 0) {
+    console.warn('apt-get update failed; trying the install anyway.');
+  }
+  const ok = run('apt-get', ['install', '-y', '-qq', '--no-install-recommends', ...names], { env });
+  if (ok !== 0) console.warn(`apt-get install ${names.join(' ')} failed.`);
+  return ok === 0;
+}
+
+/** Chromium for the browser tests: $CHROMIUM_PATH, else /usr/bin/chromium; undefined if neither. */
+export function findChromium() {
   const fromEnv = process.env.CHROMIUM_PATH;
   if (fromEnv) {
     if (!isExecutable(fromEnv)) fail(`CHROMIUM_PATH=${fromEnv} is not an executable file.`);
     return fromEnv;
   }
-  const system = '/usr/bin/chromium';
-  if (isExecutable(system)) return system;
-  const isRoot = typeof process.getuid === 'function' && process.getuid() === 0;
-  if (isRoot && isExecutable('/usr/bin/apt-get')) {
-    console.log("\nChromium is not installed: installing Debian's chromium for the browser tests…");
-    const env = { ...process.env, DEBIAN_FRONTEND: 'noninteractive' };
-    if (run('apt-get', ['update', '-qq'], { env }) !== 0) fail('apt-get update failed.');
-    if (
-      run('apt-get', ['install', '-y', '-qq', '--no-install-recommends', 'chromium'], { env }) !== 0
-    ) {
-      fail('apt-get install chromium failed.');
-    }
-    if (isExecutable(system)) return system;
-  }
+  return isExecutable('/usr/bin/chromium') ? '/usr/bin/chromium' : undefined;
+}
+
+/** Chromium's path (see {@link findChromium}), or stop with a message naming what to install. */
+export function ensureChromium() {
+  const found = findChromium();
+  if (found) return found;
   fail(
     'The browser tests need Chromium, and none was found.\n' +
-      '  On Debian/Ubuntu: sudo apt-get install chromium\n' +
+      '  On Debian/Ubuntu: sudo apt-get install chromium (or run npm test as root: it installs it)\n' +
       '  Or point at any Chromium/Chrome binary: CHROMIUM_PATH=/path/to/chromium npm test',
   );
 }
@@ -154,30 +169,17 @@ function postgresBin() {
 }
 
 /**
- * PostgreSQL for the test of two server processes sharing one database: Debian's `postgresql`,
- * installed when absent and we are root on a machine with apt-get (the test starts its own
- * cluster in a scratch folder, as the `postgres` user, on a free port — nothing is started here).
- * Returns `{ bin }`, or `{ reason }` saying why there is none (the test is then skipped with it).
+ * PostgreSQL for the tests of server processes sharing one database: the bin folder of Debian's
+ * `postgresql` (the tests start their own cluster in a scratch folder, as the `postgres` user, on a
+ * free port — nothing is started here). Returns `{ bin }`, or `{ reason }` saying why there is none
+ * (those tests are then skipped with it).
  */
-export function ensurePostgres() {
-  let bin = postgresBin();
-  if (bin) return { bin };
-  const isRoot = typeof process.getuid === 'function' && process.getuid() === 0;
-  if (!isRoot || !isExecutable('/usr/bin/apt-get')) {
-    return {
-      reason: "PostgreSQL is not installed (install Debian's postgresql, or run npm test as root)",
-    };
-  }
-  console.log("\nPostgreSQL is not installed: installing Debian's postgresql for the store tests…");
-  const env = { ...process.env, DEBIAN_FRONTEND: 'noninteractive' };
-  if (run('apt-get', ['update', '-qq'], { env }) !== 0) return { reason: 'apt-get update failed' };
-  if (
-    run('apt-get', ['install', '-y', '-qq', '--no-install-recommends', 'postgresql'], { env }) !== 0
-  ) {
-    return { reason: 'apt-get install postgresql failed' };
-  }
-  bin = postgresBin();
+export function findPostgres() {
+  const bin = postgresBin();
   return bin
     ? { bin }
-    : { reason: 'postgresql installed, but no initdb under /usr/lib/postgresql' };
+    : {
+        reason:
+          "PostgreSQL is not installed (install Debian's postgresql, or run npm test as root: it installs it)",
+      };
 }

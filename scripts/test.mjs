@@ -1,26 +1,46 @@
-// `npm test`: every test. Installs what the tests need (dependencies; Debian's chromium, and
-// firefox-esr, webkit2gtk-driver and xvfb for the determinism suite, postgresql for the
-// store test, haproxy for the balancer test and coturn for the loss harness, when absent and we are root), then: format, lint, typecheck, unit tests, build, the e2e tests (browser, packed
-// packages, API reference), and a smoke run of the benchmarks. Runs every stage even when one fails, then prints a summary.
+// `npm test`: every test. Installs what the tests need — dependencies (`npm ci`), and the Debian
+// packages that are missing, in one apt-get run when we are root: chromium for the browser tests,
+// firefox-esr, webkit2gtk-driver, xvfb and xauth for the determinism suite, postgresql for the store
+// tests, haproxy for the balancer tests, coturn for the loss harness. Then: format, lint, typecheck,
+// unit tests, build, the e2e tests (browser, packed packages, API reference), the tests that play
+// again on busy cores, and a smoke run of the benchmarks. Runs every stage even when one fails,
+// then prints a summary.
 import { existsSync, mkdirSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
+import { findCoturn } from './coturn.mjs';
+import { missingEnginePackages } from './engines.mjs';
+import { findHaproxy } from './haproxy.mjs';
 import {
+  canInstallPackages,
   ensureChromium,
   ensureDependencies,
-  ensurePostgres,
+  findChromium,
+  findPostgres,
+  installPackages,
   root,
   run,
   seconds,
 } from './setup.mjs';
 
 ensureDependencies();
+const wanted = [
+  ...(findChromium() ? [] : [{ name: 'chromium', why: 'the browser tests' }]),
+  ...missingEnginePackages(),
+  ...('bin' in findPostgres() ? [] : [{ name: 'postgresql', why: 'the store tests' }]),
+  ...(findHaproxy() ? [] : [{ name: 'haproxy', why: 'the load-balancer tests' }]),
+  ...(findCoturn().ok ? [] : [{ name: 'coturn', why: 'the loss harness (WebRTC through TURN)' }]),
+];
+if (wanted.length > 0) {
+  if (canInstallPackages()) installPackages(wanted);
+  else {
+    console.log(
+      `\nNote: not root (or no apt-get): tests that need ${wanted.map((w) => w.name).join(', ')} ` +
+        'are skipped, saying why (Chromium is required).',
+    );
+  }
+}
 const chromium = ensureChromium();
-// Firefox ESR and WebKitGTK for the cross-engine determinism suite (skipped, with the reason, when absent).
-(await import('./engines.mjs')).ensureEngines();
-// PostgreSQL for the two-process store test (skipped, with the reason, when absent).
-const postgres = ensurePostgres();
-// HAProxy for the load-balancer tests (skipped, with the reason, when absent).
-(await import('./haproxy.mjs')).ensureHaproxy();
+const postgres = findPostgres();
 const results = join(root, 'artifacts', 'test-results');
 mkdirSync(results, { recursive: true });
 

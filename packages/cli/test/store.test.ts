@@ -1,4 +1,5 @@
-import { spawnSync } from 'node:child_process';
+import { spawn, spawnSync } from 'node:child_process';
+import { readFileSync } from 'node:fs';
 import { cp, mkdtemp, readFile, rm, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
@@ -135,22 +136,60 @@ describe('the highscore store', () => {
     const mine = await claimDataDir(data);
     await expect(claimDataDir(data)).rejects.toThrow(/already open in this process/);
     await mine.release();
-    // The lock of a live process (the test runner's parent): refused, naming it and the way out.
-    await writeFile(path.join(data, 'pglite.lock'), `${process.ppid}\n`);
-    await expect(claimDataDir(data)).rejects.toThrow(
-      new RegExp(`in use by process ${process.ppid}.*DATABASE_URL`),
-    );
+    const lockFile = path.join(data, 'pglite.lock');
+    // The lock of a live process (the test runner's parent), as a lock of this version writes it
+    // (pid and start time) and as an older one did (the pid alone): refused, naming it and the way out.
+    const parent = readFileSync(`/proc/${process.ppid}/stat`, 'utf8');
+    const parentStart = parent.slice(parent.lastIndexOf(')') + 2).split(' ')[19];
+    for (const content of [`${process.ppid} ${parentStart}\n`, `${process.ppid}\n`]) {
+      await writeFile(lockFile, content);
+      await expect(claimDataDir(data)).rejects.toThrow(
+        new RegExp(`in use by process ${process.ppid}.*DATABASE_URL`),
+      );
+    }
+    const takesOver = async (content: string) => {
+      await writeFile(lockFile, content);
+      const taken = await claimDataDir(data);
+      const [pid, start] = (await readFile(lockFile, 'utf8')).trim().split(' ');
+      expect(pid).toBe(String(process.pid));
+      expect(Number(start)).toBeGreaterThan(0);
+      await taken.release();
+    };
     // The lock of a process that has exited: taken over.
     const dead = spawnSync(process.execPath, [
       '-e',
       'process.stdout.write(String(process.pid))',
     ]).stdout.toString();
-    await writeFile(path.join(data, 'pglite.lock'), `${dead}\n`);
-    const taken = await claimDataDir(data);
-    expect((await readFile(path.join(data, 'pglite.lock'), 'utf8')).trim()).toBe(
-      String(process.pid),
-    );
-    await taken.release();
+    await takesOver(`${dead}\n`);
+    // The live parent's pid with another start time: a reboot, or the pid reused since.
+    await takesOver(`${process.ppid} ${Number(parentStart) + 1}\n`);
+    // A killed server whose parent never reaped it (a zombie still answers kill(pid, 0)): a
+    // shell backgrounds a sleep and becomes a sleep itself, which never waits for its child.
+    const shell = spawn('sh', ['-c', 'sleep 60 & echo $!; exec sleep 60'], {
+      stdio: ['ignore', 'pipe', 'ignore'],
+    });
+    try {
+      const zombie = Number(
+        await new Promise<string>((resolve) => {
+          shell.stdout.once('data', (d: Buffer) => {
+            resolve(String(d));
+          });
+        }),
+      );
+      process.kill(zombie, 'SIGKILL');
+      for (
+        let i = 0;
+        i < 100 && !readFileSync(`/proc/${zombie}/stat`, 'utf8').includes(') Z ');
+        i++
+      ) {
+        await new Promise((r) => setTimeout(r, 10));
+      }
+      expect(readFileSync(`/proc/${zombie}/stat`, 'utf8')).toMatch(/\) Z /);
+      expect(() => process.kill(zombie, 0)).not.toThrow();
+      await takesOver(`${zombie}\n`);
+    } finally {
+      shell.kill('SIGKILL');
+    }
   });
 
   it('serve --data /proc/x fails at once with the reason', async () => {

@@ -1,3 +1,4 @@
+import { existsSync, readFileSync } from 'node:fs';
 import { mkdir, open, readFile, rm, stat, unlink } from 'node:fs/promises';
 import path from 'node:path';
 import { PGlite } from '@electric-sql/pglite';
@@ -36,16 +37,17 @@ export class DataDirError extends Error {
 }
 
 /**
- * Takes `<dir>/pglite.lock` for this process: created exclusively with our pid in it. A lock whose
- * process is gone is taken over. PGlite is one process's database; two processes writing one data
- * folder lose scores, so a second one is refused with the owner's pid.
+ * Takes `<dir>/pglite.lock` for this process: created exclusively with our identity in it (the
+ * pid, and on Linux the process's start time). A lock whose process is gone is taken over. PGlite
+ * is one process's database; two processes writing one data folder lose scores, so a second one is
+ * refused with the owner's pid.
  */
 async function lockDataDir(dir: string): Promise<() => Promise<void>> {
   const lock = path.join(dir, 'pglite.lock');
   for (let attempt = 0; attempt < 3; attempt++) {
     try {
       const handle = await open(lock, 'wx');
-      await handle.writeFile(`${process.pid}\n`);
+      await handle.writeFile(`${processIdentity(process.pid) ?? process.pid}\n`);
       await handle.close();
       return async () => {
         await unlink(lock).catch(() => undefined);
@@ -53,22 +55,50 @@ async function lockDataDir(dir: string): Promise<() => Promise<void>> {
     } catch (error) {
       if ((error as NodeJS.ErrnoException).code !== 'EEXIST') throw error;
     }
-    const owner = Number((await readFile(lock, 'utf8').catch(() => '')).trim());
-    if (Number.isInteger(owner) && owner > 0 && owner !== process.pid && alive(owner)) {
+    const [pidText = '', started] = (await readFile(lock, 'utf8').catch(() => ''))
+      .trim()
+      .split(/\s+/);
+    const owner = Number(pidText);
+    if (owner === process.pid) {
+      throw new DataDirError(`the data folder ${dir} is already open in this process`);
+    }
+    if (Number.isInteger(owner) && owner > 0 && lockHolderAlive(owner, started)) {
       throw new DataDirError(
         `the data folder ${dir} is in use by process ${owner}: the embedded database serves one process. ` +
           'To run several server processes, give them one PostgreSQL server with DATABASE_URL.',
       );
-    }
-    if (owner === process.pid) {
-      throw new DataDirError(`the data folder ${dir} is already open in this process`);
     }
     await rm(lock, { force: true }); // stale: its process is gone
   }
   throw new DataDirError(`cannot take the lock ${lock}`);
 }
 
-function alive(pid: number): boolean {
+/**
+ * `<pid> <start time>` of a running process, from Linux's /proc (the start time in clock ticks
+ * since boot tells a process from a later one that reuses its pid), or undefined when there is no
+ * such process, it has exited (a zombie: a killed process whose parent has not reaped it still
+ * answers `kill(pid, 0)`), or there is no /proc.
+ */
+function processIdentity(pid: number): string | undefined {
+  let stat: string;
+  try {
+    stat = readFileSync(`/proc/${pid}/stat`, 'utf8');
+  } catch {
+    return undefined;
+  }
+  // `pid (comm) state ppid …`: the name may hold spaces and parentheses, so read after the last ')'.
+  const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
+  const state = fields[0];
+  if (state === 'Z' || state === 'X' || state === 'x') return undefined;
+  return `${pid} ${fields[19]}`;
+}
+
+/** Whether the process that wrote a lock (`pid`, and its start time if recorded) still runs. */
+function lockHolderAlive(pid: number, started: string | undefined): boolean {
+  if (existsSync('/proc/self/stat')) {
+    const now = processIdentity(pid);
+    return now !== undefined && (started === undefined || now === `${pid} ${started}`);
+  }
   try {
     process.kill(pid, 0);
     return true;
