@@ -10,8 +10,8 @@ import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
-import { startServer, type RunningServer } from '@fixedstep/cli';
-import { openStore } from '../packages/cli/src/store/store.js';
+import { startServer, type RunningServer } from '@fixedstep/server';
+import { openStore } from '../packages/server/src/store/store.js';
 import { CHAPTERS } from '../apps/lab/src/chapters.js';
 import { dist, horizontalOverflow, phonePage, shots, useLab, watch } from './harness.js';
 

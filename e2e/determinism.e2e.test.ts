@@ -16,7 +16,7 @@ import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { startServer, type RunningServer } from '@fixedstep/cli';
+import { startServer, type RunningServer } from '@fixedstep/server';
 import {
   GAMES,
   TRACE_DISPLAY_RATES,

@@ -10,7 +10,7 @@ import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { startServer } from '@fixedstep/cli';
+import { startServer } from '@fixedstep/server';
 import { CHROMIUM_ARGS, dist } from './harness.js';
 
 const repo = fileURLToPath(new URL('..', import.meta.url));

@@ -17,7 +17,7 @@ import { cp, mkdir, mkdtemp, readFile, rm, stat, writeFile } from 'node:fs/promi
 import os from 'node:os';
 import path from 'node:path';
 import { chromium, type Browser, type Page } from 'playwright-core';
-import { startServer } from '@fixedstep/cli';
+import { startServer } from '@fixedstep/server';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { CHROMIUM_ARGS } from './harness.js';
 import { packWorkspaces, repo, run, type Ran } from './pack-helpers.js';

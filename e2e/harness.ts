@@ -8,7 +8,7 @@ import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { afterAll, beforeAll, expect } from 'vitest';
 import { chromium, type Browser, type BrowserContext, type Page } from 'playwright-core';
-import { startServer, type RunningServer } from '@fixedstep/cli';
+import { startServer, type RunningServer } from '@fixedstep/server';
 
 const repo = fileURLToPath(new URL('..', import.meta.url));
 export const dist = path.join(repo, 'apps/lab/dist');

@@ -7,12 +7,12 @@
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { chromium, type Browser, type Page } from 'playwright-core';
-import { startServer, type RunningServer } from '@fixedstep/cli';
-import { attachRelay, type RelayEndpoint } from '../packages/cli/src/net/server.js';
+import { startServer, type RunningServer } from '@fixedstep/server';
+import { attachRelay, type RelayEndpoint } from '../packages/server/src/relay/endpoint.js';
 import {
   attachSignalling,
   type SignallingEndpoint,
-} from '../packages/cli/src/signalling/server.js';
+} from '../packages/server/src/signalling/endpoint.js';
 import {
   CHROMIUM_ARGS,
   dist,

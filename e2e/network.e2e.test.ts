@@ -7,9 +7,12 @@ import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { chromium, type Browser, type Page } from 'playwright-core';
-import { startServer, type RunningServer } from '@fixedstep/cli';
-import { attachRelay, type RelayEndpoint } from '../packages/cli/src/net/server.js';
-import { attachStateSync, type StateSyncEndpoint } from '../packages/cli/src/state-sync/index.js';
+import { startServer, type RunningServer } from '@fixedstep/server';
+import { attachRelay, type RelayEndpoint } from '../packages/server/src/relay/endpoint.js';
+import {
+  attachStateSync,
+  type StateSyncEndpoint,
+} from '../packages/server/src/state-sync/index.js';
 import {
   CHROMIUM_ARGS,
   dist,

@@ -46,7 +46,13 @@ beforeAll(async () => {
   project = path.join(scratch, 'consumer');
   await mkdir(tarballs);
   await mkdir(project);
-  const workspaces = ['packages/fixedstep', 'packages/games', 'packages/cli', 'packages/rapier'];
+  const workspaces = [
+    'packages/fixedstep',
+    'packages/games',
+    'packages/server',
+    'packages/cli',
+    'packages/rapier',
+  ];
   for (const [name, p] of await packWorkspaces(workspaces, tarballs)) packed.set(name, p);
   await writeFile(
     path.join(project, 'package.json'),

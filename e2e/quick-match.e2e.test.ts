@@ -4,12 +4,9 @@
  */
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { chromium, type Browser } from 'playwright-core';
-import { startServer, type RunningServer } from '@fixedstep/cli';
-import { attachRelay, type RelayEndpoint } from '../packages/cli/src/net/server.js';
-import {
-  attachMatchmaking,
-  type MatchmakingEndpoint,
-} from '../packages/cli/src/matchmaking/index.js';
+import { startServer, type RunningServer } from '@fixedstep/server';
+import { attachRelay, type RelayEndpoint } from '../packages/server/src/relay/endpoint.js';
+import { attachMatchmaking, type MatchmakingEndpoint } from '../packages/server/src/match/index.js';
 import { CHROMIUM_ARGS, dist, num, readouts, watch } from './harness.js';
 
 describe('chapter 6, quick match', () => {

@@ -11,8 +11,8 @@ import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
 import { readReplay } from 'fixedstep';
-import { startServer, type RunningServer } from '@fixedstep/cli';
-import { openStore } from '../packages/cli/src/store/store.js';
+import { startServer, type RunningServer } from '@fixedstep/server';
+import { openStore } from '../packages/server/src/store/store.js';
 import {
   dist,
   horizontalOverflow,

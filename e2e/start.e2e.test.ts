@@ -91,10 +91,10 @@ describe('npm start on a fresh copy', () => {
     const first = await start();
     const out = first.output;
     expect(out).toMatch(
-      /^▸ 1\/4 Dependencies: installing what the lab and the server need \(npm ci --no-audit --no-fund --workspace packages\/cli --workspace apps\/lab\)$/m,
+      /^▸ 1\/4 Dependencies: installing what the lab and the server need \(npm ci --no-audit --no-fund --workspace packages\/server --workspace packages\/cli --workspace apps\/lab\)$/m,
     );
     expect(out).toMatch(/^✓ 1\/4 Dependencies: installed in [\d.]+ m?s$/m);
-    expect(out).toMatch(/^✓ 2\/4 Library, games, CLI: compiled \d+ files in [\d.]+ m?s$/m);
+    expect(out).toMatch(/^✓ 2\/4 Library, games, server, CLI: compiled \d+ files in [\d.]+ m?s$/m);
     expect(out).toMatch(/^✓ 3\/4 Lab: built in [\d.]+ m?s$/m);
     expect(out).toMatch(/^▸ 4\/4 Server: starting/m);
     // No EBADENGINE, no install-script notice, no deprecation: nothing for the user to wonder about.
@@ -163,16 +163,18 @@ describe('npm start on a fresh copy', () => {
   it('a second start skips every stage; a changed source rebuilds only what it feeds', async () => {
     const warm = await start();
     expect(warm.output).toMatch(/^✓ 1\/4 Dependencies: up to date/m);
-    expect(warm.output).toMatch(/^✓ 2\/4 Library, games, CLI: up to date \(sources unchanged/m);
+    expect(warm.output).toMatch(
+      /^✓ 2\/4 Library, games, server, CLI: up to date \(sources unchanged/m,
+    );
     expect(warm.output).toMatch(/^✓ 3\/4 Lab: up to date \(sources unchanged/m);
     expect(warm.output).not.toMatch(/^▸ [123]\/4/m);
     expect(warm.page || warm.output).toContain('<title>fixedstep lab</title>');
     expect(warm.code).toBe(0);
 
     // The CLI's sources feed the compile stage, not the lab.
-    await appendFile(path.join(copy, 'packages/cli/src/index.ts'), '// changed\n');
+    await appendFile(path.join(copy, 'packages/server/src/index.ts'), '// changed\n');
     const changed = await start();
-    expect(changed.output).toMatch(/^✓ 2\/4 Library, games, CLI: compiled \d+ files in/m);
+    expect(changed.output).toMatch(/^✓ 2\/4 Library, games, server, CLI: compiled \d+ files in/m);
     expect(changed.output).toMatch(/^✓ 3\/4 Lab: up to date/m);
     expect(changed.code).toBe(0);
   });

@@ -1,5 +1,5 @@
 // Debian's haproxy, for the test that runs three `fixedstep serve` processes behind it
-// (packages/cli/test/net-balancer.test.ts) and the check of deploy/haproxy/haproxy.cfg. `npm test`
+// (packages/server/test/net-balancer.test.ts) and the check of deploy/haproxy/haproxy.cfg. `npm test`
 // installs it with the other Debian packages when missing and we are root on a machine with
 // apt-get; without it those tests are skipped and say why. Node built-ins only.
 //

@@ -43,7 +43,7 @@ export function seconds(t0) {
  * its esbuild), not the test and benchmark tools. `npm ci` with these workspace filters installs
  * 23 packages instead of ~300.
  */
-const SERVE_WORKSPACES = ['packages/cli', 'apps/lab'];
+const SERVE_WORKSPACES = ['packages/server', 'packages/cli', 'apps/lab'];
 
 /**
  * Whether node_modules holds every package of package-lock.json at its locked version, by npm's

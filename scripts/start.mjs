@@ -15,7 +15,7 @@ import { ensureDependencies, root, seconds } from './setup.mjs';
 const STAGES = 4;
 const cache = join(root, 'node_modules', '.cache', 'fixedstep');
 /** The packages the server runs, compiled src/ → dist/ in tsc's layout (dist/x.js for src/x.ts). */
-const PACKAGES = ['packages/fixedstep', 'packages/games', 'packages/cli'];
+const PACKAGES = ['packages/fixedstep', 'packages/games', 'packages/server', 'packages/cli'];
 
 function line(text) {
   process.stdout.write(`${text}\n`);
@@ -92,7 +92,7 @@ const esbuild = await import(pathToFileURL(createRequire(viteEntry).resolve('esb
 // 2. The library, the games and the CLI: TypeScript → JavaScript, one file at a time.
 await stage(
   2,
-  'Library, games, CLI',
+  'Library, games, server, CLI',
   'compiling TypeScript to JavaScript with esbuild (no type check: npm test does that)',
   {
     key: `compile-esbuild-${esbuild.version}`,

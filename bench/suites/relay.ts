@@ -42,7 +42,7 @@ import {
 } from 'fixedstep';
 import { ctfGame } from '@fixedstep/games';
 // The CLI's Node WebSocket client (the bench runs the sources, like the e2e tests).
-import { connectNodeWebSocket } from '../../packages/cli/src/net/client.js';
+import { connectNodeWebSocket } from '../../packages/server/src/relay/client.js';
 import { formatRatio } from '../lib/format.js';
 import { roundOrder, spread, summarize } from '../lib/stats.js';
 import { defineSuite, type SuiteContext } from '../lib/suite.js';

@@ -13,7 +13,7 @@ import { availableParallelism } from 'node:os';
 import WebSocket from 'ws';
 import { decodeMessage, encodeMessage } from 'fixedstep';
 import { ctfGame } from '@fixedstep/games';
-import { createServer, openStore, VerifierPool, loadGames } from '@fixedstep/cli';
+import { createServer, openStore, VerifierPool, loadGames } from '@fixedstep/server';
 import { defineSuite } from '../lib/suite.js';
 import { recordBotGame } from './replay.js';
 

@@ -24,7 +24,7 @@ import {
   type Transport,
 } from 'fixedstep';
 import { ctfGame } from '@fixedstep/games';
-import { SignallingHub } from '../../packages/cli/src/signalling/hub.js';
+import { SignallingHub } from '../../packages/server/src/signalling/hub.js';
 import { CLEAN, type Impairment } from './impair.js';
 import { Probe, summarize, type ProbeReport, type TransportSummary } from './probe.js';
 import { startTcpProxy } from './tcp-proxy.js';

@@ -1,8 +1,9 @@
 /**
- * A small, strict command-line option parser driven by specs, shared by every `fixedstep`
- * command: `--name value`, `--name=value`, `-n value`, flags, numbers with ranges and lists of
- * numbers. Errors are plain sentences naming the option and the value.
+ * The command line of every `fixedstep` command, driven by specs: `node:util`'s `parseArgs` splits
+ * it (`--name value`, `--name=value`, `-n value`, flags); this checks numbers with ranges and lists
+ * of numbers and writes the help. Errors are plain sentences naming the option and the value.
  */
+import { parseArgs as parseArgv } from 'node:util';
 
 export type OptionKind = 'string' | 'number' | 'integer' | 'flag' | 'numbers';
 
@@ -67,8 +68,10 @@ export function convertValue(spec: OptionSpec, label: string, raw: string): Opti
 }
 
 /**
- * Parses `argv` against `specs`. `command` names the command in messages. Values that start with
- * `-` count as missing, except negative numbers for numeric options.
+ * Parses `argv` against `specs`, tokenized by `node:util`'s `parseArgs`; this adds the checks and
+ * the messages: unknown options, values of the wrong kind or range, too many positionals. `command`
+ * names the command in messages. A value that starts with `-` counts as missing (it is the next
+ * option), except a negative number for a numeric option.
  */
 export function parseOptions(
   command: string,
@@ -76,40 +79,49 @@ export function parseOptions(
   specs: readonly OptionSpec[],
   maxPositionals = 0,
 ): ParsedOptions {
+  const options: Record<string, { type: 'string' | 'boolean'; short?: string }> = {};
+  for (const s of specs) {
+    options[s.name] = {
+      type: s.kind === 'flag' ? 'boolean' : 'string',
+      ...(s.short !== undefined ? { short: s.short } : {}),
+    };
+  }
+  const { tokens } = parseArgv({
+    args: [...argv],
+    options,
+    strict: false,
+    allowPositionals: true,
+    tokens: true,
+  });
   const values: Record<string, OptionValue | undefined> = {};
   const positionals: string[] = [];
-  for (let i = 0; i < argv.length; i++) {
-    const arg = argv[i]!;
-    if (!arg.startsWith('-') || arg === '-') {
+  for (const t of tokens) {
+    if (t.kind === 'option-terminator') continue;
+    if (t.kind === 'positional') {
       if (positionals.length >= maxPositionals) {
-        throw new UsageError(`unexpected argument for ${command}: ${arg}`);
+        throw new UsageError(`unexpected argument for ${command}: ${t.value}`);
       }
-      positionals.push(arg);
+      positionals.push(t.value);
       continue;
     }
-    const eq = arg.indexOf('=');
-    const label = arg.startsWith('--') && eq > 0 ? arg.slice(0, eq) : arg;
-    const spec = specs.find(
-      (s) => label === `--${s.name}` || (s.short !== undefined && label === `-${s.short}`),
-    );
-    if (!spec) throw new UsageError(`unknown option for ${command}: ${arg}`);
+    const spec = specs.find((s) => s.name === t.name);
+    const label = t.rawName;
+    if (!spec) throw new UsageError(`unknown option for ${command}: ${label}`);
     if (spec.kind === 'flag') {
-      if (eq > 0) throw new UsageError(`${label} takes no value`);
+      if (t.value !== undefined) throw new UsageError(`${label} takes no value`);
       values[spec.name] = true;
       continue;
     }
-    let raw: string | undefined;
-    if (arg.startsWith('--') && eq > 0) raw = arg.slice(eq + 1);
-    else {
-      const next = argv[i + 1];
-      // A negative number is a value for a numeric option (the range check then judges it).
-      const numeric = spec.kind !== 'string';
-      if (next !== undefined && (!next.startsWith('-') || (numeric && /^-[\d.]/.test(next)))) {
-        raw = next;
-        i++;
-      }
+    const raw = t.value;
+    const numeric = spec.kind !== 'string';
+    const isNextOption =
+      raw !== undefined &&
+      !t.inlineValue &&
+      raw.startsWith('-') &&
+      !(numeric && /^-[\d.]/.test(raw));
+    if (raw === undefined || raw === '' || isNextOption) {
+      throw new UsageError(`${label} needs a value`);
     }
-    if (raw === undefined || raw === '') throw new UsageError(`${label} needs a value`);
     values[spec.name] = convertValue(spec, label, raw);
   }
   return { values, positionals };

@@ -32,9 +32,7 @@ import {
   replayInfo,
   replayVerify,
 } from './replay.js';
-import { GamesModuleError, loadGames } from './games/load.js';
-import { createServer } from './server/app.js';
-import { prepareStore } from './store/store.js';
+import { GamesModuleError, createServer, loadGames, prepareStore } from '@fixedstep/server';
 import { lineChartSvg } from './svg.js';
 
 /** Exit codes: 0 done, 1 it failed while running, 2 the command line was wrong. */

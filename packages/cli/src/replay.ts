@@ -9,8 +9,7 @@ import {
   type Replay,
 } from 'fixedstep';
 import { UsageError, formatOptions, parseOptions, type OptionSpec } from './args.js';
-import { loadGames } from './games/load.js';
-import { printable } from './text.js';
+import { loadGames, printable } from '@fixedstep/server';
 
 /** Exit codes of `fixedstep replay …`, for scripts. */
 export const EXIT_BAD_REPLAY = 3;

@@ -11,8 +11,8 @@ import {
   SERVE_HELP,
   parseArgs,
   run,
-  startServer,
 } from '@fixedstep/cli';
+import { startServer } from '@fixedstep/server';
 
 function capture(stop?: Promise<void>) {
   const io = { stdout: '', stderr: '' };

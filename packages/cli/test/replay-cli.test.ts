@@ -6,7 +6,7 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { BUTTON_WORD, ByteWriter, Fnv1a64, ReplayRecorder, gameSetup } from 'fixedstep';
 import { run } from '@fixedstep/cli';
 import { coinDash } from '../../../examples/coin-dash/src/game.js';
-import { recordRunner } from './replay-fixtures.js';
+import { recordRunner } from '../../server/test/replay-fixtures.js';
 
 let dir: string;
 beforeAll(async () => {

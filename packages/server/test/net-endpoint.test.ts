@@ -1,0 +1,295 @@
+/**
+ * The relay's HTTP side over real WebSockets on 127.0.0.1: rooms in the URL, the origin
+ * allow-list, the client address from a trusted proxy's header (and the per-address cap it
+ * feeds), options from the environment, and 500 idle sockets beside a game that still plays.
+ */
+import http from 'node:http';
+import type { AddressInfo } from 'node:net';
+import { afterEach, describe, expect, it } from 'vitest';
+import WebSocket from 'ws';
+import {
+  LockstepSession,
+  decodeMessage,
+  encodeMessage,
+  hex64,
+  nodeWebSocketTransport,
+  performanceClock,
+  type ErrorMessage,
+  type NetMessage,
+} from 'fixedstep';
+import { ctfGame, type Game } from '@fixedstep/games';
+import {
+  addressKey,
+  attachRelay,
+  relayEndpointOptionsFromEnv,
+  type RelayEndpoint,
+  type RelayEndpointOptions,
+} from '../src/relay/index.js';
+
+let server: http.Server | undefined;
+let endpoint: RelayEndpoint | undefined;
+const sockets: WebSocket[] = [];
+
+afterEach(async () => {
+  for (const ws of sockets.splice(0)) ws.terminate();
+  await endpoint?.close();
+  await new Promise<void>((resolve) => {
+    if (server)
+      server.close(() => {
+        resolve();
+      });
+    else resolve();
+  });
+  server = undefined;
+  endpoint = undefined;
+});
+
+async function start(options: RelayEndpointOptions = {}): Promise<number> {
+  server = http.createServer((_req, res) => res.end('lab'));
+  endpoint = attachRelay(server, { env: {}, ...options });
+  await new Promise<void>((resolve) => server!.listen(0, '127.0.0.1', resolve));
+  return (server.address() as AddressInfo).port;
+}
+
+/** The HTTP status of an upgrade, or 101 when it opened. */
+function upgrade(url: string, headers: Record<string, string> = {}): Promise<number> {
+  return new Promise((resolve) => {
+    const ws = new WebSocket(url, { headers });
+    sockets.push(ws);
+    ws.on('open', () => {
+      resolve(101);
+    });
+    ws.on('unexpected-response', (_req, res) => {
+      resolve(res.statusCode ?? 0);
+    });
+    ws.on('error', () => undefined);
+  });
+}
+
+/** Opens a socket, sends `hello`, and resolves with the first message back. */
+function helloReply(
+  url: string,
+  hello: Partial<NetMessage>,
+  headers: Record<string, string> = {},
+): Promise<NetMessage> {
+  return new Promise((resolve, reject) => {
+    const ws = new WebSocket(url, { headers });
+    sockets.push(ws);
+    ws.on('open', () => {
+      ws.send(
+        encodeMessage({
+          type: 'hello',
+          room: 'room',
+          role: 'player',
+          game: 'ctf',
+          gameVersion: ctfGame.info.version,
+          input: ctfGame.input.id,
+          players: 2,
+          name: 'p',
+          ...hello,
+        } as NetMessage),
+      );
+    });
+    ws.on('message', (data: Buffer) => {
+      resolve(decodeMessage(new Uint8Array(data)));
+    });
+    ws.on('error', reject);
+  });
+}
+
+describe('rooms in the URL', () => {
+  it('/ws/<room> and /ws?room= pin the hello to that room; a bad name is a 400', async () => {
+    const port = await start();
+    const base = `ws://127.0.0.1:${port}/ws`;
+    expect((await helloReply(`${base}/alpha`, { room: 'alpha' })).type).toBe('welcome');
+    expect((await helloReply(`${base}?room=beta`, { room: 'beta' })).type).toBe('welcome');
+    const wrong = (await helloReply(`${base}/alpha`, { room: 'gamma' })) as ErrorMessage;
+    expect(wrong.code).toBe('WRONG_ROOM');
+    expect(wrong.message).toMatch(/for room alpha, not gamma/);
+    expect(await upgrade(`${base}/no%20spaces`)).toBe(400);
+    expect(await upgrade(`${base}/a/b`)).toBe(400);
+    expect(await upgrade(`ws://127.0.0.1:${port}/wss`)).toBe(404);
+  });
+});
+
+describe('the origin allow-list', () => {
+  it('same-origin by default: the lab’s own pages in, other sites’ pages out, programs in', async () => {
+    const port = await start();
+    const url = `ws://127.0.0.1:${port}/ws`;
+    expect(await upgrade(url, { Origin: `http://127.0.0.1:${port}` })).toBe(101);
+    expect(await upgrade(url, { Origin: 'http://evil.example' })).toBe(403);
+    expect(await upgrade(url, { Origin: `http://127.0.0.1:${port + 1}` })).toBe(403);
+    expect(await upgrade(url, { Origin: 'null' })).toBe(403);
+    expect(await upgrade(url)).toBe(101);
+  });
+
+  it('a configured list is exactly those origins; any lets everyone in', async () => {
+    let port = await start({ allowedOrigins: ['https://play.example.com'] });
+    let url = `ws://127.0.0.1:${port}/ws`;
+    expect(await upgrade(url, { Origin: 'https://play.example.com' })).toBe(101);
+    expect(await upgrade(url, { Origin: `http://127.0.0.1:${port}` })).toBe(403);
+    await endpoint!.close();
+    await new Promise<void>((resolve) =>
+      server!.close(() => {
+        resolve();
+      }),
+    );
+    port = await start({ allowedOrigins: 'any' });
+    url = `ws://127.0.0.1:${port}/ws`;
+    expect(await upgrade(url, { Origin: 'http://evil.example' })).toBe(101);
+  });
+});
+
+describe('the client address', () => {
+  it('comes from a trusted proxy’s header, and the per-address cap counts by it', async () => {
+    const port = await start({
+      trustProxy: { header: 'x-forwarded-for' },
+      maxConnectionsPerAddress: 3,
+    });
+    const url = `ws://127.0.0.1:${port}/ws`;
+    const from = (ip: string) => ({ 'X-Forwarded-For': `1.2.3.4, ${ip}` });
+    // The proxy appends the address it saw: the last entry counts, not what the client wrote.
+    for (let i = 0; i < 3; i++) expect(await upgrade(url, from('198.51.100.7'))).toBe(101);
+    const fourth = (await helloReply(url, {}, from('198.51.100.7'))) as ErrorMessage;
+    expect(fourth.code).toBe('SERVER_FULL');
+    expect(fourth.message).toMatch(/too many connections from one address/);
+    expect((await helloReply(url, { room: 'other' }, from('198.51.100.8'))).type).toBe('welcome');
+    expect(endpoint!.relay.stats.addresses).toBe(2);
+    // From a trusted proxy, a malformed header is refused; none at all is the proxy's own client.
+    expect(await upgrade(url, { 'X-Forwarded-For': 'not an address' })).toBe(400);
+    expect(await upgrade(url)).toBe(101);
+    expect(endpoint!.relay.stats.addresses).toBe(3);
+  });
+
+  it('is the socket’s own when the peer is not a trusted proxy (the header is ignored)', async () => {
+    const port = await start({
+      trustProxy: { header: 'x-forwarded-for', proxies: ['10.0.0.0/8'] },
+      maxConnectionsPerAddress: 2,
+    });
+    const url = `ws://127.0.0.1:${port}/ws`;
+    expect(await upgrade(url, { 'X-Forwarded-For': '198.51.100.1' })).toBe(101);
+    expect(await upgrade(url, { 'X-Forwarded-For': '198.51.100.2' })).toBe(101);
+    const third = (await helloReply(
+      url,
+      {},
+      { 'X-Forwarded-For': '198.51.100.3' },
+    )) as ErrorMessage;
+    expect(third.code).toBe('SERVER_FULL');
+  });
+
+  it('is keyed by IPv4 address and by IPv6 /64', () => {
+    expect(addressKey('198.51.100.7')).toBe('198.51.100.7');
+    expect(addressKey('::ffff:198.51.100.7')).toBe('198.51.100.7');
+    expect(addressKey('2001:db8:1:2:3:4:5:6')).toBe('2001:db8:1:2::/64');
+    expect(addressKey('2001:db8:1:2::9')).toBe(addressKey('2001:db8:1:2:ffff::1'));
+    expect(addressKey('2001:db8::1')).toBe('2001:db8:0:0::/64');
+    expect(addressKey('::1')).toBe('0:0:0:0::/64');
+  });
+});
+
+describe('options from the environment', () => {
+  it('reads origins, the proxy and the caps, and names a bad value', () => {
+    expect(
+      relayEndpointOptionsFromEnv({
+        FIXEDSTEP_ALLOWED_ORIGINS: 'https://a.example, https://b.example:8443',
+        FIXEDSTEP_PROXY_HEADER: 'x-forwarded-for',
+        FIXEDSTEP_TRUSTED_PROXIES: '10.0.0.0/8, fd00::/8',
+        FIXEDSTEP_PROXY_HOPS: '2',
+        FIXEDSTEP_MAX_CONNECTIONS_PER_ADDRESS: '64',
+        FIXEDSTEP_MAX_ROOMS: '2000',
+      }),
+    ).toEqual({
+      allowedOrigins: ['https://a.example', 'https://b.example:8443'],
+      trustProxy: { header: 'x-forwarded-for', proxies: ['10.0.0.0/8', 'fd00::/8'], hops: 2 },
+      maxConnectionsPerAddress: 64,
+      maxRooms: 2000,
+    });
+    expect(relayEndpointOptionsFromEnv({ FIXEDSTEP_ALLOWED_ORIGINS: '*' })).toEqual({
+      allowedOrigins: 'any',
+    });
+    expect(relayEndpointOptionsFromEnv({})).toEqual({});
+    expect(() =>
+      relayEndpointOptionsFromEnv({ FIXEDSTEP_ALLOWED_ORIGINS: 'evil.example' }),
+    ).toThrow(/FIXEDSTEP_ALLOWED_ORIGINS: "evil.example"/);
+    expect(() => relayEndpointOptionsFromEnv({ FIXEDSTEP_MAX_ROOMS_PER_ADDRESS: '-1' })).toThrow(
+      /FIXEDSTEP_MAX_ROOMS_PER_ADDRESS: "-1" is not an integer/,
+    );
+    expect(() =>
+      relayEndpointOptionsFromEnv({
+        FIXEDSTEP_PROXY_HEADER: 'x-forwarded-for',
+        FIXEDSTEP_TRUSTED_PROXIES: '10.0.0.0/99',
+      }),
+    ).toThrow(/10.0.0.0\/99/);
+    expect(() => relayEndpointOptionsFromEnv({ FIXEDSTEP_TRUSTED_PROXIES: '10.0.0.1' })).toThrow(
+      /need FIXEDSTEP_PROXY_HEADER/,
+    );
+  });
+
+  it('are used by attachRelay unless given in code', async () => {
+    const port = await start({
+      env: { FIXEDSTEP_ALLOWED_ORIGINS: 'https://play.example.com' },
+    });
+    const url = `ws://127.0.0.1:${port}/ws`;
+    expect(await upgrade(url, { Origin: `http://127.0.0.1:${port}` })).toBe(403);
+    expect(await upgrade(url, { Origin: 'https://play.example.com' })).toBe(101);
+  });
+});
+
+describe('500 idle WebSockets beside a game', () => {
+  it('take 32 connections of their address; two players from elsewhere play a match', async () => {
+    const port = await start({ trustProxy: { header: 'x-forwarded-for' }, startDelayMs: 200 });
+    const url = `ws://127.0.0.1:${port}/ws`;
+    const idle = await Promise.all(
+      Array.from({ length: 500 }, (_, i) =>
+        helloReply(url, { room: `idle${i}` }, { 'X-Forwarded-For': '203.0.113.9' }),
+      ),
+    );
+    expect(idle.filter((m) => m.type === 'welcome')).toHaveLength(8);
+    expect(idle.filter((m) => m.type === 'error' && m.code === 'SERVER_FULL')).toHaveLength(492);
+    expect(endpoint!.relay.stats.connections).toBe(8);
+
+    const clock = performanceClock();
+    const ticks = 180;
+    const sessions = await Promise.all(
+      ['198.51.100.1', '198.51.100.2'].map(
+        (ip) =>
+          new Promise<LockstepSession>((resolve, reject) => {
+            const ws = new WebSocket(`${url}/play`, { headers: { 'X-Forwarded-For': ip } });
+            sockets.push(ws);
+            ws.on('error', reject);
+            ws.on('open', () => {
+              let slot = 0;
+              resolve(
+                new LockstepSession({
+                  transport: nodeWebSocketTransport(ws),
+                  clock,
+                  room: 'play',
+                  game: ctfGame,
+                  players: 2,
+                  seed: 3,
+                  stopAt: ticks,
+                  createSimulation: (w) => {
+                    slot = w.slot;
+                    return ctfGame.create(ctfGame.decodeConfig(w.config));
+                  },
+                  localInput: (_t, sim) => ctfGame.bot(sim as Game, slot),
+                }),
+              );
+            });
+          }),
+      ),
+    );
+    const timer = setInterval(() => {
+      for (const s of sessions) s.frame();
+    }, 8);
+    try {
+      await expect
+        .poll(() => sessions.every((s) => s.finished), { timeout: 20_000, interval: 50 })
+        .toBe(true);
+    } finally {
+      clearInterval(timer);
+    }
+    expect(hex64(sessions[0]!.hashAt(ticks)!)).toBe(hex64(sessions[1]!.hashAt(ticks)!));
+    expect(endpoint!.relay.stats.addresses).toBe(3);
+  });
+});

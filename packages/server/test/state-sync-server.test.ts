@@ -1,0 +1,272 @@
+/**
+ * State-sync rooms on the HTTP server, over real WebSockets on 127.0.0.1: rooms run in worker
+ * threads (many per worker), so a room that is busy — or broken — holds up neither the HTTP server
+ * nor the rooms of other workers.
+ */
+import { mkdtemp, rm, writeFile } from 'node:fs/promises';
+import os from 'node:os';
+import path from 'node:path';
+import { pathToFileURL } from 'node:url';
+import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import WebSocket from 'ws';
+import {
+  StateSyncSession,
+  decodeStateSyncMessage,
+  encodeStateSyncMessage,
+  fnv1a64,
+  hex64,
+  performanceClock,
+  type ButtonInput,
+  type GameDefinition,
+  type Simulation,
+  type StateSyncEvent,
+  type StateSyncMessage,
+} from 'fixedstep';
+import { ctfGame, type Game } from '@fixedstep/games';
+import { startServer, type RunningServer } from '@fixedstep/server';
+import { connectNodeWebSocket } from '../src/relay/index.js';
+import { attachStateSync, type StateSyncEndpoint } from '../src/state-sync/index.js';
+import { GAMES as TEST_GAMES } from './state-sync-games.js';
+
+let dir: string;
+
+beforeAll(async () => {
+  dir = await mkdtemp(path.join(os.tmpdir(), 'fixedstep-state-'));
+  await writeFile(path.join(dir, 'index.html'), '<!doctype html><title>lab</title>');
+});
+
+afterAll(async () => {
+  await rm(dir, { recursive: true, force: true });
+});
+
+/** A client session driven by a timer, as a Node client would run one. */
+async function client<S extends Simulation>(
+  url: string,
+  room: string,
+  game: GameDefinition<ButtonInput, S>,
+  extra: {
+    players?: number;
+    events?: StateSyncEvent[];
+    /** The client's own copy of the game (default: the game's own). */
+    local?: GameDefinition<ButtonInput, S>;
+  } = {},
+): Promise<{ session: StateSyncSession<ButtonInput, S>; stop: () => void }> {
+  const transport = await connectNodeWebSocket(`${url}/${room}`);
+  const local = extra.local ?? game;
+  const session: StateSyncSession<ButtonInput, S> = new StateSyncSession<ButtonInput, S>({
+    transport,
+    clock: performanceClock(),
+    room,
+    game,
+    players: extra.players ?? 2,
+    seed: 5,
+    createSimulation: (setup) => local.create(setup),
+    localInput: (tick, sim): ButtonInput =>
+      game.bot ? game.bot(sim, session.welcome?.slot ?? 0) : tick & 1,
+    onEvent: (e) => extra.events?.push(e),
+  });
+  const timer = setInterval(() => session.frame(), 8);
+  return {
+    session,
+    stop: () => {
+      clearInterval(timer);
+      session.leave();
+    },
+  };
+}
+
+describe('state-sync rooms of the talk’s games', () => {
+  let server: RunningServer;
+  let endpoint: StateSyncEndpoint;
+  let url: string;
+  beforeAll(async () => {
+    server = await startServer({ port: 0, host: '127.0.0.1', root: dir });
+    endpoint = attachStateSync(server.server, { workers: 1 });
+    url = `ws://127.0.0.1:${server.port}/state`;
+    await endpoint.ready;
+  }, 60_000);
+  afterAll(async () => {
+    await endpoint.close();
+    await server.close();
+  });
+
+  it('two clients play capture the flag through a worker and hold the same server world', async () => {
+    const a = await client<Game>(url, 'duel', ctfGame);
+    const b = await client<Game>(url, 'duel', ctfGame);
+    try {
+      await expect
+        .poll(() => Math.min(a.session.snapshotTick, b.session.snapshotTick), {
+          timeout: 30_000,
+          interval: 50,
+        })
+        .toBeGreaterThanOrEqual(180);
+      // A tick both hold: the server sent both the same world.
+      const every = a.session.welcome!.snapshotEvery;
+      const t =
+        Math.floor(Math.min(a.session.snapshotTick, b.session.snapshotTick) / every) * every;
+      const ha = a.session.snapshotAt(t);
+      const hb = b.session.snapshotAt(t);
+      expect(ha && hex64(fnv1a64(ha))).toBe(hb && hex64(fnv1a64(hb)));
+      expect(new Set([a.session.welcome?.slot, b.session.welcome?.slot])).toEqual(new Set([0, 1]));
+      for (const s of [a.session, b.session]) {
+        expect(s.errors).toEqual([]);
+        expect(s.stats.badSnapshots).toBe(0);
+        expect(s.stats.deltaSnapshots).toBeGreaterThan(30);
+        expect(s.stats.rtt).toBeLessThan(100);
+        // Predicting ahead of the newest snapshot, its own player at the server's clock.
+        expect(s.tick).toBeGreaterThan(s.snapshotTick);
+      }
+      expect(endpoint.rooms()).toEqual([{ room: 'duel', worker: 0 }]);
+    } finally {
+      a.stop();
+      b.stop();
+    }
+  });
+
+  it('refuses other paths, bad room names, text frames, and a join for another room', async () => {
+    const status = (p: string) =>
+      new Promise<number>((resolve) => {
+        const ws = new WebSocket(`ws://127.0.0.1:${server.port}${p}`);
+        ws.on('unexpected-response', (_req, res) => {
+          resolve(res.statusCode ?? 0);
+        });
+        ws.on('error', () => undefined);
+      });
+    expect(await status('/other')).toBe(404);
+    expect(await status('/state/a%20b')).toBe(400);
+    expect(await status('/state/')).toBe(400);
+    const closed = await new Promise<number>((resolve) => {
+      const ws = new WebSocket(`${url}/text-room`);
+      ws.on('open', () => {
+        ws.send('hello as text');
+      });
+      ws.on('close', (code) => {
+        resolve(code);
+      });
+    });
+    expect(closed).toBe(1003);
+    // A join naming another room than the path's, and one for a game the server does not have.
+    const answer = (room: string, join: Partial<Extract<StateSyncMessage, { type: 'join' }>>) =>
+      new Promise<StateSyncMessage>((resolve) => {
+        const ws = new WebSocket(`${url}/${room}`);
+        ws.on('open', () => {
+          ws.send(
+            encodeStateSyncMessage({
+              type: 'join',
+              room,
+              role: 'player',
+              game: 'ctf',
+              gameVersion: ctfGame.version,
+              input: ctfGame.input.id,
+              players: 2,
+              name: 'x',
+              ...join,
+            }),
+          );
+        });
+        ws.on('message', (data) => {
+          resolve(decodeStateSyncMessage(new Uint8Array(data as Buffer)));
+          ws.close();
+        });
+      });
+    expect(await answer('room-a', { room: 'room-b' })).toMatchObject({
+      type: 'error',
+      code: 'WRONG_ROOM',
+      fatal: true,
+      message: 'this connection is for room room-a, not room-b',
+    });
+    expect(await answer('room-c', { game: 'chess' })).toMatchObject({
+      type: 'error',
+      code: 'UNKNOWN_GAME',
+      message: 'no game "chess" on this server',
+    });
+  });
+});
+
+describe('state-sync rooms in a pool of workers', () => {
+  let server: RunningServer;
+  let endpoint: StateSyncEndpoint;
+  let url: string;
+  const logged: string[] = [];
+  const [counter, stall, broken] = TEST_GAMES as unknown as [
+    GameDefinition<ButtonInput, Simulation>,
+    GameDefinition<ButtonInput, Simulation>,
+    GameDefinition<ButtonInput, Simulation>,
+  ];
+  beforeAll(async () => {
+    server = await startServer({ port: 0, host: '127.0.0.1', root: dir });
+    endpoint = attachStateSync(server.server, {
+      workers: 2,
+      games: pathToFileURL(path.join(import.meta.dirname, 'state-sync-games.ts')).href,
+      log: (m) => logged.push(m),
+    });
+    url = `ws://127.0.0.1:${server.port}/state`;
+    await endpoint.ready;
+  }, 60_000);
+  afterAll(async () => {
+    await endpoint.close();
+    await server.close();
+  });
+
+  it('a room that keeps its worker busy holds up neither the HTTP server nor a room on another worker', async () => {
+    // The client runs a plain counter (a state-sync client need not run the server's code).
+    const slow = await client(url, 'slow', stall, { players: 1, local: counter });
+    const fast = await client(url, 'fast', counter, { players: 1 });
+    try {
+      // New rooms go to the worker with the fewest rooms: one each.
+      await expect.poll(() => endpoint.rooms().length).toBe(2);
+      expect(new Set(endpoint.rooms().map((r) => r.worker))).toEqual(new Set([0, 1]));
+      // The slow room's step of tick 60 blocks its worker for 5 s: its snapshots stop at 60.
+      await expect
+        .poll(() => slow.session.snapshotTick, { timeout: 30_000, interval: 20 })
+        .toBe(60);
+      const from = fast.session.snapshotTick;
+      // Meanwhile the HTTP server answers, and the other worker's room runs on.
+      const page = await fetch(`http://127.0.0.1:${server.port}/`);
+      expect(await page.text()).toContain('lab');
+      await expect
+        .poll(() => fast.session.snapshotTick, { timeout: 30_000, interval: 20 })
+        .toBeGreaterThanOrEqual(from + 30);
+      // …all while the busy worker still had not finished that one step.
+      expect(slow.session.snapshotTick).toBe(60);
+      // Then it catches up.
+      await expect
+        .poll(() => slow.session.snapshotTick, { timeout: 30_000, interval: 20 })
+        .toBeGreaterThan(60);
+    } finally {
+      slow.stop();
+      fast.stop();
+    }
+  });
+
+  it('a game that throws closes its room (INTERNAL); the worker keeps serving', async () => {
+    const events: StateSyncEvent[] = [];
+    const bad = await client(url, 'bad', broken, { players: 1, events, local: counter });
+    try {
+      await expect.poll(() => bad.session.phase, { timeout: 30_000, interval: 20 }).toBe('closed');
+      expect(bad.session.errors.map((e) => [e.code, e.fatal])).toEqual([['INTERNAL', true]]);
+      expect(bad.session.errors[0]!.message).toBe('the room stopped: the counter broke at tick 30');
+      expect(logged.some((m) => m.includes('room bad stopped'))).toBe(true);
+      // The same worker takes a new room.
+      const next = await client(url, 'after-bad', counter, { players: 1 });
+      await expect
+        .poll(() => next.session.snapshotTick, { timeout: 30_000, interval: 20 })
+        .toBeGreaterThan(30);
+      next.stop();
+    } finally {
+      bad.stop();
+    }
+  });
+
+  it('closing says SHUTDOWN to every member', async () => {
+    const events: StateSyncEvent[] = [];
+    const c = await client(url, 'last', counter, { players: 1, events });
+    await expect
+      .poll(() => c.session.snapshotTick, { timeout: 30_000, interval: 20 })
+      .toBeGreaterThan(3);
+    await endpoint.close();
+    await expect.poll(() => c.session.phase, { timeout: 10_000 }).toBe('closed');
+    expect(c.session.errors.map((e) => e.code)).toEqual(['SHUTDOWN']);
+    c.stop();
+  });
+});

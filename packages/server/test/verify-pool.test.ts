@@ -1,0 +1,120 @@
+/**
+ * Verification off the event loop (issue: "20 small forged replays froze GET / for seconds"):
+ * submissions are re-simulated in worker threads with a bounded queue. The `gate` game's
+ * verification waits in its worker until this test creates a file, so the test holds a
+ * verification open as long as it likes — no timing involved: were verification on the event
+ * loop, the server could not answer anything while the gate is shut, and the test would hang.
+ */
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import {
+  BUTTON_WORD,
+  ReplayRecorder,
+  gameSetup,
+  type AnyGameDefinition,
+  type Simulation,
+} from 'fixedstep';
+import { createServer, type FixedstepServer } from '../src/app.js';
+import { loadGames } from '../src/games/load.js';
+import { memoryStore } from './helpers.js';
+
+const gamesModule = fileURLToPath(new URL('./verify-games.ts', import.meta.url));
+const dir = mkdtempSync(path.join(os.tmpdir(), 'fixedstep-verify-'));
+const gateFile = path.join(dir, 'open');
+
+let server: FixedstepServer;
+let games: readonly AnyGameDefinition[];
+beforeAll(async () => {
+  // Read by the `gate` game in the workers (they inherit the environment when they start).
+  process.env.FIXEDSTEP_TEST_GATE = gateFile;
+  writeFileSync(path.join(dir, 'index.html'), '<!doctype html><title>lab</title>');
+  const loaded = await loadGames([gamesModule]);
+  games = loaded.games;
+  server = await createServer({
+    port: 0,
+    root: dir,
+    games: loaded,
+    store: await memoryStore(),
+    verification: { workers: 1, maxQueue: 1 },
+  });
+  await server.storeReady;
+}, 120_000);
+afterAll(async () => {
+  writeFileSync(gateFile, ''); // never leave a worker waiting
+  await server.close();
+  delete process.env.FIXEDSTEP_TEST_GATE;
+  rmSync(dir, { recursive: true, force: true });
+});
+
+/** A 120-tick one-player run of `id` (its seed makes it a distinct run), and its score. */
+function run(id: string, seed: number): { bytes: Uint8Array; score: number } {
+  const game = games.find((g) => g.id === id)!;
+  const setup = gameSetup(game, 1, seed);
+  const sim = game.create(setup) as Simulation;
+  const recorder = ReplayRecorder.forGame(
+    game as AnyGameDefinition & { input: typeof BUTTON_WORD },
+    setup,
+    ['ada'],
+    { checkpointEvery: 30 },
+  );
+  recorder.start(sim);
+  for (let t = 0; t < 120; t++) {
+    const inputs = [t % 3 === 0 ? 1 : 0];
+    sim.step(inputs);
+    recorder.record(inputs, sim);
+  }
+  return { bytes: recorder.finish(), score: game.score!(sim) };
+}
+
+const url = (p: string) => `http://127.0.0.1:${server.port}${p}`;
+const submit = ({ bytes, score }: { bytes: Uint8Array; score: number }) =>
+  fetch(url(`/api/highscores?score=${score}`), { method: 'POST', body: Buffer.from(bytes) });
+
+/** A gauge's value from /metrics. */
+async function gauge(name: string): Promise<number> {
+  const text = await (await fetch(url('/metrics'))).text();
+  const line = text.split('\n').find((l) => l.startsWith(`${name} `));
+  return Number(line?.split(' ')[1]);
+}
+
+describe('verification in worker threads', () => {
+  it('answers GET / and the API while a verification runs, queues one more, refuses the next with 503 and Retry-After', async () => {
+    const first = submit(run('gate', 1));
+    await expect.poll(() => gauge('fixedstep_verifications_running'), { timeout: 30_000 }).toBe(1);
+
+    // The worker is stuck at the gate; the event loop is not.
+    expect((await fetch(url('/'))).status).toBe(200);
+    expect((await fetch(url('/api/highscores?game=gate'))).status).toBe(200);
+
+    const second = submit(run('gate', 2));
+    await expect.poll(() => gauge('fixedstep_verification_queue_length')).toBe(1);
+    const refused = await submit(run('gate', 3));
+    expect(refused.status).toBe(503);
+    expect(Number(refused.headers.get('retry-after'))).toBeGreaterThan(0);
+    expect(await refused.json()).toMatchObject({ code: 'BUSY' });
+
+    writeFileSync(gateFile, '');
+    expect((await first).status).toBe(201);
+    expect((await second).status).toBe(201);
+    const table = (await (await fetch(url('/api/highscores?game=gate'))).json()) as {
+      entries: unknown[];
+    };
+    expect(table.entries).toHaveLength(2);
+    // The refused run was never looked at: sent again now, it is accepted.
+    expect((await submit(run('gate', 3))).status).toBe(201);
+  });
+
+  it('a verifier thread that dies fails only its submission (500), and a new one takes the next', async () => {
+    const crashed = await submit(run('crash', 4));
+    expect(crashed.status).toBe(500);
+    expect(await crashed.json()).toMatchObject({ code: 'VERIFIER_CRASHED' });
+    const honest = await submit(run('counter', 5));
+    expect(honest.status).toBe(201);
+    // A crash is not a refusal of the run: once the verifier can finish it, the same run is
+    // judged on its own (here: it reproduces, so it is accepted).
+    expect((await submit(run('counter', 6))).status).toBe(201);
+  });
+});
