@@ -102,15 +102,16 @@ describe.runIf(found.ok)('loss harness: WebRTC vs WebSocket between two Chromium
     udp.setConditions(CLEAN);
     const signalUrl = `ws://127.0.0.1:${server.port}/signal`;
     const ice = turn.iceServers(udp.port);
-    await ps[0]!.evaluate(([u, r, i]) => window.netem!.host(u, r, i), [
+    const invite = await ps[0]!.evaluate(([u, r, i]) => window.netem!.host(u, r, i), [
       signalUrl,
       'netem-rtc',
       ice,
     ] as const);
-    const via = await ps[1]!.evaluate(([u, r, i]) => window.netem!.join(u, r, i), [
+    const via = await ps[1]!.evaluate(([u, r, i, v]) => window.netem!.join(u, r, i, v), [
       signalUrl,
       'netem-rtc',
       ice,
+      invite,
     ] as const);
     expect(via).toBe('webrtc');
     const before = udp.stats();

@@ -6,13 +6,13 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { chromium, type Browser } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/server';
 import { attachRelay, type RelayEndpoint } from '../packages/server/src/relay/endpoint.js';
-import { attachMatchmaking, type MatchmakingEndpoint } from '../packages/server/src/match/index.js';
+import { attachMatchmaking, type MatchEndpoint } from '../packages/server/src/match/index.js';
 import { CHROMIUM_ARGS, dist, num, readouts, watch } from './harness.js';
 
 describe('chapter 6, quick match', () => {
   let server: RunningServer;
   let relay: RelayEndpoint;
-  let matchmaking: MatchmakingEndpoint;
+  let matchmaking: MatchEndpoint;
   let browser: Browser;
   beforeAll(async () => {
     server = await startServer({ port: 0, host: '127.0.0.1', root: dist });

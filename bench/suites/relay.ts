@@ -35,8 +35,8 @@ import {
   performanceClock,
   type ConfirmedMessage,
   type NetMessage,
-  type RelayCatalog,
-  type RelayGame,
+  type GameCatalog,
+  type HostedGame,
   type Simulation,
   type Transport,
 } from 'fixedstep';
@@ -101,7 +101,7 @@ export class HeldButtons {
 
 // ------------------------------------------------------------------------------ the simulation
 
-const GAME: RelayGame = {
+const GAME: HostedGame = {
   id: 'bench',
   version: 1,
   tickRate: TICK_HZ,
@@ -110,7 +110,7 @@ const GAME: RelayGame = {
   input: BUTTON_WORD,
   options: () => new Uint8Array(8),
 };
-const CATALOG: RelayCatalog = () => GAME;
+const CATALOG: GameCatalog = () => GAME;
 
 /**
  * A transport end on the relay's side: `push` delivers to the relay, sends go to `sink`.

@@ -14,17 +14,17 @@ import {
   Relay,
   RollbackSession,
   SignalClient,
+  SignallingHub,
   joinPeer,
   memoryPair,
   nodeWebSocketTransport,
   performanceClock,
-  relayCatalog,
+  gameCatalog,
   type AnyGameDefinition,
   type PeerConnectionConstructor,
   type Transport,
 } from 'fixedstep';
 import { ctfGame } from '@fixedstep/games';
-import { SignallingHub } from '../../packages/server/src/signalling/hub.js';
 import { CLEAN, type Impairment } from './impair.js';
 import { Probe, summarize, type ProbeReport, type TransportSummary } from './probe.js';
 import { startTcpProxy } from './tcp-proxy.js';
@@ -65,7 +65,7 @@ function bot(game: AnyGameDefinition, slot: number, every: number) {
 export async function runNodeMatch(o: NodeMatchOptions): Promise<NodeMatchResult> {
   const game = o.game ?? ctfGame;
   const seed = o.seed ?? 7;
-  const relay = new Relay({ clock, catalog: relayCatalog([game]), randomU32: () => 0x12345678 });
+  const relay = new Relay({ clock, catalog: gameCatalog([game]), randomU32: () => 0x12345678 });
   const cleanup: (() => Promise<void> | void)[] = [];
   const timer = setInterval(() => {
     relay.update();
@@ -113,8 +113,8 @@ export async function runNodeMatch(o: NodeMatchOptions): Promise<NodeMatchResult
       cleanup.push(() => {
         host.close();
       });
-      await host.ready;
-      const link = await joinPeer({ ...rtc, signal: new SignalClient(joinEnd) });
+      const { invite } = await host.ready;
+      const link = await joinPeer({ ...rtc, invite, signal: new SignalClient(joinEnd) });
       joinerTransport = link.transport;
       // The link is impaired from the datagrams' side: each peer's packets to the TURN relay get
       // the one-way conditions (so A → B and B → A each cross one impaired hop).

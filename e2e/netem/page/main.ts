@@ -13,7 +13,7 @@ import {
   joinPeer,
   memoryPair,
   performanceClock,
-  relayCatalog,
+  gameCatalog,
   type IceServerConfig,
   type PeerConnectionConstructor,
   type Transport,
@@ -30,10 +30,18 @@ export interface PlayOptions {
 
 export interface NetemPageApi {
   readonly ready: true;
-  /** Host a p2p room: run the relay here and wait for the joiner; resolves once hosting. */
-  host(signalUrl: string, room: string, iceServers: IceServerConfig[]): Promise<void>;
-  /** Join a p2p room; resolves with how it connected ('webrtc' or 'server'). */
-  join(signalUrl: string, room: string, iceServers: IceServerConfig[]): Promise<string>;
+  /**
+   * Host a p2p room: run the relay here and wait for the joiner; resolves once hosting, with the
+   * room's invite (hex) for the joiner.
+   */
+  host(signalUrl: string, room: string, iceServers: IceServerConfig[]): Promise<string>;
+  /** Join a p2p room with its invite (hex); resolves with how it connected ('webrtc' or 'server'). */
+  join(
+    signalUrl: string,
+    room: string,
+    iceServers: IceServerConfig[],
+    invite: string,
+  ): Promise<string>;
   /** Connect to the server's relay over a WebSocket. */
   connectRelay(url: string): Promise<void>;
   /** Start this page's player on the connection made above. */
@@ -71,7 +79,7 @@ function say(text: string): void {
 window.netem = {
   ready: true,
   async host(signalUrl, room, iceServers) {
-    relay = new Relay({ clock, catalog: relayCatalog([ctfGame]) });
+    relay = new Relay({ clock, catalog: gameCatalog([ctfGame]) });
     const r = relay;
     setInterval(() => {
       r.update();
@@ -80,7 +88,7 @@ window.netem = {
     r.accept(theirs);
     transport = mine;
     const host = new PeerHost({
-      signal: await signal(signalUrl),
+      signal: await signal(`${signalUrl}/${room}`),
       room,
       PeerConnection: PC,
       iceServers,
@@ -91,13 +99,17 @@ window.netem = {
         r.accept(link.transport);
       },
     });
-    await host.ready;
+    const { invite } = await host.ready;
     say(`hosting ${room}`);
+    return Array.from(invite, (b) => b.toString(16).padStart(2, '0')).join('');
   },
-  async join(signalUrl, room, iceServers) {
+  async join(signalUrl, room, iceServers, invite) {
     const link = await joinPeer({
-      signal: await signal(signalUrl),
+      signal: await signal(`${signalUrl}/${room}`),
       room,
+      invite: Uint8Array.from({ length: 16 }, (_, i) =>
+        parseInt(invite.slice(2 * i, 2 * i + 2), 16),
+      ),
       PeerConnection: PC,
       iceServers,
       iceTransportPolicy: 'relay',

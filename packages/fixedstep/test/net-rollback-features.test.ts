@@ -10,7 +10,7 @@ import {
   RollbackSession,
   SimulatedLink,
   fnv1a64,
-  relayCatalog,
+  gameCatalog,
   type Simulation,
 } from 'fixedstep';
 
@@ -46,7 +46,7 @@ class Toy implements Simulation {
   }
 }
 
-const catalog = relayCatalog([
+const catalog = gameCatalog([
   { id: 'toy', version: 1, tickRate: 60, minPlayers: 1, maxPlayers: 4, input: BUTTON_WORD },
 ]);
 

@@ -7,7 +7,7 @@ import {
   LockstepSession,
   Random,
   Relay,
-  relayCatalog,
+  gameCatalog,
   RollbackSession,
   SimulatedLink,
   SpectatorSession,
@@ -17,7 +17,7 @@ import {
   type NetEvent,
   type NetSession,
   type NetSessionOptions,
-  type RelayCatalog,
+  type GameCatalog,
   type RelayOptions,
   type Simulation,
 } from 'fixedstep';
@@ -82,7 +82,7 @@ class KeptToy extends Toy {
   }
 }
 
-const toyCatalog: RelayCatalog = relayCatalog([
+const toyCatalog: GameCatalog = gameCatalog([
   {
     id: 'toy',
     version: 1,

@@ -7,6 +7,7 @@
 import { describe, expect, it } from 'vitest';
 import {
   ByteWriter,
+  STATE_SYNC_PROTOCOL,
   SimulatedLink,
   decodeStateSyncMessage,
   encodeMessage,
@@ -40,6 +41,7 @@ function hostile(w: World, role: 'player' | 'spectator' = 'player') {
     input: ARENA_INPUT.id,
     players: 2,
     name: 'mallory',
+    ...(role === 'spectator' ? { token: w.room.invite } : {}),
   });
   w.run(50);
   const welcome = got.find((m) => m.type === 'welcome');
@@ -223,12 +225,14 @@ describe('the server is the authority', () => {
       payload: state,
     });
     w.run(50);
-    expect(h.errors()).toEqual(['BAD_MESSAGE!: a snapshot message from a client']);
+    expect(h.errors()).toEqual([
+      'BAD_MESSAGE!: BAD_TYPE: state sync snapshot: a snapshot is sent by the server, not the client (at byte 1)',
+    ]);
     const h2 = hostile(w);
     h2.sendBytes(encodeMessage({ type: 'snapshot', room: 0, id: 0, tick: 1, bytes: state }));
     w.run(50);
     expect(h2.errors()).toEqual([
-      'BAD_MESSAGE!: BAD_VERSION: version byte 0x3, state sync speaks 0x81 (at byte 0)',
+      'BAD_MESSAGE!: BAD_VERSION: state sync: a relay message, not state sync (at byte 0)',
     ]);
     expect(w.room.simulation.x[h.slot]).not.toBe(99);
   });
@@ -236,10 +240,10 @@ describe('the server is the authority', () => {
   it('drops bytes that are not a message, and a client over the rate limit', () => {
     const w = new World(arenaGame(), { latencyMs: 10 });
     const h = hostile(w);
-    h.sendBytes(new ByteWriter().u8(0x81).u8(0x02).u8(0xff).finish());
+    h.sendBytes(new ByteWriter().u8(STATE_SYNC_PROTOCOL.header).u8(0x02).u8(0xff).finish());
     w.run(50);
     expect(h.errors()).toEqual([
-      'BAD_MESSAGE!: TRUNCATED: player: varint runs past the end (at byte 2)',
+      'BAD_MESSAGE!: TRUNCATED: state sync input.player: player: varint runs past the end (at byte 2)',
     ]);
     expect(h.closed).toMatch(/^BAD_MESSAGE/);
     const flood = hostile(w);
@@ -248,7 +252,9 @@ describe('the server is the authority', () => {
       flood.send({ type: 'ping', id: 1, time: w.scheduler.now });
     });
     w.run(1000);
-    expect(flood.errors()).toEqual(['RATE_LIMIT!: more than 240 messages a second']);
+    expect(flood.errors()).toEqual([
+      'RATE_LIMIT!: more than 240 messages (or 131072 bytes) a second',
+    ]);
     expect(w.room.stats.dropped).toEqual({ BAD_MESSAGE: 1, RATE_LIMIT: 1 });
   });
 });

@@ -240,6 +240,8 @@ export class World {
       game: this.game,
       render: ARENA_RENDER,
       localInput: (tick) => scripted(tick, session.welcome?.slot ?? 0),
+      // A spectator is invited: it brings the room's invite token.
+      ...(options.role === 'spectator' ? { invite: this.room.invite } : {}),
       ...options,
     });
     this.clients.push(session);

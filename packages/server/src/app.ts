@@ -6,7 +6,7 @@ import path from 'node:path';
 import Fastify, { type FastifyInstance, type FastifyReply } from 'fastify';
 import { loadGames, type LoadedGames } from './games/load.js';
 import fastifyStatic from '@fastify/static';
-import type { AnyGameDefinition } from 'fixedstep';
+import { gameCatalog, type AnyGameDefinition } from 'fixedstep';
 import { highscoreApi, highscoreRoutes, type HighscoreApi } from './highscores.js';
 import { attachRelay, type RelayEndpoint, type RelayEndpointOptions } from './relay/endpoint.js';
 import {
@@ -19,12 +19,19 @@ import {
   type SignallingEndpoint,
   type SignallingEndpointOptions,
 } from './signalling/endpoint.js';
-import { gameCatalog } from './relay/catalog.js';
 import {
   attachMatchmaking,
-  type MatchmakingEndpoint,
+  type MatchEndpoint,
   type MatchmakingEndpointOptions,
 } from './match/endpoint.js';
+import { MatchTickets } from './match/tickets.js';
+import {
+  Admission,
+  admissionOptionsFromEnv,
+  trustedProxy,
+  type OriginPolicy,
+  type TrustedProxy,
+} from './http/admission.js';
 import type { HighscoreStore } from './store/store.js';
 import { VerifierPool } from './verify/pool.js';
 import { DEFAULT_HTTP_LIMITS, type HttpLimits } from './http/limits.js';
@@ -75,16 +82,25 @@ export interface ServerOptions {
   matchmaking?: boolean | MatchmakingEndpointOptions;
 
   /**
-   * Browser origins allowed to open a WebSocket (the `Origin` header) to the relay, state sync,
-   * signalling and matchmaking, e.g. `['https://game.example']`. Default: the relay takes pages
-   * of this server only (same origin, or `FIXEDSTEP_ALLOWED_ORIGINS`); the others take any.
+   * Browser origins allowed to open a WebSocket (the `Origin` header) to any surface — the relay,
+   * state sync, signalling, quick match —, e.g. `['https://game.example']`. Default
+   * `'same-origin'`: pages of this server only (or `FIXEDSTEP_ALLOWED_ORIGINS`).
    */
-  allowedOrigins?: readonly string[];
+  allowedOrigins?: OriginPolicy;
   /**
-   * The header a trusted reverse proxy puts the client's address in (`x-forwarded-for`,
-   * `x-real-ip`), for rate limits. Unset: the socket's address. Set it only behind such a proxy.
+   * A trusted reverse proxy (see `TrustedProxy`), or just the header it puts the client's address
+   * in (`x-forwarded-for`) for a proxy on loopback — for every surface's per-address caps and the
+   * highscore API's rate limit. Unset: the socket's address (or `FIXEDSTEP_PROXY_HEADER`).
    */
-  trustProxy?: string;
+  trustProxy?: string | TrustedProxy;
+  /**
+   * The quick-match ticket secret, shared by every process of a deployment (the one that matches
+   * and the ones whose relays seat the players). Default `FIXEDSTEP_MATCH_SECRET`, else random for
+   * this process.
+   */
+  matchSecret?: string;
+  /** Where `FIXEDSTEP_*` settings are read from. Default `process.env`. */
+  env?: Readonly<Record<string, string | undefined>>;
   /** Highscore submissions (that passed the pre-check) per client address per minute. Default 20. */
   submissionsPerMinute?: number;
   /** Verification workers and queue. Default: cores − 1 workers (at least 1), 32 waiting. */
@@ -117,7 +133,9 @@ export interface FixedstepServer {
   /** WebRTC signalling, unless `signalling: false`. */
   readonly signalling: SignallingEndpoint | undefined;
   /** The quick-match queue, unless `matchmaking: false`. */
-  readonly matchmaking: MatchmakingEndpoint | undefined;
+  readonly matchmaking: MatchEndpoint | undefined;
+  /** The admission every WebSocket surface shares (origins, addresses, sockets per address). */
+  readonly admission: Admission;
   /** The Prometheus metrics served at `/metrics`. */
   readonly metrics: ServerMetrics;
   /** Resolves once the highscore store is open (rejects if it failed; no-op without a store). */
@@ -211,6 +229,20 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     ? (gamesOption as readonly AnyGameDefinition[])
     : (gamesOption as LoadedGames).games;
   const metrics = new ServerMetrics();
+  const env = options.env ?? process.env;
+  // One admission for every WebSocket surface: origins, client addresses, sockets per address.
+  const fromEnv = admissionOptionsFromEnv(env);
+  const trust = trustedProxy(options.trustProxy) ?? fromEnv.trustProxy;
+  const admission = new Admission({
+    ...fromEnv,
+    ...(options.allowedOrigins !== undefined ? { allowedOrigins: options.allowedOrigins } : {}),
+    ...(trust !== undefined ? { trustProxy: trust } : {}),
+  });
+  // Tickets signed by the matchmaker, checked by the relay (of this process or another's).
+  const tickets = new MatchTickets({
+    env,
+    ...(options.matchSecret !== undefined ? { secret: options.matchSecret } : {}),
+  });
 
   const app = Fastify({
     logger: false,
@@ -334,7 +366,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
                       ? { maxQueue: verification.maxQueue }
                       : {}),
                   }),
-              ...(options.trustProxy !== undefined ? { trustProxy: options.trustProxy } : {}),
+              ...(trust !== undefined ? { trustProxy: trust } : {}),
               ...(options.submissionsPerMinute !== undefined
                 ? { perMinute: options.submissionsPerMinute }
                 : {}),
@@ -354,7 +386,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     await app.register(
       highscoreRoutes(() => api, {
         maxBodyBytes: limits.maxBodyBytes,
-        ...(options.trustProxy !== undefined ? { trustProxy: options.trustProxy } : {}),
+        ...(trust !== undefined ? { trustProxy: trust } : {}),
       }),
     );
   }
@@ -420,7 +452,9 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
       typeof options.relay === 'object' ? options.relay : {};
     relay = attachRelay(server, {
       catalog: gameCatalog(gameList),
-      ...(options.allowedOrigins !== undefined ? { allowedOrigins: options.allowedOrigins } : {}),
+      admission,
+      tickets: tickets.verify,
+      env,
       ...relayOptions,
     });
     metrics.watchRelay(relay.relay);
@@ -441,7 +475,8 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     if (modules !== null) {
       stateSync = attachStateSync(server, {
         workers: 1,
-        ...(options.allowedOrigins !== undefined ? { allowedOrigins: options.allowedOrigins } : {}),
+        admission,
+        env,
         ...given,
         ...(modules !== undefined ? { games: modules } : {}),
         log: (message) => {
@@ -459,17 +494,18 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
   let signalling: SignallingEndpoint | undefined;
   if (options.signalling !== false) {
     signalling = attachSignalling(server, {
-      ...(options.allowedOrigins !== undefined ? { allowedOrigins: options.allowedOrigins } : {}),
+      admission,
       ...(typeof options.signalling === 'object' ? options.signalling : {}),
     });
   }
 
   // Quick match on the same port: matched players get a fresh room of the relay.
-  let matchmaking: MatchmakingEndpoint | undefined;
+  let matchmaking: MatchEndpoint | undefined;
   if (options.matchmaking !== false) {
     matchmaking = attachMatchmaking(server, {
       games: gameList,
-      ...(options.allowedOrigins !== undefined ? { allowedOrigins: options.allowedOrigins } : {}),
+      admission,
+      tickets,
       ...(typeof options.matchmaking === 'object' ? options.matchmaking : {}),
     });
   }
@@ -541,6 +577,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     stateSync,
     signalling,
     matchmaking,
+    admission,
     metrics,
     storeReady,
     get draining() {

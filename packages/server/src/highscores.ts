@@ -1,7 +1,7 @@
 import type http from 'node:http';
 import type { FastifyPluginAsync, FastifyReply } from 'fastify';
 import type { AnyGameDefinition } from 'fixedstep';
-import { clientAddress } from './http/client-address.js';
+import { requestAddress, type TrustedProxy } from './http/admission.js';
 import type { ServerMetrics } from './http/metrics.js';
 import { RateLimiter } from './http/rate-limit.js';
 import type { HighscoreStore, HighscoreEntry } from './store/store.js';
@@ -47,10 +47,11 @@ export interface HighscoreApiOptions {
   /** Submissions that passed the pre-check allowed per client address per minute. Default 20. */
   perMinute?: number;
   /**
-   * The header a trusted reverse proxy puts the client's address in (`x-forwarded-for`,
-   * `x-real-ip`). Unset: the socket's address (do not set it without such a proxy in front).
+   * A trusted reverse proxy (see `TrustedProxy`), or just the header it puts the client's address
+   * in (`x-forwarded-for`, `x-real-ip`) for a proxy on loopback: its header is believed only from
+   * it. Unset: the socket's address.
    */
-  trustProxy?: string;
+  trustProxy?: string | TrustedProxy;
   /** Largest replay accepted, in bytes. Default 1 MiB. */
   maxBodyBytes?: number;
   /** A body must arrive within this many ms (plain `node:http` handler). Default 10 000. */
@@ -358,7 +359,7 @@ export function highscoreApi(options: HighscoreApiOptions): HighscoreApi {
         answer = await submit(
           bytes,
           url.searchParams.get('score'),
-          clientAddress(req, options.trustProxy),
+          requestAddress(req, options.trustProxy),
         );
       } else {
         res.setHeader('Allow', 'GET, HEAD, POST');
@@ -402,7 +403,7 @@ export function highscoreApi(options: HighscoreApiOptions): HighscoreApi {
  */
 export function highscoreRoutes(
   get: () => HighscoreApi | undefined,
-  options: { maxBodyBytes?: number; trustProxy?: string } = {},
+  options: { maxBodyBytes?: number; trustProxy?: string | TrustedProxy } = {},
 ): FastifyPluginAsync {
   const maxBody = options.maxBodyBytes ?? MAX_SUBMITTED_BYTES;
   // eslint-disable-next-line @typescript-eslint/require-await -- fastify's plugin signature
@@ -429,7 +430,7 @@ export function highscoreRoutes(
         get()!.submit(
           body,
           request.query.score ?? null,
-          clientAddress(request.raw, options.trustProxy),
+          requestAddress(request.raw, options.trustProxy),
         ),
       );
     });

@@ -16,7 +16,29 @@ export type { HttpLimits } from './http/limits.js';
 export { ServerMetrics } from './http/metrics.js';
 export { SECURITY_HEADERS, CONTENT_SECURITY_POLICY } from './http/security.js';
 export { RateLimiter } from './http/rate-limit.js';
-export { clientAddress, addressKey } from './http/client-address.js';
+export {
+  Admission,
+  addressKey,
+  clientAddress,
+  requestAddress,
+  originAllowed,
+  trustedProxy,
+  trustedProxyList,
+  admissionOptionsFromEnv,
+  roomCapsFromEnv,
+  DEFAULT_ORIGIN_POLICY,
+  MAX_SOCKETS,
+  MAX_SOCKETS_PER_ADDRESS,
+} from './http/admission.js';
+export type {
+  AdmissionOptions,
+  Admitted,
+  Refused,
+  OriginPolicy,
+  TrustedProxy,
+} from './http/admission.js';
+export { WebSocketEndpoint, refuseUpgrade } from './http/websocket-endpoint.js';
+export type { WebSocketEndpointSetup, UpgradeInfo, RoomInPath } from './http/websocket-endpoint.js';
 export { highscoreApi, highscoreRoutes, readBody } from './highscores.js';
 export type { HighscoreApi, HighscoreApiOptions, ApiHandler, ApiAnswer } from './highscores.js';
 export { HighscoreStore, openStore, prepareStore, TABLE_SIZE } from './store/store.js';
@@ -55,25 +77,38 @@ export {
 export type { LoadedGames } from './games/load.js';
 export {
   attachRelay,
-  gameCatalog,
   createRelay,
-  connectNodeWebSocket,
-  relayEndpointOptionsFromEnv,
-} from './relay/index.js';
-export type {
+  registryCatalog,
   RelayEndpoint,
-  RelayEndpointOptions,
-  TrustedProxy,
-  OriginPolicy,
+  RELAY_UPDATE_MS,
+  connectNodeWebSocket,
 } from './relay/index.js';
-export { attachStateSync } from './state-sync/index.js';
-export type { StateSyncEndpoint, StateSyncEndpointOptions } from './state-sync/index.js';
-export { attachSignalling, SignallingHub } from './signalling/index.js';
-export type { SignallingEndpoint, SignallingEndpointOptions } from './signalling/index.js';
-export { attachMatchmaking, MatchQueue, DEFAULT_MATCHMAKING_LIMITS } from './match/index.js';
+export type { RelayEndpointOptions } from './relay/index.js';
+export { attachStateSync, StateSyncEndpoint, STATE_SYNC_UPDATE_MS } from './state-sync/index.js';
+export type { StateSyncEndpointOptions } from './state-sync/index.js';
+export { attachSignalling, SignallingEndpoint, SIGNALLING_UPDATE_MS } from './signalling/index.js';
+export type { SignallingEndpointOptions } from './signalling/index.js';
+export {
+  attachMatchmaking,
+  MatchEndpoint,
+  MatchQueue,
+  MatchTickets,
+  DEFAULT_MATCHMAKING_LIMITS,
+  ACCEPT_MS,
+  FILL_WINDOW_MS,
+  TICKET_LIFETIME_MS,
+  MATCH_SWEEP_MS,
+  MATCH_REQUEST_TIMEOUT_MS,
+} from './match/index.js';
 export type {
-  MatchmakingEndpoint,
   MatchmakingEndpointOptions,
   MatchmakingLimits,
+  MatchQueueOptions,
+  Match,
+  MatchMember,
+  JoinResult,
+  Proposal,
+  SweepResult,
+  MatchTicketsOptions,
 } from './match/index.js';
 export { printable, cleanName } from './text.js';

@@ -17,7 +17,7 @@ import { Service } from 'kubernetes-models/v1/Service';
 import { Deployment } from 'kubernetes-models/apps/v1/Deployment';
 import { StatefulSet } from 'kubernetes-models/apps/v1/StatefulSet';
 import { PodDisruptionBudget } from 'kubernetes-models/policy/v1/PodDisruptionBudget';
-import { relayEndpointOptionsFromEnv } from '../src/relay/index.js';
+import { admissionOptionsFromEnv } from '../src/http/admission.js';
 
 const root = fileURLToPath(new URL('../../../', import.meta.url));
 const deploy = path.join(root, 'deploy');
@@ -143,7 +143,7 @@ describe('deploy/: Kubernetes manifests', () => {
       'FIXEDSTEP_TRUSTED_PROXIES',
       'FIXEDSTEP_ALLOWED_ORIGINS',
     ]);
-    expect(relayEndpointOptionsFromEnv(env)).toEqual({
+    expect(admissionOptionsFromEnv(env)).toEqual({
       allowedOrigins: 'same-origin',
       trustProxy: { header: 'x-forwarded-for', proxies: ['10.0.0.0/8'] },
     });

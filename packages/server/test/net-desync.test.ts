@@ -1,7 +1,7 @@
 import { describe, expect, it } from 'vitest';
 import { SimulatedMatch, SyncTestSession, type Simulation, type WelcomeMessage } from 'fixedstep';
 import { ctfGame, type Game } from '@fixedstep/games';
-import { gameCatalog } from '../src/relay/index.js';
+import { registryCatalog } from '../src/relay/index.js';
 
 /** The byte offset of capture the flag's f64 game clock in its snapshot (after magic, players, tick). */
 const CLOCK_OFFSET = 4 + 1 + 4;
@@ -78,7 +78,7 @@ describe('a non-deterministic game is caught at the right tick', () => {
       ticks: 1400,
       link: { latencyMs: 40, jitterMs: 10, loss: 0.02 },
       relay: { hashEvery: 60 },
-      catalog: gameCatalog(),
+      catalog: registryCatalog(),
       clients: [
         {
           kind: 'lockstep',

@@ -1,7 +1,7 @@
 import { describe, expect, it } from 'vitest';
 import { SimulatedMatch, type MatchResult } from 'fixedstep';
 import { ctfGame } from '@fixedstep/games';
-import { gameCatalog } from '../src/relay/index.js';
+import { registryCatalog } from '../src/relay/index.js';
 
 /**
  * The 10-minute match: capture the flag, two players and a spectator, 36 000 ticks at 60 Hz,
@@ -14,7 +14,7 @@ function tenMinutes(kind: 'lockstep' | 'rollback'): MatchResult {
     game: ctfGame,
     seed: 2024,
     ticks: 36_000,
-    catalog: gameCatalog(),
+    catalog: registryCatalog(),
     link: { latencyMs: 100, jitterMs: 30, loss: 0.05 },
     clients: [{ kind }, { kind }, { kind: 'spectator' }],
   });

@@ -17,7 +17,7 @@ import {
   type WelcomeMessage,
 } from 'fixedstep';
 import { ctfGame, type Game } from '@fixedstep/games';
-import { gameCatalog } from '../src/relay/index.js';
+import { registryCatalog } from '../src/relay/index.js';
 
 /** A client that speaks the protocol by hand. */
 class Raw {
@@ -75,7 +75,7 @@ function match(
     game: ctfGame,
     seed: 12,
     ticks,
-    catalog: gameCatalog(),
+    catalog: registryCatalog(),
     link: { latencyMs: 30, jitterMs: 5 },
     players: 2,
     room: 'honest',
@@ -95,12 +95,12 @@ describe('idle sockets and squatters no longer block every new game', () => {
     }
     m.scheduler.runUntil(500);
     // 468 refused at once; of the 32 let in, 24 asked for a ninth room and more.
-    const refused = idle.filter((r) => r.error?.code === 'SERVER_FULL');
+    const refused = idle.filter((r) => r.error?.code === 'ADDRESS_LIMIT');
     expect(refused).toHaveLength(468 + 24);
     expect(m.relay.stats.connections).toBe(8);
     expect(m.relay.stats.rooms).toBe(8);
-    expect(idle[8]!.error!.message).toMatch(/too many rooms from one address/);
-    expect(idle[499]!.error!.message).toMatch(/too many connections from one address/);
+    expect(idle[8]!.error!.message).toMatch(/at most 8 rooms from one address/);
+    expect(idle[499]!.error!.message).toMatch(/at most 32 connections from one address/);
     const r = m.run(60_000);
     expect(r.finished).toBe(true);
     expect(r.hashesAgree).toBe(true);
@@ -161,8 +161,8 @@ describe('idle sockets and squatters no longer block every new game', () => {
     }
     m.scheduler.runUntil(50);
     expect(m.relay.stats.connections).toBe(32);
-    expect(flood.filter((r) => r.error?.code === 'SERVER_FULL')).toHaveLength(3968);
-    expect(m.relay.stats.dropped.SERVER_FULL).toBe(3968);
+    expect(flood.filter((r) => r.error?.code === 'ADDRESS_LIMIT')).toHaveLength(3968);
+    expect(m.relay.stats.dropped.ADDRESS_LIMIT).toBe(3968);
     const r = m.run(60_000);
     expect(r.finished).toBe(true);
     expect(r.hashesAgree).toBe(true);

@@ -21,7 +21,8 @@ import {
   joinPeer,
   memoryPair,
   performanceClock,
-  relayCatalog,
+  gameCatalog,
+  SignallingHub,
   type DataChannelInitLike,
   type DataChannelLike,
   type PeerConnectionConstructor,
@@ -29,7 +30,6 @@ import {
   type PeerLink,
   type Simulation,
 } from 'fixedstep';
-import { SignallingHub } from '../src/signalling/hub.js';
 
 /** Each player's counter moves by its input and a seeded draw; `glitchFrom` breaks determinism. */
 class Toy implements Simulation {
@@ -70,7 +70,7 @@ class Toy implements Simulation {
 }
 
 const clock = performanceClock();
-const catalog = relayCatalog([
+const catalog = gameCatalog([
   { id: 'toy', version: 1, tickRate: 60, minPlayers: 2, maxPlayers: 4, input: BUTTON_WORD },
 ]);
 const cleanup: (() => void)[] = [];
@@ -135,8 +135,8 @@ async function peerToPeer(o: {
   cleanup.push(() => {
     host.close();
   });
-  await host.ready;
-  const link: PeerLink = await joinPeer({ ...rtc, signal: new SignalClient(joinSignal) });
+  const { invite } = await host.ready;
+  const link: PeerLink = await joinPeer({ ...rtc, invite, signal: new SignalClient(joinSignal) });
   cleanup.push(() => {
     link.transport.close('test over');
   });

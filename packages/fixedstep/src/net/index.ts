@@ -5,24 +5,19 @@
  * docs/network.md.
  * @module
  */
+export * from './wire/index.js';
 export {
   PROTOCOL_VERSION,
   MAX_WIRE_INPUT_WORDS,
-  MessageType,
   DEFAULT_PROTOCOL_LIMITS,
-  NAME_PATTERN,
-  TOKEN_BYTES,
-  ProtocolError,
+  RELAY_PROTOCOL,
   encodeMessage,
   decodeMessage,
   peekMessageType,
-} from './protocol.js';
+} from './relay/messages.js';
 export type {
   MessageKind,
   ProtocolLimits,
-  ProtocolErrorCode,
-  NetErrorCode,
-  LeaveReason,
   NetMessage,
   HelloMessage,
   WelcomeMessage,
@@ -32,15 +27,12 @@ export type {
   AckMessage,
   HashMessage,
   DesyncMessage,
-  PingMessage,
-  PongMessage,
   LeaveMessage,
-  ErrorMessage,
   SnapshotRequestMessage,
   SnapshotMessage,
   HashesRequestMessage,
   HashesMessage,
-} from './protocol.js';
+} from './relay/messages.js';
 export { EventScheduler } from './scheduler.js';
 export type { ScheduledEvent } from './scheduler.js';
 export { BaseTransport, memoryPair, SimulatedLink } from './transport.js';
@@ -62,19 +54,42 @@ export { SyncTestSession, SyncTestError } from './sync-test.js';
 export type { SyncTestOptions, SyncTestMismatch } from './sync-test.js';
 export { diffSnapshots } from './forensics.js';
 export type { SnapshotDiff } from './forensics.js';
-export { Relay, relayCatalog } from './relay.js';
+export * from './room/index.js';
+export { gameCatalog, MATCH_ROOM_PREFIX } from './room/game-join.js';
 export type {
-  RelayGame,
-  RelayCatalog,
+  HostedGame,
+  GameCatalog,
+  MatchTicket,
+  TicketVerifier,
+  GameRoomSetup,
+} from './room/game-join.js';
+export {
+  Relay,
+  DEFAULT_DEADLINE_MS,
+  DEFAULT_HASH_EVERY,
+  DEFAULT_START_DELAY_MS,
+  DEFAULT_MAX_AHEAD_TICKS,
+  DEFAULT_MAX_BEHIND_TICKS,
+  DEFAULT_HISTORY_TICKS,
+  DEFAULT_MAX_MATCH_TICKS,
+  DEFAULT_START_LIVENESS_MS,
+  DEFAULT_SNAPSHOT_TIMEOUT_MS,
+  DEFAULT_FORENSICS_TIMEOUT_MS,
+  DEFAULT_HASH_TIMEOUT_MS,
+  DEFAULT_MAX_DESYNC_RECORDS,
+  DEFAULT_MAX_FORENSICS_BYTES,
+} from './relay/relay.js';
+export type {
   RelayOptions,
-  RelayConnectionInfo,
   RelayDrainOptions,
-  RelayRateLimits,
   RelayEvent,
   RelayStats,
   RoomInfo,
-  DesyncRecord,
-} from './relay.js';
+} from './relay/relay.js';
+export { RelayRoom, RelayMember } from './relay/room.js';
+export type { RelaySettings, RelayRoomEvents } from './relay/room.js';
+export { DesyncDetector } from './relay/forensics.js';
+export type { DesyncRecord } from './relay/forensics.js';
 export { SimulatedMatch, relayGameOf } from './match.js';
 export type {
   MatchGame,
@@ -84,28 +99,25 @@ export type {
   MatchResult,
 } from './match.js';
 export {
-  MAX_MATCH_MESSAGE_BYTES,
   MAX_MATCH_PLAYERS,
   MAX_MATCH_TIMEOUT_MS,
-  MatchmakingError,
-  encodeMatchMessage,
-  decodeMatchClientMessage,
-  decodeMatchServerMessage,
-  quickMatch,
-} from './matchmaking.js';
+  MATCH_VERSION,
+  MATCH_PROTOCOL,
+} from './match/messages.js';
 export type {
-  MatchErrorCode,
   MatchQueueRequest,
+  MatchAcceptMessage,
   MatchCancelRequest,
   MatchClientMessage,
   MatchQueuedMessage,
+  MatchProposedMessage,
   MatchFoundMessage,
   MatchNoneMessage,
   MatchCancelledMessage,
-  MatchErrorMessage,
   MatchServerMessage,
-  QuickMatchOptions,
-  QuickMatchResult,
-} from './matchmaking.js';
+  MatchMessage,
+} from './match/messages.js';
+export { MatchmakingError, quickMatch } from './match/client.js';
+export type { MatchFailure, QuickMatchOptions, QuickMatchResult } from './match/client.js';
 export * from './state-sync/index.js';
 export * from './webrtc/index.js';

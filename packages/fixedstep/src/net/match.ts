@@ -2,17 +2,10 @@ import { hex64 } from '../det/hash.js';
 import { Random } from '../det/random.js';
 import type { AnyGameDefinition } from '../sim/game.js';
 import type { Simulation } from '../sim/simulation.js';
-import type { WelcomeMessage } from './protocol.js';
-import {
-  Relay,
-  relayCatalog,
-  type RelayCatalog,
-  type RelayConnectionInfo,
-  type RelayGame,
-  type RelayOptions,
-  type RelayStats,
-  type RoomInfo,
-} from './relay.js';
+import type { WelcomeMessage } from './relay/messages.js';
+import { gameCatalog, type GameCatalog, type HostedGame } from './room/game-join.js';
+import type { ConnectionInfo } from './room/host.js';
+import { Relay, type RelayOptions, type RelayStats, type RoomInfo } from './relay/relay.js';
 import { RollbackSession } from './rollback.js';
 import { EventScheduler } from './scheduler.js';
 import {
@@ -31,8 +24,8 @@ import { SimulatedLink, type LinkConditions, type LinkStats, type Transport } fr
 export type MatchGame = AnyGameDefinition;
 
 /** The relay's view of a game definition (a definition already is one). */
-export function relayGameOf(game: MatchGame): RelayGame {
-  return game as RelayGame;
+export function relayGameOf(game: MatchGame): HostedGame {
+  return game as HostedGame;
 }
 
 /** One client of a {@link SimulatedMatch}. */
@@ -46,7 +39,7 @@ export interface MatchClientSpec {
   /** Its link to the server (both directions). Default: the match's link. */
   link?: Partial<LinkConditions>;
   /** Where it connects from, as the relay sees it (address, URL room). Default: nothing said. */
-  connection?: RelayConnectionInfo;
+  connection?: ConnectionInfo;
   /** When it connects, in ms of simulated time (a late joiner). Default 0. */
   joinAtMs?: number;
   /** When it leaves (closes its transport), in ms. Default: never. */
@@ -87,7 +80,7 @@ export interface SimulatedMatchOptions {
   /** Relay options (deadline, hash interval, limits …). */
   relay?: Partial<Omit<RelayOptions, 'clock' | 'catalog'>>;
   /** The relay's catalog. Default: this game only. */
-  catalog?: RelayCatalog;
+  catalog?: GameCatalog;
   /** Wall clock for {@link MatchResult.wallMs}. Default `performance.now()`. */
   wallClock?: () => number;
   /** Human-like bots: re-decide every this many ticks, hold in between. Default 6 (100 ms). */
@@ -154,7 +147,7 @@ export class SimulatedMatch {
       clock,
       randomU32: () => random.nextU32(),
       ...options.relay,
-      catalog: options.catalog ?? relayCatalog([def]),
+      catalog: options.catalog ?? gameCatalog([def]),
     });
     const tickMs = 1000 / def.tickRate;
     this.scheduler.every(
@@ -173,7 +166,7 @@ export class SimulatedMatch {
    */
   connect(
     link: Partial<LinkConditions> = {},
-    info: RelayConnectionInfo = {},
+    info: ConnectionInfo = {},
   ): { transport: Transport; link: SimulatedLink } {
     const l = new SimulatedLink({
       scheduler: this.scheduler,

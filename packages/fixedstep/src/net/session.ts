@@ -8,16 +8,15 @@ import { ClockSync } from './clock-sync.js';
 import { InputRing, SnapshotRing } from './history.js';
 import {
   DEFAULT_PROTOCOL_LIMITS,
-  ProtocolError,
   decodeMessage,
   encodeMessage,
   type ConfirmedMessage,
   type DesyncMessage,
-  type ErrorMessage,
-  type LeaveReason,
   type NetMessage,
   type WelcomeMessage,
-} from './protocol.js';
+} from './relay/messages.js';
+import { ProtocolError } from './wire/error.js';
+import type { ErrorMessage, LeaveReason } from './wire/common.js';
 import type { Transport } from './transport.js';
 
 /** Where a session is. */
@@ -66,6 +65,11 @@ export interface NetSessionOptions<I = ButtonInput> {
   name?: string;
   /** Reconnect token from an earlier welcome: take back that slot. */
   token?: Uint8Array;
+  /**
+   * A quick-match ticket (`quickMatch`'s `ticket`): the room, its setup and this player's seat
+   * come from it; `players` and `seed` are then ignored.
+   */
+  ticket?: Uint8Array;
   /**
    * Spectators: the room's invite token (`welcome.invite` of one of its players). The relay lets
    * no spectator in without it.
@@ -304,6 +308,7 @@ export abstract class NetSession<I = ButtonInput> {
     if (options.seed !== undefined) hello.seed = options.seed;
     const token = role === 'spectator' ? options.invite : options.token;
     if (token !== undefined) hello.token = token;
+    if (options.ticket !== undefined) hello.ticket = options.ticket;
     this.hello = hello;
     this.send(hello);
     this.helloSentAt = this.clock.now();

@@ -1,28 +1,41 @@
+/**
+ * Quick match on the server's HTTP port: a WebSocket on `/match` queues, accepts the proposed match,
+ * and gets the relay room and its ticket.
+ * @module
+ */
 import type http from 'node:http';
-import type { Duplex } from 'node:stream';
-import { WebSocketServer, type RawData, type WebSocket } from 'ws';
+import type { RawData, WebSocket } from 'ws';
 import {
-  MAX_MATCH_MESSAGE_BYTES,
-  MatchmakingError,
-  decodeMatchClientMessage,
-  encodeMatchMessage,
+  MATCH_PROTOCOL,
+  ProtocolError,
+  TokenBucket,
+  gameCatalog,
   performanceClock,
+  refusalCode,
   type AnyGameDefinition,
   type Clock,
-  type MatchErrorCode,
+  type GameCatalog,
+  type MatchClientMessage,
   type MatchServerMessage,
-  type RelayCatalog,
+  type NetErrorCode,
 } from 'fixedstep';
-import { gameCatalog } from '../relay/catalog.js';
-import {
-  clientAddress,
-  originAllowed,
-  trustedProxyList,
-  type OriginPolicy,
-  type TrustedProxy,
-} from '../relay/endpoint.js';
-import { claimUpgradePaths, shouldRefuseUpgrade } from '../http/upgrade-paths.js';
+import { GAMES } from '@fixedstep/games';
+import { Admission, type OriginPolicy, type TrustedProxy } from '../http/admission.js';
+import { WebSocketEndpoint, type UpgradeInfo } from '../http/websocket-endpoint.js';
 import { MatchQueue, DEFAULT_MATCHMAKING_LIMITS, type MatchmakingLimits } from './queue.js';
+import { MatchTickets } from './tickets.js';
+
+/** How often the queue is swept (proposals formed, deadlines checked), ms. */
+export const MATCH_SWEEP_MS = 100;
+/** A connection must send its request within this, ms. */
+export const MATCH_REQUEST_TIMEOUT_MS = 10_000;
+/** A matchmaking client sends a request, an accept and perhaps a cancel: a few messages at most. */
+const MATCH_RATE = Object.freeze({
+  messagesPerSecond: 5,
+  messageBurst: 10,
+  bytesPerSecond: 2048,
+  byteBurst: 4096,
+});
 
 /** Options of {@link attachMatchmaking}. */
 export interface MatchmakingEndpointOptions {
@@ -31,14 +44,25 @@ export interface MatchmakingEndpointOptions {
   /** The games that may be queued for. Default: the game registry (or `catalog`). */
   games?: readonly AnyGameDefinition[];
   /** The relay catalog to check requests against (takes precedence over `games`). */
-  catalog?: RelayCatalog;
+  catalog?: GameCatalog;
   /** Queue bounds; missing fields take {@link DEFAULT_MATCHMAKING_LIMITS}. */
   limits?: Partial<MatchmakingLimits>;
-  /** Browser origins allowed to connect, as the relay's (default `'same-origin'`). */
+  /** Time to accept a proposed match, ms (see {@link MatchQueue}). */
+  acceptMs?: number;
+  /** See {@link MatchQueue}'s fill window. */
+  fillWindowMs?: number;
+  /**
+   * Signs the tickets of matched players. Default: {@link MatchTickets} with
+   * `FIXEDSTEP_MATCH_SECRET` — give the relay the same (`createServer` does).
+   */
+  tickets?: MatchTickets;
+  /** The server's admission (shared by every surface). Default: one of its own. */
+  admission?: Admission;
+  /** Browser origins allowed to connect. Default `'same-origin'`. */
   allowedOrigins?: OriginPolicy;
-  /** Read the client address from a trusted proxy's header, as the relay does. Default: none. */
+  /** Read the client address from a proxy's header. Default: none. */
   trustProxy?: TrustedProxy;
-  /** How long a new connection may take to send its request, in ms. Default 10 000. */
+  /** How long a new connection may take to send its request, in ms. Default {@link MATCH_REQUEST_TIMEOUT_MS}. */
   requestTimeoutMs?: number;
   /** The clock waits are measured on. Default the process's monotonic clock. */
   clock?: Clock;
@@ -46,206 +70,203 @@ export interface MatchmakingEndpointOptions {
   randomBytes?: (n: number) => Uint8Array;
 }
 
-/** Matchmaking attached to an HTTP server, from {@link attachMatchmaking}. */
-export interface MatchmakingEndpoint {
-  /** The queue (e.g. its `size` for a dashboard). */
-  readonly queue: MatchQueue<unknown>;
-  /** The URL path it answers, e.g. `/match`. */
-  readonly path: string;
-  /** Open matchmaking connections (waiting or not yet sent their request). */
-  readonly connections: number;
-  /** Tell every waiting client (error `SHUTDOWN`), close every connection, detach. */
-  close(): Promise<void>;
-}
-
+/** One matchmaking connection, as the queue holds it. */
 interface Connection {
+  send(message: MatchServerMessage): void;
+  /** Sends a last message and closes. */
   end(message: MatchServerMessage): void;
 }
 
-/**
- * Attaches the quick-match queue to `server` at `path` (default `/match`), beside the relay's
- * `/ws`: a client sends one JSON `queue` request (see `quickMatch` in fixedstep), is told
- * `queued`, and later `matched` (a fresh room name, the player count, its order), `no-match` or
- * `cancelled`; then the server closes the connection. Closing it first cancels. A refused request
- * gets an `error` naming the field or the cap. Upgrades from other sites' pages get 403, past the
- * connection caps (twice the waiting caps, so a client over the waiting cap still hears why) 429 or
- * 503; other paths are left to other endpoints (404 when nobody owns them).
- */
-export function attachMatchmaking(
-  server: http.Server,
-  options: MatchmakingEndpointOptions = {},
-): MatchmakingEndpoint {
-  const {
-    path = '/match',
-    allowedOrigins = 'same-origin',
-    trustProxy,
-    requestTimeoutMs = 10_000,
-  } = options;
-  if (!/^\/[A-Za-z0-9_./-]*$/.test(path) || path.endsWith('/')) {
-    throw new RangeError(`attachMatchmaking: path must look like /match, got "${path}"`);
-  }
-  const limits: MatchmakingLimits = { ...DEFAULT_MATCHMAKING_LIMITS, ...options.limits };
-  const proxies = trustProxy ? trustedProxyList(trustProxy) : undefined;
-  const clock = options.clock ?? performanceClock();
-  const queue = new MatchQueue<Connection>({
-    clock,
-    catalog: options.catalog ?? gameCatalog(options.games),
-    limits,
-    ...(options.randomBytes ? { randomBytes: options.randomBytes } : {}),
-  });
-  const wss = new WebSocketServer({
-    noServer: true,
-    maxPayload: MAX_MATCH_MESSAGE_BYTES,
-    perMessageDeflate: false,
-  });
-  const open = new Map<string, number>();
-  let total = 0;
-  const refuse = (socket: Duplex, status: string, reason = '') => {
-    socket.write(
-      `HTTP/1.1 ${status}\r\nConnection: close\r\nContent-Type: text/plain\r\n` +
-        `Content-Length: ${Buffer.byteLength(reason)}\r\n\r\n${reason}`,
-    );
-    socket.destroy();
-  };
+/** Quick match attached to an HTTP server (see {@link attachMatchmaking}). */
+export class MatchEndpoint extends WebSocketEndpoint {
+  /** The queue (e.g. its `size` for a dashboard). */
+  readonly queue: MatchQueue<Connection>;
+  /** The tickets it signs (the relay checks them with {@link MatchTickets.verify}). */
+  readonly tickets: MatchTickets;
+  private readonly clock: Clock;
+  private readonly requestTimeoutMs: number;
+  private readonly sweepTimer: ReturnType<typeof setInterval>;
+  private open = 0;
 
-  const accept = (ws: WebSocket, address: string) => {
+  constructor(server: http.Server, options: MatchmakingEndpointOptions = {}) {
+    super(server, {
+      path: options.path ?? '/match',
+      rooms: 'none',
+      maxPayload: MATCH_PROTOCOL.largest('client'),
+      admission:
+        options.admission ??
+        new Admission({
+          ...(options.allowedOrigins !== undefined
+            ? { allowedOrigins: options.allowedOrigins }
+            : {}),
+          ...(options.trustProxy !== undefined ? { trustProxy: options.trustProxy } : {}),
+        }),
+    });
+    this.clock = options.clock ?? performanceClock();
+    this.requestTimeoutMs = options.requestTimeoutMs ?? MATCH_REQUEST_TIMEOUT_MS;
+    this.tickets = options.tickets ?? new MatchTickets();
+    this.queue = new MatchQueue<Connection>({
+      clock: this.clock,
+      catalog: options.catalog ?? gameCatalog(options.games ?? GAMES),
+      limits: { ...DEFAULT_MATCHMAKING_LIMITS, ...options.limits },
+      ...(options.acceptMs !== undefined ? { acceptMs: options.acceptMs } : {}),
+      ...(options.fillWindowMs !== undefined ? { fillWindowMs: options.fillWindowMs } : {}),
+      ...(options.randomBytes ? { randomBytes: options.randomBytes } : {}),
+    });
+    this.sweepTimer = setInterval(() => {
+      this.sweep();
+    }, MATCH_SWEEP_MS);
+    this.sweepTimer.unref();
+  }
+
+  /** Open matchmaking connections (waiting or not yet sent their request). */
+  get connections(): number {
+    return this.open;
+  }
+
+  private sweep(): void {
+    const s = this.queue.sweep();
+    for (const m of s.expired) m.data.end({ type: 'no-match' });
+    for (const m of s.noShows) {
+      m.data.end({
+        type: 'error',
+        code: 'NO_SHOW',
+        fatal: true,
+        message: 'the match was not accepted in time',
+      });
+    }
+    for (const m of s.requeued) m.data.send({ type: 'queued', timeoutMs: 0 });
+    for (const p of s.proposed) {
+      const acceptMs = Math.max(1, Math.round(p.deadline - this.clock.now()));
+      for (const m of p.members) m.data.send({ type: 'found', players: p.players, acceptMs });
+    }
+  }
+
+  protected connected(ws: WebSocket, info: UpgradeInfo): void {
+    this.open++;
+    const bucket = new TokenBucket(MATCH_RATE, this.clock.now());
     let ticket: number | undefined;
     let done = false;
     const connection: Connection = {
+      send(message) {
+        if (!done) ws.send(MATCH_PROTOCOL.encode(message));
+      },
       end(message) {
         if (done) return;
+        connection.send(message);
         done = true;
         clearTimeout(timer);
-        ws.send(encodeMatchMessage(message));
         ws.close(1000);
       },
     };
-    const fail = (code: MatchErrorCode, message: string) => {
-      connection.end({ type: 'error', code, message });
+    const fail = (code: NetErrorCode, message: string) => {
+      connection.end({ type: 'error', code, fatal: true, message });
     };
     const timer = setTimeout(() => {
-      fail('BAD_MESSAGE', `no request within ${requestTimeoutMs} ms`);
-    }, requestTimeoutMs);
+      fail('TIMEOUT', `no request within ${this.requestTimeoutMs} ms`);
+    }, this.requestTimeoutMs);
     timer.unref();
     ws.on('message', (data: RawData, isBinary: boolean) => {
       if (done) return;
-      if (isBinary) {
-        fail('BAD_MESSAGE', 'matchmaking messages are JSON text frames, not binary');
+      const bytes = Array.isArray(data) ? Buffer.concat(data) : Buffer.from(data as Buffer);
+      if (!bucket.take(bytes.length, this.clock.now())) {
+        fail('RATE_LIMIT', 'too many messages');
         return;
       }
-      const text = (
-        Array.isArray(data)
-          ? Buffer.concat(data)
-          : Buffer.isBuffer(data)
-            ? data
-            : Buffer.from(new Uint8Array(data))
-      ).toString();
-      let m;
+      if (!isBinary) {
+        fail('BAD_MESSAGE', 'quick-match messages are binary frames');
+        return;
+      }
+      let m: MatchClientMessage;
       try {
-        m = decodeMatchClientMessage(text);
+        m = MATCH_PROTOCOL.decode(bytes, { from: 'client' }) as MatchClientMessage;
       } catch (error) {
-        const e = error instanceof MatchmakingError ? error : undefined;
-        fail('BAD_MESSAGE', e?.message ?? 'unreadable message');
+        if (!(error instanceof ProtocolError)) throw error;
+        fail(refusalCode(error, bytes, MATCH_PROTOCOL.header), error.message);
         return;
       }
       if (m.type === 'cancel') {
-        if (ticket !== undefined) queue.cancel(ticket);
+        if (ticket !== undefined) this.requeue(this.queue.cancel(ticket));
         connection.end({ type: 'cancelled' });
-        return;
-      }
-      if (ticket !== undefined) {
-        if (queue.cancel(ticket)) fail('BAD_MESSAGE', 'one queue request per connection');
-        return;
-      }
-      const result = queue.join(m, address, connection);
-      if (!result.ok) {
-        fail(result.code, result.message);
-        return;
-      }
-      ticket = result.ticket;
-      clearTimeout(timer);
-      ws.send(encodeMatchMessage({ type: 'queued', timeoutMs: result.timeoutMs }));
-      const match = result.match;
-      if (match) {
-        for (const member of match.members) {
-          member.data.end({
-            type: 'matched',
-            room: match.room,
-            players: match.players,
-            order: member.order,
-          });
+      } else if (m.type === 'accept') {
+        if (ticket === undefined) fail('UNEXPECTED', 'accept before a request');
+        else this.accept(ticket);
+      } else if (ticket !== undefined) {
+        this.requeue(this.queue.cancel(ticket));
+        fail('UNEXPECTED', 'one queue request per connection');
+      } else {
+        const result = this.queue.join(m, info.address, connection);
+        if (!result.ok) {
+          fail(result.code, result.message);
+          return;
         }
+        ticket = result.ticket;
+        clearTimeout(timer);
+        connection.send({ type: 'queued', timeoutMs: result.timeoutMs });
       }
     });
     ws.on('close', () => {
       clearTimeout(timer);
-      if (!done && ticket !== undefined) queue.cancel(ticket);
+      if (!done && ticket !== undefined) this.requeue(this.queue.cancel(ticket));
       done = true;
-      total--;
-      const left = (open.get(address) ?? 1) - 1;
-      if (left > 0) open.set(address, left);
-      else open.delete(address);
+      this.open--;
     });
     ws.on('error', () => undefined);
-  };
+  }
 
-  const ownsPath = (pathname: string) => pathname === path;
-  const releasePaths = claimUpgradePaths(server, ownsPath, path);
-  const onUpgrade = (req: http.IncomingMessage, socket: Duplex, head: Buffer) => {
-    const pathname = (req.url ?? '/').split('?')[0] ?? '/';
-    if (!ownsPath(pathname)) {
-      // Another endpoint may own this path; answer only when none does.
-      if (shouldRefuseUpgrade(server, ownsPath, pathname)) refuse(socket, '404 Not Found');
-      return;
+  /** The proposal of `ticket` is accepted by it; when by all, each member gets its ticket. */
+  private accept(ticket: number): void {
+    const match = this.queue.accept(ticket);
+    if (match === undefined) return;
+    for (const member of match.members) {
+      member.data.end({
+        type: 'matched',
+        room: match.room,
+        players: match.players,
+        order: member.order,
+        seed: match.seed,
+        ticket: this.tickets.issue({
+          room: match.room,
+          game: match.game,
+          gameVersion: match.gameVersion,
+          players: match.players,
+          seed: match.seed,
+          slot: member.order,
+        }),
+      });
     }
-    if (!originAllowed(req, allowedOrigins)) {
-      refuse(socket, '403 Forbidden', 'origin not allowed');
-      return;
+  }
+
+  /** Players whose proposal fell through are back in the queue: tell them. */
+  private requeue(members: { data: Connection }[]): void {
+    for (const m of members) m.data.send({ type: 'queued', timeoutMs: 0 });
+  }
+
+  /** Tell every waiting client `SHUTDOWN`. */
+  protected stop(): void {
+    clearInterval(this.sweepTimer);
+    for (const c of this.queue.clear()) {
+      c.end({
+        type: 'error',
+        code: 'SHUTDOWN',
+        fatal: true,
+        message: 'the server is shutting down',
+      });
     }
-    const who = clientAddress(req, trustProxy, proxies);
-    if ('error' in who) {
-      refuse(socket, '400 Bad Request', who.error);
-      return;
-    }
-    if (total >= 2 * limits.maxWaiting) {
-      refuse(socket, '503 Service Unavailable', 'too many matchmaking connections');
-      return;
-    }
-    if ((open.get(who.address) ?? 0) >= 2 * limits.maxWaitingPerAddress) {
-      refuse(socket, '429 Too Many Requests', 'too many matchmaking connections from you');
-      return;
-    }
-    wss.handleUpgrade(req, socket, head, (ws) => {
-      // Counted once open (a failed handshake never gets here, so never leaks a count).
-      total++;
-      open.set(who.address, (open.get(who.address) ?? 0) + 1);
-      accept(ws, who.address);
-    });
-  };
-  server.on('upgrade', onUpgrade);
-  const sweep = setInterval(() => {
-    for (const member of queue.expire()) member.data.end({ type: 'no-match' });
-  }, 100);
-  sweep.unref();
-  let closed: Promise<void> | undefined;
-  return {
-    queue,
-    path,
-    get connections() {
-      return total;
-    },
-    close: () =>
-      (closed ??= new Promise<void>((resolve) => {
-        clearInterval(sweep);
-        server.off('upgrade', onUpgrade);
-        releasePaths();
-        for (const c of queue.clear()) {
-          c.end({ type: 'error', code: 'SHUTDOWN', message: 'the server is shutting down' });
-        }
-        for (const ws of wss.clients) ws.terminate();
-        wss.close(() => {
-          resolve();
-        });
-      })),
-  };
+  }
+}
+
+/**
+ * Attaches the quick-match queue to `server` at `path` (default `/match`), beside the relay's
+ * `/ws`: a client sends one `queue` request (see `quickMatch` in fixedstep), is told `queued`,
+ * then `found` (a ready check: it must `accept` in time), and at last `matched` — the room, its
+ * seed and this player's ticket — or `no-match`, `cancelled`, an `error`; then the server closes
+ * the connection. Closing it first cancels. Admitted as every surface is; per connection a
+ * small rate; one address holds at most `maxWaitingPerAddress` tickets, never matched together.
+ */
+export function attachMatchmaking(
+  server: http.Server,
+  options: MatchmakingEndpointOptions = {},
+): MatchEndpoint {
+  return new MatchEndpoint(server, options);
 }

@@ -1,16 +1,26 @@
 /**
- * Quick match: a queue by game and player count ({@link MatchQueue}, pure, clock injected) and
- * its WebSocket endpoint at `/match` ({@link attachMatchmaking}), which hands matched players a
- * fresh relay room. The client is `quickMatch` in fixedstep. See docs/network.md.
+ * Quick match: a queue by game and player count with a ready check ({@link MatchQueue}, pure, clock
+ * injected), the tickets that seat matched players in their relay room ({@link MatchTickets}), and
+ * the WebSocket endpoint at `/match` ({@link attachMatchmaking}). The client is `quickMatch` in
+ * fixedstep. See docs/network.md.
  * @module
  */
-export { MatchQueue, DEFAULT_MATCHMAKING_LIMITS } from './queue.js';
+export { MatchQueue, DEFAULT_MATCHMAKING_LIMITS, ACCEPT_MS, FILL_WINDOW_MS } from './queue.js';
 export type {
   MatchmakingLimits,
   MatchQueueOptions,
   Match,
   MatchMember,
   JoinResult,
+  Proposal,
+  SweepResult,
 } from './queue.js';
-export { attachMatchmaking } from './endpoint.js';
-export type { MatchmakingEndpoint, MatchmakingEndpointOptions } from './endpoint.js';
+export { MatchTickets, TICKET_LIFETIME_MS } from './tickets.js';
+export type { MatchTicketsOptions } from './tickets.js';
+export {
+  attachMatchmaking,
+  MatchEndpoint,
+  MATCH_SWEEP_MS,
+  MATCH_REQUEST_TIMEOUT_MS,
+} from './endpoint.js';
+export type { MatchmakingEndpointOptions } from './endpoint.js';

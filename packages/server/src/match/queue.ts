@@ -1,17 +1,26 @@
-import { randomBytes as cryptoRandomBytes } from 'node:crypto';
+/**
+ * The quick-match queue: no sockets and no timers — the endpoint joins, accepts, cancels, and
+ * sweeps now and then; time comes from an injected clock.
+ * @module
+ */
+import { randomBytes as cryptoRandomBytes, randomInt } from 'node:crypto';
 import {
+  MATCH_ROOM_PREFIX,
   MAX_MATCH_TIMEOUT_MS,
+  type GameCatalog,
   type Clock,
-  type MatchErrorCode,
   type MatchQueueRequest,
-  type RelayCatalog,
+  type NetErrorCode,
 } from 'fixedstep';
 
 /** Bounds of the quick-match queue. */
 export interface MatchmakingLimits {
   /** Most players waiting at once, all games together. Default 1000. */
   maxWaiting: number;
-  /** Most players waiting at once from one client address (an IPv6 /64). Default 4. */
+  /**
+   * Most players waiting at once from one client address (an IPv6 /64), who are never matched with
+   * each other. Default 2 (two players of one household).
+   */
   maxWaitingPerAddress: number;
   /** Longest wait granted, in ms; a longer request is shortened to it. Default 120 000. */
   maxTimeoutMs: number;
@@ -20,100 +29,133 @@ export interface MatchmakingLimits {
 /** The defaults of {@link MatchmakingLimits}. */
 export const DEFAULT_MATCHMAKING_LIMITS: Readonly<MatchmakingLimits> = Object.freeze({
   maxWaiting: 1000,
-  maxWaitingPerAddress: 4,
+  maxWaitingPerAddress: 2,
   maxTimeoutMs: 120_000,
 });
+
+/** A proposed match must be accepted by all within this (clients accept at once). */
+export const ACCEPT_MS = 3000;
+/**
+ * A match smaller than its oldest player's largest count forms only once that player has waited
+ * this long: players who queue together fill rooms up to the largest count they all accept.
+ */
+export const FILL_WINDOW_MS = 1000;
 
 /** Options of {@link MatchQueue}. */
 export interface MatchQueueOptions {
   /** The clock deadlines are measured on (ms). Inject a `ManualClock` in tests. */
   clock: Clock;
   /** The games that may be queued for (the relay's catalog, so a match can be played there). */
-  catalog: RelayCatalog;
+  catalog: GameCatalog;
   /** Bounds; missing fields take {@link DEFAULT_MATCHMAKING_LIMITS}. */
   limits?: Partial<MatchmakingLimits>;
+  /** Time to accept a proposed match, ms. Default {@link ACCEPT_MS}. */
+  acceptMs?: number;
+  /** See {@link FILL_WINDOW_MS}. Default {@link FILL_WINDOW_MS}. */
+  fillWindowMs?: number;
   /**
-   * `n` random bytes for room names. Default `crypto.randomBytes` (a name is then unguessable:
-   * knowing it is what lets a player into the match's room).
+   * `n` random bytes for room names. Default `crypto.randomBytes` (a name is then unguessable).
    */
   randomBytes?: (n: number) => Uint8Array;
+  /** A random u32 for a match's seed. Default `crypto.randomInt`. */
+  randomU32?: () => number;
 }
 
 /** One player of a {@link Match}. */
 export interface MatchMember<T> {
-  /** The ticket {@link MatchQueue.join} gave it. */
+  /** The ticket number {@link MatchQueue.join} gave it. */
   ticket: number;
   /** What the caller queued with it (e.g. its connection). */
   data: T;
-  /** Its place in the match, 0 to `players` − 1, in the order they queued. */
+  /** Its seat in the match, 0 to `players` − 1, in the order they queued. */
   order: number;
 }
 
-/** Players matched together: they are out of the queue, and should join relay room `room`. */
+/** Players matched together, each accepted: they should join relay room `room`. */
 export interface Match<T> {
   /** A fresh room name: `qm-` and 24 base64url characters (18 random bytes). */
   room: string;
   /** How many players: within every member's range and the game's. */
   players: number;
-  /** The game's id. */
   game: string;
-  /** The game's version. */
   gameVersion: number;
+  /** The room's seed. */
+  seed: number;
   /** The members, by `order`. */
   members: MatchMember<T>[];
 }
 
+/** A match proposed to its players (the ready check). */
+export interface Proposal<T> {
+  id: number;
+  players: number;
+  /** Server time by which every member must accept. */
+  deadline: number;
+  members: MatchMember<T>[];
+}
+
 /** What {@link MatchQueue.join} answers. */
-export type JoinResult<T> =
-  | {
-      ok: true;
-      /** The player's ticket (to {@link MatchQueue.cancel} it). */
-      ticket: number;
-      /** The wait granted, in ms (the request's, at most `maxTimeoutMs`). */
-      timeoutMs: number;
-      /** The match this join completed, if it did (the new player is among its members). */
-      match?: Match<T>;
-    }
-  | {
-      ok: false;
-      /** Why, as the `error` message's code. */
-      code: MatchErrorCode;
-      /** Why, in words naming the value or cap. */
-      message: string;
-    };
+export type JoinResult =
+  | { ok: true; ticket: number; timeoutMs: number }
+  | { ok: false; code: NetErrorCode; message: string };
+
+/** What a sweep did: proposals to announce, players to tell. */
+export interface SweepResult<T> {
+  /** New proposals: tell each member `found`. */
+  proposed: Proposal<T>[];
+  /** Players back in the queue, in their old place (another did not accept): tell them `queued`. */
+  requeued: MatchMember<T>[];
+  /** Players who did not accept in time: dropped (`NO_SHOW`). */
+  noShows: MatchMember<T>[];
+  /** Players whose wait ended without a match (`no-match`). */
+  expired: MatchMember<T>[];
+}
 
 interface Entry<T> {
   ticket: number;
   key: string;
+  game: string;
+  gameVersion: number;
   address: string;
   minPlayers: number;
   maxPlayers: number;
+  /** When it joined: its place in the queue, kept when a proposal falls through. */
+  since: number;
   deadline: number;
   data: T;
+  proposal: ProposalState<T> | undefined;
+  accepted: boolean;
+}
+
+interface ProposalState<T> {
+  id: number;
+  players: number;
+  deadline: number;
+  entries: Entry<T>[];
 }
 
 /**
- * The quick-match queue: players wait by game, version and input schema, each with a range of
- * player counts and a deadline. No sockets and no timers: the caller joins, cancels, and calls
- * {@link expire} now and then; time comes from the injected clock.
- *
- * Matching: a match forms the moment a join makes one possible — among the players waiting for
- * the same game, version and input schema, with the new player in it (the queue held no possible
- * match before, so any new one contains the newcomer). Of the counts in the newcomer's range, the
- * largest that enough waiting players accept is taken, and of those players the longest-waiting.
- * So two players of 2–4 are matched as two at once; a player who needs 3 waits for a third.
+ * The quick-match queue. Players wait by game, version and input schema, each with a range of
+ * player counts and a deadline; one address holds at most `maxWaitingPerAddress` of them, never in
+ * one match. Every {@link sweep} forms matches among the waiting players, oldest first: for the
+ * oldest, the largest count it accepts that enough others (from other addresses) accept too —
+ * smaller only after it has waited `fillWindowMs` — and proposes them (a ready check): each must
+ * {@link accept} within `acceptMs`. When all have, the match is made (a fresh room, its seed);
+ * a player who did not is dropped, and the others go back to the queue in their old place.
  */
 export class MatchQueue<T> {
   private readonly clock: Clock;
-  private readonly catalog: RelayCatalog;
+  private readonly catalog: GameCatalog;
   private readonly limits: MatchmakingLimits;
+  private readonly acceptMs: number;
+  private readonly fillWindowMs: number;
   private readonly randomBytes: (n: number) => Uint8Array;
-  private readonly buckets = new Map<string, Entry<T>[]>();
-  private readonly byTicket = new Map<number, Entry<T>>();
+  private readonly randomU32: () => number;
+  private readonly entries = new Map<number, Entry<T>>();
   private readonly perAddress = new Map<string, number>();
   private nextTicket = 1;
+  private nextProposal = 1;
 
-  /** A queue over `options.catalog`'s games, on `options.clock`. */
   constructor(options: MatchQueueOptions) {
     this.clock = options.clock;
     this.catalog = options.catalog;
@@ -123,160 +165,224 @@ export class MatchQueue<T> {
         throw new RangeError(`matchmaking limit ${key} must be a positive integer, got ${value}`);
       }
     }
+    this.acceptMs = options.acceptMs ?? ACCEPT_MS;
+    this.fillWindowMs = options.fillWindowMs ?? FILL_WINDOW_MS;
     this.randomBytes = options.randomBytes ?? ((n) => cryptoRandomBytes(n));
+    this.randomU32 = options.randomU32 ?? (() => randomInt(0, 2 ** 32 - 1));
   }
 
-  /** Players waiting, all games together. */
+  /** Players queued (waiting or in a proposal), all games together. */
   get size(): number {
-    return this.byTicket.size;
+    return this.entries.size;
   }
 
-  /** Players waiting from client address `address`. */
+  /** Players queued from client address `address`. */
   waitingFrom(address: string): number {
     return this.perAddress.get(address) ?? 0;
   }
 
   /**
-   * Queues a player from `address` (the caps' key) with `data` for the caller. Refuses, with a
-   * code and a message naming the value, a request that is malformed (it may come straight from
-   * the network), for an unknown game or another version or input schema, with a range outside
-   * the game's, or over a cap. When this join completes a match, the match's players (this one
-   * included) have left the queue and are in `match`.
+   * Queues a player from `address` (the caps' key) with `data` for the caller. Refuses, with a code
+   * and a message naming the value, a request for an unknown game or another version or input
+   * schema, with a range outside the game's, or over a cap.
    */
-  join(request: MatchQueueRequest, address: string, data: T): JoinResult<T> {
-    const fail = (code: MatchErrorCode, message: string): JoinResult<T> => ({
-      ok: false,
-      code,
-      message,
-    });
+  join(request: MatchQueueRequest, address: string, data: T): JoinResult {
     const { game: id, gameVersion, input, minPlayers, maxPlayers, timeoutMs } = request;
-    if (typeof id !== 'string' || typeof input !== 'string' || !Number.isInteger(gameVersion)) {
-      return fail('BAD_MESSAGE', 'a request names a game, its version and its input schema');
-    }
-    if (!Number.isInteger(minPlayers) || !Number.isInteger(maxPlayers) || minPlayers > maxPlayers) {
-      return fail(
-        'BAD_PLAYERS',
-        `minPlayers ${minPlayers} and maxPlayers ${maxPlayers} are not a range of player counts`,
-      );
-    }
-    if (!Number.isInteger(timeoutMs) || timeoutMs < 1 || timeoutMs > MAX_MATCH_TIMEOUT_MS) {
-      return fail(
-        'BAD_MESSAGE',
-        `timeoutMs must be 1 to ${MAX_MATCH_TIMEOUT_MS}, got ${timeoutMs}`,
-      );
-    }
     const game = this.catalog(id, gameVersion);
-    if ('code' in game) return fail(game.code, game.message);
+    if ('code' in game) return { ok: false, code: game.code, message: game.message };
     if (game.input.id !== input) {
-      return fail(
-        'GAME_MISMATCH',
-        `this server plays ${id} with input schema ${game.input.id}, not ${input}`,
-      );
+      return {
+        ok: false,
+        code: 'GAME_MISMATCH',
+        message: `this server plays ${id} with input schema ${game.input.id}, not ${input}`,
+      };
     }
     if (minPlayers < game.minPlayers || maxPlayers > game.maxPlayers) {
-      return fail(
-        'BAD_PLAYERS',
-        `${id} is played by ${game.minPlayers} to ${game.maxPlayers} players, not ${minPlayers} to ${maxPlayers}`,
-      );
+      return {
+        ok: false,
+        code: 'BAD_PLAYERS',
+        message: `${id} is played by ${game.minPlayers} to ${game.maxPlayers} players, not ${minPlayers} to ${maxPlayers}`,
+      };
     }
-    if (this.byTicket.size >= this.limits.maxWaiting) {
-      return fail('QUEUE_FULL', `the queue is full (${this.limits.maxWaiting} waiting)`);
+    if (this.entries.size >= this.limits.maxWaiting) {
+      return {
+        ok: false,
+        code: 'QUEUE_FULL',
+        message: `the queue is full (${this.limits.maxWaiting} waiting)`,
+      };
     }
     if (this.waitingFrom(address) >= this.limits.maxWaitingPerAddress) {
-      return fail(
-        'TOO_MANY_FROM_ADDRESS',
-        `at most ${this.limits.maxWaitingPerAddress} players wait from one address`,
-      );
+      return {
+        ok: false,
+        code: 'ADDRESS_LIMIT',
+        message: `at most ${this.limits.maxWaitingPerAddress} players wait from one address`,
+      };
     }
-    const granted = Math.min(timeoutMs, this.limits.maxTimeoutMs);
+    const granted = Math.min(timeoutMs, this.limits.maxTimeoutMs, MAX_MATCH_TIMEOUT_MS);
+    const now = this.clock.now();
     const entry: Entry<T> = {
       ticket: this.nextTicket++,
       key: `${id}\n${gameVersion}\n${input}`,
+      game: id,
+      gameVersion,
       address,
       minPlayers,
       maxPlayers,
-      deadline: this.clock.now() + granted,
+      since: now,
+      deadline: now + granted,
       data,
+      proposal: undefined,
+      accepted: false,
     };
-    const bucket = this.buckets.get(entry.key) ?? [];
-    const others = this.pick(bucket, entry);
-    if (others !== undefined) {
-      const members = [...others, entry];
-      for (const m of others) this.remove(m);
-      return {
-        ok: true,
-        ticket: entry.ticket,
-        timeoutMs: granted,
-        match: {
-          room: this.roomName(),
-          players: members.length,
-          game: id,
-          gameVersion,
-          members: members.map((m, order) => ({ ticket: m.ticket, data: m.data, order })),
-        },
-      };
-    }
-    bucket.push(entry);
-    this.buckets.set(entry.key, bucket);
-    this.byTicket.set(entry.ticket, entry);
+    this.entries.set(entry.ticket, entry);
     this.perAddress.set(address, this.waitingFrom(address) + 1);
     return { ok: true, ticket: entry.ticket, timeoutMs: granted };
   }
 
-  /** Takes a waiting player out (cancelled, or its connection closed). False if not waiting. */
-  cancel(ticket: number): boolean {
-    const entry = this.byTicket.get(ticket);
-    if (entry === undefined) return false;
-    this.remove(entry);
-    return true;
+  /**
+   * The player of `ticket` accepts its proposed match. When it was the last to, the match is made
+   * and returned (its players have left the queue).
+   */
+  accept(ticket: number): Match<T> | undefined {
+    const e = this.entries.get(ticket);
+    const p = e?.proposal;
+    if (e === undefined || p === undefined) return undefined;
+    e.accepted = true;
+    if (!p.entries.every((x) => x.accepted)) return undefined;
+    for (const x of p.entries) this.remove(x);
+    const first = p.entries[0]!;
+    return {
+      room: `${MATCH_ROOM_PREFIX}${Buffer.from(this.randomBytes(18)).toString('base64url')}`,
+      players: p.players,
+      game: first.game,
+      gameVersion: first.gameVersion,
+      seed: this.randomU32() >>> 0,
+      members: p.entries.map((x, order) => ({ ticket: x.ticket, data: x.data, order })),
+    };
   }
 
-  /** Takes out and returns the players whose wait has ended (deadline ≤ the clock's now). */
-  expire(): MatchMember<T>[] {
+  /**
+   * Takes a player out (cancelled, or its connection closed). A proposal it was in falls through:
+   * the others are back in the queue. Returns those others (to tell them `queued`).
+   */
+  cancel(ticket: number): MatchMember<T>[] {
+    const e = this.entries.get(ticket);
+    if (e === undefined) return [];
+    const back = e.proposal ? this.dissolve(e.proposal, [e]) : [];
+    this.remove(e);
+    return back;
+  }
+
+  /**
+   * Expires waits and proposals past their deadline, then forms new proposals among the waiting
+   * players (see the class comment). Call it now and then (the endpoint does, every 100 ms).
+   */
+  sweep(): SweepResult<T> {
     const now = this.clock.now();
-    const out: MatchMember<T>[] = [];
-    for (const entry of [...this.byTicket.values()]) {
-      if (entry.deadline <= now) {
-        this.remove(entry);
-        out.push({ ticket: entry.ticket, data: entry.data, order: 0 });
+    const out: SweepResult<T> = { proposed: [], requeued: [], noShows: [], expired: [] };
+    const proposals = new Set<ProposalState<T>>();
+    for (const e of this.entries.values()) if (e.proposal) proposals.add(e.proposal);
+    for (const p of proposals) {
+      if (now < p.deadline) continue;
+      const late = p.entries.filter((x) => !x.accepted);
+      out.requeued.push(...this.dissolve(p, late));
+      for (const x of late) {
+        this.remove(x);
+        out.noShows.push(member(x, 0));
       }
+    }
+    for (const e of [...this.entries.values()]) {
+      if (e.proposal === undefined && e.deadline <= now) {
+        this.remove(e);
+        out.expired.push(member(e, 0));
+      }
+    }
+    const waiting = [...this.entries.values()]
+      .filter((e) => e.proposal === undefined)
+      .sort((a, b) => a.since - b.since || a.ticket - b.ticket);
+    const taken = new Set<Entry<T>>();
+    for (const oldest of waiting) {
+      if (taken.has(oldest)) continue;
+      const others = this.pick(oldest, waiting, taken, now);
+      if (others === undefined) continue;
+      const entries = [oldest, ...others];
+      const p: ProposalState<T> = {
+        id: this.nextProposal++,
+        players: entries.length,
+        deadline: now + this.acceptMs,
+        entries,
+      };
+      for (const x of entries) {
+        taken.add(x);
+        x.proposal = p;
+        x.accepted = false;
+      }
+      out.proposed.push({
+        id: p.id,
+        players: p.players,
+        deadline: p.deadline,
+        members: entries.map((x, order) => member(x, order)),
+      });
     }
     return out;
   }
 
-  /** Empties the queue, returning everyone who was waiting (e.g. to tell them on shutdown). */
+  /** Empties the queue, returning everyone who was in it (e.g. to tell them on shutdown). */
   clear(): T[] {
-    const all = [...this.byTicket.values()].map((e) => e.data);
-    this.buckets.clear();
-    this.byTicket.clear();
+    const all = [...this.entries.values()].map((e) => e.data);
+    this.entries.clear();
     this.perAddress.clear();
     return all;
   }
 
-  /** The waiting players to match with `entry`, oldest first, or undefined if none fit. */
-  private pick(bucket: readonly Entry<T>[], entry: Entry<T>): Entry<T>[] | undefined {
-    for (let n = entry.maxPlayers; n >= entry.minPlayers; n--) {
-      if (n === 1) return [];
-      const fits = bucket.filter((e) => e.minPlayers <= n && n <= e.maxPlayers);
-      if (fits.length >= n - 1) return fits.slice(0, n - 1);
+  /**
+   * The players to propose with `oldest`: for the largest count it accepts that enough waiting
+   * players of its game — each from an address of its own — accept too, the longest-waiting of
+   * them; a smaller count only once `oldest` has waited the fill window. Undefined: not yet.
+   */
+  private pick(
+    oldest: Entry<T>,
+    waiting: Entry<T>[],
+    taken: Set<Entry<T>>,
+    now: number,
+  ): Entry<T>[] | undefined {
+    for (let n = oldest.maxPlayers; n >= oldest.minPlayers; n--) {
+      const chosen: Entry<T>[] = [];
+      const addresses = new Set([oldest.address]);
+      for (const e of waiting) {
+        if (chosen.length === n - 1) break;
+        if (e === oldest || taken.has(e) || e.key !== oldest.key || addresses.has(e.address))
+          continue;
+        if (e.minPlayers > n || n > e.maxPlayers) continue;
+        chosen.push(e);
+        addresses.add(e.address);
+      }
+      if (chosen.length < n - 1) continue;
+      if (n < oldest.maxPlayers && now - oldest.since < this.fillWindowMs) return undefined;
+      return chosen;
     }
     return undefined;
   }
 
-  private remove(entry: Entry<T>): void {
-    this.byTicket.delete(entry.ticket);
-    const bucket = this.buckets.get(entry.key);
-    if (bucket) {
-      const i = bucket.indexOf(entry);
-      if (i >= 0) bucket.splice(i, 1);
-      if (bucket.length === 0) this.buckets.delete(entry.key);
+  /** Ends a proposal: everyone in it but `leaving` is back in the queue, in its old place. */
+  private dissolve(p: ProposalState<T>, leaving: Entry<T>[]): MatchMember<T>[] {
+    const back: MatchMember<T>[] = [];
+    for (const x of p.entries) {
+      x.proposal = undefined;
+      x.accepted = false;
+      if (!leaving.includes(x)) back.push(member(x, 0));
     }
-    const left = this.waitingFrom(entry.address) - 1;
-    if (left > 0) this.perAddress.set(entry.address, left);
-    else this.perAddress.delete(entry.address);
+    return back;
   }
 
-  private roomName(): string {
-    return `qm-${Buffer.from(this.randomBytes(18)).toString('base64url')}`;
+  private remove(e: Entry<T>): void {
+    if (!this.entries.delete(e.ticket)) return;
+    const left = this.waitingFrom(e.address) - 1;
+    if (left > 0) this.perAddress.set(e.address, left);
+    else this.perAddress.delete(e.address);
   }
+}
+
+function member<T>(e: Entry<T>, order: number): MatchMember<T> {
+  return { ticket: e.ticket, data: e.data, order };
 }

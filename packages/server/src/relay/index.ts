@@ -1,14 +1,14 @@
 /**
- * The multiplayer server: the relay core of `fixedstep` over the game registry, attached to the
- * lab's HTTP server at `/ws` (and `/ws/<room>`), and a Node WebSocket client.
+ * The relay of `fixedstep` over the game registry, attached to the HTTP server at `/ws/<room>`, and
+ * a Node WebSocket client.
  * @module
  */
-export { gameCatalog, createRelay } from './catalog.js';
-export { attachRelay, addressKey, relayEndpointOptionsFromEnv } from './endpoint.js';
-export type {
+export {
+  attachRelay,
+  createRelay,
+  registryCatalog,
   RelayEndpoint,
-  RelayEndpointOptions,
-  TrustedProxy,
-  OriginPolicy,
+  RELAY_UPDATE_MS,
 } from './endpoint.js';
+export type { RelayEndpointOptions } from './endpoint.js';
 export { connectNodeWebSocket } from './client.js';

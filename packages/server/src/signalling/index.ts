@@ -1,4 +1,6 @@
-export { SignallingHub } from './hub.js';
-export type { SignallingHubOptions, SignallingStats } from './hub.js';
-export { attachSignalling } from './endpoint.js';
-export type { SignallingEndpointOptions, SignallingEndpoint } from './endpoint.js';
+/**
+ * WebRTC signalling on the server: the `fixedstep` hub on `/signal/<room>`.
+ * @module
+ */
+export { attachSignalling, SignallingEndpoint, SIGNALLING_UPDATE_MS } from './endpoint.js';
+export type { SignallingEndpointOptions } from './endpoint.js';

@@ -3,16 +3,26 @@
  * rooms that run in a pool of worker threads, many rooms per worker. The main thread only moves
  * bytes between sockets and workers; the games run in the workers, so no room ever blocks the
  * HTTP server (or another worker's rooms).
+ * @module
  */
 import { availableParallelism } from 'node:os';
 import type http from 'node:http';
-import type { Duplex } from 'node:stream';
 import { Worker } from 'node:worker_threads';
-import { WebSocketServer, type WebSocket } from 'ws';
-import { NAME_PATTERN, type StateSyncRoomDefaults } from 'fixedstep';
+import type { WebSocket } from 'ws';
+import { STATE_SYNC_PROTOCOL, type RoomHostOptions, type StateSyncRoomDefaults } from 'fixedstep';
 import type { FromWorker, ToWorker, WorkerSetup } from './messages.js';
-import { claimUpgradePaths, shouldRefuseUpgrade } from '../http/upgrade-paths.js';
-import { originAllowed } from '../relay/endpoint.js';
+import {
+  Admission,
+  roomCapsFromEnv,
+  type OriginPolicy,
+  type TrustedProxy,
+} from '../http/admission.js';
+import { WebSocketEndpoint, type UpgradeInfo } from '../http/websocket-endpoint.js';
+
+/** How often each worker advances its rooms, ms: a 60 Hz tick is stepped within 4 ms of its time. */
+export const STATE_SYNC_UPDATE_MS = 4;
+/** A peer that does not read is dropped when this much is waiting to be sent to it. */
+const MAX_BUFFERED = 4 << 20;
 
 /** Options of {@link attachStateSync}. */
 export interface StateSyncEndpointOptions {
@@ -27,41 +37,26 @@ export interface StateSyncEndpointOptions {
   games?: string | readonly string[];
   /** Worker threads. Default: the cores but one, from 1 to 4. */
   workers?: number;
-  /** How often each worker advances its rooms, in ms. Default 4 (a 60 Hz tick is stepped within 4 ms of its time). */
+  /** How often each worker advances its rooms, in ms. Default {@link STATE_SYNC_UPDATE_MS}. */
   updateIntervalMs?: number;
   /** Options of every room (snapshot interval, limits …); plain data, no functions. */
   room?: Omit<StateSyncRoomDefaults, 'view'>;
-  /** Rooms per worker at once. Default 500. */
-  maxRoomsPerWorker?: number;
-  /** Connections at once, all workers together. Default 4000. */
-  maxConnections?: number;
-  /** A connection must join within this time. Default 5000 ms. */
-  joinTimeoutMs?: number;
-  /** A room without members is removed after this long. Default 30 000 ms. */
-  emptyRoomTtlMs?: number;
-  /** Largest WebSocket message from a client (`ws` `maxPayload`). Default 64 KiB: clients send only inputs. */
-  maxMessageBytes?: number;
-  /** Browser origins allowed to connect (the `Origin` header). Default: any. */
-  allowedOrigins?: readonly string[];
+  /**
+   * The room core's options in each worker (caps per address and in total, liveness, seat holds …);
+   * plain data. Default: the core's defaults, and the caps of `FIXEDSTEP_*` variables.
+   */
+  host?: Omit<RoomHostOptions, 'randomU32'>;
+  /** The server's admission (shared by every surface). Default: one of its own. */
+  admission?: Admission;
+  /** Browser origins allowed to connect. Default `'same-origin'`. */
+  allowedOrigins?: OriginPolicy;
+  /** Read the client address from a proxy's header. Default: none. */
+  trustProxy?: TrustedProxy;
   /** Where problems are reported (a worker that failed, a room whose game threw). Default: console.error. */
   log?: (message: string) => void;
+  /** Where `FIXEDSTEP_*` caps are read from. Default `process.env`. */
+  env?: Readonly<Record<string, string | undefined>>;
 }
-
-/** State-sync rooms attached to an HTTP server, from {@link attachStateSync}. */
-export interface StateSyncEndpoint {
-  readonly path: string;
-  /** Worker threads running rooms. */
-  readonly workers: number;
-  /** Resolves once every worker has loaded its games (rejects if one could not). */
-  readonly ready: Promise<void>;
-  /** Room names now, with the worker each runs on. */
-  rooms(): { room: string; worker: number }[];
-  /** Stop: close every connection (`SHUTDOWN`), detach from the server, end the workers. */
-  close(): Promise<void>;
-}
-
-/** A peer that does not read is dropped when this much is waiting to be sent to it. */
-const MAX_BUFFERED = 4 << 20;
 
 interface Slot {
   worker: Worker;
@@ -88,94 +83,149 @@ function startWorker(setup: WorkerSetup): Worker {
   return new Worker(new URL('./worker.js', here), { workerData: setup });
 }
 
-/**
- * Attaches state-sync rooms to `server` at `path` (default `/state`): a WebSocket upgrade on
- * `/state/<room>` (a room name: 1–32 of `A–Z a–z 0–9 _ - .`) joins — or, with its first join,
- * creates — that room. Rooms run in `workers` worker threads; a new room goes to the worker with
- * the fewest rooms, and every connection to it follows. Other upgrade paths are left to other
- * handlers (404 when there is none); a bad room name gets 400.
- */
-export function attachStateSync(
-  server: http.Server,
-  options: StateSyncEndpointOptions = {},
-): StateSyncEndpoint {
-  const path = (options.path ?? '/state').replace(/\/+$/, '');
-  const count = options.workers ?? Math.max(1, Math.min(4, availableParallelism() - 1));
-  if (!(Number.isInteger(count) && count >= 1 && count <= 64)) {
-    throw new RangeError(
-      `attachStateSync: workers must be an integer from 1 to 64, got ${String(count)}`,
-    );
-  }
-  const log =
-    options.log ??
-    ((m: string) => {
-      console.error(`fixedstep state sync: ${m}`);
-    });
-  const maxConnections = options.maxConnections ?? 4000;
-  const setup: WorkerSetup = {
-    games:
-      options.games === undefined
-        ? ['@fixedstep/games']
-        : typeof options.games === 'string'
-          ? [options.games]
-          : options.games,
-    room: options.room ?? {},
-    updateIntervalMs: options.updateIntervalMs ?? 4,
-    maxRooms: options.maxRoomsPerWorker ?? 500,
-    maxConnections,
-    joinTimeoutMs: options.joinTimeoutMs ?? 5000,
-    emptyRoomTtlMs: options.emptyRoomTtlMs ?? 30_000,
-  };
-  const wss = new WebSocketServer({
-    noServer: true,
-    maxPayload: options.maxMessageBytes ?? 64 * 1024,
-    perMessageDeflate: false,
-  });
-  const conns = new Map<number, Conn>();
+/** State-sync rooms attached to an HTTP server (see {@link attachStateSync}). */
+export class StateSyncEndpoint extends WebSocketEndpoint {
+  /** Worker threads running rooms. */
+  readonly workers: number;
+  /** Resolves once every worker has loaded its games (rejects if one could not). */
+  readonly ready: Promise<void>;
+  private readonly setup: WorkerSetup;
+  private readonly log: (message: string) => void;
+  private readonly conns = new Map<number, Conn>();
   /** Room name → the worker it runs on, while it may exist there. */
-  const roomWorker = new Map<string, number>();
-  let nextId = 1;
-  let closing = false;
+  private readonly roomWorker = new Map<string, number>();
+  private readonly slots: Slot[];
+  private nextId = 1;
+  private closing = false;
 
-  const onWorkerMessage = (index: number, m: FromWorker) => {
-    switch (m.t) {
-      case 'send': {
-        const c = conns.get(m.id);
-        if (!c || c.ws.readyState !== c.ws.OPEN) return;
-        if (c.ws.bufferedAmount > MAX_BUFFERED) {
-          c.ws.terminate();
-          return;
-        }
-        c.ws.send(new Uint8Array(m.bytes), { binary: true });
-        break;
-      }
-      case 'close': {
-        const c = conns.get(m.id);
-        if (!c) return;
-        conns.delete(m.id);
-        c.ws.close(1000, m.reason.slice(0, 120));
-        break;
-      }
-      case 'room-removed': {
-        // Forget where it ran — unless a connection to that name is open (it went to this worker
-        // and may have made the room again there).
-        const open = [...conns.values()].some((c) => c.room === m.room);
-        if (!open && roomWorker.get(m.room) === index) roomWorker.delete(m.room);
-        break;
-      }
-      case 'room-failed':
-        log(`room ${m.room} stopped: ${m.message}`);
-        break;
-      case 'fatal':
-        log(`worker ${index} could not start: ${m.message}`);
-        break;
-      default:
-        break;
+  constructor(server: http.Server, options: StateSyncEndpointOptions = {}) {
+    const count = options.workers ?? Math.max(1, Math.min(4, availableParallelism() - 1));
+    if (!(Number.isInteger(count) && count >= 1 && count <= 64)) {
+      throw new RangeError(
+        `attachStateSync: workers must be an integer from 1 to 64, got ${String(count)}`,
+      );
     }
-  };
+    super(server, {
+      path: (options.path ?? '/state').replace(/\/+$/, ''),
+      rooms: 'required',
+      // Clients send only inputs, acks and pings.
+      maxPayload: STATE_SYNC_PROTOCOL.largest('client', {
+        ...STATE_SYNC_PROTOCOL.limits,
+        ...options.room?.limits,
+      }),
+      admission:
+        options.admission ??
+        new Admission({
+          ...(options.allowedOrigins !== undefined
+            ? { allowedOrigins: options.allowedOrigins }
+            : {}),
+          ...(options.trustProxy !== undefined ? { trustProxy: options.trustProxy } : {}),
+        }),
+    });
+    this.workers = count;
+    this.log =
+      options.log ??
+      ((m: string) => {
+        console.error(`fixedstep state sync: ${m}`);
+      });
+    this.setup = {
+      games:
+        options.games === undefined
+          ? ['@fixedstep/games']
+          : typeof options.games === 'string'
+            ? [options.games]
+            : options.games,
+      room: options.room ?? {},
+      host: { ...roomCapsFromEnv(options.env ?? process.env), ...options.host },
+      updateIntervalMs: options.updateIntervalMs ?? STATE_SYNC_UPDATE_MS,
+    };
+    this.slots = Array.from({ length: count }, (_, i) => this.spawn(i));
+    this.ready = Promise.all(this.slots.map((s) => s.ready)).then(() => undefined);
+  }
 
-  const spawn = (index: number): Slot => {
-    const worker = startWorker(setup);
+  /** Room names now, with the worker each runs on. */
+  rooms(): { room: string; worker: number }[] {
+    return [...this.roomWorker].map(([room, worker]) => ({ room, worker }));
+  }
+
+  protected override refuses(): string | undefined {
+    return this.closing ? '503 Service Unavailable' : undefined;
+  }
+
+  protected connected(ws: WebSocket, info: UpgradeInfo): void {
+    const room = info.room!;
+    let index = this.roomWorker.get(room);
+    if (index === undefined) {
+      // A new room: to the worker with the fewest.
+      const load = this.slots.map(() => 0);
+      for (const w of this.roomWorker.values()) load[w] = load[w]! + 1;
+      index = load.indexOf(Math.min(...load));
+      this.roomWorker.set(room, index);
+    }
+    const id = this.nextId++;
+    const w = index;
+    this.conns.set(id, { ws, room, worker: w });
+    this.post(w, { t: 'open', id, room, address: info.address });
+    ws.on('message', (data, isBinary) => {
+      if (!isBinary) {
+        ws.close(1003, 'binary messages only');
+        return;
+      }
+      const chunks = Array.isArray(data)
+        ? data
+        : [data instanceof ArrayBuffer ? Buffer.from(data) : data];
+      const size = chunks.reduce((n, c) => n + c.length, 0);
+      const bytes = new Uint8Array(size);
+      let at = 0;
+      for (const c of chunks) {
+        bytes.set(c, at);
+        at += c.length;
+      }
+      this.post(w, { t: 'data', id, bytes: bytes.buffer }, [bytes.buffer]);
+    });
+    ws.on('close', () => {
+      if (!this.conns.delete(id)) return;
+      this.post(w, { t: 'close', id, reason: 'closed' });
+    });
+    ws.on('error', () => {
+      ws.terminate();
+    });
+  }
+
+  /** Each worker says `SHUTDOWN` to its rooms' members, then ends. */
+  protected async stop(): Promise<void> {
+    this.closing = true;
+    await Promise.all(
+      this.slots.map(
+        (s) =>
+          new Promise<void>((resolve) => {
+            const done = () => {
+              resolve();
+            };
+            const timer = setTimeout(done, 1000);
+            s.worker.on('message', (m: FromWorker) => {
+              if (m.t === 'stopped') {
+                clearTimeout(timer);
+                // Let the last sends reach the main thread's sockets.
+                setImmediate(done);
+              }
+            });
+            s.worker.on('exit', done);
+            s.worker.postMessage({ t: 'stop' } satisfies ToWorker);
+          }),
+      ),
+    );
+    for (const c of this.conns.values()) c.ws.close(1001, 'the server is shutting down');
+    this.conns.clear();
+    await Promise.all(this.slots.map((s) => s.worker.terminate()));
+  }
+
+  private post(index: number, m: ToWorker, transfer: ArrayBuffer[] = []): void {
+    this.slots[index]!.worker.postMessage(m, transfer);
+  }
+
+  private spawn(index: number): Slot {
+    const worker = startWorker(this.setup);
     let settle: { ok: () => void; fail: (e: Error) => void } | undefined;
     const ready = new Promise<void>((ok, fail) => {
       settle = { ok, fail };
@@ -185,144 +235,73 @@ export function attachStateSync(
     worker.on('message', (m: FromWorker) => {
       if (m.t === 'ready') settle?.ok();
       if (m.t === 'fatal') settle?.fail(new Error(m.message));
-      onWorkerMessage(index, m);
+      this.onWorkerMessage(index, m);
     });
     worker.on('error', (e) => {
-      log(`worker ${index} failed: ${e.message}`);
+      this.log(`worker ${index} failed: ${e.message}`);
       settle?.fail(e);
     });
     worker.on('exit', () => {
       // Its rooms are gone: close their connections; a new worker takes its place.
-      for (const [id, c] of conns) {
+      for (const [id, c] of this.conns) {
         if (c.worker !== index) continue;
-        conns.delete(id);
+        this.conns.delete(id);
         c.ws.close(1011, 'the room’s worker stopped');
       }
-      for (const [room, w] of roomWorker) if (w === index) roomWorker.delete(room);
-      if (!closing) slots[index] = spawn(index);
+      for (const [room, w] of this.roomWorker) if (w === index) this.roomWorker.delete(room);
+      if (!this.closing) this.slots[index] = this.spawn(index);
     });
     return { worker, ready };
-  };
-  const slots: Slot[] = Array.from({ length: count }, (_, i) => spawn(i));
+  }
 
-  const post = (index: number, m: ToWorker, transfer: ArrayBuffer[] = []) => {
-    slots[index]!.worker.postMessage(m, transfer);
-  };
-
-  const refuse = (socket: Duplex, status: string) => {
-    socket.write(`HTTP/1.1 ${status}\r\nConnection: close\r\nContent-Length: 0\r\n\r\n`);
-    socket.destroy();
-  };
-
-  const ownsPath = (pathname: string) => pathname.startsWith(`${path}/`);
-  const releasePaths = claimUpgradePaths(server, ownsPath, `${path}/room`);
-  const onUpgrade = (req: http.IncomingMessage, socket: Duplex, head: Buffer) => {
-    const pathname = (req.url ?? '/').split('?')[0] ?? '/';
-    if (!ownsPath(pathname)) {
-      // Another endpoint may own this path; answer only when none does.
-      if (shouldRefuseUpgrade(server, ownsPath, pathname)) refuse(socket, '404 Not Found');
-      return;
-    }
-    let room: string;
-    try {
-      room = decodeURIComponent(pathname.slice(path.length + 1));
-    } catch {
-      room = '';
-    }
-    if (!NAME_PATTERN.test(room)) {
-      refuse(socket, '400 Bad Request');
-      return;
-    }
-    if (!originAllowed(req, options.allowedOrigins ?? 'any')) {
-      refuse(socket, '403 Forbidden');
-      return;
-    }
-    if (closing || conns.size >= maxConnections) {
-      refuse(socket, '503 Service Unavailable');
-      return;
-    }
-    wss.handleUpgrade(req, socket, head, (ws) => {
-      let index = roomWorker.get(room);
-      if (index === undefined) {
-        // A new room: to the worker with the fewest.
-        const load = slots.map(() => 0);
-        for (const w of roomWorker.values()) load[w] = load[w]! + 1;
-        index = load.indexOf(Math.min(...load));
-        roomWorker.set(room, index);
-      }
-      const id = nextId++;
-      const w = index;
-      conns.set(id, { ws, room, worker: w });
-      post(w, { t: 'open', id, room });
-      ws.on('message', (data, isBinary) => {
-        if (!isBinary) {
-          ws.close(1003, 'binary messages only');
+  private onWorkerMessage(index: number, m: FromWorker): void {
+    switch (m.t) {
+      case 'send': {
+        const c = this.conns.get(m.id);
+        if (!c || c.ws.readyState !== c.ws.OPEN) return;
+        if (c.ws.bufferedAmount > MAX_BUFFERED) {
+          c.ws.terminate();
           return;
         }
-        const chunks = Array.isArray(data)
-          ? data
-          : [data instanceof ArrayBuffer ? Buffer.from(data) : data];
-        const size = chunks.reduce((n, c) => n + c.length, 0);
-        const bytes = new Uint8Array(size);
-        let at = 0;
-        for (const c of chunks) {
-          bytes.set(c, at);
-          at += c.length;
-        }
-        post(w, { t: 'data', id, bytes: bytes.buffer }, [bytes.buffer]);
-      });
-      ws.on('close', () => {
-        if (!conns.delete(id)) return;
-        post(w, { t: 'close', id, reason: 'closed' });
-      });
-      ws.on('error', () => {
-        ws.terminate();
-      });
-    });
-  };
-  server.on('upgrade', onUpgrade);
+        c.ws.send(new Uint8Array(m.bytes), { binary: true });
+        break;
+      }
+      case 'close': {
+        const c = this.conns.get(m.id);
+        if (!c) return;
+        this.conns.delete(m.id);
+        c.ws.close(1000, m.reason.slice(0, 120));
+        break;
+      }
+      case 'room-removed': {
+        // Forget where it ran — unless a connection to that name is open (it went to this worker
+        // and may have made the room again there).
+        const open = [...this.conns.values()].some((c) => c.room === m.room);
+        if (!open && this.roomWorker.get(m.room) === index) this.roomWorker.delete(m.room);
+        break;
+      }
+      case 'room-failed':
+        this.log(`room ${m.room} stopped: ${m.message}`);
+        break;
+      case 'fatal':
+        this.log(`worker ${index} could not start: ${m.message}`);
+        break;
+      default:
+        break;
+    }
+  }
+}
 
-  let closed: Promise<void> | undefined;
-  return {
-    path,
-    workers: count,
-    ready: Promise.all(slots.map((s) => s.ready)).then(() => undefined),
-    rooms: () => [...roomWorker].map(([room, worker]) => ({ room, worker })),
-    close: () =>
-      (closed ??= (async () => {
-        closing = true;
-        server.off('upgrade', onUpgrade);
-        releasePaths();
-        // Each worker says SHUTDOWN to its rooms' members, then ends.
-        await Promise.all(
-          slots.map(
-            (s) =>
-              new Promise<void>((resolve) => {
-                const done = () => {
-                  resolve();
-                };
-                const timer = setTimeout(done, 1000);
-                s.worker.on('message', (m: FromWorker) => {
-                  if (m.t === 'stopped') {
-                    clearTimeout(timer);
-                    // Let the last sends reach the main thread's sockets.
-                    setImmediate(done);
-                  }
-                });
-                s.worker.on('exit', done);
-                s.worker.postMessage({ t: 'stop' } satisfies ToWorker);
-              }),
-          ),
-        );
-        for (const c of conns.values()) c.ws.close(1001, 'the server is shutting down');
-        conns.clear();
-        await Promise.all(slots.map((s) => s.worker.terminate()));
-        await new Promise<void>((resolve) => {
-          for (const ws of wss.clients) ws.terminate();
-          wss.close(() => {
-            resolve();
-          });
-        });
-      })()),
-  };
+/**
+ * Attaches state-sync rooms to `server` at `path` (default `/state`): a WebSocket upgrade on
+ * `/state/<room>` (a room name: 1–32 of `A–Z a–z 0–9 _ - .`) joins — or, with its first join,
+ * makes — that room, admitted as every surface is. Rooms run in `workers` worker threads on the
+ * room core (caps, rates, liveness, held seats, invites); a new room goes to the worker with the
+ * fewest rooms, and every connection to it follows. A bad room name gets 400.
+ */
+export function attachStateSync(
+  server: http.Server,
+  options: StateSyncEndpointOptions = {},
+): StateSyncEndpoint {
+  return new StateSyncEndpoint(server, options);
 }

@@ -1,7 +1,7 @@
 /**
- * State-sync rooms on the lab's HTTP server: WebSocket connections at `/state/<room>`, rooms in a
+ * State-sync rooms on the server's HTTP port: WebSocket connections at `/state/<room>`, rooms in a
  * pool of worker threads.
  * @module
  */
-export { attachStateSync } from './endpoint.js';
-export type { StateSyncEndpoint, StateSyncEndpointOptions } from './endpoint.js';
+export { attachStateSync, StateSyncEndpoint, STATE_SYNC_UPDATE_MS } from './endpoint.js';
+export type { StateSyncEndpointOptions } from './endpoint.js';

@@ -3,7 +3,7 @@
  * message travel as a transferred ArrayBuffer). One list for both sides.
  * @internal
  */
-import type { StateSyncRoomDefaults } from 'fixedstep';
+import type { RoomHostOptions, StateSyncRoomDefaults } from 'fixedstep';
 
 /** What a worker is started with (`workerData`). */
 export interface WorkerSetup {
@@ -14,16 +14,14 @@ export interface WorkerSetup {
   games: readonly string[];
   /** Room options (plain data only: no functions cross threads). */
   room: Omit<StateSyncRoomDefaults, 'view'>;
+  /** The room core's options (caps, liveness …). */
+  host: Omit<RoomHostOptions, 'randomU32'>;
   updateIntervalMs: number;
-  maxRooms: number;
-  maxConnections: number;
-  joinTimeoutMs: number;
-  emptyRoomTtlMs: number;
 }
 
 /** Main thread → worker. */
 export type ToWorker =
-  | { t: 'open'; id: number; room: string }
+  | { t: 'open'; id: number; room: string; address: string }
   | { t: 'data'; id: number; bytes: ArrayBuffer }
   | { t: 'close'; id: number; reason: string }
   | { t: 'stop' };

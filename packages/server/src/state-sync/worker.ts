@@ -75,7 +75,7 @@ function handle(m: ToWorker): void {
       const c = new PortTransport(m.id);
       connections.set(m.id, c);
       c.onClose(() => connections.delete(m.id));
-      server.accept(c, { room: m.room });
+      server.accept(c, { room: m.room, address: m.address });
       break;
     }
     case 'data':
@@ -109,19 +109,16 @@ try {
   }
   const games = [...byId.values()];
   server = new StateSyncServer({
+    ...setup.host,
     clock: performanceClock(),
     games,
     room: setup.room,
-    maxRooms: setup.maxRooms,
-    maxConnections: setup.maxConnections,
-    joinTimeoutMs: setup.joinTimeoutMs,
-    emptyRoomTtlMs: setup.emptyRoomTtlMs,
     onEvent: (e) => {
       if (e.type === 'room-created')
         post({ t: 'room-created', room: e.room, game: e.game, players: e.players });
       else if (e.type === 'room-removed') post({ t: 'room-removed', room: e.room });
-      else if (e.type === 'room-failed')
-        post({ t: 'room-failed', room: e.room, message: String(e.error) });
+      else if (e.type === 'room-closed' && e.code === 'INTERNAL')
+        post({ t: 'room-failed', room: e.room, message: e.message });
     },
   });
   const s = server;

@@ -1,8 +1,9 @@
 /**
  * Chapter 6, "Play online" peer to peer: the same lockstep match over WebRTC data channels instead
  * of the server's relay. The first page in a room hosts it — the relay runs in that page, its own
- * session on a memory pair to it — and the second joins it directly, the server's `/signal` only
- * introducing them (offer, answer, ICE candidates). When no direct connection opens in time the
+ * session on a memory pair to it — and the second, opened from the host's link with the room's
+ * invite, joins it directly, the server's `/signal/<room>` only introducing them (offer, answer,
+ * ICE candidates). When no direct connection opens in time the
  * library falls back to a tunnel through the signalling server; {@link P2pConnection.via} says
  * which.
  */
@@ -14,8 +15,9 @@ import {
   joinPeer,
   memoryPair,
   performanceClock,
-  relayCatalog,
+  gameCatalog,
   type PeerConnectionConstructor,
+  type PeerHosting,
   type Transport,
 } from 'fixedstep';
 import type { GameDefinition } from '@fixedstep/games';
@@ -26,6 +28,8 @@ export interface P2pConnection {
   transport: Transport;
   /** `host`: the relay runs in this page; `webrtc`: joined directly; `server`: joined through the server's tunnel. */
   via: 'host' | 'webrtc' | 'server';
+  /** The room's invite token: the host hands it to the joiner (the second tab's link). */
+  invite: Uint8Array;
   /** Stop hosting (or joining): the relay, the peer connections, the signalling. */
   close(): void;
 }
@@ -34,20 +38,37 @@ export interface P2pConnection {
 const RELAY_EVERY_MS = 4;
 
 /**
- * Host `room` if nobody does yet, else join its host. `signalUrl` is the server's `/signal`
- * WebSocket address. Rejects when the signalling server cannot be reached or refuses the room.
+ * Joins the host of `room` with its `invite` (from the host's link), or without one hosts `room`.
+ * `signalUrl` is the server's `/signal` WebSocket address (the room is added to it). Rejects when
+ * the signalling server cannot be reached or refuses: a taken room without the invite, a wrong
+ * invite.
  */
 export async function connectPeerToPeer(
   signalUrl: string,
   room: string,
   def: GameDefinition,
+  invite?: Uint8Array,
 ): Promise<P2pConnection> {
   const PeerConnection = (
     globalThis as unknown as { RTCPeerConnection?: PeerConnectionConstructor }
   ).RTCPeerConnection;
   if (PeerConnection === undefined) throw new Error('this browser has no WebRTC');
-  const hostSignal = new SignalClient(await connectWebSocket(signalUrl));
-  const relay = new Relay({ clock: performanceClock(), catalog: relayCatalog([def]) });
+  const url = `${signalUrl}/${room}`;
+  if (invite !== undefined) {
+    const signal = new SignalClient(await connectWebSocket(url));
+    const link = await joinPeer({ signal, room, invite, PeerConnection });
+    return {
+      transport: link.transport,
+      via: link.via,
+      invite,
+      close: () => {
+        link.transport.close();
+        signal.close();
+      },
+    };
+  }
+  const hostSignal = new SignalClient(await connectWebSocket(url));
+  const relay = new Relay({ clock: performanceClock(), catalog: gameCatalog([def]) });
   const host = new PeerHost({
     signal: hostSignal,
     room,
@@ -56,23 +77,21 @@ export async function connectPeerToPeer(
       relay.accept(link.transport);
     },
   });
+  let hosting: PeerHosting;
   try {
-    await host.ready;
+    hosting = await host.ready;
   } catch (e) {
     host.close();
     hostSignal.close();
-    if (!(e instanceof Error && e.message.includes('ROOM_TAKEN'))) throw e;
-    // Someone hosts this room: join them.
-    const signal = new SignalClient(await connectWebSocket(signalUrl));
-    const link = await joinPeer({ signal, room, PeerConnection });
-    return {
-      transport: link.transport,
-      via: link.via,
-      close: () => {
-        link.transport.close();
-        signal.close();
-      },
-    };
+    if (e instanceof Error && e.message.includes('ROOM_TAKEN')) {
+      throw new Error(
+        `room ${room} has a host already: open its invite link from the host's page`,
+        {
+          cause: e,
+        },
+      );
+    }
+    throw e;
   }
   const timer = setInterval(() => {
     relay.update();
@@ -82,6 +101,7 @@ export async function connectPeerToPeer(
   return {
     transport: mine,
     via: 'host',
+    invite: hosting.invite,
     close: () => {
       clearInterval(timer);
       host.close();

@@ -49,6 +49,7 @@ export function onlineOptions(hash: string): {
   ticks: number | undefined;
   join: boolean;
   p2p: boolean;
+  invite: Uint8Array | undefined;
 } {
   const q = hash.includes('?') ? new URLSearchParams(hash.slice(hash.indexOf('?') + 1)) : undefined;
   const room = q?.get('room') ?? undefined;
@@ -59,14 +60,32 @@ export function onlineOptions(hash: string): {
     ticks: Number.isInteger(ticks) && ticks >= CHECKPOINT_TICKS ? ticks : undefined,
     join: valid && q?.get('join') === '1',
     p2p: q?.get('p2p') === '1',
+    invite: fromHex(q?.get('invite') ?? ''),
   };
 }
 
-/** The address that opens `room` (a match of `ticks`, if shorter than the game) in another tab and joins it there. */
-export function roomLink(room: string, ticks: number | undefined, p2p = false): string {
+/** 32 hex digits as 16 bytes (an invite token), or undefined. */
+function fromHex(hex: string): Uint8Array | undefined {
+  if (!/^[0-9a-f]{32}$/.test(hex)) return undefined;
+  return Uint8Array.from({ length: 16 }, (_, i) => parseInt(hex.slice(2 * i, 2 * i + 2), 16));
+}
+
+/**
+ * The address that opens `room` (a match of `ticks`, if shorter than the game) in another tab and
+ * joins it there — peer to peer with the host's `invite`.
+ */
+export function roomLink(
+  room: string,
+  ticks: number | undefined,
+  p2p = false,
+  invite?: Uint8Array,
+): string {
   const q = new URLSearchParams({ room });
   if (ticks !== undefined) q.set('ticks', String(ticks));
   if (p2p) q.set('p2p', '1');
+  if (p2p && invite !== undefined) {
+    q.set('invite', Array.from(invite, (b) => b.toString(16).padStart(2, '0')).join(''));
+  }
   q.set('join', '1');
   return `#/network?${q.toString()}`;
 }
@@ -139,13 +158,18 @@ export class OnlinePanel {
   /** Whether to play peer to peer (WebRTC, the relay in the first page) instead of through the server's relay. */
   private p2p: boolean;
   private p2pConn: P2pConnection | undefined;
+  /** A peer-to-peer room's invite: from the link that opened this tab, or from hosting it. */
+  private invite: Uint8Array | undefined;
   private via = '';
   /** Where the match ended, and its final state to draw. */
   private end: { end: MatchEnd; game: Game } | undefined;
-  // Quick match: the server names a fresh room for two waiting tabs; join it as if typed.
+  /** A quick match's ticket: it seats this tab in the room the matchmaker set up. */
+  private ticket: Uint8Array | undefined;
+  // Quick match: the server names a fresh room for two waiting tabs; join it with the ticket.
   private readonly quick = new QuickMatchControl((match) => {
     if (this.session) this.leave();
     this.roomInput.value = match.room;
+    this.ticket = match.ticket;
     this.updateLink();
     this.join();
   });
@@ -154,6 +178,7 @@ export class OnlinePanel {
     const opts = onlineOptions(location.hash);
     this.stopAt = opts.ticks;
     this.p2p = opts.p2p;
+    this.invite = opts.invite;
     this.roomInput = h('input', {
       type: 'text',
       id: 'net-room',
@@ -283,7 +308,7 @@ export class OnlinePanel {
     const room = this.roomInput.value.trim();
     const ok = ROOM_NAME.test(room);
     this.tabLink.hidden = !ok;
-    if (ok) this.tabLink.href = roomLink(room, this.stopAt, this.p2p);
+    if (ok) this.tabLink.href = roomLink(room, this.stopAt, this.p2p, this.invite);
   }
 
   private join(): void {
@@ -301,8 +326,11 @@ export class OnlinePanel {
     this.end = undefined;
     this.render();
     const connect: Promise<Transport> = this.p2p
-      ? connectPeerToPeer(`${ws}/signal`, room, def).then((c) => {
+      ? connectPeerToPeer(`${ws}/signal`, room, def, this.invite).then((c) => {
           this.p2pConn = c;
+          // The host's invite goes into the second tab's link.
+          this.invite = c.invite;
+          this.updateLink();
           this.via = {
             host: 'WebRTC, hosting',
             webrtc: 'WebRTC, direct',
@@ -310,10 +338,13 @@ export class OnlinePanel {
           }[c.via];
           return c.transport;
         })
-      : connectWebSocket(`${ws}/ws`).then((t) => {
+      : // The room in the URL: a balancer sends every player of a room to one server process.
+        connectWebSocket(`${ws}/ws/${room}`).then((t) => {
           this.via = 'WebSocket to the relay';
           return t;
         });
+    const ticket = this.p2p ? undefined : this.ticket;
+    this.ticket = undefined;
     connect
       .then((transport) => {
         let held = 0;
@@ -329,6 +360,7 @@ export class OnlinePanel {
           gameVersion: def.info.version,
           input: def.input,
           players: 2,
+          ...(ticket === undefined ? {} : { ticket }),
           ...(this.stopAt === undefined ? {} : { stopAt: this.stopAt }),
           createSimulation: (w) => {
             const config = def.decodeConfig(w.config);
@@ -387,6 +419,7 @@ export class OnlinePanel {
     this.session = undefined;
     // Hosting peer to peer, the relay ran here until now (not at the end: the other player may
     // still be receiving the last ticks from it).
+    if (this.p2pConn?.via === 'host') this.invite = undefined; // the room it hosted is gone
     this.p2pConn?.close();
     this.p2pConn = undefined;
     this.via = '';

@@ -39,7 +39,7 @@ import {
   hex64,
   packButtons,
   readReplay,
-  relayCatalog,
+  gameCatalog,
   setupFromReplayHeader,
   setupFromWelcome,
   wasPressed,
@@ -760,7 +760,7 @@ export class TowerNet {
     this.relay = new Relay({
       clock,
       randomU32: () => random.nextU32(),
-      catalog: relayCatalog([DUEL_GAME]),
+      catalog: gameCatalog([DUEL_GAME]),
     });
     const tickMs = 1000 / DUEL_GAME.tickRate;
     this.scheduler.every(

@@ -14,7 +14,8 @@
  * @module
  */
 import { ByteReader, ByteWriter } from '../../det/bytes.js';
-import { stateSyncFailure } from './codec.js';
+import { PROBLEM_CODES, ProtocolError } from '../wire/error.js';
+import type { ByteReadProblem } from '../../det/bytes.js';
 
 const NO_WORDS = new Int32Array(0);
 
@@ -91,7 +92,16 @@ export function deltaBytes(base: Uint8Array, next: Uint8Array): Uint8Array {
 export function applyDelta(base: Uint8Array, delta: Uint8Array, size: number): Uint8Array {
   const out = new Uint8Array(size);
   out.set(base.length > size ? base.subarray(0, size) : base);
-  const r = new ByteReader(delta, { fail: stateSyncFailure });
+  const r = new ByteReader(delta, {
+    fail: (problem: ByteReadProblem, message: string, offset: number) => {
+      throw new ProtocolError(PROBLEM_CODES[problem], message, {
+        protocol: 'state sync',
+        messageType: 'snapshot',
+        field: 'payload (delta)',
+        offset,
+      });
+    },
+  });
   let cursor = 0;
   while (r.remaining > 0) {
     const at = r.pos;

@@ -7,36 +7,41 @@
  */
 export {
   STATE_SYNC_VERSION,
-  StateSyncType,
+  STATE_SYNC_PROTOCOL,
   DEFAULT_STATE_SYNC_LIMITS,
   encodeStateSyncMessage,
   decodeStateSyncMessage,
   peekStateSyncType,
-} from './codec.js';
+} from './messages.js';
 export type {
   StateSyncKind,
   StateSyncLimits,
-  StateSyncErrorCode,
   ResyncReason,
   StateSyncMessage,
   JoinMessage,
   StateInputMessage,
   StateAckMessage,
-  StatePingMessage,
   ResyncMessage,
   StateLeaveMessage,
   StateWelcomeMessage,
   StateSnapshotMessage,
-  StatePongMessage,
-  StateErrorMessage,
-} from './codec.js';
+} from './messages.js';
 export { encodeDelta, deltaBytes, applyDelta } from './delta.js';
-export { StateSyncRoom } from './room.js';
+export {
+  StateSyncRoom,
+  StateSyncMember,
+  DEFAULT_SNAPSHOTS_PER_SECOND,
+  DEFAULT_BASE_HISTORY,
+  DEFAULT_STATE_MAX_AHEAD_TICKS,
+  DEFAULT_RESYNC_INTERVAL_MS,
+  DEFAULT_MAX_CATCH_UP_TICKS,
+} from './room.js';
 export type {
   StateSyncView,
   StateSyncRoomOptions,
   StateSyncRoomEvent,
   StateSyncRoomStats,
+  RoomPlacement,
 } from './room.js';
 export { StateSyncServer } from './server.js';
 export type {

@@ -9,19 +9,19 @@ import type { Simulation } from '../../sim/simulation.js';
 import type { Clock } from '../../time/drivers.js';
 import { ClockSync } from '../clock-sync.js';
 import { InputRing, SnapshotRing } from '../history.js';
-import { ProtocolError } from '../protocol.js';
+import { ProtocolError } from '../wire/error.js';
+import type { ErrorMessage } from '../wire/common.js';
 import type { Transport } from '../transport.js';
 import {
   DEFAULT_STATE_SYNC_LIMITS,
   decodeStateSyncMessage,
   encodeStateSyncMessage,
   type ResyncReason,
-  type StateErrorMessage,
   type StateSnapshotMessage,
   type StateSyncLimits,
   type StateSyncMessage,
   type StateWelcomeMessage,
-} from './codec.js';
+} from './messages.js';
 import { applyDelta } from './delta.js';
 import {
   CorrectionSmoother,
@@ -39,7 +39,7 @@ export type StateSyncEvent =
   | { type: 'running'; tick: number }
   /** A snapshot could not be used (nothing was applied); a full one was asked for. */
   | { type: 'bad-snapshot'; reason: ResyncReason; message: string; tick: number }
-  | { type: 'error'; error: StateErrorMessage }
+  | { type: 'error'; error: ErrorMessage }
   | { type: 'closed'; reason: string };
 
 /** Options of a {@link StateSyncSession}. */
@@ -62,6 +62,11 @@ export interface StateSyncSessionOptions<I, S extends Simulation<I>> {
   name?: string;
   /** Reconnect token from an earlier welcome: take that slot back. */
   token?: Uint8Array;
+  /**
+   * Spectators: the room's invite token (`welcome.invite` of one of its players). The server lets
+   * no spectator in without it.
+   */
+  invite?: Uint8Array;
   /**
    * Builds the client's own copy of the game from the room's setup. Default `game.create(setup)`.
    * It need not be the server's exact code: every snapshot replaces the client's state (the tests
@@ -206,7 +211,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     badMessages: 0,
   };
   /** Errors the server sent (the last 64). */
-  readonly errors: StateErrorMessage[] = [];
+  readonly errors: ErrorMessage[] = [];
 
   private readonly options: StateSyncSessionOptions<I, S>;
   private readonly transport: Transport;
@@ -355,7 +360,8 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       name: options.name ?? '',
     };
     if (options.seed !== undefined) join.seed = options.seed;
-    if (options.token !== undefined) join.token = options.token;
+    const token = join.role === 'spectator' ? options.invite : options.token;
+    if (token !== undefined) join.token = token;
     this.joinBytes = encodeStateSyncMessage(join);
     const now = this.clock.now();
     this.sendBytes(this.joinBytes);

@@ -6,25 +6,31 @@
  * @module
  */
 export { dataChannelTransport } from './data-channel.js';
+export { SignallingHub, SIGNAL_WAITING_TTL_MS } from './hub.js';
+export type { SignallingHubOptions, SignallingStats } from './hub.js';
 export type { DataChannelTransportOptions } from './data-channel.js';
 export { SignalClient, PeerHost, joinPeer, UNRELIABLE_LABEL, RELIABLE_LABEL } from './peer.js';
-export type { PeerToPeerOptions, PeerLink, PeerHostOptions, PeerHostEvent } from './peer.js';
+export type {
+  PeerToPeerOptions,
+  PeerLink,
+  PeerHostOptions,
+  PeerHostEvent,
+  PeerHosting,
+} from './peer.js';
 export {
   SIGNAL_VERSION,
-  SIGNAL_ROOM_PATTERN,
+  SIGNAL_PROTOCOL,
   MAX_SIGNAL_PEERS,
   DEFAULT_SIGNAL_LIMITS,
-  SignalError,
   encodeSignal,
   decodeSignal,
-} from './signalling.js';
+} from './signal-messages.js';
 export type {
   SignalLimits,
   IceServerConfig,
   SignalKind,
-  SignalErrorCode,
   SignalMessage,
-} from './signalling.js';
+} from './signal-messages.js';
 export type {
   SessionDescriptionLike,
   IceCandidateLike,

@@ -1,13 +1,14 @@
 import { BaseTransport, type Transport } from '../transport.js';
 import { dataChannelTransport, type DataChannelTransportOptions } from './data-channel.js';
 import {
-  SignalError,
+  DEFAULT_SIGNAL_LIMITS,
   decodeSignal,
   encodeSignal,
   type IceServerConfig,
   type SignalLimits,
   type SignalMessage,
-} from './signalling.js';
+} from './signal-messages.js';
+import { ProtocolError } from '../wire/error.js';
 import type {
   DataChannelInitLike,
   DataChannelLike,
@@ -34,15 +35,21 @@ export class SignalClient {
 
   constructor(
     readonly transport: Transport,
-    private readonly limits: Partial<SignalLimits> = {},
+    limits: Partial<SignalLimits> = {},
   ) {
+    const all = { ...DEFAULT_SIGNAL_LIMITS, ...limits };
     transport.onMessage((bytes) => {
       let m: SignalMessage;
       try {
-        m = decodeSignal(bytes, this.limits);
+        m = decodeSignal(bytes, all);
       } catch (error) {
-        if (!(error instanceof SignalError)) throw error;
+        if (!(error instanceof ProtocolError)) throw error;
         this.badMessages++;
+        return;
+      }
+      // The server checks that a quiet connection is alive: answer at once.
+      if (m.type === 'ping') {
+        this.send({ type: 'pong', id: m.id, time: m.time, serverTime: m.time });
         return;
       }
       for (const l of [...this.listeners]) l(m);
@@ -59,7 +66,7 @@ export class SignalClient {
   }
 
   send(m: SignalMessage): void {
-    if (this.transport.isOpen) this.transport.send(encodeSignal(m, this.limits));
+    if (this.transport.isOpen) this.transport.send(encodeSignal(m));
   }
 
   /** Listen to every message; returns a function that stops listening. */
@@ -113,10 +120,16 @@ class TunnelTransport extends BaseTransport {
 
 /** Options shared by {@link PeerHost} and {@link joinPeer}. */
 export interface PeerToPeerOptions {
-  /** The signalling connection (a {@link SignalClient} on a WebSocket to the server's `/signal`). */
+  /** The signalling connection (a {@link SignalClient} on a WebSocket to the server's `/signal/<room>`). */
   signal: SignalClient;
   /** The room: the host's name for it, which the joiners use. */
   room: string;
+  /**
+   * Joiners: the room's invite token, which the host got in its `joined` ({@link PeerHosting}) and
+   * handed to the people it invites (a link, a chat message). The server lets no joiner in without
+   * it: room names are often guessable.
+   */
+  invite?: Uint8Array;
   /**
    * The `RTCPeerConnection` constructor: `globalThis.RTCPeerConnection` in a browser, `werift`'s in
    * Node. Injected so the library has no runtime dependency.
@@ -301,9 +314,18 @@ class PeerConnectionSide {
   }
 }
 
+/** A room the signalling server confirmed to its host. */
+export interface PeerHosting {
+  room: string;
+  /** The invite token joiners must bring (see {@link PeerToPeerOptions.invite}): a secret. */
+  invite: Uint8Array;
+  /** The STUN/TURN servers the server announced. */
+  iceServers: IceServerConfig[];
+}
+
 /** What a {@link PeerHost} reports. */
 export type PeerHostEvent =
-  | { type: 'hosting'; room: string; iceServers: IceServerConfig[] }
+  | ({ type: 'hosting' } & PeerHosting)
   | { type: 'peer'; peer: number }
   | { type: 'connected'; link: PeerLink }
   | { type: 'left'; peer: number }
@@ -326,8 +348,11 @@ export interface PeerHostOptions extends PeerToPeerOptions {
  * the server; `onPeer` gets that transport the same way.
  */
 export class PeerHost {
-  /** Resolves when the server confirmed the room (rejects on an error such as `ROOM_TAKEN`). */
-  readonly ready: Promise<IceServerConfig[]>;
+  /**
+   * Resolves when the server confirmed the room, with its invite token for the joiners (rejects on
+   * an error such as `ROOM_TAKEN`).
+   */
+  readonly ready: Promise<PeerHosting>;
   private readonly sides = new Map<number, PeerConnectionSide>();
   private readonly links = new Map<number, Transport>();
   private readonly tunnels = new Map<number, TunnelTransport>();
@@ -337,7 +362,7 @@ export class PeerHost {
 
   constructor(private readonly options: PeerHostOptions) {
     const signal = options.signal;
-    let resolveReady!: (s: IceServerConfig[]) => void;
+    let resolveReady!: (h: PeerHosting) => void;
     let rejectReady!: (e: Error) => void;
     this.ready = new Promise((resolve, reject) => {
       resolveReady = resolve;
@@ -348,8 +373,9 @@ export class PeerHost {
       if (m.type === 'joined' && !hosting) {
         hosting = true;
         this.iceServers = m.iceServers;
-        this.emit({ type: 'hosting', room: m.room, iceServers: m.iceServers });
-        resolveReady(m.iceServers);
+        const info: PeerHosting = { room: m.room, invite: m.invite, iceServers: m.iceServers };
+        this.emit({ type: 'hosting', ...info });
+        resolveReady(info);
       } else if (m.type === 'error') {
         this.emit({ type: 'error', message: `${m.code}: ${m.message}` });
         if (!hosting) rejectReady(new Error(`PeerHost: ${m.code}: ${m.message}`));
@@ -441,6 +467,12 @@ export function joinPeer(options: PeerToPeerOptions): Promise<PeerLink> {
   const signal = options.signal;
   const timeoutMs = options.connectTimeoutMs ?? 10_000;
   if (!(timeoutMs > 0)) throw new RangeError(`connectTimeoutMs must be > 0, got ${timeoutMs}`);
+  const invite = options.invite;
+  if (invite === undefined) {
+    throw new RangeError(
+      "joinPeer: give the room's invite token (the host's PeerHost.ready has it)",
+    );
+  }
   return new Promise<PeerLink>((resolve, reject) => {
     let side: PeerConnectionSide | undefined;
     let tunnel: TunnelTransport | undefined;
@@ -511,6 +543,6 @@ export function joinPeer(options: PeerToPeerOptions): Promise<PeerLink> {
       tunnel?.remoteClose(`signalling closed: ${reason}`);
       finish(new Error(`joinPeer: signalling closed: ${reason}`));
     });
-    signal.send({ type: 'join', room: options.room });
+    signal.send({ type: 'join', room: options.room, invite });
   });
 }

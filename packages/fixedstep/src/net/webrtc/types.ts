@@ -4,7 +4,7 @@
  * from the npm registry). The library never imports one: the constructor is injected, so it keeps
  * no runtime dependency and its declarations need no DOM library.
  */
-import type { IceServerConfig } from './signalling.js';
+import type { IceServerConfig } from './signal-messages.js';
 
 /** A session description (offer or answer). */
 export interface SessionDescriptionLike {

@@ -1,0 +1,692 @@
+/**
+ * The room host: connections and rooms by name, with the protections every room kind inherits.
+ * @module
+ */
+import type { Clock } from '../../time/drivers.js';
+import type { Transport } from '../transport.js';
+import { refusalCode, type LeaveReason, type NetErrorCode } from '../wire/common.js';
+import { ProtocolError } from '../wire/error.js';
+import type { WireProtocol } from '../wire/protocol.js';
+import { AddressTally } from './admission.js';
+import { TokenBucket } from './bucket.js';
+import { LivenessClock } from './liveness.js';
+import {
+  HOUSEKEEPING_MS,
+  MAX_EARLY_MESSAGES,
+  roomHostSettings,
+  type RoomHostOptions,
+  type RoomHostSettings,
+} from './options.js';
+import type { Member, Room, SeatRequest } from './room.js';
+import { cryptoU32, newToken } from './tokens.js';
+
+/** The creator address of an adopted room (not counted against any address). */
+export const ADOPTED = '(adopted)';
+
+/** Where a connection comes from, for {@link RoomHost.accept}. */
+export interface ConnectionInfo {
+  /**
+   * The client's address (its IP, or any key: the per-address caps count connections and rooms by
+   * it). Default: one shared key, `"unknown"` — give it whenever you know it.
+   */
+  address?: string;
+  /**
+   * The room the connection's URL names (`/ws/<room>`): its join must be for this room, else it is
+   * dropped (`WRONG_ROOM`). Lets a load balancer route by room without reading the protocol.
+   */
+  room?: string;
+  /**
+   * Whether the transport delivers every message in order or closes (a WebSocket). Default: the
+   * transport's own `reliable`.
+   */
+  reliable?: boolean;
+}
+
+/** Counters of a host. */
+export interface HostStats {
+  connections: number;
+  rooms: number;
+  /** Rooms waiting for players (refreshed every housekeeping round, 250 ms). */
+  waitingRooms: number;
+  /** Distinct client addresses connected. */
+  addresses: number;
+  /** Players and spectators in rooms (refreshed every housekeeping round). */
+  members: number;
+  messagesIn: number;
+  messagesOut: number;
+  bytesIn: number;
+  bytesOut: number;
+  /** Connections dropped for misbehaviour, silence or caps, by code. */
+  dropped: Partial<Record<NetErrorCode, number>>;
+  /** Liveness pings sent to silent members. */
+  probes: number;
+  /** Rooms closed to make way for a new one at capacity (idle or long-waiting ones). */
+  evictions: number;
+  /** Rooms closed because nobody played in them. */
+  idleRooms: number;
+  /** Time the server's updates stalled (not counted as its members' silence), ms. */
+  stalledMs: number;
+}
+
+/** What every host reports. */
+export type HostEvent =
+  | { type: 'room-created'; room: string; game: string; players: number }
+  | { type: 'room-removed'; room: string }
+  | { type: 'room-closed'; room: string; code: NetErrorCode; message: string }
+  | { type: 'join'; room: string; peer: number; slot: number; late: boolean }
+  | { type: 'leave'; room: string; peer: number; reason: LeaveReason }
+  | { type: 'drop'; connection: number; code: NetErrorCode; message: string }
+  | { type: 'internal-error'; connection: number; error: unknown };
+
+/** What a room may ask of its host (`Msg`: its protocol's messages). */
+export interface RoomContext<M extends Member, Msg extends { type: string } = { type: string }> {
+  readonly settings: Readonly<RoomHostSettings>;
+  readonly clock: Clock;
+  /** Encodes and sends a message of the host's protocol. */
+  send(m: M, message: Msg): void;
+  sendBytes(m: M, bytes: Uint8Array): void;
+  /** A fatal error, then the connection is closed. */
+  drop(m: M, code: NetErrorCode, message: string, reason?: LeaveReason): void;
+  /** A violation: the first is told, more than `maxStrikes` drop the connection. */
+  strike(m: M, code: NetErrorCode, message: string): void;
+  /** The member leaves on its own (its seat is not held). */
+  leave(m: M): void;
+  /** How long `m` has been silent at server time `now`, on the responsive clock (ms). */
+  silence(m: M, now: number): number;
+  /** Reports an event of the room (joins, leaves) through the host. */
+  emit(event: HostEvent): void;
+  /** Closes a room: every connection in it is told `code` and closed, and the room removed. */
+  closeRoom(room: Room<M>, code: NetErrorCode, message: string): void;
+  /** A random u32 (seeds, request ids). */
+  readonly randomU32: () => number;
+}
+
+/** The room a join names, and how to make it when it does not exist yet. */
+export interface JoinPlan<R> extends SeatRequest {
+  room: string;
+  /** Makes the room (only called when admission allows a new one), or says why it cannot be. */
+  create: (number: number, tokens: () => Uint8Array) => R | [NetErrorCode, string];
+  /** Why an existing room does not take this join (another game), or undefined. */
+  fits?: (room: R) => [NetErrorCode, string] | undefined;
+  /** Why this join may not make the room (a `qm-` room is made by a match ticket only). */
+  mayCreate?: [NetErrorCode, string] | undefined;
+  /** Told when the join made the room (before it is seated in it). */
+  created?: (room: R) => void;
+}
+
+/**
+ * Connections and rooms by name, with every protection in one place, so each room kind — the
+ * relay's, state sync's, signalling's — inherits them: per-address and total caps on connections
+ * and rooms (at capacity, rooms where nobody plays make way for a new one, the address holding the
+ * most first); a join deadline; token-bucket rates; strikes; liveness judged on the server's
+ * responsive time (its own stalls are not its members' silence); seats held for dropped players;
+ * waiting, idle and empty rooms closed; drain for a graceful shutdown. Transport-agnostic: the
+ * server attaches it to WebSocket connections, tests to simulated links.
+ */
+export abstract class RoomHost<
+  M extends Member,
+  R extends Room<M>,
+  Msg extends { type: string },
+  E extends { type: string } = never,
+> {
+  readonly stats: HostStats = {
+    connections: 0,
+    rooms: 0,
+    waitingRooms: 0,
+    addresses: 0,
+    members: 0,
+    messagesIn: 0,
+    messagesOut: 0,
+    bytesIn: 0,
+    bytesOut: 0,
+    dropped: {},
+    probes: 0,
+    evictions: 0,
+    idleRooms: 0,
+    stalledMs: 0,
+  };
+  readonly clock: Clock;
+  protected readonly settings: RoomHostSettings;
+  protected readonly liveness: LivenessClock;
+  protected readonly rooms = new Map<string, R>();
+  private readonly random: () => number;
+  private readonly members = new Map<number, M>();
+  private readonly connectionTally: AddressTally;
+  private readonly roomTally: AddressTally;
+  private readonly answersPings: boolean;
+  private readonly probes: boolean;
+  private nextMemberId = 1;
+  private nextRoomNumber = 1;
+  private nextProbeId = 1;
+  private lastHousekeeping = -Infinity;
+  private closedHost = false;
+  private drainState: { deadline: number; resolve: () => void; done: Promise<void> } | undefined;
+  /** What rooms get to act on the host. */
+  protected readonly context: RoomContext<M, Msg>;
+
+  constructor(
+    /** The name in option errors, e.g. `Relay`. */
+    who: string,
+    clock: Clock,
+    options: RoomHostOptions,
+    /** The protocol its connections speak. */
+    protected readonly protocol: WireProtocol<Msg, object>,
+    private readonly onEvent: ((e: HostEvent | E) => void) | undefined,
+  ) {
+    this.clock = clock;
+    this.settings = roomHostSettings(who, options);
+    this.random = options.randomU32 ?? cryptoU32;
+    this.liveness = new LivenessClock(this.settings.stallToleranceMs);
+    this.connectionTally = new AddressTally(
+      'connections',
+      this.settings.maxConnectionsPerAddress,
+      this.settings.maxConnections,
+    );
+    this.roomTally = new AddressTally(
+      'rooms',
+      this.settings.maxRoomsPerAddress,
+      this.settings.maxRooms,
+    );
+    this.answersPings = protocol.types.includes('pong');
+    this.probes = protocol.types.includes('ping') && protocol.sender('ping') === 'both';
+    this.context = {
+      settings: this.settings,
+      clock,
+      send: (m, message) => {
+        this.send(m, message);
+      },
+      sendBytes: (m, bytes) => {
+        this.sendBytes(m, bytes);
+      },
+      drop: (m, code, message, reason) => {
+        // A connection replaced by its player's reconnect did nothing wrong: not counted.
+        this.drop(m, code, message, reason, reason !== 'replaced');
+      },
+      strike: (m, code, message) => {
+        this.strike(m, code, message);
+      },
+      leave: (m) => {
+        this.removeMember(m, 'left');
+        m.transport.close('left');
+      },
+      randomU32: () => this.random() >>> 0,
+      silence: (m, now) => this.liveness.at(now) - m.heardAt,
+      emit: (event) => {
+        this.emit(event);
+      },
+      closeRoom: (room, code, message) => {
+        this.closeRoom(room as R, code, message);
+      },
+    };
+  }
+
+  // ------------------------------------------------------------------------------ public
+
+  /**
+   * Take a new connection. `info` says where it comes from (its address, for the per-address caps;
+   * the room its URL names). Returns its id (in drop events), or -1 when it was refused
+   * (`SERVER_FULL`, `ADDRESS_LIMIT`, or `SHUTDOWN` once closed).
+   */
+  accept(transport: Transport, info: ConnectionInfo = {}): number {
+    const now = this.clock.now();
+    const address = info.address ?? 'unknown';
+    const refusal: [NetErrorCode, string] | undefined = this.closedHost
+      ? ['SHUTDOWN', 'server shut down']
+      : this.connectionTally.refusal(address);
+    if (refusal !== undefined) {
+      const [code, message] = refusal;
+      this.count(code);
+      this.emit({ type: 'drop', connection: -1, code, message });
+      transport.send(this.protocol.encode(this.error(code, message, true)));
+      transport.close(`${code}: ${message}`);
+      return -1;
+    }
+    const live = this.liveness.at(now);
+    const bucket = new TokenBucket(this.settings.rate, now);
+    const m = this.createMember(this.nextMemberId++, transport, address, info, bucket, now, live);
+    this.members.set(m.id, m);
+    this.connectionTally.add(address);
+    this.countConnections();
+    transport.onMessage((bytes) => {
+      try {
+        this.onBytes(m, bytes);
+      } catch (error) {
+        // A bug must cost one connection, never the server.
+        this.emit({ type: 'internal-error', connection: m.id, error });
+        this.drop(m, 'INTERNAL', 'internal error');
+      }
+    });
+    transport.onClose(() => {
+      this.removeMember(m, 'closed');
+    });
+    return m.id;
+  }
+
+  /**
+   * Advance to `now`: liveness (probe, then drop silent members), join deadlines, waiting, idle
+   * and empty rooms, every room's own work (ticks, sends), and a drain's progress. Call it every
+   * few milliseconds (the server does, every 8 ms).
+   */
+  update(now = this.clock.now()): void {
+    this.liveness.update(now);
+    this.stats.stalledMs = this.liveness.stalledMs;
+    const housekeeping = now - this.lastHousekeeping >= HOUSEKEEPING_MS;
+    if (housekeeping) {
+      this.lastHousekeeping = now;
+      this.checkLiveness(now);
+      this.checkRooms(now);
+    }
+    for (const room of [...this.rooms.values()]) {
+      try {
+        room.advance(now);
+      } catch (error) {
+        this.roomFailed(room, error);
+        continue;
+      }
+      // Draining: a room whose players have all gone is done.
+      if (this.drainState && !room.hasPlayers && room.creator !== ADOPTED) {
+        this.closeRoom(room, 'SHUTDOWN', 'server shutting down');
+      }
+    }
+    if (housekeeping) this.countRooms();
+    const d = this.drainState;
+    if (d) {
+      if (now >= d.deadline) {
+        for (const room of [...this.rooms.values()]) {
+          this.closeRoom(room, 'SHUTDOWN', 'server shutting down');
+        }
+      }
+      if (this.rooms.size === 0) d.resolve();
+    }
+  }
+
+  /** Whether {@link drain} was called: no new rooms are made. */
+  get draining(): boolean {
+    return this.drainState !== undefined;
+  }
+
+  /**
+   * Graceful shutdown: from now on no room is made (a join that would make one gets `SHUTDOWN`:
+   * the client should try another server); waiting rooms are closed at once; running rooms go on —
+   * reconnects and invited spectators still join them — until their players have all left, or
+   * until `timeoutMs` (default 25 000, inside Kubernetes' 30 s grace period) has passed, when their
+   * members are told `SHUTDOWN`. Resolves when no room is left. {@link update} must keep running.
+   */
+  drain(options: { timeoutMs?: number } = {}): Promise<void> {
+    if (this.drainState) return this.drainState.done;
+    const timeoutMs = options.timeoutMs ?? 25_000;
+    if (!(timeoutMs >= 0)) throw new RangeError(`drain: timeoutMs must be >= 0, got ${timeoutMs}`);
+    let resolve!: () => void;
+    const done = new Promise<void>((r) => (resolve = r));
+    this.drainState = { deadline: this.clock.now() + timeoutMs, resolve, done };
+    for (const room of [...this.rooms.values()]) {
+      if (room.state === 'waiting') this.closeRoom(room, 'SHUTDOWN', 'server shutting down');
+    }
+    this.countRooms();
+    if (this.rooms.size === 0) resolve();
+    return done;
+  }
+
+  /** Close every connection (`SHUTDOWN`) and refuse new ones. */
+  close(): void {
+    this.closedHost = true;
+    for (const m of [...this.members.values()]) {
+      this.drop(m, 'SHUTDOWN', 'server shutting down', 'closed', false);
+    }
+    for (const room of [...this.rooms.values()]) this.removeRoom(room);
+    this.drainState?.resolve();
+  }
+
+  /**
+   * The invite token of a room (what its players get in their welcome), for the server's owner:
+   * e.g. to hand a spectator link to an audience. A secret: anyone with it may watch the room.
+   */
+  invite(name: string): Uint8Array | undefined {
+    return this.rooms.get(name)?.invite.slice();
+  }
+
+  /**
+   * Serves a room made elsewhere (a room serving on its own): registered under its name, not
+   * counted against any address.
+   */
+  protected adopt(room: R): void {
+    this.rooms.set(room.name, room);
+    this.countRooms();
+  }
+
+  /** The names of the rooms, in creation order. */
+  roomNames(): string[] {
+    return [...this.rooms.keys()];
+  }
+
+  // ------------------------------------------------------------------------------ for subclasses
+
+  /** Makes the member object of a new connection. */
+  protected abstract createMember(
+    id: number,
+    transport: Transport,
+    address: string,
+    info: ConnectionInfo,
+    bucket: TokenBucket,
+    now: number,
+    live: number,
+  ): M;
+
+  /**
+   * A message from a connection that has no room yet: a join is handled (typically through
+   * {@link join}) and true returned; anything else returns false (counted, and ignored up to
+   * {@link MAX_EARLY_MESSAGES}: messages may overtake the join on an unordered link).
+   */
+  protected abstract onJoinMessage(m: M, message: Msg, now: number): boolean;
+
+  /** The decode limits of the protocol (default: the protocol's own). */
+  protected decodeLimits(): object | undefined {
+    return undefined;
+  }
+
+  /**
+   * Seats `m` in the room `plan` names — made first if it does not exist and admission allows
+   * (never while draining; at capacity, an idle or long-waiting room of the address holding the
+   * most makes way) — and welcomes it. A refusal drops the connection with its code.
+   */
+  protected join(m: M, plan: JoinPlan<R>, now: number): R | undefined {
+    if (m.urlRoom !== undefined && m.urlRoom !== plan.room) {
+      this.drop(m, 'WRONG_ROOM', `this connection is for room ${m.urlRoom}, not ${plan.room}`);
+      return undefined;
+    }
+    let room = this.rooms.get(plan.room);
+    if (room === undefined) {
+      if (plan.role === 'spectator') {
+        this.drop(m, 'BAD_HELLO', `no room ${plan.room} to watch`);
+        return undefined;
+      }
+      const refusal = plan.mayCreate ?? this.admitRoom(m.address, now);
+      if (refusal !== undefined) {
+        this.drop(m, refusal[0], refusal[1], 'dropped', refusal[0] !== 'SHUTDOWN');
+        return undefined;
+      }
+      const made = plan.create(this.nextRoomNumber++, () => newToken(this.context.randomU32));
+      if (Array.isArray(made)) {
+        this.drop(m, made[0], made[1]);
+        return undefined;
+      }
+      room = made;
+      this.rooms.set(room.name, room);
+      this.roomTally.add(room.creator);
+      this.countRooms();
+      plan.created?.(room);
+    } else {
+      const wrong = plan.fits?.(room);
+      if (wrong !== undefined) {
+        this.drop(m, wrong[0], wrong[1]);
+        return undefined;
+      }
+    }
+    const refusal = room.seat(m, plan, now, this.settings);
+    if (refusal !== undefined) {
+      this.drop(m, refusal[0], refusal[1]);
+      return undefined;
+    }
+    room.emptySince = undefined;
+    m.room = room;
+    m.state = 'joining';
+    room.welcome(m, now);
+    return room;
+  }
+
+  /** Encodes and sends `message`. */
+  protected send(m: M, message: Msg): void {
+    this.sendBytes(m, this.protocol.encode(message));
+  }
+
+  protected sendBytes(m: M, bytes: Uint8Array): void {
+    if (!m.transport.isOpen) return;
+    this.stats.messagesOut++;
+    this.stats.bytesOut += bytes.length;
+    m.transport.send(bytes);
+  }
+
+  /** Sends a fatal error and closes; `count` false for shutdowns and replacements. */
+  protected drop(
+    m: M,
+    code: NetErrorCode,
+    message: string,
+    reason: LeaveReason = 'dropped',
+    count = true,
+  ): void {
+    if (m.state === 'closed') return;
+    if (count) {
+      this.count(code);
+      this.emit({ type: 'drop', connection: m.id, code, message });
+    }
+    this.send(m, this.error(code, message, true));
+    this.removeMember(m, reason);
+    m.transport.close(`${code}: ${message}`);
+  }
+
+  /** A violation: the first is told (not fatal), more than `maxStrikes` drop the connection. */
+  protected strike(m: M, code: NetErrorCode, message: string): void {
+    m.strikes++;
+    if (m.strikes > this.settings.maxStrikes) {
+      this.drop(m, code, `${message} (too many violations)`);
+    } else if (m.strikes === 1) {
+      this.send(m, this.error(code, message, false));
+    }
+  }
+
+  protected emit(e: HostEvent | E): void {
+    this.onEvent?.(e);
+  }
+
+  /** A room's own work threw: close it (`INTERNAL`), keep serving the others. */
+  protected roomFailed(room: R, error: unknown): void {
+    this.emit({ type: 'internal-error', connection: -1, error });
+    this.closeRoom(
+      room,
+      'INTERNAL',
+      `the room stopped: ${error instanceof Error ? error.message : String(error)}`,
+    );
+  }
+
+  /** Tell every connection of the room `code` (fatal), close them, and remove the room. */
+  protected closeRoom(room: R, code: NetErrorCode, message: string): void {
+    if (code !== 'SHUTDOWN') this.emit({ type: 'room-closed', room: room.name, code, message });
+    for (const c of [...room.connections()]) {
+      this.drop(c, code, message, code === 'TIMEOUT' ? 'timeout' : 'closed', code !== 'SHUTDOWN');
+    }
+    this.removeRoom(room);
+  }
+
+  // ------------------------------------------------------------------------------ inside
+
+  private error(code: NetErrorCode, message: string, fatal: boolean): Msg {
+    return { type: 'error', code, fatal, message } as unknown as Msg;
+  }
+
+  private count(code: NetErrorCode): void {
+    this.stats.dropped[code] = (this.stats.dropped[code] ?? 0) + 1;
+  }
+
+  private onBytes(m: M, bytes: Uint8Array): void {
+    if (m.state === 'closed') return;
+    const now = this.clock.now();
+    this.stats.messagesIn++;
+    this.stats.bytesIn += bytes.length;
+    if (!m.bucket.take(bytes.length, now)) {
+      const r = this.settings.rate;
+      this.drop(
+        m,
+        'RATE_LIMIT',
+        `more than ${r.messagesPerSecond} messages (or ${r.bytesPerSecond} bytes) a second`,
+      );
+      return;
+    }
+    let message: Msg;
+    try {
+      const limits = this.decodeLimits();
+      message = this.protocol.decode(bytes, { from: 'client', ...(limits ? { limits } : {}) });
+    } catch (error) {
+      if (!(error instanceof ProtocolError)) throw error;
+      this.drop(m, refusalCode(error, bytes, this.protocol.header), error.message);
+      return;
+    }
+    m.heardAt = this.liveness.at(now);
+    if (message.type === 'ping') {
+      if (this.answersPings) {
+        const ping = message as unknown as { id: number; time: number };
+        this.send(m, {
+          type: 'pong',
+          id: ping.id,
+          time: ping.time,
+          serverTime: now,
+        } as unknown as Msg);
+      }
+      return;
+    }
+    // The answer to a liveness probe: being heard is all.
+    if (message.type === 'pong') return;
+    const room = this.roomOf(m);
+    if (m.state === 'new' || room === undefined) {
+      if (this.onJoinMessage(m, message, now)) return;
+      if (++m.early > MAX_EARLY_MESSAGES) {
+        this.drop(m, 'NOT_IN_ROOM', `${m.early} messages before joining a room`);
+      }
+      return;
+    }
+    room.onMessage(m, message, now);
+  }
+
+  /** The room `m` is seated in, if any. */
+  protected roomOf(m: M): R | undefined {
+    return m.room as R | undefined;
+  }
+
+  /** Takes `m` out of the host and its room; its seat is held if its connection was lost. */
+  protected removeMember(m: M, reason: LeaveReason): void {
+    if (m.state === 'closed') return;
+    const seated = m.state !== 'new';
+    m.state = 'closed';
+    this.members.delete(m.id);
+    this.connectionTally.remove(m.address);
+    this.countConnections();
+    const room = this.roomOf(m);
+    if (room === undefined || !seated) return;
+    const now = this.clock.now();
+    room.vacate(m, reason, now, this.settings.seatHoldMs);
+    room.onLeave(m, reason, now);
+    if (room.empty) room.emptySince ??= now;
+  }
+
+  /** Why a new room from `address` cannot be made, after making way at capacity if it can. */
+  private admitRoom(address: string, now: number): [NetErrorCode, string] | undefined {
+    if (this.drainState) return ['SHUTDOWN', 'server draining: no new rooms here'];
+    const refusal = this.roomTally.refusal(address);
+    if (refusal?.[0] !== 'SERVER_FULL') return refusal;
+    const victim = this.evictable(now);
+    if (victim === undefined) return refusal;
+    this.stats.evictions++;
+    this.closeRoom(victim, 'IDLE', 'the room was closed to make way: nobody was playing in it');
+    return undefined;
+  }
+
+  /**
+   * The room to close at capacity: one nobody has played in for `idleGraceMs`, or still waiting
+   * after `waitingGraceMs`, or empty — of the address holding the most rooms, the idlest first.
+   */
+  private evictable(now: number): R | undefined {
+    const s = this.settings;
+    let best: R | undefined;
+    let bestKey = -Infinity;
+    for (const room of this.rooms.values()) {
+      if (room.creator === ADOPTED) continue;
+      const idle =
+        room.empty ||
+        (room.state === 'running' && now - room.lastPlayAt >= s.idleGraceMs) ||
+        (room.state === 'waiting' && now - room.createdAt >= s.waitingGraceMs);
+      if (!idle) continue;
+      // The address holding the most rooms first, then the room idle longest.
+      const key = this.roomTally.of(room.creator) * 1e12 + (now - room.lastPlayAt);
+      if (key > bestKey) {
+        bestKey = key;
+        best = room;
+      }
+    }
+    return best;
+  }
+
+  private checkLiveness(now: number): void {
+    const s = this.settings;
+    const live = this.liveness.at(now);
+    for (const m of [...this.members.values()]) {
+      const silent = live - m.heardAt;
+      if (m.state === 'new') {
+        if (live - m.acceptedAt > s.helloTimeoutMs) this.drop(m, 'TIMEOUT', 'no join in time');
+        continue;
+      }
+      if (silent >= s.silenceTimeoutMs) {
+        this.drop(m, 'TIMEOUT', `silent for ${Math.round(silent / 1000)} s`, 'timeout');
+      } else if (this.probes && silent >= s.probeAfterMs && live - m.probedAt >= s.probeAfterMs) {
+        m.probedAt = live;
+        this.stats.probes++;
+        this.send(m, { type: 'ping', id: this.nextProbeId++ >>> 0, time: now } as unknown as Msg);
+      }
+    }
+  }
+
+  /** Waiting rooms that never filled, rooms nobody plays in, empty rooms, drained rooms. */
+  private checkRooms(now: number): void {
+    const s = this.settings;
+    for (const room of [...this.rooms.values()]) {
+      // A room serving on its own lives as long as its host.
+      if (room.creator === ADOPTED) continue;
+      if (room.state === 'waiting' && now - room.createdAt >= s.waitingRoomTtlMs) {
+        this.closeRoom(
+          room,
+          'TIMEOUT',
+          `no match: the room waited ${Math.round(s.waitingRoomTtlMs / 1000)} s for players`,
+        );
+      } else if (
+        room.state === 'running' &&
+        room.hasPlayers &&
+        now - room.lastPlayAt >= s.idleRoomTtlMs
+      ) {
+        this.stats.idleRooms++;
+        this.closeRoom(
+          room,
+          'IDLE',
+          `nobody played for ${Math.round(s.idleRoomTtlMs / 1000)} s: the room is closed`,
+        );
+      } else if (room.empty) {
+        room.emptySince ??= now;
+        if (room.state === 'waiting' || now - room.emptySince >= s.emptyRoomTtlMs) {
+          this.removeRoom(room);
+        }
+      }
+    }
+  }
+
+  private removeRoom(room: R): void {
+    if (this.rooms.get(room.name) !== room) return;
+    this.rooms.delete(room.name);
+    if (room.creator !== ADOPTED) this.roomTally.remove(room.creator);
+    this.countRooms();
+    this.emit({ type: 'room-removed', room: room.name });
+  }
+
+  private countConnections(): void {
+    this.stats.connections = this.members.size;
+    this.stats.addresses = this.connectionTally.addresses;
+  }
+
+  private countRooms(): void {
+    this.stats.rooms = this.rooms.size;
+    let waiting = 0;
+    let members = 0;
+    for (const r of this.rooms.values()) {
+      if (r.state === 'waiting') waiting++;
+      members += [...r.members()].length;
+    }
+    this.stats.waitingRooms = waiting;
+    this.stats.members = members;
+  }
+}
