@@ -20,27 +20,31 @@ import {
   type MovementLoop,
   type ScriptedInput,
 } from '@fixedstep/games';
+import {
+  DEFAULT_JITTER,
+  RATES,
+  STEP_MS,
+  type LoopInfo,
+  type Source,
+} from '../movement/movement-lab.js';
 
-export const RATES = [30, 60, 144, 240] as const;
-export type Rate = (typeof RATES)[number];
-export type Source = Rate | 'real';
+// Chapter 2's four displays, step and loops, replayed here from a recording.
+export {
+  DEFAULT_JITTER,
+  RATES,
+  STEP_MS,
+  sourceLabel,
+  type LoopInfo,
+  type Rate,
+  type Source,
+} from '../movement/movement-lab.js';
 
-/** The fixed step, ms: the talk's TIME_STEP. */
-export const STEP_MS = 30;
-export const DEFAULT_JITTER = 0.2;
 /** A recording stops by itself after this long, ms. */
 export const MAX_RECORDING_MS = 30_000;
 /** The divergence chart samples every this many ms of virtual time. */
 export const SAMPLE_MS = 50;
 /** The divergence chart keeps this much history, ms. */
 export const CHART_WINDOW_MS = 20_000;
-
-export interface LoopInfo {
-  readonly id: MovementLoop;
-  readonly title: string;
-  readonly tagline: string;
-  readonly fixed: boolean;
-}
 
 export const LOOPS: readonly LoopInfo[] = [
   {

@@ -41,6 +41,7 @@ import type { SceneCanvas } from '../../ui/canvas.js';
 import { ideaCards, tryCards } from '../../ui/cards.js';
 import { button, group, segmented, slider, toggle, setPressed } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
 import { StepsChart } from '../../ui/steps-chart.js';
@@ -243,20 +244,8 @@ class LoopChapter {
       if (!view.chart && w > 0) view.chart = this.shell.own(new StepsChart(chartHost, color, w));
       else view.chart?.resize(w);
     });
-    return h(
-      'section',
-      {
-        class: 'panel',
-        style: `--accent: ${color}`,
-        'data-panel': spec.id,
-        'aria-labelledby': `panel-${spec.id}`,
-      },
-      h(
-        'header',
-        { class: 'panel-head' },
-        h('h3', { id: `panel-${spec.id}` }, spec.title),
-        h('p', {}, spec.tagline),
-      ),
+    return panel(
+      { ...spec, accent: color },
       h('div', { class: 'scene-wrap' }, scene.canvas, overlay, stall),
       h('dl', { class: 'readouts' }, rows),
       h('p', { class: 'chart-title' }, 'Steps per frame'),

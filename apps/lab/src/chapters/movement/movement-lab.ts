@@ -29,6 +29,11 @@ export type Rate = (typeof RATES)[number];
 /** A run's display: a simulated rate, or the page's own ("real"). */
 export type Source = Rate | 'real';
 
+/** How a run's display is named: `60 Hz`, or `yours` (`yours ≈ 59 Hz` once its rate is known). */
+export function sourceLabel(s: Source, hz = 0): string {
+  return s === 'real' ? (hz > 0 ? `yours ≈ ${hz} Hz` : 'yours') : `${s} Hz`;
+}
+
 /** The fixed step, ms: the talk's TIME_STEP. */
 export const STEP_MS = 30;
 /** The script is generated up to this virtual time. */
