@@ -38,6 +38,7 @@ export {
   type Rate,
   type Source,
 } from '../movement/movement-lab.js';
+import { VirtualLab } from '../../shell/virtual-lab.js';
 
 /** A recording stops by itself after this long, ms. */
 export const MAX_RECORDING_MS = 30_000;
@@ -183,9 +184,7 @@ function maxDistance(points: readonly { x: number; y: number }[]): number {
 export type Mode = 'replay' | 'recording';
 
 /** Both loops on the four simulated displays (and the real one), replaying one recording. */
-export class DebugLab {
-  private time = 0;
-  private current: DebugSettings;
+export class DebugLab extends VirtualLab<DebugSettings> {
   private sim = new Map<MovementLoop, DebugTrack[]>();
   private real = new Map<MovementLoop, DebugTrack>();
   private recorder: InputRecorder | undefined;
@@ -202,16 +201,8 @@ export class DebugLab {
     settings: DebugSettings = defaultDebugSettings(),
     readonly realClock = false,
   ) {
-    this.current = { jitter: settings.jitter, recording: [...settings.recording] };
+    super({ jitter: settings.jitter, recording: [...settings.recording] });
     this.build();
-  }
-
-  get settings(): Readonly<DebugSettings> {
-    return this.current;
-  }
-
-  get timeMs(): number {
-    return this.time;
   }
 
   get mode(): Mode {
@@ -253,10 +244,6 @@ export class DebugLab {
       return;
     }
     this.advanceSim(tMs);
-  }
-
-  advanceBy(ms: number): void {
-    this.advanceTo(this.time + ms);
   }
 
   /** Real clock: a frame of the page at `tMs`; the simulated displays keep up. */
