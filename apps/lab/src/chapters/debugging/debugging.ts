@@ -31,7 +31,7 @@ import { JumperButtons, demoRecording, type MovementLoop } from '@fixedstep/game
 import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { Chart } from '../../ui/chart.js';
-import { button, group, slider } from '../../ui/controls.js';
+import { button, group, jitterSlider } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
 import { dotRowHead, headRow, legendItem, panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
@@ -137,17 +137,11 @@ class DebuggingChapter {
       this.afterRestart();
     });
     this.demoBtn.title = 'Replay the built-in recording';
-    this.jitter = slider({
+    this.jitter = jitterSlider({
       id: 'debug-jitter',
-      label: 'Jitter',
-      testId: 'control-jitter',
-      min: 0,
-      max: 30,
-      step: 1,
-      value: Math.round(DEFAULT_JITTER * 100),
-      text: (v) => `±${v} %`,
-      onChange: (v) => {
-        this.lab.setJitter(v / 100);
+      percent: Math.round(DEFAULT_JITTER * 100),
+      onChange: (jitter) => {
+        this.lab.setJitter(jitter);
       },
     });
     this.timeline = shell.canvas({

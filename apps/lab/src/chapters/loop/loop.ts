@@ -39,7 +39,7 @@ import {
 } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { ideaCards, tryCards } from '../../ui/cards.js';
-import { button, group, segmented, slider, toggle, setPressed } from '../../ui/controls.js';
+import { button, group, jitterSlider, segmented, toggle, setPressed } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
 import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
@@ -131,17 +131,12 @@ class LoopChapter {
         this.lab.update({ hz });
       },
     });
-    this.jitter = slider({
+    this.jitter = jitterSlider({
       id: 'jitter',
-      label: 'Jitter',
-      testId: 'control-jitter',
-      min: 0,
-      max: 30,
-      step: 1,
-      value: 0,
+      percent: 0,
       text: (v) => `${v} %`,
-      onChange: (v) => {
-        this.lab.update({ jitter: v / 100 });
+      onChange: (jitter) => {
+        this.lab.update({ jitter });
       },
     });
     this.hitchBtn = button('2 s hitch', 'control-hitch', () => {

@@ -30,7 +30,7 @@ import type { MovementLoop } from '@fixedstep/games';
 import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { Chart } from '../../ui/chart.js';
-import { button, group, slider } from '../../ui/controls.js';
+import { button, group, jitterSlider } from '../../ui/controls.js';
 import { h, setText } from '../../ui/dom.js';
 import { dotRowHead, headRow, legendItem, panel } from '../../ui/panel.js';
 import { Readout, rateColor } from '../../ui/readout.js';
@@ -113,17 +113,11 @@ class MovementChapter {
       driver: { maxRealGapMs: 200 },
     });
     const shell = this.shell;
-    this.jitter = slider({
+    this.jitter = jitterSlider({
       id: 'movement-jitter',
-      label: 'Jitter',
-      testId: 'control-jitter',
-      min: 0,
-      max: 30,
-      step: 1,
-      value: Math.round(DEFAULT_JITTER * 100),
-      text: (v) => `±${v} %`,
-      onChange: (v) => {
-        this.lab.update({ jitter: v / 100 });
+      percent: Math.round(DEFAULT_JITTER * 100),
+      onChange: (jitter) => {
+        this.lab.update({ jitter });
       },
     });
     this.jitter.input.title = 'How much each frame’s length varies, as a share of the period';
