@@ -5,31 +5,22 @@
  * the reader goes on to the next chapter (each one is torn down). A chapter is tested here the
  * moment it is registered.
  */
-import { mkdtempSync, rmSync } from 'node:fs';
-import { tmpdir } from 'node:os';
 import path from 'node:path';
-import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import { describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
-import { startServer, type RunningServer } from '@fixedstep/server';
-import { openStore } from '../packages/server/src/store/store.js';
 import { CHAPTERS } from '../apps/lab/src/chapters.js';
-import { dist, horizontalOverflow, phonePage, shots, useLab, watch } from './harness.js';
+import {
+  horizontalOverflow,
+  phonePage,
+  shots,
+  useHighscoreServer,
+  useLab,
+  watch,
+} from './harness.js';
 
 const lab = useLab();
 /** The lab as `fixedstep serve` serves it: with the highscore API the game chapters read. */
-let api: RunningServer;
-let dataDir: string;
-
-beforeAll(async () => {
-  dataDir = mkdtempSync(path.join(tmpdir(), 'fixedstep-chapters-e2e-'));
-  api = await startServer({ root: dist, port: 0, store: openStore({ dataDir }) });
-  await api.storeReady;
-});
-
-afterAll(async () => {
-  await api.close();
-  rmSync(dataDir, { recursive: true, force: true });
-});
+const api = useHighscoreServer('chapters');
 
 /** Open `id`'s chapter and wait until it has drawn a few animation frames. */
 async function open(page: Page, id: string, title: string): Promise<void> {

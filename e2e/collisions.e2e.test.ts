@@ -3,36 +3,14 @@
  * display, so every number is exact. The talk's claim: with a variable Δt bodies go through a
  * wall that a fixed step keeps them out of, and continuous detection lets none through.
  */
-import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import type { Page } from 'playwright-core';
-import {
-  freshRun,
-  horizontalOverflow,
-  num,
-  phonePage,
-  readouts,
-  realClockRuns,
-  shots,
-  skip,
-  useLab,
-  watch,
-} from './harness.js';
+import { expectFits, num, readouts, realClockRuns, shoot, skip, useChapter } from './harness.js';
 
-const lab = useLab();
-
-async function open(page: Page): Promise<void> {
-  await page.goto(`${lab.server.url}#/collisions`);
-  await expect.poll(() => page.title()).toBe('3. Collisions — fixedstep lab');
-  await page.getByTestId('readout-variable-fired').waitFor();
-  await freshRun(page);
-}
+const chapter = useChapter('collisions', '3. Collisions — fixedstep lab', 'readout-variable-fired');
 
 describe('chapter 3, collisions', () => {
   it('tunnels under variable Δt, not under a fixed step, never with CCD', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
-    const problems = watch(page);
-    await open(page);
+    const { page, problems } = await chapter.openFresh();
     await skip(page, 2);
     const r = await readouts(page);
     expect(r['readout-clock']).toBe('10000');
@@ -54,7 +32,7 @@ describe('chapter 3, collisions', () => {
     expect(num(withCcd, 'variable-ccd-tunnelled')).toBe(0);
     expect(withCcd['readout-variable-tunnelled']).toBe(r['readout-variable-tunnelled']);
     await page.getByTestId('control-ccd').click();
-    await page.screenshot({ path: path.join(shots, 'collisions.png'), fullPage: true });
+    await shoot(page, 'collisions');
 
     // The talk's rule exactly (w = v·dt = 1.8 m): detected, yet ~44 % pushed through.
     await page.getByTestId('control-wall').fill('1.8');
@@ -85,9 +63,7 @@ describe('chapter 3, collisions', () => {
   });
 
   it('takes every click on the chart, and each experiment does what it says', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
-    const problems = watch(page);
-    await open(page);
+    const { page, problems } = await chapter.openFresh();
     await skip(page);
 
     // Four clicks in turn, the mouse moving between them inside the chart: each picks its
@@ -176,11 +152,9 @@ describe('chapter 3, collisions', () => {
   });
 
   it('fits a phone screen and works from the keyboard', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
-    await open(page);
+    const { page, problems } = await chapter.openFresh('phone');
     await skip(page);
-    await page.screenshot({ path: path.join(shots, 'collisions-phone.png'), fullPage: true });
-    expect(await horizontalOverflow(page)).toBe(0);
+    await expectFits(page, 'collisions-phone');
 
     // A slider moves with the arrow keys: 60 → 61 m/s, one step is then 1.83 m.
     await page.getByTestId('control-speed').focus();
@@ -192,6 +166,6 @@ describe('chapter 3, collisions', () => {
       .poll(() => page.getByTestId('readout-clock').getAttribute('data-value'))
       .toBe('10000');
     expect(problems).toEqual([]);
-    await context.close();
+    await page.context().close();
   });
 });

@@ -5,20 +5,14 @@
  */
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import {
-  freshRun,
-  horizontalOverflow,
-  num,
-  phonePage,
-  readouts,
-  shots,
-  skip,
-  useLab,
-  watch,
-} from './harness.js';
+import { expectFits, freshRun, num, readouts, shoot, shots, skip, useChapter } from './harness.js';
 
 const RATES = [30, 60, 144, 240];
-const lab = useLab();
+const chapter = useChapter(
+  'debugging',
+  '7. Debugging — fixedstep lab',
+  'readout-fixed-hashes-equal',
+);
 
 function hashes(r: Record<string, string>, loop: string): string[] {
   return RATES.map((hz) => r[`readout-${loop}-${hz}-hash`] ?? '');
@@ -26,17 +20,13 @@ function hashes(r: Record<string, string>, loop: string): string[] {
 
 describe('chapter 7, debugging', () => {
   it('shows one hash per tick under a fixed step and four under a variable Δt', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
-    const problems = watch(page);
-    await page.goto(`${lab.server.url}#/debugging`);
-    await expect.poll(() => page.title()).toBe('7. Debugging — fixedstep lab');
-    await page.getByTestId('readout-fixed-hashes-equal').waitFor();
+    const { page, problems } = await chapter.open();
     expect(await page.getByTestId('guarantee').textContent()).toContain('every display rate');
 
     await freshRun(page);
     await skip(page);
     const r = await readouts(page);
-    await page.screenshot({ path: path.join(shots, 'debugging.png'), fullPage: true });
+    await shoot(page, 'debugging');
     expect(r['readout-fixed-hashes-equal']).toBe('true');
     expect(r['readout-variable-hashes-equal']).toBe('false');
     const fixed = hashes(r, 'fixed');
@@ -72,10 +62,7 @@ describe('chapter 7, debugging', () => {
   });
 
   it('records inputs from the keyboard and replays them on every display', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 860 } });
-    const problems = watch(page);
-    await page.goto(`${lab.server.url}#/debugging`);
-    await page.getByTestId('readout-fixed-hashes-equal').waitFor();
+    const { page, problems } = await chapter.open({ width: 1280, height: 860 });
 
     // R starts a recording (and plays); the pad buttons come alive.
     await page.keyboard.press('KeyR');
@@ -124,15 +111,11 @@ describe('chapter 7, debugging', () => {
   });
 
   it('fits a phone screen', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
-    await page.goto(`${lab.server.url}#/debugging`);
-    await page.getByTestId('readout-fixed-hashes-equal').waitFor();
-    await freshRun(page);
+    const { page, problems } = await chapter.openFresh('phone');
     await skip(page);
-    await page.screenshot({ path: path.join(shots, 'debugging-phone.png'), fullPage: true });
-    expect(await horizontalOverflow(page)).toBe(0);
+    await expectFits(page, 'debugging-phone');
     expect((await readouts(page))['readout-fixed-hashes-equal']).toBe('true');
     expect(problems).toEqual([]);
-    await context.close();
+    await page.context().close();
   });
 });

@@ -1,6 +1,7 @@
 /**
  * The examples as a user runs them: `examples/coin-dash` and the Phaser 4, PixiJS 8 and three.js
- * recipes. Each is copied outside the repository, given the packed `fixedstep` tarball and its own
+ * recipes. Each is copied outside the repository (the recipes with the game they share,
+ * examples/shared, beside them), given the packed `fixedstep` tarball and its own
  * dependencies (the engine, TypeScript, Vite) with `npm install`, type-checked by its own
  * tsconfig, built by its own Vite, served, and played in headless Chromium on a simulated display:
  * Playwright's clock fakes `performance.now()` and timers, and an init script turns
@@ -154,6 +155,9 @@ beforeAll(async () => {
   const tarballs = path.join(scratch, 'tarballs');
   await mkdir(tarballs);
   tarball = (await packWorkspaces(['packages/fixedstep'], tarballs)).get('fixedstep')!.tarball;
+  // The recipes' shared game, beside them as in examples/: their `prepare` script (which
+  // `npm install` runs) copies it into their src/.
+  await cp(path.join(repo, 'examples/shared'), path.join(scratch, 'shared'), { recursive: true });
   // Installs wait on the network and the disk, builds on the CPU: start them all at once.
   for (const e of EXAMPLES) {
     const p = prepare(e.name);

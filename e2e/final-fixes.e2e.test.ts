@@ -2,35 +2,21 @@
  * Chapter 8 in a real browser: a hitch on a slow machine without the clamp (the spiral of death,
  * on a simulated display), with it and with FixedLoop; and a clock that jumps backwards.
  */
-import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import {
-  freshRun,
-  horizontalOverflow,
-  num,
-  phonePage,
-  readouts,
-  realClockRuns,
-  shots,
-  skip,
-  useLab,
-  watch,
-} from './harness.js';
+import { expectFits, num, readouts, realClockRuns, shoot, skip, useChapter } from './harness.js';
 
-const lab = useLab();
+const chapter = useChapter(
+  'final-fixes',
+  '8. Final fixes — fixedstep lab',
+  'readout-noclamp-max-steps',
+);
 
 describe('chapter 8, final fixes', () => {
   it('spirals without the clamp, stays bounded with it, and shrugs off a clock set back', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
-    const problems = watch(page);
-    await page.goto(`${lab.server.url}#/final-fixes`);
-    await expect.poll(() => page.title()).toBe('8. Final fixes — fixedstep lab');
-    await page.getByTestId('readout-noclamp-max-steps').waitFor();
-
-    await freshRun(page);
+    const { page, problems } = await chapter.openFresh();
     await skip(page, 3); // t = 15 s
     const r = await readouts(page);
-    await page.screenshot({ path: path.join(shots, 'final-fixes.png'), fullPage: true });
+    await shoot(page, 'final-fixes');
 
     // The slides' loop: each frame owes more than the last, until a frame would hang the page.
     expect(num(r, 'noclamp-max-steps')).toBeGreaterThan(num(r, 'clamp-max-steps'));
@@ -86,15 +72,11 @@ describe('chapter 8, final fixes', () => {
   });
 
   it('fits a phone screen', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
-    await page.goto(`${lab.server.url}#/final-fixes`);
-    await page.getByTestId('readout-noclamp-max-steps').waitFor();
-    await freshRun(page);
+    const { page, problems } = await chapter.openFresh('phone');
     await skip(page, 3);
-    await page.screenshot({ path: path.join(shots, 'final-fixes-phone.png'), fullPage: true });
-    expect(await horizontalOverflow(page)).toBe(0);
+    await expectFits(page, 'final-fixes-phone');
     expect((await readouts(page))['readout-noclamp-stalled']).toBe('true');
     expect(problems).toEqual([]);
-    await context.close();
+    await page.context().close();
   });
 });

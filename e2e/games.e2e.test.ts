@@ -4,48 +4,31 @@
  * played game's replay is submitted to the highscore server (accepted with a rank; refused with a
  * faked score) and watched: the replay shows the live game's hash at the same tick.
  */
-import { mkdtempSync, rmSync } from 'node:fs';
-import { tmpdir } from 'node:os';
 import path from 'node:path';
-import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import { describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
-import { startServer, type RunningServer } from '@fixedstep/server';
-import { openStore } from '../packages/server/src/store/store.js';
 import {
-  dist,
-  horizontalOverflow,
+  expectFits,
   num,
+  pause,
   phonePage,
   readouts,
+  shoot,
   shots,
+  useHighscoreServer,
   useLab,
+  value,
   watch,
 } from './harness.js';
 
 const lab = useLab();
-let api: RunningServer;
-let dataDir: string;
-
-beforeAll(async () => {
-  dataDir = mkdtempSync(path.join(tmpdir(), 'fixedstep-games-e2e-'));
-  api = await startServer({ root: dist, port: 0, store: openStore({ dataDir }) });
-  await api.storeReady;
-});
-
-afterAll(async () => {
-  await api.close();
-  rmSync(dataDir, { recursive: true, force: true });
-});
+const api = useHighscoreServer('games');
 
 async function openGame(page: Page, query: string): Promise<void> {
   await page.goto(`${api.url}#/games?${query}`);
   await expect.poll(() => page.title()).toBe('9. Games — fixedstep lab');
   await page.getByTestId('canvas-game').waitFor();
   await page.getByTestId('readout-tick').waitFor();
-}
-
-async function value(page: Page, testId: string): Promise<string> {
-  return (await page.getByTestId(testId).getAttribute('data-value')) ?? '';
 }
 
 async function skip(page: Page, times: number): Promise<void> {
@@ -71,12 +54,6 @@ async function showGame(page: Page): Promise<void> {
   await page.locator('.play').evaluate((el) => {
     el.scrollIntoView({ block: 'start' });
   });
-}
-
-async function pause(page: Page): Promise<void> {
-  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
-    await page.getByTestId('control-pause').click();
-  }
 }
 
 describe('chapter 9, games', () => {
@@ -314,7 +291,7 @@ describe('chapter 9, games', () => {
     await expect
       .poll(() => page.locator('.hs-table tbody tr').first().textContent())
       .toContain('e2e after');
-    await page.screenshot({ path: path.join(shots, 'games-after.png'), fullPage: true });
+    await shoot(page, 'games-after');
 
     // The replay of the whole game, at the live game's tick, has the live game's hash.
     await page.getByTestId('control-watch-replay').click();
@@ -377,8 +354,7 @@ describe('chapter 9, games', () => {
     await page.getByTestId('control-bot').click();
     await skip(page, 1);
     await pause(page);
-    await page.screenshot({ path: path.join(shots, 'games-phone.png'), fullPage: true });
-    expect(await horizontalOverflow(page)).toBe(0);
+    await expectFits(page, 'games-phone');
     expect(problems).toEqual([]);
     await context.close();
   });

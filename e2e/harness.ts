@@ -3,12 +3,14 @@
  * port, headless Chromium, and helpers to read a chapter's readouts and catch console problems.
  * Every chapter's test file calls {@link useLab} once at its top level.
  */
-import { existsSync, mkdirSync } from 'node:fs';
+import { existsSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { afterAll, beforeAll, expect } from 'vitest';
 import { chromium, type Browser, type BrowserContext, type Page } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/server';
+import { openStore } from '../packages/server/src/store/store.js';
 
 const repo = fileURLToPath(new URL('..', import.meta.url));
 export const dist = path.join(repo, 'apps/lab/dist');
@@ -54,6 +56,103 @@ export function useLab(): Lab {
   return lab;
 }
 
+/**
+ * A second server of the built lab, with the highscore API on a store in a temporary folder (named
+ * after `name`), started before the file's tests and stopped (its folder removed) after: the game
+ * and replay chapters read their tables from it. Its `url` is there once the tests run.
+ */
+export function useHighscoreServer(name: string): { readonly url: string } {
+  let server: RunningServer | undefined;
+  let dataDir = '';
+  beforeAll(async () => {
+    dataDir = mkdtempSync(path.join(tmpdir(), `fixedstep-${name}-e2e-`));
+    server = await startServer({ root: dist, port: 0, store: openStore({ dataDir }) });
+    // The chapters ask for their table on load: the store must be open (until then it answers 503).
+    await server.storeReady;
+  });
+  afterAll(async () => {
+    await server?.close();
+    rmSync(dataDir, { recursive: true, force: true });
+  });
+  return {
+    get url(): string {
+      if (server === undefined) throw new Error('the highscore server is not started yet');
+      return server.url;
+    },
+  };
+}
+
+/** A page's viewport in CSS px. */
+export interface Viewport {
+  width: number;
+  height: number;
+}
+
+/** One chapter of the lab as its test file opens it (see {@link useChapter}). */
+export interface Chapter {
+  /** The lab the chapter is served from. */
+  readonly lab: Lab;
+  /** Go to the chapter on `page` and wait until it is mounted (its title, then its readout). */
+  goto(page: Page): Promise<void>;
+  /**
+   * A watched page of `device` (a laptop's 1440 × 900 unless told; `'phone'`: {@link phonePage}),
+   * still blank. Close it with `page.context().close()`.
+   */
+  newPage(device?: Device): Promise<{ page: Page; problems: string[] }>;
+  /** {@link Chapter.newPage}, then {@link Chapter.goto}: the page on the mounted chapter. */
+  open(device?: Device): Promise<{ page: Page; problems: string[] }>;
+  /** {@link Chapter.open}, then {@link freshRun}: paused, restarted, the clock at 0. */
+  openFresh(device?: Device): Promise<{ page: Page; problems: string[] }>;
+}
+
+/** A page's viewport in CSS px, or `'phone'` for {@link phonePage}'s. */
+export type Device = Viewport | 'phone';
+
+/**
+ * {@link useLab} for a file that tests one chapter: the chapter at `#/route`, whose document title
+ * is `title`, is mounted once the element with test id `ready` is there.
+ */
+export function useChapter(route: string, title: string, ready: string): Chapter {
+  const lab = useLab();
+  const goto = async (page: Page): Promise<void> => {
+    await page.goto(`${lab.server.url}#/${route}`);
+    await expect.poll(() => page.title()).toBe(title);
+    await page.getByTestId(ready).waitFor();
+  };
+  const newPage = async (device: Device = { width: 1440, height: 900 }) => {
+    if (device === 'phone') return phonePage(lab.browser);
+    const page = await lab.browser.newPage({ viewport: device });
+    return { page, problems: watch(page) };
+  };
+  const open = async (device?: Device) => {
+    const opened = await newPage(device);
+    await goto(opened.page);
+    return opened;
+  };
+  return {
+    lab,
+    goto,
+    newPage,
+    open,
+    async openFresh(device) {
+      const opened = await open(device);
+      await freshRun(opened.page);
+      return opened;
+    },
+  };
+}
+
+/** A full-page screenshot of `page` to `name`.png in {@link shots}. */
+export async function shoot(page: Page, name: string): Promise<void> {
+  await page.screenshot({ path: path.join(shots, `${name}.png`), fullPage: true });
+}
+
+/** A full-page screenshot to `name`.png, and the page fits its window: no sideways scrolling. */
+export async function expectFits(page: Page, name: string): Promise<void> {
+  await shoot(page, name);
+  expect(await horizontalOverflow(page)).toBe(0);
+}
+
 /** Every readout on the page: test id → data-value. */
 export async function readouts(page: Page): Promise<Record<string, string>> {
   return page.evaluate(() => {
@@ -84,16 +183,26 @@ export function watch(page: Page): string[] {
   return problems;
 }
 
+/** The `data-value` of the element with test id `testId` ('' when it has none). */
+export async function value(page: Page, testId: string): Promise<string> {
+  return (await page.getByTestId(testId).getAttribute('data-value')) ?? '';
+}
+
 /** The lab's virtual clock in ms (every chapter shows it as `readout-clock`). */
 async function clock(page: Page): Promise<number> {
-  return Number(await page.getByTestId('readout-clock').getAttribute('data-value'));
+  return Number(await value(page, 'readout-clock'));
+}
+
+/** Pause the chapter unless it is paused already. */
+export async function pause(page: Page): Promise<void> {
+  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
+    await page.getByTestId('control-pause').click();
+  }
 }
 
 /** Pause the chapter, optionally choose a display rate, and restart: the clock stops at exactly 0. */
 export async function freshRun(page: Page, hz?: number): Promise<void> {
-  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
-    await page.getByTestId('control-pause').click();
-  }
+  await pause(page);
   if (hz !== undefined) await page.getByTestId(`control-hz-${String(hz)}`).click();
   await page.getByTestId('control-restart').click();
   await expect.poll(() => clock(page)).toBe(0);

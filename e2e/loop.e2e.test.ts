@@ -3,32 +3,25 @@
  * its own controls. The simulated display makes every number exact, so the assertions are on
  * numbers, never on timing.
  */
-import path from 'node:path';
 import { describe, expect, it } from 'vitest';
 import {
+  expectFits,
   freshRun,
-  horizontalOverflow,
   num,
-  phonePage,
   readouts,
   realClockRuns,
-  shots,
+  shoot,
   skip,
-  useLab,
-  watch,
+  useChapter,
 } from './harness.js';
 
 const FIXED = ['fixed-naive', 'fixed-final', 'fixed'] as const;
 
-const lab = useLab();
+const chapter = useChapter('loop', '1. The loop — fixedstep lab', 'readout-fixed-hash');
 
 describe('chapter 1, the loop', () => {
   it('shows the talk’s contrasts in its numbers at 60 and 144 Hz', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
-    const problems = watch(page);
-    await page.goto(`${lab.server.url}#/loop`);
-    await expect.poll(() => page.title()).toBe('1. The loop — fixedstep lab');
-    await page.getByTestId('readout-fixed-hash').waitFor();
+    const { page, problems } = await chapter.open();
     await expect
       .poll(() => page.getByTestId('readout-fixed-hash').getAttribute('data-value'))
       .toMatch(/^[0-9a-f]{16}$/);
@@ -36,12 +29,12 @@ describe('chapter 1, the loop', () => {
     await freshRun(page, 60);
     await skip(page);
     const at60 = await readouts(page);
-    await page.screenshot({ path: path.join(shots, 'loop-60hz.png'), fullPage: true });
+    await shoot(page, 'loop-60hz');
 
     await freshRun(page, 144);
     await skip(page);
     const at144 = await readouts(page);
-    await page.screenshot({ path: path.join(shots, 'loop-144hz.png'), fullPage: true });
+    await shoot(page, 'loop-144hz');
 
     // Both runs are at exactly 5 s of virtual time.
     expect(at60['readout-clock']).toBe('5000');
@@ -82,10 +75,7 @@ describe('chapter 1, the loop', () => {
   });
 
   it('shows what a hitch, a hidden tab and a slow machine do to each loop', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 800 } });
-    const problems = watch(page);
-    await page.goto(`${lab.server.url}#/loop`);
-    await page.getByTestId('readout-fixed-hash').waitFor();
+    const { page, problems } = await chapter.open({ width: 1280, height: 800 });
 
     // A 2 s hitch at 5 s.
     await freshRun(page, 60);
@@ -134,10 +124,7 @@ describe('chapter 1, the loop', () => {
   });
 
   it('sets up each “Things to try” card afresh, in page order and after the others', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
-    const problems = watch(page);
-    await page.goto(`${lab.server.url}#/loop`);
-    await page.getByTestId('readout-fixed-hash').waitFor();
+    const { page, problems } = await chapter.open();
     const cards = page.locator('.experiment-list button');
     expect(await cards.count()).toBe(5);
     const pressed = (id: string) => page.getByTestId(id).getAttribute('aria-pressed');
@@ -214,13 +201,10 @@ describe('chapter 1, the loop', () => {
   });
 
   it('fits a phone screen and works from the keyboard', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
-    await page.goto(`${lab.server.url}#/loop`);
-    await page.getByTestId('readout-fixed-hash').waitFor();
+    const { page, problems } = await chapter.open('phone');
     await freshRun(page, 144);
     await skip(page);
-    await page.screenshot({ path: path.join(shots, 'loop-phone.png'), fullPage: true });
-    expect(await horizontalOverflow(page)).toBe(0);
+    await expectFits(page, 'loop-phone');
 
     // The skip button works from the keyboard.
     await page.getByTestId('control-skip').focus();
@@ -230,12 +214,12 @@ describe('chapter 1, the loop', () => {
       .toBe('10000');
 
     // Deep links reach other chapters; an unknown chapter says so instead of failing.
-    await page.goto(`${lab.server.url}#/network`);
+    await page.goto(`${chapter.lab.server.url}#/network`);
     await expect.poll(() => page.locator('main h1').textContent()).toBe('Network');
     expect(await page.locator('main .eyebrow').textContent()).toBe('Chapter 6');
-    await page.goto(`${lab.server.url}#/no-such-chapter`);
+    await page.goto(`${chapter.lab.server.url}#/no-such-chapter`);
     await expect.poll(() => page.locator('main h1').textContent()).toBe('No such chapter');
     expect(problems).toEqual([]);
-    await context.close();
+    await page.context().close();
   });
 });

@@ -2,35 +2,18 @@
  * Chapter 2 in a real browser: the same jump on four simulated displays, under a variable Δt and
  * under a fixed step. The simulated displays make every number exact.
  */
-import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import {
-  freshRun,
-  horizontalOverflow,
-  num,
-  phonePage,
-  readouts,
-  shots,
-  skip,
-  useLab,
-  watch,
-} from './harness.js';
+import { expectFits, num, readouts, shoot, skip, useChapter } from './harness.js';
 
 const RATES = [30, 60, 144, 240];
-const lab = useLab();
+const chapter = useChapter('movement', '2. Movement — fixedstep lab', 'readout-fixed-apex-spread');
 
 describe('chapter 2, movement', () => {
   it('fans the variable-Δt jumps out and lays the fixed-step jumps on top of each other', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
-    const problems = watch(page);
-    await page.goto(`${lab.server.url}#/movement`);
-    await expect.poll(() => page.title()).toBe('2. Movement — fixedstep lab');
-    await page.getByTestId('readout-fixed-apex-spread').waitFor();
-
-    await freshRun(page);
+    const { page, problems } = await chapter.openFresh();
     await skip(page);
     const r = await readouts(page);
-    await page.screenshot({ path: path.join(shots, 'movement.png'), fullPage: true });
+    await shoot(page, 'movement');
 
     // The second jump (two 2.5 s rounds) is shown under both loops.
     expect(num(r, 'variable-jump')).toBe(2);
@@ -82,20 +65,16 @@ describe('chapter 2, movement', () => {
   });
 
   it('fits a phone screen and works from the keyboard', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
-    await page.goto(`${lab.server.url}#/movement`);
-    await page.getByTestId('readout-fixed-apex-spread').waitFor();
-    await freshRun(page);
+    const { page, problems } = await chapter.openFresh('phone');
     await page.getByTestId('control-skip').focus();
     await page.keyboard.press('Enter');
     await expect
       .poll(() => page.getByTestId('readout-clock').getAttribute('data-value'))
       .toBe('5000');
-    await page.screenshot({ path: path.join(shots, 'movement-phone.png'), fullPage: true });
-    expect(await horizontalOverflow(page)).toBe(0);
+    await expectFits(page, 'movement-phone');
     const r = await readouts(page);
     expect(num(r, 'fixed-landing-spread')).toBe(0);
     expect(problems).toEqual([]);
-    await context.close();
+    await page.context().close();
   });
 });

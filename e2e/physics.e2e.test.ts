@@ -5,40 +5,27 @@
  */
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import type { Page } from 'playwright-core';
 import {
-  freshRun,
-  horizontalOverflow,
+  expectFits,
   num,
-  phonePage,
+  pause,
   readouts,
   realClockRuns,
   shots,
+  shoot,
   skip,
-  useLab,
-  watch,
+  useChapter,
 } from './harness.js';
 
-const lab = useLab();
-
-async function open(page: Page): Promise<void> {
-  await page.goto(`${lab.server.url}#/physics`);
-  await expect.poll(() => page.title()).toBe('4. Physics — fixedstep lab');
-  await page.getByTestId('readout-explicit-euler-energy-ratio').waitFor();
-  await freshRun(page);
-}
-
-async function pause(page: Page): Promise<void> {
-  if ((await page.getByTestId('control-pause').getAttribute('aria-pressed')) !== 'true') {
-    await page.getByTestId('control-pause').click();
-  }
-}
+const chapter = useChapter(
+  'physics',
+  '4. Physics — fixedstep lab',
+  'readout-explicit-euler-energy-ratio',
+);
 
 describe('chapter 4, physics', () => {
   it('explodes explicit Euler’s spring at 0.03 s while velocity Verlet keeps its energy', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
-    const problems = watch(page);
-    await open(page);
+    const { page, problems } = await chapter.openFresh();
     await skip(page, 2);
     const r = await readouts(page);
     expect(r['readout-clock']).toBe('10000');
@@ -56,7 +43,7 @@ describe('chapter 4, physics', () => {
     expect(r['readout-backward-euler-state']).toBe('damped');
     expect(r['readout-rope-state']).toBe('swinging');
     expect(num(r, 'rope-pokes')).toBe(1);
-    await page.screenshot({ path: path.join(shots, 'physics.png'), fullPage: true });
+    await shoot(page, 'physics');
 
     // Past ω·dt = 2 (k = 5000 N/m): the symplectic methods explode; RK4 (inside its 2√2) and
     // backward Euler stay bounded but drain the motion, so both read "damped".
@@ -103,9 +90,7 @@ describe('chapter 4, physics', () => {
   });
 
   it('each "Things to try" does what its text says, in any order', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
-    const problems = watch(page);
-    await open(page);
+    const { page, problems } = await chapter.openFresh({ width: 1280, height: 900 });
     const tryIt = async (name: string) => {
       await page.getByRole('button', { name, exact: true }).click();
     };
@@ -148,9 +133,7 @@ describe('chapter 4, physics', () => {
   });
 
   it('a hitch breaks the talk’s spring under a variable Δt, not under the fixed step', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
-    const problems = watch(page);
-    await open(page);
+    const { page, problems } = await chapter.openFresh({ width: 1280, height: 900 });
     await skip(page);
     let r = await readouts(page);
     expect(num(r, 'hitch-variable-omega-dt')).toBeLessThan(0.5);
@@ -172,17 +155,15 @@ describe('chapter 4, physics', () => {
   });
 
   it('fits a phone screen', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
-    await open(page);
+    const { page, problems } = await chapter.openFresh('phone');
     await skip(page, 2);
-    await page.screenshot({ path: path.join(shots, 'physics-phone.png'), fullPage: true });
-    expect(await horizontalOverflow(page)).toBe(0);
+    await expectFits(page, 'physics-phone');
     // A tap on the rope pokes it.
     const rope = page.getByTestId('canvas-rope');
     await rope.scrollIntoViewIfNeeded();
     await rope.tap();
     await expect.poll(async () => num(await readouts(page), 'rope-pokes')).toBe(2);
     expect(problems).toEqual([]);
-    await context.close();
+    await page.context().close();
   });
 });

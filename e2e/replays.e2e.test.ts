@@ -5,44 +5,26 @@
  * the one in the file); the file downloads, reads back with `readReplay` and loads again; garbage
  * is refused with a message naming the problem.
  */
-import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
-import { tmpdir } from 'node:os';
+import { readFileSync } from 'node:fs';
 import path from 'node:path';
-import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import { describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
 import { readReplay } from 'fixedstep';
-import { startServer, type RunningServer } from '@fixedstep/server';
-import { openStore } from '../packages/server/src/store/store.js';
 import {
-  dist,
-  horizontalOverflow,
+  expectFits,
   num,
   phonePage,
   readouts,
   shots,
+  useHighscoreServer,
   useLab,
+  value,
   watch,
 } from './harness.js';
 
 const lab = useLab();
 /** The lab with the highscore API (the replay view shows the game's table). */
-let api: RunningServer;
-let dataDir: string;
-
-beforeAll(async () => {
-  dataDir = mkdtempSync(path.join(tmpdir(), 'fixedstep-replays-e2e-'));
-  api = await startServer({ root: dist, port: 0, store: openStore({ dataDir }) });
-  await api.storeReady;
-});
-
-afterAll(async () => {
-  await api.close();
-  rmSync(dataDir, { recursive: true, force: true });
-});
-
-async function value(page: Page, testId: string): Promise<string> {
-  return (await page.getByTestId(testId).getAttribute('data-value')) ?? '';
-}
+const api = useHighscoreServer('replays');
 
 async function openBotGame(page: Page, game: string): Promise<void> {
   await page.goto(`${api.url}#/replays`);
@@ -286,8 +268,7 @@ describe('chapter 5, replays', () => {
     const { context, page, problems } = await phonePage(lab.browser);
     await openBotGame(page, 'runner');
     await ticking(page);
-    await page.screenshot({ path: path.join(shots, 'replays-phone.png'), fullPage: true });
-    expect(await horizontalOverflow(page)).toBe(0);
+    await expectFits(page, 'replays-phone');
     expect(problems).toEqual([]);
     await context.close();
   });

@@ -5,44 +5,47 @@
  * the live run's at every tick, and the two network machines agree after rolling back. Driven by
  * Pause, Restart and Skip on the simulated display; every wait is on state, never on time.
  */
-import path from 'node:path';
 import { describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
 import {
+  expectFits,
   freshRun,
-  horizontalOverflow,
   num,
-  phonePage,
   readouts,
   realClockRuns,
-  shots,
+  shoot,
   skip,
-  useLab,
-  watch,
+  useChapter,
+  type Device,
 } from './harness.js';
 
-const lab = useLab();
+const chapter = useChapter(
+  'rigid-bodies',
+  '10. Rigid bodies — fixedstep lab',
+  'readout-rapier-state',
+);
 
-/** Every request the page makes goes to the lab's own server: Rapier comes in the bundle. */
-function offline(page: Page): string[] {
+/**
+ * A watched page of `device` on the chapter once Rapier is loaded and the simulations run, paused
+ * and restarted; and the requests it made that left the lab's own server (none are expected:
+ * Rapier comes in the bundle).
+ */
+async function open(device?: Device): Promise<{ page: Page; problems: string[]; away: string[] }> {
+  const { page, problems } = await chapter.newPage(device);
   const away: string[] = [];
   page.on('request', (req) => {
-    if (!req.url().startsWith(lab.server.url) && !req.url().startsWith('data:')) {
+    if (!req.url().startsWith(chapter.lab.server.url) && !req.url().startsWith('data:')) {
       away.push(req.url());
     }
   });
-  return away;
-}
-
-/** Open the chapter and wait until Rapier is loaded and the simulations run. */
-async function open(page: Page): Promise<void> {
-  await page.goto(`${lab.server.url}#/rigid-bodies`);
-  await expect.poll(() => page.title()).toBe('10. Rigid bodies — fixedstep lab');
+  await chapter.goto(page);
   await expect
     .poll(() => page.getByTestId('readout-rapier-state').getAttribute('data-value'), {
       timeout: 60_000,
     })
     .toBe('ready');
+  await freshRun(page);
+  return { page, problems, away };
 }
 
 /** Pixels of `testId`'s canvas in the colour of a box turned past 10° (#fb7185). */
@@ -66,11 +69,7 @@ function turnedPixels(page: Page, testId: string): Promise<number> {
 
 describe('chapter 10, rigid bodies', () => {
   it('fires, the tower falls, the replay matches every tick, both machines agree (1440×900)', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
-    const problems = watch(page);
-    const away = offline(page);
-    await open(page);
-    await freshRun(page);
+    const { page, problems, away } = await open();
     let r = await readouts(page);
     expect(num(r, 'knock-tick')).toBe(0);
     expect(num(r, 'knock-turned')).toBe(0);
@@ -128,17 +127,14 @@ describe('chapter 10, rigid bodies', () => {
     expect(num(r, 'worlds-rapier-top')).toBeLessThan(2);
     expect(num(r, 'worlds-own-top')).toBeGreaterThan(5.4);
 
-    await page.screenshot({ path: path.join(shots, 'rigid-bodies.png'), fullPage: true });
+    await shoot(page, 'rigid-bodies');
     expect(away).toEqual([]);
     expect(problems).toEqual([]);
     await page.close();
   });
 
   it('on a phone (390×844): a tap fires, each machine fires from its side, the real clock runs', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
-    const away = offline(page);
-    await open(page);
-    await freshRun(page);
+    const { page, problems, away } = await open('phone');
     // A tap on the tower itself fires.
     await page.getByTestId('canvas-live').tap();
     // Player 2's machine fires from the right (the bots off, so only the taps fire).
@@ -154,8 +150,7 @@ describe('chapter 10, rigid bodies', () => {
     // Player 1's machine heard of player 2's shot late: it rolled back.
     expect(num(r, 'net-1-rollbacks')).toBeGreaterThan(0);
     expect(r['readout-net-equal']).toBe('true');
-    expect(await horizontalOverflow(page)).toBe(0);
-    await page.screenshot({ path: path.join(shots, 'rigid-bodies-phone.png'), fullPage: true });
+    await expectFits(page, 'rigid-bodies-phone');
 
     // The real clock, from a restart: the page's own frames step everything.
     await freshRun(page);
@@ -164,6 +159,6 @@ describe('chapter 10, rigid bodies', () => {
     expect(num(r, 'knock-tick')).toBeGreaterThanOrEqual(36);
     expect(away).toEqual([]);
     expect(problems).toEqual([]);
-    await context.close();
+    await page.context().close();
   });
 });

@@ -4,33 +4,16 @@
  * its first block by a tap on Jump at the tick the bot would jump; a CTF round is played with the
  * stick and Fire, and its replay shows each tap on exactly one tick and verifies.
  */
-import { mkdtempSync, rmSync } from 'node:fs';
-import { tmpdir } from 'node:os';
 import path from 'node:path';
-import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import { describe, expect, it } from 'vitest';
 import type { CDPSession, Page } from 'playwright-core';
-import { startServer, type RunningServer } from '@fixedstep/server';
-import { openStore } from '../packages/server/src/store/store.js';
 import { isDown, readReplay, verifyReplay, wasPressed } from 'fixedstep';
 import { GAMES, RunnerButtons, RunnerGame, ShooterButtons, runnerBot } from '@fixedstep/games';
-import { dist, num, phonePage, readouts, shots, skip, useLab } from './harness.js';
+import { num, phonePage, readouts, shots, skip, useHighscoreServer, useLab } from './harness.js';
 
 const lab = useLab();
 // The games chapter asks the highscore API for its table: serve the lab with it.
-let api: RunningServer;
-let dataDir: string;
-
-beforeAll(async () => {
-  dataDir = mkdtempSync(path.join(tmpdir(), 'fixedstep-touch-e2e-'));
-  api = await startServer({ root: dist, port: 0, store: openStore({ dataDir }) });
-  // The chapter asks for the table on load: the store must be open (until then it answers 503).
-  await api.storeReady;
-});
-
-afterAll(async () => {
-  await api.close();
-  rmSync(dataDir, { recursive: true, force: true });
-});
+const api = useHighscoreServer('touch');
 
 async function openGame(page: Page, query: string): Promise<void> {
   await page.goto(`${api.url}#/games?${query}`);

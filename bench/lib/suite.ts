@@ -138,3 +138,26 @@ export function createContext(
     },
   };
 }
+
+/** A plan that measures next to nothing, allocations included: for tests of a suite's report. */
+export const TINY_PLAN: MeasurePlan = {
+  warmupMs: 2,
+  sampleMs: 1,
+  rounds: 2,
+  allocChunks: 2,
+  allocOpsPerChunk: 1000,
+};
+
+/**
+ * A quick run of `suite` on `plan`, printing nothing (for its tests, which check the report's
+ * shape, not its numbers): what it reported, and its comparisons among that.
+ */
+export async function quickRun(
+  suite: Suite,
+  plan = TINY_PLAN,
+): Promise<{ sections: Section[]; comparisons: ComparisonSection[] }> {
+  const sections: Section[] = [];
+  await suite.run(createContext(true, plan, sections, () => undefined));
+  const comparisons = sections.filter((s): s is ComparisonSection => s.kind === 'comparison');
+  return { sections, comparisons };
+}

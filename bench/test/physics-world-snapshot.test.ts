@@ -1,8 +1,7 @@
 import { describe, expect, it } from 'vitest';
 import { bodiesInBox, bodiesInBoxScene, hex64 } from 'fixedstep';
-import type { MeasurePlan } from '../lib/measure.js';
-import { createContext, type SuiteContext } from '../lib/suite.js';
-import type { ComparisonSection, Section, TableSection } from '../lib/report.js';
+import { quickRun } from '../lib/suite.js';
+import type { TableSection } from '../lib/report.js';
 import suite, {
   ROLLBACK_TICKS,
   SEED,
@@ -68,17 +67,7 @@ describe('physics-world-snapshot suite: the candidates do what their names say',
 
 describe('physics-world-snapshot suite: a tiny run', () => {
   it('reports a comparison per size, the throughput and rollback tables and the allocation table', async () => {
-    const plan: MeasurePlan = {
-      warmupMs: 2,
-      sampleMs: 1,
-      rounds: 2,
-      allocChunks: 2,
-      allocOpsPerChunk: 1000,
-    };
-    const sections: Section[] = [];
-    const ctx: SuiteContext = createContext(true, plan, sections, () => undefined);
-    await suite.run(ctx);
-    const comparisons = sections.filter((s): s is ComparisonSection => s.kind === 'comparison');
+    const { sections, comparisons } = await quickRun(suite);
     expect(comparisons.map((c) => c.title.split(':')[0])).toEqual(SIZES.map((n) => `N = ${n}`));
     for (const c of comparisons) {
       expect(c.candidates.map((x) => x.name)).toEqual([

@@ -1,9 +1,8 @@
 import { describe, expect, it } from 'vitest';
 import { verifyReplay } from 'fixedstep';
 import { GAMES, gameFromReplayHeader, runnerGame } from '@fixedstep/games';
-import { createContext, type SuiteContext } from '../lib/suite.js';
-import type { MeasurePlan } from '../lib/measure.js';
-import type { AllocationSection, ComparisonSection, Section, TableSection } from '../lib/report.js';
+import { quickRun } from '../lib/suite.js';
+import type { AllocationSection, TableSection } from '../lib/report.js';
 import suite, {
   bareStep,
   botAndStep,
@@ -88,17 +87,7 @@ describe('replay suite: sizes', () => {
 
 describe('replay suite: a tiny run', () => {
   it('reports speed, size and allocation for every registered game', async () => {
-    const plan: MeasurePlan = {
-      warmupMs: 2,
-      sampleMs: 1,
-      rounds: 2,
-      allocChunks: 2,
-      allocOpsPerChunk: 1000,
-    };
-    const sections: Section[] = [];
-    const ctx: SuiteContext = createContext(true, plan, sections, () => undefined);
-    await suite.run(ctx);
-    const comparisons = sections.filter((s): s is ComparisonSection => s.kind === 'comparison');
+    const { sections, comparisons } = await quickRun(suite);
     expect(comparisons).toHaveLength(GAMES.length);
     for (const c of comparisons) {
       expect(c.candidates.map((x) => x.name)).toEqual([

@@ -1,8 +1,8 @@
 import { beforeAll, describe, expect, it } from 'vitest';
 import { loadRapier, type RapierModule } from '@fixedstep/rapier';
 import type { MeasurePlan } from '../lib/measure.js';
-import type { ComparisonSection, Section, TableSection } from '../lib/report.js';
-import { createContext } from '../lib/suite.js';
+import type { TableSection } from '../lib/report.js';
+import { quickRun } from '../lib/suite.js';
 import suite, {
   DEPTH,
   largestWithin,
@@ -89,9 +89,7 @@ describe('rollback-budget suite', () => {
       allocChunks: 1,
       allocOpsPerChunk: 1,
     };
-    const sections: Section[] = [];
-    await suite.run(createContext(true, plan, sections, () => undefined));
-    const comparisons = sections.filter((s): s is ComparisonSection => s.kind === 'comparison');
+    const { sections, comparisons } = await quickRun(suite, plan);
     expect(comparisons).toHaveLength(8);
     expect(comparisons.every((c) => c.candidates.length === 3)).toBe(true);
     const table = sections.find((s): s is TableSection => s.kind === 'table')!;

@@ -3,7 +3,8 @@
  * simulated one (frames at a rate with seeded jitter, computed, so every run repeats) or the
  * page's real animation frames. It owns "now" (ms from the start) and hands each display frame's
  * time to `onFrame`, never earlier than the one before. Switching displays mid-run goes on from
- * the last frame. Used by the games and replays chapters.
+ * the last frame. Used by the games, replays and rigid-bodies chapters, whose models extend
+ * {@link OnDisplayClock}.
  */
 import { SimulatedDisplay } from 'fixedstep';
 
@@ -98,5 +99,37 @@ export class DisplayClock {
     this.display = new SimulatedDisplay({ hz, jitter, seed: hz, startMs: fromMs });
     this.display.next(); // the frame at fromMs, already taken
     this.nextFrame = this.display.next().time;
+  }
+}
+
+/**
+ * A chapter's model that plays on a {@link DisplayClock}: its time line, what the chapter's shell
+ * drives, is the clock's.
+ */
+export abstract class OnDisplayClock {
+  protected abstract clock: DisplayClock;
+
+  /** The model's time: ms of the display's time line since the start. */
+  get timeMs(): number {
+    return this.clock.timeMs;
+  }
+
+  /** The model's time of a real-clock reading (for stamping input events between frames). */
+  timeOfReal(realMs: number): number {
+    return this.clock.timeOfReal(realMs);
+  }
+
+  /** Simulated display: move the clock to `ms`, taking every display frame due by then. */
+  advanceTo(ms: number): void {
+    this.clock.advanceTo(ms);
+  }
+
+  advanceBy(ms: number): void {
+    this.clock.advanceBy(ms);
+  }
+
+  /** Real clock: one display frame at `realMs` on the driver's time line (see DisplayClock). */
+  realFrame(realMs: number): void {
+    this.clock.realFrame(realMs);
   }
 }

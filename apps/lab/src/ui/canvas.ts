@@ -101,6 +101,24 @@ export class View {
     }
     ctx.stroke();
   }
+
+  /**
+   * The floor (y = 0) across the view: what lies under it shaded in `fill`, then the floor line,
+   * at least one device pixel wide (`dpr`) and on a pixel's centre so it stays crisp.
+   */
+  ground(ctx: CanvasRenderingContext2D, dpr: number, fill: string): void {
+    const x0 = this.px(this.x0);
+    const x1 = this.px(this.x1);
+    const y = this.py(0);
+    ctx.fillStyle = fill;
+    ctx.fillRect(x0, y, x1 - x0, this.py(this.y0) - y);
+    ctx.strokeStyle = 'rgba(141, 160, 189, 0.55)';
+    ctx.lineWidth = Math.max(1, dpr);
+    ctx.beginPath();
+    ctx.moveTo(x0, Math.round(y) + 0.5);
+    ctx.lineTo(x1, Math.round(y) + 0.5);
+    ctx.stroke();
+  }
 }
 
 /** Clear a canvas to the lab's scene background. */

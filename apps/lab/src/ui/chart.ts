@@ -46,6 +46,18 @@ export interface ChartOptions {
   legend?: boolean;
 }
 
+/**
+ * The axes of the chapters' own uPlot charts (a scatter, an energy plot on a log scale): a little
+ * brighter than {@link Chart}'s, with bold titles.
+ */
+export const BRIGHT_AXIS: uPlot.Axis = {
+  stroke: '#a3b3cc',
+  font: '11px system-ui, sans-serif',
+  labelFont: '600 11px system-ui, sans-serif',
+  grid: { stroke: 'rgba(141, 160, 189, 0.12)', width: 1 },
+  ticks: { show: false },
+};
+
 const AXIS: uPlot.Axis = {
   stroke: '#8da0bd',
   font: '11px system-ui, sans-serif',

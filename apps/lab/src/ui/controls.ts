@@ -167,6 +167,32 @@ export function slider(options: {
   };
 }
 
+/**
+ * A simulated display's frame jitter (test id `control-jitter`): 0 to 30 % of its period in steps
+ * of 1 %, shown as `±5 %` unless `text` says otherwise; `onChange` gets it as a fraction.
+ */
+export function jitterSlider(options: {
+  id: string;
+  /** The jitter at the start, per cent. */
+  percent: number;
+  text?: (percent: number) => string;
+  onChange: (fraction: number) => void;
+}): Slider {
+  return slider({
+    id: options.id,
+    label: 'Jitter',
+    testId: 'control-jitter',
+    min: 0,
+    max: 30,
+    step: 1,
+    value: options.percent,
+    text: options.text ?? ((v) => `±${v} %`),
+    onChange: (v) => {
+      options.onChange(v / 100);
+    },
+  });
+}
+
 /** Pause / Skip / Restart and the clock readout (`readout-clock`, virtual ms in `data-value`). */
 export class TimeControls {
   readonly pauseBtn: HTMLButtonElement;

@@ -1,5 +1,6 @@
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
+import { BRIGHT_AXIS } from '../../ui/chart.js';
 import { RADIUS, SPEED, STEP_S, WALL, type SettingResult } from './collisions-lab.js';
 
 /** What the chart shows besides its two fixed lines. */
@@ -27,14 +28,6 @@ export const CHART_COLORS = {
  */
 const X_MAX = SPEED.max * 1.05;
 const Y_MAX = WALL.max * 1.05;
-
-const AXIS: uPlot.Axis = {
-  stroke: '#a3b3cc',
-  font: '11px system-ui, sans-serif',
-  labelFont: '600 11px system-ui, sans-serif',
-  grid: { stroke: 'rgba(141, 160, 189, 0.12)', width: 1 },
-  ticks: { show: false },
-};
 
 /**
  * Speed on x, wall thickness on y, for the fixed step: the talk's rule `w = v·dt` (thinner walls
@@ -78,7 +71,7 @@ export class WallChart {
         },
         axes: [
           {
-            ...AXIS,
+            ...BRIGHT_AXIS,
             label: 'Speed, m/s',
             size: 34,
             labelSize: 16,
@@ -87,7 +80,7 @@ export class WallChart {
             values: (_u, splits) => splits.map((v) => v.toFixed(0)),
           },
           {
-            ...AXIS,
+            ...BRIGHT_AXIS,
             label: 'Wall thickness, m',
             splits: () => [0, 2, 4, 6, 8].filter((v) => v <= WALL.max),
             size: 34,

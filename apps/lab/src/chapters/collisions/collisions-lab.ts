@@ -16,6 +16,7 @@ import {
   type WallRule,
 } from '@fixedstep/games';
 import type { DisplayEvent } from 'fixedstep';
+import { VirtualLab } from '../../shell/virtual-lab.js';
 
 /** The talk's TIME_STEP, the fixed loop's step. */
 export const STEP_MS = 30;
@@ -266,25 +267,14 @@ export interface SettingResult {
 }
 
 /** The two panels on one simulated display, at a virtual time. */
-export class CollisionsLab {
+export class CollisionsLab extends VirtualLab<CollisionsSettings> {
   private panels: RangePanel[] = [];
-  private time = 0;
-  private current: CollisionsSettings;
   /** Results of earlier settings (latest per speed and wall), oldest first. */
   readonly history: SettingResult[] = [];
 
   constructor(settings: CollisionsSettings = defaultSettings()) {
-    this.current = cloneSettings(settings);
+    super(cloneSettings(settings));
     this.build();
-  }
-
-  get settings(): Readonly<CollisionsSettings> {
-    return this.current;
-  }
-
-  /** Virtual time, ms. */
-  get timeMs(): number {
-    return this.time;
   }
 
   get runs(): RangePanel[] {
@@ -307,10 +297,6 @@ export class CollisionsLab {
     for (const p of this.panels) {
       while (p.rig.nextFrameAt <= tMs) p.recordFrame(p.rig.frame());
     }
-  }
-
-  advanceBy(ms: number): void {
-    this.advanceTo(this.time + ms);
   }
 
   /** The current setting's result so far. */

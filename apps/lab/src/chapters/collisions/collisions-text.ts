@@ -3,6 +3,7 @@
  * idea cards, the legends and "How this page works". Numbers come from the model's constants.
  */
 import { h } from '../../ui/dom.js';
+import { legendDetails, textSection } from '../../ui/prose.js';
 import { ideaCards, type IdeaCard } from '../../ui/cards.js';
 import { CHART_COLORS } from './collisions-chart.js';
 import { FIRE_EVERY_S, LANES, RADIUS, STEP_MS, type ResultDisplay } from './collisions-lab.js';
@@ -176,33 +177,25 @@ export function legend(): HTMLElement {
       style: `--dot: ${color}`,
       'aria-hidden': 'true',
     });
-  return h(
-    'details',
-    { class: 'legend' },
-    h('summary', {}, 'How to read a panel'),
-    h(
-      'dl',
-      {},
-      h('dt', {}, dot(BODY.flying), ' In flight'),
-      h('dd', {}, 'On its way to the wall. The faint streak is its jump in the last step.'),
-      h('dt', {}, dot(BODY.bounced), ' Bounced'),
-      h('dd', {}, 'Came back off the near face; it fades out.'),
-      h('dt', {}, dot(BODY.through, true), ' Through'),
-      h('dd', {}, 'Its centre is past the middle of the wall: it tunnelled.'),
-      h('dt', {}, 'One step'),
-      h(
-        'dd',
-        {},
-        'The bar above the range is one step (the last one, for variable Δt), ending at the wall’s face. Past the amber mark it is longer than the wall is thick: the talk’s rule is broken and a body can jump the wall unseen. Past the end of the green bar below it, half the wall plus the radius (w/2 + r), a body can land beyond the wall’s middle and is pushed out the far side. While it is no longer than the green bar, every body bounces.',
-      ),
-      h('dt', {}, 'Through, discrete / CCD'),
-      h(
-        'dd',
-        {},
-        'Both twins fire the same shots. The highlighted row is the one drawn; “CCD twins” draws the continuous ones instead.',
-      ),
-    ),
-  );
+  return legendDetails('How to read a panel', [
+    [
+      [dot(BODY.flying), ' In flight'],
+      'On its way to the wall. The faint streak is its jump in the last step.',
+    ],
+    [[dot(BODY.bounced), ' Bounced'], 'Came back off the near face; it fades out.'],
+    [
+      [dot(BODY.through, true), ' Through'],
+      'Its centre is past the middle of the wall: it tunnelled.',
+    ],
+    [
+      'One step',
+      'The bar above the range is one step (the last one, for variable Δt), ending at the wall’s face. Past the amber mark it is longer than the wall is thick: the talk’s rule is broken and a body can jump the wall unseen. Past the end of the green bar below it, half the wall plus the radius (w/2 + r), a body can land beyond the wall’s middle and is pushed out the far side. While it is no longer than the green bar, every body bounces.',
+    ],
+    [
+      'Through, discrete / CCD',
+      'Both twins fire the same shots. The highlighted row is the one drawn; “CCD twins” draws the continuous ones instead.',
+    ],
+  ]);
 }
 
 export function chartLegend(): HTMLElement {
@@ -232,19 +225,11 @@ export function chartLegend(): HTMLElement {
 }
 
 export function howItWorks(): HTMLElement {
-  return h(
-    'section',
-    { class: 'how', 'aria-labelledby': 'col-how-title' },
-    h('h2', { id: 'col-how-title' }, 'How this page works'),
-    h(
-      'p',
-      {},
-      `Each panel runs two copies of one deterministic physics world (fixedstep’s PhysicsWorld): one with collision detection off between steps (ccd: 'off'), one with continuous detection ('auto'). Restitution is 1 and gravity is off, so a body that hits the wall comes straight back. Each shot starts up to one step of travel behind the muzzle (a seeded random phase), so the place where it first overlaps the wall is spread evenly over a step — that is what makes the theory’s share come out.`,
-    ),
-    h(
-      'p',
-      {},
-      'The display is simulated, as in chapter 1: its frame times are computed, so every run repeats exactly. Changing a setting rebuilds both panels and replays them from zero to the current moment. “Real clock” feeds the loops this page’s own frame times instead; then the variable loop’s steps are your display’s frames.',
-    ),
+  return textSection(
+    'how',
+    'col-how-title',
+    'How this page works',
+    `Each panel runs two copies of one deterministic physics world (fixedstep’s PhysicsWorld): one with collision detection off between steps (ccd: 'off'), one with continuous detection ('auto'). Restitution is 1 and gravity is off, so a body that hits the wall comes straight back. Each shot starts up to one step of travel behind the muzzle (a seeded random phase), so the place where it first overlaps the wall is spread evenly over a step — that is what makes the theory’s share come out.`,
+    'The display is simulated, as in chapter 1: its frame times are computed, so every run repeats exactly. Changing a setting rebuilds both panels and replays them from zero to the current moment. “Real clock” feeds the loops this page’s own frame times instead; then the variable loop’s steps are your display’s frames.',
   );
 }

@@ -59,6 +59,7 @@ import {
   type Slider,
 } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
 import './collisions.css';
@@ -313,20 +314,8 @@ class CollisionsChapter {
       tally: h('p', { class: 'range-tally', 'aria-hidden': 'true' }),
     };
     this.panels.push(view);
-    return h(
-      'section',
-      {
-        class: 'panel',
-        style: `--accent: ${color}`,
-        'data-panel': spec.id,
-        'aria-labelledby': `panel-${spec.id}`,
-      },
-      h(
-        'header',
-        { class: 'panel-head' },
-        h('h3', { id: `panel-${spec.id}` }, spec.title),
-        h('p', {}, spec.tagline),
-      ),
+    return panel(
+      { ...spec, accent: color },
       h('div', { class: 'scene-wrap' }, scene.canvas, view.overlay, view.tally),
       h(
         'div',

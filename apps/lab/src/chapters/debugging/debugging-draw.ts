@@ -25,14 +25,7 @@ export function drawLevel(
   view.grid(ctx, 1);
   const px = (x: number) => view.px(x);
   const py = (y: number) => view.py(y);
-  ctx.fillStyle = 'rgba(141, 160, 189, 0.08)';
-  ctx.fillRect(px(LEVEL.x0), py(0), px(LEVEL.x1) - px(LEVEL.x0), py(LEVEL.y0) - py(0));
-  ctx.strokeStyle = 'rgba(141, 160, 189, 0.55)';
-  ctx.lineWidth = Math.max(1, dpr);
-  ctx.beginPath();
-  ctx.moveTo(px(LEVEL.x0), Math.round(py(0)) + 0.5);
-  ctx.lineTo(px(LEVEL.x1), Math.round(py(0)) + 0.5);
-  ctx.stroke();
+  view.ground(ctx, dpr, 'rgba(141, 160, 189, 0.08)');
 
   // Coins: a ring per display, nested like the lines.
   for (const t of tracks) {

@@ -20,27 +20,32 @@ import {
   type MovementLoop,
   type ScriptedInput,
 } from '@fixedstep/games';
+import {
+  DEFAULT_JITTER,
+  RATES,
+  STEP_MS,
+  type LoopInfo,
+  type Source,
+} from '../movement/movement-lab.js';
 
-export const RATES = [30, 60, 144, 240] as const;
-export type Rate = (typeof RATES)[number];
-export type Source = Rate | 'real';
+// Chapter 2's four displays, step and loops, replayed here from a recording.
+export {
+  DEFAULT_JITTER,
+  RATES,
+  STEP_MS,
+  sourceLabel,
+  type LoopInfo,
+  type Rate,
+  type Source,
+} from '../movement/movement-lab.js';
+import { VirtualLab } from '../../shell/virtual-lab.js';
 
-/** The fixed step, ms: the talk's TIME_STEP. */
-export const STEP_MS = 30;
-export const DEFAULT_JITTER = 0.2;
 /** A recording stops by itself after this long, ms. */
 export const MAX_RECORDING_MS = 30_000;
 /** The divergence chart samples every this many ms of virtual time. */
 export const SAMPLE_MS = 50;
 /** The divergence chart keeps this much history, ms. */
 export const CHART_WINDOW_MS = 20_000;
-
-export interface LoopInfo {
-  readonly id: MovementLoop;
-  readonly title: string;
-  readonly tagline: string;
-  readonly fixed: boolean;
-}
 
 export const LOOPS: readonly LoopInfo[] = [
   {
@@ -179,9 +184,7 @@ function maxDistance(points: readonly { x: number; y: number }[]): number {
 export type Mode = 'replay' | 'recording';
 
 /** Both loops on the four simulated displays (and the real one), replaying one recording. */
-export class DebugLab {
-  private time = 0;
-  private current: DebugSettings;
+export class DebugLab extends VirtualLab<DebugSettings> {
   private sim = new Map<MovementLoop, DebugTrack[]>();
   private real = new Map<MovementLoop, DebugTrack>();
   private recorder: InputRecorder | undefined;
@@ -198,16 +201,8 @@ export class DebugLab {
     settings: DebugSettings = defaultDebugSettings(),
     readonly realClock = false,
   ) {
-    this.current = { jitter: settings.jitter, recording: [...settings.recording] };
+    super({ jitter: settings.jitter, recording: [...settings.recording] });
     this.build();
-  }
-
-  get settings(): Readonly<DebugSettings> {
-    return this.current;
-  }
-
-  get timeMs(): number {
-    return this.time;
   }
 
   get mode(): Mode {
@@ -249,10 +244,6 @@ export class DebugLab {
       return;
     }
     this.advanceSim(tMs);
-  }
-
-  advanceBy(ms: number): void {
-    this.advanceTo(this.time + ms);
   }
 
   /** Real clock: a frame of the page at `tMs`; the simulated displays keep up. */

@@ -4,7 +4,7 @@
  * matters" and "How this page works".
  */
 import { TRACE_DISPLAY_RATES, traceCatalogue } from '@fixedstep/games';
-import { code, h } from '../../ui/dom.js';
+import { textSection, whyCards } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { STEP_MS, type DebugReadouts, type LoopInfo } from './debugging-lab.js';
 
@@ -48,62 +48,34 @@ export function verdictText(
 }
 
 export function why(): HTMLElement {
-  return h(
-    'section',
-    { class: 'why', 'aria-labelledby': 'debug-why-title' },
-    h('h2', { id: 'debug-why-title' }, 'Why this matters when something goes wrong'),
-    h(
-      'div',
-      { class: 'why-grid' },
-      h(
-        'div',
-        { class: 'why-card' },
-        h('h3', {}, 'A bug report is a recording'),
-        h(
-          'p',
-          {},
-          'A player hits a bug on a 144 Hz laptop; you debug on a 60 Hz desktop. Under a fixed step their recorded inputs replay into the very same states on your machine, tick by tick, so the bug happens again — under your debugger, as often as you like.',
-        ),
-      ),
-      h(
-        'div',
-        { class: 'why-card' },
-        h('h3', {}, 'Hashes find the first wrong tick'),
-        h(
-          'p',
-          {},
-          'Hash the state every tick and two runs can be compared cheaply: the first tick whose hashes differ is where the behaviour changed. Replays, network peers and tests all use the same check.',
-        ),
-        code(`for each tick:\n  step(inputs[tick])\n  if (hash() !== recorded[tick]) stop()`),
-      ),
-      h(
-        'div',
-        { class: 'why-card' },
-        h('h3', {}, 'What breaks it'),
-        h(
-          'p',
-          {},
-          `A variable Δt (shown above), reading a clock or Math.random inside a step, engine-dependent maths (Math.sin may differ in the last bit between browsers), iterating over things in an order that can change. fixedstep’s lint rules and its determinism guard catch these in simulation code.`,
-        ),
-      ),
-    ),
+  return textSection(
+    'why',
+    'debug-why-title',
+    'Why this matters when something goes wrong',
+    whyCards([
+      {
+        title: 'A bug report is a recording',
+        text: 'A player hits a bug on a 144 Hz laptop; you debug on a 60 Hz desktop. Under a fixed step their recorded inputs replay into the very same states on your machine, tick by tick, so the bug happens again — under your debugger, as often as you like.',
+      },
+      {
+        title: 'Hashes find the first wrong tick',
+        text: 'Hash the state every tick and two runs can be compared cheaply: the first tick whose hashes differ is where the behaviour changed. Replays, network peers and tests all use the same check.',
+        snippet: `for each tick:\n  step(inputs[tick])\n  if (hash() !== recorded[tick]) stop()`,
+      },
+      {
+        title: 'What breaks it',
+        text: `A variable Δt (shown above), reading a clock or Math.random inside a step, engine-dependent maths (Math.sin may differ in the last bit between browsers), iterating over things in an order that can change. fixedstep’s lint rules and its determinism guard catch these in simulation code.`,
+      },
+    ]),
   );
 }
 
 export function how(): HTMLElement {
-  return h(
-    'section',
-    { class: 'how', 'aria-labelledby': 'debug-how-title' },
-    h('h2', { id: 'debug-how-title' }, 'How this page works'),
-    h(
-      'p',
-      {},
-      `The four displays are simulated (rate plus seeded jitter), and a virtual clock runs them at real speed; “Skip +5 s” jumps it. The fixed-step runs use FixedLoop with a ${STEP_MS} ms step; each press goes to the tick whose time span contains it, whatever the display. Their hashes are compared at the latest tick all four have reached. The variable-Δt runs have no ticks, so their states are compared as they are now.`,
-    ),
-    h(
-      'p',
-      {},
-      'While you record, your presses reach every run at the same virtual time. When you stop, the recording replays from zero. “Real clock” adds a fifth run per loop, driven by this page’s own animation frames.',
-    ),
+  return textSection(
+    'how',
+    'debug-how-title',
+    'How this page works',
+    `The four displays are simulated (rate plus seeded jitter), and a virtual clock runs them at real speed; “Skip +5 s” jumps it. The fixed-step runs use FixedLoop with a ${STEP_MS} ms step; each press goes to the tick whose time span contains it, whatever the display. Their hashes are compared at the latest tick all four have reached. The variable-Δt runs have no ticks, so their states are compared as they are now.`,
+    'While you record, your presses reach every run at the same virtual time. When you stop, the recording replays from zero. “Real clock” adds a fifth run per loop, driven by this page’s own animation frames.',
   );
 }

@@ -15,6 +15,7 @@ import {
   type DebugReadouts,
   type LoopInfo,
   type Source,
+  sourceLabel,
 } from './debugging-lab.js';
 import { drawLevel, drawTimeline } from './debugging-draw.js';
 import {
@@ -30,8 +31,9 @@ import { JumperButtons, demoRecording, type MovementLoop } from '@fixedstep/game
 import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { Chart } from '../../ui/chart.js';
-import { button, group, slider } from '../../ui/controls.js';
+import { button, group, jitterSlider } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { dotRowHead, headRow, legendItem, panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout, rateColor } from '../../ui/readout.js';
 import './debugging.css';
@@ -53,10 +55,6 @@ const KEYS: Readonly<Record<string, number>> = {
 };
 
 export const mount = mountChapter((root, head) => new DebuggingChapter(root, head));
-
-function sourceLabel(s: Source, hz = 0): string {
-  return s === 'real' ? (hz > 0 ? `yours ≈ ${hz} Hz` : 'yours') : `${s} Hz`;
-}
 
 function centimetres(m: number): string {
   if (!Number.isFinite(m)) return '—';
@@ -139,17 +137,11 @@ class DebuggingChapter {
       this.afterRestart();
     });
     this.demoBtn.title = 'Replay the built-in recording';
-    this.jitter = slider({
+    this.jitter = jitterSlider({
       id: 'debug-jitter',
-      label: 'Jitter',
-      testId: 'control-jitter',
-      min: 0,
-      max: 30,
-      step: 1,
-      value: Math.round(DEFAULT_JITTER * 100),
-      text: (v) => `±${v} %`,
-      onChange: (v) => {
-        this.lab.setJitter(v / 100);
+      percent: Math.round(DEFAULT_JITTER * 100),
+      onChange: (jitter) => {
+        this.lab.setJitter(jitter);
       },
     });
     this.timeline = shell.canvas({
@@ -298,16 +290,7 @@ class DebuggingChapter {
           hash: new Readout('td', `${info.id}-${src}-hash`, { hash: true }),
         };
         view.row.append(
-          h(
-            'th',
-            { scope: 'row' },
-            h(
-              'span',
-              { class: 'row-label' },
-              h('span', { class: 'rate-dot', style: `--chip: ${rateColor(src)}` }),
-              label,
-            ),
-          ),
+          dotRowHead(rateColor(src), label),
           view.ticks.el,
           view.score.el,
           view.hash.el,
@@ -326,40 +309,21 @@ class DebuggingChapter {
       equal,
       tick,
       verdict: h('p', { class: 'verdict', 'data-testid': `verdict-${info.id}` }),
-      legendReal: h(
-        'span',
-        { class: 'legend-item', style: `--chip: ${rateColor('real')}`, hidden: true },
-        h('span', { class: 'legend-chip' }),
-        'yours',
-      ),
+      legendReal: legendItem(rateColor('real'), 'yours', true),
     };
     this.views.push(view);
-    return h(
-      'section',
+    return panel(
       {
-        class: 'panel track-panel',
-        style: `--accent: ${LOOP_COLORS[info.id]}`,
-        'data-panel': info.id,
-        'aria-labelledby': `debug-panel-${info.id}`,
+        ...info,
+        accent: LOOP_COLORS[info.id],
+        className: 'track-panel',
+        headingId: `debug-panel-${info.id}`,
       },
-      h(
-        'header',
-        { class: 'panel-head' },
-        h('h3', { id: `debug-panel-${info.id}` }, info.title),
-        h('p', {}, info.tagline),
-      ),
       h('div', { class: 'scene-wrap' }, scene.canvas),
       h(
         'div',
         { class: 'chart-legend scene-legend', 'aria-hidden': 'true' },
-        RATES.map((hz) =>
-          h(
-            'span',
-            { class: 'legend-item', style: `--chip: ${rateColor(hz)}` },
-            h('span', { class: 'legend-chip' }),
-            `${hz} Hz`,
-          ),
-        ),
+        RATES.map((hz) => legendItem(rateColor(hz), `${hz} Hz`)),
         view.legendReal,
       ),
       h(
@@ -372,18 +336,7 @@ class DebuggingChapter {
             ? ['State hash after tick ', tick.el, ' — the latest every display has reached']
             : 'State hash now, at each display’s last frame',
         ),
-        h(
-          'thead',
-          {},
-          h(
-            'tr',
-            {},
-            h('th', { scope: 'col' }, 'Display'),
-            h('th', { scope: 'col' }, info.fixed ? 'Ticks' : 'Updates'),
-            h('th', { scope: 'col' }, 'Coins'),
-            h('th', { scope: 'col' }, 'Hash'),
-          ),
-        ),
+        headRow('Display', info.fixed ? 'Ticks' : 'Updates', 'Coins', 'Hash'),
         body,
         h('tfoot', {}, h('tr', {}, h('th', { scope: 'row' }, 'All equal'), equal.el)),
       ),

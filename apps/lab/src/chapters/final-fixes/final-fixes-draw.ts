@@ -77,43 +77,36 @@ export function drawCharts(lab: FinalLab, stepsChart: Chart, simChart: Chart): v
   const t = lab.timeMs;
   const from = Math.max(0, t - HISTORY_MS);
   const end = Math.max(t, 20_000);
-  const series = lab.spiral.map((run) => {
-    const xs: number[] = [];
-    const ys: number[] = [];
-    const f = run.frames;
-    for (let k = 0; k < f.length; k += 4) {
-      if (f[k]! < from) continue;
-      xs.push(f[k]! / 1000);
-      ys.push(f[k + 1]!);
-    }
-    return { xs, ys };
-  });
+  const series = lab.spiral.map((run) => since(run.frames, from, (f, k) => f[k + 1]!));
   const guard = Math.floor(STALL_WORK_MS / lab.settings.costMs);
   const aligned = alignSeries([...series, { xs: [from / 1000, end / 1000], ys: [guard, guard] }]);
   stepsChart.set(aligned, `${t}:${lab.settings.costMs}:${aligned[0]?.length ?? 0}`);
 
-  const back = lab.backwards.map((run) => {
-    const xs: number[] = [];
-    const ys: number[] = [];
-    const f = run.frames;
-    for (let k = 0; k < f.length; k += 4) {
-      if (f[k]! < from) continue;
-      xs.push(f[k]! / 1000);
-      ys.push(f[k]! / 1000 - f[k + 2]!);
-    }
-    return { xs, ys };
-  });
+  const back = lab.backwards.map((run) =>
+    since(run.frames, from, (f, k) => f[k]! / 1000 - f[k + 2]!),
+  );
   const first = lab.backwards[0];
-  const clock = { xs: [] as number[], ys: [] as number[] };
-  if (first) {
-    const f = first.frames;
-    for (let k = 0; k < f.length; k += 4) {
-      if (f[k]! < from) continue;
-      clock.xs.push(f[k]! / 1000);
-      clock.ys.push((f[k]! - f[k + 3]!) / 1000);
-    }
-  }
+  const clock = since(first?.frames ?? [], from, (f, k) => (f[k]! - f[k + 3]!) / 1000);
   simChart.set(alignSeries([...back, clock]), `${t}:${first?.frames.length ?? 0}`);
+}
+
+/**
+ * A chart series from a run's frames (four numbers a frame, its display time in ms first): the
+ * frames from `fromMs` on, at their display time in seconds, each valued by `y`.
+ */
+function since(
+  frames: readonly number[],
+  fromMs: number,
+  y: (frames: readonly number[], k: number) => number,
+): { xs: number[]; ys: number[] } {
+  const xs: number[] = [];
+  const ys: number[] = [];
+  for (let k = 0; k < frames.length; k += 4) {
+    if (frames[k]! < fromMs) continue;
+    xs.push(frames[k]! / 1000);
+    ys.push(y(frames, k));
+  }
+  return { xs, ys };
 }
 
 /** Whether the run's simulated time went down within its last few frames. */

@@ -21,6 +21,7 @@ import {
   type SpiralLoop,
 } from '@fixedstep/games';
 import { FixedLoop, type DisplayEvent, type OverloadPolicy } from 'fixedstep';
+import { VirtualLab } from '../../shell/virtual-lab.js';
 
 export { STALL_WORK_MS };
 
@@ -245,9 +246,7 @@ export interface BackwardsReadouts {
 }
 
 /** Both benches on one virtual clock (or on the page's real one). */
-export class FinalLab {
-  private time = 0;
-  private current: FinalSettings;
+export class FinalLab extends VirtualLab<FinalSettings> {
   spiral: BenchRun<SpiralLoop>[] = [];
   backwards: BenchRun<BackwardsLoop>[] = [];
 
@@ -255,16 +254,8 @@ export class FinalLab {
     settings: FinalSettings = defaultFinalSettings(),
     readonly realClock = false,
   ) {
-    this.current = cloneSettings(settings);
+    super(cloneSettings(settings));
     this.build();
-  }
-
-  get settings(): Readonly<FinalSettings> {
-    return this.current;
-  }
-
-  get timeMs(): number {
-    return this.time;
   }
 
   /** What the backwards bench's wall clock reads now, ms. */
@@ -281,10 +272,6 @@ export class FinalLab {
         r.record();
       });
     }
-  }
-
-  advanceBy(ms: number): void {
-    this.advanceTo(this.time + ms);
   }
 
   /**

@@ -4,6 +4,7 @@
  * works".
  */
 import { code, h } from '../../ui/dom.js';
+import { textSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { STALL_WORK_MS, type FinalSettings, type SpiralOutlook } from './final-fixes-lab.js';
 import { FINAL_STEP_MS } from '@fixedstep/games';
@@ -91,24 +92,12 @@ export const BACKWARDS_ROWS: readonly Row[] = [
 ];
 
 export function how(): HTMLElement {
-  return h(
-    'section',
-    { class: 'how', 'aria-labelledby': 'final-how-title' },
-    h('h2', { id: 'final-how-title' }, 'How this page works'),
-    h(
-      'p',
-      {},
-      'The displays are simulated and a virtual clock runs them at real speed; “Skip +5 s” jumps it. On the slow machine the simulated display waits for the work each frame asked for, as a real page would — but the page never does more than 5 s of it in one frame, so a spiral costs nothing here. What a real page would have run in vain is shown as owed.',
-    ),
-    h(
-      'p',
-      {},
-      'Changing the machine, the policy or the jump size, and every hitch or clock jump you add, replays both benches from zero to the current moment. “Real clock” feeds them this page’s own animation frames instead: the slow machine still delays its own frames, the wall clock still jumps.',
-    ),
-    h(
-      'p',
-      {},
-      'FixedLoop goes beyond the talk’s two lines: it clamps at 0.25 s by default (15 steps at 60 Hz rather than 60), caps the steps of one frame (8) and says what happens to the rest — catch up later, drop them, or reset — counting every dropped millisecond. Pick a policy above and watch its frame rate and its sim / real ratio.',
-    ),
+  return textSection(
+    'how',
+    'final-how-title',
+    'How this page works',
+    'The displays are simulated and a virtual clock runs them at real speed; “Skip +5 s” jumps it. On the slow machine the simulated display waits for the work each frame asked for, as a real page would — but the page never does more than 5 s of it in one frame, so a spiral costs nothing here. What a real page would have run in vain is shown as owed.',
+    'Changing the machine, the policy or the jump size, and every hitch or clock jump you add, replays both benches from zero to the current moment. “Real clock” feeds them this page’s own animation frames instead: the slow machine still delays its own frames, the wall clock still jumps.',
+    'FixedLoop goes beyond the talk’s two lines: it clamps at 0.25 s by default (15 steps at 60 Hz rather than 60), caps the steps of one frame (8) and says what happens to the rest — catch up later, drop them, or reset — counting every dropped millisecond. Pick a policy above and watch its frame rate and its sim / real ratio.',
   );
 }

@@ -42,6 +42,7 @@ import type { SceneCanvas } from '../../ui/canvas.js';
 import type { Chart } from '../../ui/chart.js';
 import { button, group, segmented } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
 import './final-fixes.css';
@@ -280,20 +281,8 @@ class FinalFixesChapter {
         )
       : undefined;
     into.push({ spec, scene, values, overlay, stall: stallEl });
-    return h(
-      'section',
-      {
-        class: 'panel',
-        style: `--accent: ${spec.color}`,
-        'data-panel': `${prefix}${spec.id}`,
-        'aria-labelledby': `panel-${prefix}${spec.id}`,
-      },
-      h(
-        'header',
-        { class: 'panel-head' },
-        h('h3', { id: `panel-${prefix}${spec.id}` }, spec.title),
-        h('p', {}, spec.tagline),
-      ),
+    return panel(
+      { id: `${prefix}${spec.id}`, title: spec.title, tagline: spec.tagline, accent: spec.color },
       h('div', { class: 'scene-wrap' }, scene.canvas),
       h('p', { class: 'scene-notes' }, overlay, stallEl ?? null),
       dl,

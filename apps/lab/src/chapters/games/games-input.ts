@@ -19,7 +19,7 @@ export function eventTime(session: GameSession, driver: LabDriver, timeStamp: nu
   const ago = Math.max(0, performance.now() - timeStamp);
   if (driver.isReal) {
     const r = driver.realNow();
-    return r === undefined ? session.timeMs : session.sessionTimeOfReal(r - ago);
+    return r === undefined ? session.timeMs : session.timeOfReal(r - ago);
   }
   return session.timeMs + Math.max(0, driver.sinceLastFrame() - ago);
 }

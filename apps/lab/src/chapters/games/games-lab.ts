@@ -22,7 +22,7 @@ import {
   type Game,
   type GameDefinition,
 } from '@fixedstep/games';
-import { DisplayClock } from '../../shell/display-clock.js';
+import { DisplayClock, OnDisplayClock } from '../../shell/display-clock.js';
 import {
   GAME_IDS,
   cleanName,
@@ -89,7 +89,7 @@ export interface GameSessionOptions {
  * its recording. Time is the session's own time line in ms from the start: display frames and
  * input events are both placed on it.
  */
-export class GameSession {
+export class GameSession extends OnDisplayClock {
   readonly def: GameDefinition;
   readonly game: Game;
   readonly mode: LoopMode;
@@ -114,7 +114,7 @@ export class GameSession {
   lastJump: JumpMeasure | undefined;
   /** Things seen going through a wall (the latest, for drawing). */
   readonly breaches: Breach[] = [];
-  private readonly clock: DisplayClock;
+  protected readonly clock: DisplayClock;
   private readonly inputs: ButtonInput[] = [0];
   private airApex = 0;
   private airStart = 0;
@@ -125,6 +125,7 @@ export class GameSession {
   private best: RankedRun | undefined;
 
   constructor(options: GameSessionOptions) {
+    super();
     this.def = options.def;
     this.mode = options.mode;
     this.seed = options.seed >>> 0;
@@ -142,11 +143,6 @@ export class GameSession {
     this.clock = new DisplayClock(options.display, (t) => {
       this.runFrame(t);
     });
-  }
-
-  /** The session's clock: ms from the start (the last time it was advanced to). */
-  get timeMs(): number {
-    return this.clock.timeMs;
   }
 
   /** The display in use. */
@@ -172,25 +168,6 @@ export class GameSession {
   /** Switch the display (rate, jitter, or the real clock); the game goes on. */
   setDisplay(spec: DisplaySpec | 'real'): void {
     this.clock.setDisplay(spec);
-  }
-
-  /** Simulated display: move the clock to `ms`, taking every display frame due by then. */
-  advanceTo(ms: number): void {
-    this.clock.advanceTo(ms);
-  }
-
-  advanceBy(ms: number): void {
-    this.clock.advanceBy(ms);
-  }
-
-  /** Real clock: one display frame at `realMs` on the driver's time line (see DisplayClock). */
-  realFrame(realMs: number): void {
-    this.clock.realFrame(realMs);
-  }
-
-  /** The session time of a real-clock reading (for stamping input events). */
-  sessionTimeOfReal(realMs: number): number {
-    return this.clock.timeOfReal(realMs);
   }
 
   /** A key went down or up at session time `timeMs`. Ignored once the game has ended. */

@@ -4,7 +4,8 @@
  * own sections (a pure function, tested), so they say what is true of this game.
  */
 import { CTF, CTF_WALLS, SURVIVAL, SURVIVAL_WALLS } from '@fixedstep/games';
-import { h, code } from '../../ui/dom.js';
+import { code } from '../../ui/dom.js';
+import { textSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { hudLabel, type GameId } from '../../games-view/games.js';
 import { describeContents, type ReplayContents } from '../../games-view/replays.js';
@@ -162,22 +163,14 @@ export function afterGameText(a: AfterGame): { heading: string; text: string; su
 }
 
 export function howItWorks(): HTMLElement {
-  return h(
-    'section',
-    { class: 'how', 'aria-labelledby': 'how-title' },
-    h('h2', { id: 'how-title' }, 'How this page works'),
-    h(
-      'p',
-      {},
-      'Keys go into a ButtonSampler with the time the browser stamped on the event. Every display frame the FixedLoop says how many 1/60 s steps are due, and each step gets exactly the presses that happened before its end — so a tap is never lost or doubled, whatever the frame rate. The canvas then draws every moving thing between its last two states, at α = accumulator / step.',
-    ),
+  return textSection(
+    'how',
+    'how-title',
+    'How this page works',
+    'Keys go into a ButtonSampler with the time the browser stamped on the event. Every display frame the FixedLoop says how many 1/60 s steps are due, and each step gets exactly the presses that happened before its end — so a tap is never lost or doubled, whatever the frame rate. The canvas then draws every moving thing between its last two states, at α = accumulator / step.',
     code(
       'const sampler = new ButtonSampler();\nattachKeyboard(canvas, sampler, keys, (e) => timeOf(e.timeStamp));\n\nconst n = loop.frame(now);\nfor (let j = 0; j < n; j++) {\n  inputs[0] = sampler.sample(loop, j);\n  game.step(inputs);\n  recorder.record(inputs, game);\n}\ndraw(game, loop.alpha);',
     ),
-    h(
-      'p',
-      {},
-      `The recording is the replay: the inputs of every tick (run-length coded), the seed and a state hash every 10 s — nothing else; a player re-simulates to seek, at millions of ticks a second. The panel after a game says how many bytes each part takes. “Variable Δt” swaps the FixedLoop for the talk’s naive loop, which calls update(dt) once per frame with that frame’s Δt; it is not recorded, because nothing could replay it.`,
-    ),
+    `The recording is the replay: the inputs of every tick (run-length coded), the seed and a state hash every 10 s — nothing else; a player re-simulates to seek, at millions of ticks a second. The panel after a game says how many bytes each part takes. “Variable Δt” swaps the FixedLoop for the talk’s naive loop, which calls update(dt) once per frame with that frame’s Δt; it is not recorded, because nothing could replay it.`,
   );
 }

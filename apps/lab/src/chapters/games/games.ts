@@ -12,7 +12,7 @@ import {
   button,
   group,
   segmented,
-  slider,
+  jitterSlider,
   toggle,
   setPressed,
   type Segmented,
@@ -329,17 +329,11 @@ class GamesChapter {
       this.session.stepTick();
     });
     step.title = 'Pause and run exactly one tick (FixedLoop’s single step)';
-    const jitter = slider({
+    const jitter = jitterSlider({
       id: 'game-jitter',
-      label: 'Jitter',
-      testId: 'control-jitter',
-      min: 0,
-      max: 30,
-      step: 1,
-      value: 0,
-      text: (v) => `±${v} %`,
-      onChange: (v) => {
-        this.jitter = v / 100;
+      percent: 0,
+      onChange: (jitter) => {
+        this.jitter = jitter;
         if (!shell.real) this.session.setDisplay({ hz: this.hz, jitter: this.jitter });
       },
     });

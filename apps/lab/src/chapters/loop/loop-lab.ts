@@ -23,6 +23,7 @@ import {
   type Loop,
   type LoopKind,
 } from 'fixedstep';
+import { VirtualLab } from '../../shell/virtual-lab.js';
 
 /** The display rates offered. */
 export const DISPLAY_RATES = [30, 60, 144, 240] as const;
@@ -324,23 +325,12 @@ class SimulatedPanel {
 }
 
 /** The five panels on one simulated display, at a virtual time. */
-export class LoopLab {
+export class LoopLab extends VirtualLab<LoopLabSettings> {
   private panels: SimulatedPanel[] = [];
-  private time = 0;
-  private current: LoopLabSettings;
 
   constructor(settings: LoopLabSettings = defaultSettings()) {
-    this.current = cloneSettings(settings);
+    super(cloneSettings(settings));
     this.build();
-  }
-
-  get settings(): Readonly<LoopLabSettings> {
-    return this.current;
-  }
-
-  /** Virtual time, ms. */
-  get timeMs(): number {
-    return this.time;
   }
 
   get runs(): PanelRun[] {
@@ -352,10 +342,6 @@ export class LoopLab {
     if (!(tMs > this.time)) return;
     this.time = tMs;
     for (const p of this.panels) p.advanceTo(tMs);
-  }
-
-  advanceBy(ms: number): void {
-    this.advanceTo(this.time + ms);
   }
 
   /** Change settings and replay from zero to the current virtual time. */

@@ -2,7 +2,7 @@
  * What chapter 1 says: the lede, the idea cards, the readout rows and what they mean, the legend
  * and "How this page works". Numbers come from the model's constants, never typed in.
  */
-import { h } from '../../ui/dom.js';
+import { legendDetails, textSection } from '../../ui/prose.js';
 import type { IdeaCard } from '../../ui/cards.js';
 import {
   CHECKPOINT_TICK,
@@ -145,45 +145,23 @@ export const CHART_LABEL = (title: string): string =>
   `Steps per frame over the last ${HISTORY_MS / 1000} s, ${title}`;
 
 export function legend(): HTMLElement {
-  return h(
-    'details',
-    { class: 'legend' },
-    h('summary', {}, 'How to read a panel'),
-    h(
-      'dl',
-      {},
-      ROWS.map((row) => [h('dt', {}, row.label), h('dd', {}, row.title)]).flat(),
-      h('dt', {}, 'Trail'),
-      h(
-        'dd',
-        {},
-        `One dot per display frame over the last ${TRAIL_MS / 1000} s: even spacing is smooth motion, clumps are stutter.`,
-      ),
-      h('dt', {}, 'Colour chips'),
-      h('dd', {}, 'Derived from the hash: equal colours, equal states.'),
-    ),
-  );
+  return legendDetails('How to read a panel', [
+    ...ROWS.map((row) => [row.label, row.title] as const),
+    [
+      'Trail',
+      `One dot per display frame over the last ${TRAIL_MS / 1000} s: even spacing is smooth motion, clumps are stutter.`,
+    ],
+    ['Colour chips', 'Derived from the hash: equal colours, equal states.'],
+  ]);
 }
 
 export function howItWorks(): HTMLElement {
-  return h(
-    'section',
-    { class: 'how', 'aria-labelledby': 'how-title' },
-    h('h2', { id: 'how-title' }, 'How this page works'),
-    h(
-      'p',
-      {},
-      'The display here is simulated: frame times are computed, not measured, so every run is exactly repeatable. On each real animation frame the page moves a virtual clock forward by the real time that passed and runs, for every panel, the display frames due by then. “Skip +5 s” moves the virtual clock at once.',
-    ),
-    h(
-      'p',
-      {},
-      'Changing the display (its rate, jitter, a hitch, a hidden tab, a slow machine, a throw) rebuilds all five runs and replays them from zero to the current moment. The loops are deterministic, so the replay lands on exactly the state a live run would have reached.',
-    ),
-    h(
-      'p',
-      {},
-      '“Real clock” feeds the loops this page’s own requestAnimationFrame times instead. Switch to another tab for a few seconds and come back to see a real hidden tab.',
-    ),
+  return textSection(
+    'how',
+    'how-title',
+    'How this page works',
+    'The display here is simulated: frame times are computed, not measured, so every run is exactly repeatable. On each real animation frame the page moves a virtual clock forward by the real time that passed and runs, for every panel, the display frames due by then. “Skip +5 s” moves the virtual clock at once.',
+    'Changing the display (its rate, jitter, a hitch, a hidden tab, a slow machine, a throw) rebuilds all five runs and replays them from zero to the current moment. The loops are deterministic, so the replay lands on exactly the state a live run would have reached.',
+    '“Real clock” feeds the loops this page’s own requestAnimationFrame times instead. Switch to another tab for a few seconds and come back to see a real hidden tab.',
   );
 }

@@ -39,8 +39,9 @@ import {
 } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { ideaCards, tryCards } from '../../ui/cards.js';
-import { button, group, segmented, slider, toggle, setPressed } from '../../ui/controls.js';
+import { button, group, jitterSlider, segmented, toggle, setPressed } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
 import { StepsChart } from '../../ui/steps-chart.js';
@@ -130,17 +131,12 @@ class LoopChapter {
         this.lab.update({ hz });
       },
     });
-    this.jitter = slider({
+    this.jitter = jitterSlider({
       id: 'jitter',
-      label: 'Jitter',
-      testId: 'control-jitter',
-      min: 0,
-      max: 30,
-      step: 1,
-      value: 0,
+      percent: 0,
       text: (v) => `${v} %`,
-      onChange: (v) => {
-        this.lab.update({ jitter: v / 100 });
+      onChange: (jitter) => {
+        this.lab.update({ jitter });
       },
     });
     this.hitchBtn = button('2 s hitch', 'control-hitch', () => {
@@ -243,20 +239,8 @@ class LoopChapter {
       if (!view.chart && w > 0) view.chart = this.shell.own(new StepsChart(chartHost, color, w));
       else view.chart?.resize(w);
     });
-    return h(
-      'section',
-      {
-        class: 'panel',
-        style: `--accent: ${color}`,
-        'data-panel': spec.id,
-        'aria-labelledby': `panel-${spec.id}`,
-      },
-      h(
-        'header',
-        { class: 'panel-head' },
-        h('h3', { id: `panel-${spec.id}` }, spec.title),
-        h('p', {}, spec.tagline),
-      ),
+    return panel(
+      { ...spec, accent: color },
       h('div', { class: 'scene-wrap' }, scene.canvas, overlay, stall),
       h('dl', { class: 'readouts' }, rows),
       h('p', { class: 'chart-title' }, 'Steps per frame'),

@@ -34,14 +34,7 @@ export function drawJumps(
   const py = (y: number) => view.py(y);
   view.grid(ctx, 0.5);
   // Ground and the landing strip under it.
-  ctx.fillStyle = 'rgba(141, 160, 189, 0.06)';
-  ctx.fillRect(px(VIEW.x0), py(0), px(VIEW.x1) - px(VIEW.x0), py(VIEW.y0) - py(0));
-  ctx.strokeStyle = 'rgba(141, 160, 189, 0.55)';
-  ctx.lineWidth = Math.max(1, dpr);
-  ctx.beginPath();
-  ctx.moveTo(px(VIEW.x0), Math.round(py(0)) + 0.5);
-  ctx.lineTo(px(VIEW.x1), Math.round(py(0)) + 0.5);
-  ctx.stroke();
+  view.ground(ctx, dpr, 'rgba(141, 160, 189, 0.06)');
   ctx.fillStyle = 'rgba(163, 179, 204, 0.75)';
   ctx.font = `${Math.round(10 * dpr)}px system-ui, sans-serif`;
   ctx.textBaseline = 'middle';

@@ -22,12 +22,18 @@ import {
   type MovementLoop,
   type ScriptedInput,
 } from '@fixedstep/games';
+import { VirtualLab } from '../../shell/virtual-lab.js';
 
 /** The display rates compared. */
 export const RATES = [30, 60, 144, 240] as const;
 export type Rate = (typeof RATES)[number];
 /** A run's display: a simulated rate, or the page's own ("real"). */
 export type Source = Rate | 'real';
+
+/** How a run's display is named: `60 Hz`, or `yours` (`yours ≈ 59 Hz` once its rate is known). */
+export function sourceLabel(s: Source, hz = 0): string {
+  return s === 'real' ? (hz > 0 ? `yours ≈ ${hz} Hz` : 'yours') : `${s} Hz`;
+}
 
 /** The fixed step, ms: the talk's TIME_STEP. */
 export const STEP_MS = 30;
@@ -170,9 +176,7 @@ export function spread(values: readonly number[]): number {
 }
 
 /** The runs of both loops on the four simulated displays (plus the real one), at a virtual time. */
-export class MovementLab {
-  private time = 0;
-  private current: MovementSettings;
+export class MovementLab extends VirtualLab<MovementSettings> {
   private sim = new Map<MovementLoop, Track[]>();
   private readonly real = new Map<MovementLoop, Track>();
 
@@ -180,7 +184,7 @@ export class MovementLab {
     settings: MovementSettings = defaultMovementSettings(),
     readonly realClock = false,
   ) {
-    this.current = { jitter: settings.jitter, jumps: [...settings.jumps] };
+    super({ jitter: settings.jitter, jumps: [...settings.jumps] });
     if (realClock) {
       const script = movementLabScript([]);
       for (const loop of LOOPS) {
@@ -190,15 +194,6 @@ export class MovementLab {
       }
     }
     this.build();
-  }
-
-  get settings(): Readonly<MovementSettings> {
-    return this.current;
-  }
-
-  /** Virtual (or real-clock) time, ms. */
-  get timeMs(): number {
-    return this.time;
   }
 
   /** The runs of one loop: the four simulated displays, then the real one if on the real clock. */
@@ -227,10 +222,6 @@ export class MovementLab {
     if (!(tMs > this.time)) return;
     this.time = tMs;
     for (const list of this.sim.values()) for (const t of list) t.rig.advanceTo(tMs);
-  }
-
-  advanceBy(ms: number): void {
-    this.advanceTo(this.time + ms);
   }
 
   /** Real clock: a frame of the page at `tMs`; the simulated displays keep up. */

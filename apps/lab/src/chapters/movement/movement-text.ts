@@ -2,7 +2,7 @@
  * What chapter 2 says: the lede, the bench's intro, the legend, "Why the variable-Δt jumps differ"
  * and "How this page works". Numbers come from the model's constants.
  */
-import { code, h } from '../../ui/dom.js';
+import { legendDetails, textSection, whyCards } from '../../ui/prose.js';
 import { STEP_MS, SWEEP_RATES, type LoopReadouts } from './movement-lab.js';
 
 export const LEDE =
@@ -28,101 +28,57 @@ export function verdictText(r: LoopReadouts, spread: (metres: number) => string)
 }
 
 export function legend(): HTMLElement {
-  return h(
-    'details',
-    { class: 'legend' },
-    h('summary', {}, 'How to read the panels'),
-    h(
-      'dl',
-      {},
-      h('dt', {}, 'Lines'),
-      h(
-        'dd',
-        {},
-        'Every position the simulation computed in this round, one line per display. Coinciding lines look like one striped line.',
-      ),
-      h('dt', {}, 'Runners'),
-      h(
-        'dd',
-        {},
-        `Each as its own display last drew it. A 30 Hz display shows an older frame than a 240 Hz one, so moving runners can be a frame apart even when their paths are identical. The fixed-step runners are drawn between their last two ${STEP_MS} ms steps (interpolation).`,
-      ),
-      h('dt', {}, 'Ticks'),
-      h(
-        'dd',
-        {},
-        'The short bar at the top of each arc is the apex; the marks under the floor are the landings, one row per display.',
-      ),
-      h('dt', {}, 'Apex, landing distance'),
-      h(
-        'dd',
-        {},
-        'The highest point of the jump above the floor, and the distance from take-off to landing, as each simulation computed them. Spread is the largest minus the smallest.',
-      ),
-    ),
-  );
+  return legendDetails('How to read the panels', [
+    [
+      'Lines',
+      'Every position the simulation computed in this round, one line per display. Coinciding lines look like one striped line.',
+    ],
+    [
+      'Runners',
+      `Each as its own display last drew it. A 30 Hz display shows an older frame than a 240 Hz one, so moving runners can be a frame apart even when their paths are identical. The fixed-step runners are drawn between their last two ${STEP_MS} ms steps (interpolation).`,
+    ],
+    [
+      'Ticks',
+      'The short bar at the top of each arc is the apex; the marks under the floor are the landings, one row per display.',
+    ],
+    [
+      'Apex, landing distance',
+      'The highest point of the jump above the floor, and the distance from take-off to landing, as each simulation computed them. Spread is the largest minus the smallest.',
+    ],
+  ]);
 }
 
 export function why(): HTMLElement {
-  return h(
-    'section',
-    { class: 'why', 'aria-labelledby': 'why-title' },
-    h('h2', { id: 'why-title' }, 'Why the variable-Δt jumps differ'),
-    h(
-      'div',
-      { class: 'why-grid' },
-      h(
-        'div',
-        { class: 'why-card' },
-        h('h3', {}, 'Euler depends on Δt'),
-        h(
-          'p',
-          {},
-          'Each update moves the runner by its velocity times Δt, then gravity bends the velocity. Big steps overshoot the curve differently from small ones, so the apex and the airtime change with the frame rate — by centimetres here, by whole platforms in a real level.',
-        ),
-        code('vy -= gravity * dt\ny  += vy * dt   // the arc depends on dt'),
-      ),
-      h(
-        'div',
-        { class: 'why-card' },
-        h('h3', {}, 'Inputs land on frames'),
-        h(
-          'p',
-          {},
-          'With one update per frame, a button press takes effect on the next frame — up to 33 ms late at 30 Hz, 4 ms at 240 Hz — and so does letting go of the jump button, which decides how high the jump goes. A fixed step gives each press to the step whose time span contains it, whatever the display.',
-        ),
-        code(
+  return textSection(
+    'why',
+    'why-title',
+    'Why the variable-Δt jumps differ',
+    whyCards([
+      {
+        title: 'Euler depends on Δt',
+        text: 'Each update moves the runner by its velocity times Δt, then gravity bends the velocity. Big steps overshoot the curve differently from small ones, so the apex and the airtime change with the frame rate — by centimetres here, by whole platforms in a real level.',
+        snippet: 'vy -= gravity * dt\ny  += vy * dt   // the arc depends on dt',
+      },
+      {
+        title: 'Inputs land on frames',
+        text: 'With one update per frame, a button press takes effect on the next frame — up to 33 ms late at 30 Hz, 4 ms at 240 Hz — and so does letting go of the jump button, which decides how high the jump goes. A fixed step gives each press to the step whose time span contains it, whatever the display.',
+        snippet:
           '// fixed step: same ticks, same inputs\nwhile (acc >= STEP) { update(STEP, input(tick)); acc -= STEP }',
-        ),
-      ),
-      h(
-        'div',
-        { class: 'why-card' },
-        h('h3', {}, 'Jitter makes it worse'),
-        h(
-          'p',
-          {},
-          'Real frames are never exactly 1/60 s. Under a variable Δt the same display gives a slightly different jump each time; drag the jitter slider to 0 and the variable runs still disagree, because the rates differ. Under a fixed step neither matters.',
-        ),
-      ),
-    ),
+      },
+      {
+        title: 'Jitter makes it worse',
+        text: 'Real frames are never exactly 1/60 s. Under a variable Δt the same display gives a slightly different jump each time; drag the jitter slider to 0 and the variable runs still disagree, because the rates differ. Under a fixed step neither matters.',
+      },
+    ]),
   );
 }
 
 export function how(): HTMLElement {
-  return h(
-    'section',
-    { class: 'how', 'aria-labelledby': 'movement-how-title' },
-    h('h2', { id: 'movement-how-title' }, 'How this page works'),
-    h(
-      'p',
-      {},
-      'The four displays are simulated: their frame times are computed from the rate and a seeded jitter, so the numbers repeat on every machine. The page moves a virtual clock forward at real speed and runs the frames due; “Skip +5 s” moves it at once. Changing the jitter or pressing Jump replays every run from zero to the current moment, which lands exactly where a live run would be.',
-    ),
-    h(
-      'p',
-      {},
-      '“Real clock” adds a fifth run to each loop, driven by this page’s own animation frames. Under the fixed step it still traces the very same jump, to the last bit.',
-    ),
+  return textSection(
+    'how',
+    'movement-how-title',
+    'How this page works',
+    'The four displays are simulated: their frame times are computed from the rate and a seeded jitter, so the numbers repeat on every machine. The page moves a virtual clock forward at real speed and runs the frames due; “Skip +5 s” moves it at once. Changing the jitter or pressing Jump replays every run from zero to the current moment, which lands exactly where a live run would be.',
+    '“Real clock” adds a fifth run to each loop, driven by this page’s own animation frames. Under the fixed step it still traces the very same jump, to the last bit.',
   );
 }

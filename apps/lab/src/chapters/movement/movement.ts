@@ -13,6 +13,7 @@ import {
   type LoopInfo,
   type LoopReadouts,
   type Source,
+  sourceLabel,
 } from './movement-lab.js';
 import { drawJumps } from './movement-draw.js';
 import {
@@ -29,8 +30,9 @@ import type { MovementLoop } from '@fixedstep/games';
 import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { Chart } from '../../ui/chart.js';
-import { button, group, slider } from '../../ui/controls.js';
+import { button, group, jitterSlider } from '../../ui/controls.js';
 import { h, setText } from '../../ui/dom.js';
+import { dotRowHead, headRow, legendItem, panel } from '../../ui/panel.js';
 import { Readout, rateColor } from '../../ui/readout.js';
 
 const LOOP_COLORS: Readonly<Record<MovementLoop, string>> = {
@@ -39,10 +41,6 @@ const LOOP_COLORS: Readonly<Record<MovementLoop, string>> = {
 };
 
 export const mount = mountChapter((root, head) => new MovementChapter(root, head));
-
-function sourceLabel(s: Source, hz = 0): string {
-  return s === 'real' ? (hz > 0 ? `yours ≈ ${hz} Hz` : 'yours') : `${s} Hz`;
-}
 
 function metres(v: number | undefined): string {
   return v === undefined || !Number.isFinite(v) ? '—' : `${v.toFixed(3)} m`;
@@ -115,17 +113,11 @@ class MovementChapter {
       driver: { maxRealGapMs: 200 },
     });
     const shell = this.shell;
-    this.jitter = slider({
+    this.jitter = jitterSlider({
       id: 'movement-jitter',
-      label: 'Jitter',
-      testId: 'control-jitter',
-      min: 0,
-      max: 30,
-      step: 1,
-      value: Math.round(DEFAULT_JITTER * 100),
-      text: (v) => `±${v} %`,
-      onChange: (v) => {
-        this.lab.update({ jitter: v / 100 });
+      percent: Math.round(DEFAULT_JITTER * 100),
+      onChange: (jitter) => {
+        this.lab.update({ jitter });
       },
     });
     this.jitter.input.title = 'How much each frame’s length varies, as a share of the period';
@@ -231,16 +223,7 @@ class MovementChapter {
         const row = h(
           'tr',
           { hidden: src === 'real' },
-          h(
-            'th',
-            { scope: 'row' },
-            h(
-              'span',
-              { class: 'row-label' },
-              h('span', { class: 'rate-dot', style: `--chip: ${rateColor(src)}` }),
-              label,
-            ),
-          ),
+          dotRowHead(rateColor(src), label),
           apex.el,
           landing.el,
         );
@@ -256,28 +239,11 @@ class MovementChapter {
       landingSpread: new Readout('td', `${info.id}-landing-spread`, { className: 'spread' }),
       jump: new Readout('span', `${info.id}-jump`),
       verdict: h('p', { class: 'verdict', 'data-testid': `verdict-${info.id}` }),
-      legendReal: h(
-        'span',
-        { class: 'legend-item', style: `--chip: ${rateColor('real')}`, hidden: true },
-        h('span', { class: 'legend-chip' }),
-        'yours',
-      ),
+      legendReal: legendItem(rateColor('real'), 'yours', true),
     };
     this.views.push(view);
-    return h(
-      'section',
-      {
-        class: 'panel track-panel',
-        style: `--accent: ${LOOP_COLORS[info.id]}`,
-        'data-panel': info.id,
-        'aria-labelledby': `panel-${info.id}`,
-      },
-      h(
-        'header',
-        { class: 'panel-head' },
-        h('h3', { id: `panel-${info.id}` }, info.title),
-        h('p', {}, info.tagline),
-      ),
+    return panel(
+      { ...info, accent: LOOP_COLORS[info.id], className: 'track-panel' },
       h('div', { class: 'scene-wrap' }, scene.canvas),
       h(
         'div',
@@ -289,17 +255,7 @@ class MovementChapter {
         'table',
         { class: 'jump-table' },
         h('caption', {}, 'Jump ', view.jump.el, ', as each display’s simulation computed it'),
-        h(
-          'thead',
-          {},
-          h(
-            'tr',
-            {},
-            h('th', { scope: 'col' }, 'Display'),
-            h('th', { scope: 'col' }, 'Apex'),
-            h('th', { scope: 'col' }, 'Landing distance'),
-          ),
-        ),
+        headRow('Display', 'Apex', 'Landing distance'),
         body,
         h(
           'tfoot',
@@ -378,10 +334,5 @@ class MovementChapter {
 }
 
 function chip(hz: number): HTMLElement {
-  return h(
-    'span',
-    { class: 'legend-item', style: `--chip: ${rateColor(hz)}` },
-    h('span', { class: 'legend-chip', 'aria-hidden': 'true' }),
-    `${hz} Hz`,
-  );
+  return legendItem(rateColor(hz), `${hz} Hz`);
 }

@@ -1,18 +1,11 @@
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
+import { BRIGHT_AXIS } from '../../ui/chart.js';
 import type { EnergyHistory } from './physics-lab.js';
 
 /** The plot never goes beyond these energy ratios (an exploded lane stops at 1e9). */
 const FLOOR = 1e-9;
 const CEIL = 1e10;
-
-const AXIS: uPlot.Axis = {
-  stroke: '#a3b3cc',
-  font: '11px system-ui, sans-serif',
-  labelFont: '600 11px system-ui, sans-serif',
-  grid: { stroke: 'rgba(141, 160, 189, 0.12)', width: 1 },
-  ticks: { show: false },
-};
 
 /** Powers of ten as labels: 1e-3 → "10⁻³", 1 → "1", 1000 → "10³". */
 export function decade(v: number | null): string {
@@ -64,7 +57,7 @@ export class EnergyChart {
         },
         axes: [
           {
-            ...AXIS,
+            ...BRIGHT_AXIS,
             label: 'Simulated time, s',
             size: 34,
             labelSize: 16,
@@ -72,7 +65,7 @@ export class EnergyChart {
               splits.map((v) => (Number.isInteger(v) ? v.toFixed(0) : v.toFixed(1))),
           },
           {
-            ...AXIS,
+            ...BRIGHT_AXIS,
             label: 'Energy E / E₀',
             size: 52,
             labelSize: 16,

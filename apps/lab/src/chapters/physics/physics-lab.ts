@@ -24,6 +24,7 @@ import {
   type IntegratorMethod,
   type Loop,
 } from 'fixedstep';
+import { VirtualLab } from '../../shell/virtual-lab.js';
 
 /** The step slider, ms. The talk's TIME_STEP is 30 ms. */
 export const STEP = { min: 5, max: 100, step: 1, initial: 30 } as const;
@@ -255,32 +256,21 @@ export class PhysicsRun {
 }
 
 /** The run on a simulated display at a virtual time, with settings that replay. */
-export class PhysicsLab {
+export class PhysicsLab extends VirtualLab<PhysicsSettings> {
   private runValue!: PhysicsRun;
   private display!: SimulatedDisplay;
   private nextFrame = 0;
   /** Every poke in delivery order, and the first one not yet delivered. */
   private schedule: TimedPoke[] = [];
   private pokeAt = 0;
-  private time = 0;
-  private current: PhysicsSettings;
 
   constructor(settings: PhysicsSettings = defaultSettings()) {
-    this.current = cloneSettings(settings);
+    super(cloneSettings(settings));
     this.build();
-  }
-
-  get settings(): Readonly<PhysicsSettings> {
-    return this.current;
   }
 
   get run(): PhysicsRun {
     return this.runValue;
-  }
-
-  /** Virtual time, ms. */
-  get timeMs(): number {
-    return this.time;
   }
 
   /** Every poke, scripted and the reader's, in time order. */
@@ -292,10 +282,6 @@ export class PhysicsLab {
     if (!(tMs > this.time)) return;
     this.time = tMs;
     this.runTo(tMs);
-  }
-
-  advanceBy(ms: number): void {
-    this.advanceTo(this.time + ms);
   }
 
   /** Change settings and replay from zero to the current virtual time. */

@@ -4,6 +4,7 @@
  */
 import { INTEGRATOR_INFO, INTEGRATOR_METHODS, type IntegratorMethod } from 'fixedstep';
 import { h } from '../../ui/dom.js';
+import { textSection } from '../../ui/prose.js';
 import { ideaCards, type IdeaCard } from '../../ui/cards.js';
 import * as fmt from '../../ui/format.js';
 import { EXPLODE_AT, ROPE_BEADS, X0, type Stability } from './physics-lab.js';
@@ -149,19 +150,11 @@ export function energyLegend(): HTMLElement {
 }
 
 export function howItWorks(): HTMLElement {
-  return h(
-    'section',
-    { class: 'how', 'aria-labelledby': 'phys-how-title' },
-    h('h2', { id: 'phys-how-title' }, 'How this page works'),
-    h(
-      'p',
-      {},
-      `The six panels are one deterministic simulation: fixedstep’s integrators on one harmonic oscillator, stepped in lockstep by a fixed-step loop (FixedLoop) with the step you chose. Energy is ½v² + ½ω²x² per kilogram; a method whose energy passes ${fmt.sci(EXPLODE_AT, 0)} times the start is stopped and marked exploded. The rope is a SpringSystem (fixedstep’s springs) that starts hanging at rest.`,
-    ),
-    h(
-      'p',
-      {},
-      'The display is simulated, as in chapter 1, so every number repeats. The loop draws each mass and bead between its last two steps, at α = accumulator / step. Changing the step, a stiffness or the rope’s integrator rebuilds everything and replays it — pokes included — from zero to the current moment. “Real clock” drives the loop with this page’s own frame times.',
-    ),
+  return textSection(
+    'how',
+    'phys-how-title',
+    'How this page works',
+    `The six panels are one deterministic simulation: fixedstep’s integrators on one harmonic oscillator, stepped in lockstep by a fixed-step loop (FixedLoop) with the step you chose. Energy is ½v² + ½ω²x² per kilogram; a method whose energy passes ${fmt.sci(EXPLODE_AT, 0)} times the start is stopped and marked exploded. The rope is a SpringSystem (fixedstep’s springs) that starts hanging at rest.`,
+    'The display is simulated, as in chapter 1, so every number repeats. The loop draws each mass and bead between its last two steps, at α = accumulator / step. Changing the step, a stiffness or the rope’s integrator rebuilds everything and replays it — pokes included — from zero to the current moment. “Real clock” drives the loop with this page’s own frame times.',
   );
 }

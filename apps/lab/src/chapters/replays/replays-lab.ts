@@ -20,7 +20,7 @@ import {
 import { findGame, gameFromReplayHeader, type Game, type GameDefinition } from '@fixedstep/games';
 import { hashHex, scoreKeyOf, type DisplayRate, type DisplaySpec } from '../../games-view/games.js';
 import { replayContents, type ReplayContents } from '../../games-view/replays.js';
-import { DisplayClock } from '../../shell/display-clock.js';
+import { DisplayClock, OnDisplayClock } from '../../shell/display-clock.js';
 
 /** Where playback frames come from. */
 export type Source = DisplayRate | 'real';
@@ -93,14 +93,14 @@ export function describeReplayError(e: unknown): { title: string; detail: string
  * An opened replay and its player. Construction parses the file and builds tick 0: it throws a
  * {@link ReplayError} for a file it cannot play.
  */
-export class ReplayLab {
+export class ReplayLab extends OnDisplayClock {
   readonly bytes: Uint8Array;
   readonly replay: Replay;
   readonly player: ReplayPlayer;
   readonly def: GameDefinition | undefined;
   /** Where the file came from (“your last game”, a file name …). */
   readonly label: string;
-  private readonly clock: DisplayClock;
+  protected readonly clock: DisplayClock;
   private inFrame = false;
   private verification: Verification | undefined;
   /** Checkpoint tick → hash, per display, for the ticks passed while playing. */
@@ -108,6 +108,7 @@ export class ReplayLab {
   private mismatches: ReplayMismatch[] = [];
 
   constructor(bytes: Uint8Array, label: string, display: DisplaySpec | 'real') {
+    super();
     this.bytes = bytes;
     this.label = label;
     this.replay = readReplay(bytes);
@@ -134,10 +135,6 @@ export class ReplayLab {
 
   get tick(): number {
     return this.player.tick;
-  }
-
-  get timeMs(): number {
-    return this.clock.timeMs;
   }
 
   get displaySpec(): DisplaySpec | 'real' {
@@ -238,20 +235,6 @@ export class ReplayLab {
   /** Switch the display (rate, jitter, or the real clock); playback goes on. */
   setDisplay(spec: DisplaySpec | 'real'): void {
     this.clock.setDisplay(spec);
-  }
-
-  /** Simulated display: move the clock to `ms`, feeding the player every frame due by then. */
-  advanceTo(ms: number): void {
-    this.clock.advanceTo(ms);
-  }
-
-  advanceBy(ms: number): void {
-    this.clock.advanceBy(ms);
-  }
-
-  /** Real clock: one display frame at `realMs` on the driver's time line. */
-  realFrame(realMs: number): void {
-    this.clock.realFrame(realMs);
   }
 
   private frame(t: number): void {

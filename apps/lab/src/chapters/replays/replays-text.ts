@@ -3,6 +3,7 @@
  * and what is in the file open now — every size read from the file's own sections.
  */
 import { h } from '../../ui/dom.js';
+import { textSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { describeContents } from '../../games-view/replays.js';
 import type { ReplayFacts, Verification } from './replays-lab.js';
@@ -51,15 +52,11 @@ export function verdictText(v: Verification, checkpoints: number, keyframes: num
 
 /** "What is in the file": how a replay is laid out, and what this one holds. */
 export function whatIsInTheFile(facts: ReplayFacts | undefined): HTMLElement {
-  return h(
-    'section',
-    { class: 'how', 'aria-labelledby': 'how-title' },
-    h('h2', { id: 'how-title' }, 'What is in the file'),
-    h(
-      'p',
-      {},
-      'A header (the game and its version, the step, the seed, the players), then the input of every tick, run-length coded: a held button costs a few bytes however long it is held. Then the state hashes taken while recording (one a second), any keyframes (snapshots of the state to seek from) and a checksum.',
-    ),
+  return textSection(
+    'how',
+    'how-title',
+    'What is in the file',
+    'A header (the game and its version, the step, the seed, the players), then the input of every tick, run-length coded: a held button costs a few bytes however long it is held. Then the state hashes taken while recording (one a second), any keyframes (snapshots of the state to seek from) and a checksum.',
     facts
       ? h(
           'p',
@@ -67,15 +64,7 @@ export function whatIsInTheFile(facts: ReplayFacts | undefined): HTMLElement {
           `The file open now — ${facts.title}, ${fmt.count(facts.ticks)} ticks — is ${describeContents(facts.contents, fmt.count)}.`,
         )
       : null,
-    h(
-      'p',
-      {},
-      'Playing re-simulates: the game is built from the header and stepped with the recorded inputs, and every stored hash it passes is checked. Seeking starts from the last keyframe before the target (or from tick 0) and steps from there; a tick back is a seek. The display only decides how many ticks run per frame — never what a tick does — so a replay is the same at 30 Hz, 144 Hz, 16× or one tick at a time.',
-    ),
-    h(
-      'p',
-      {},
-      'A highscore server does the same: it re-simulates the submitted replay and ranks the score the replay reaches, not the one claimed. That proves these inputs reach that score with this seed on this version of the game; it cannot tell whether a person or a bot pressed them. Format: docs/replay-format.md.',
-    ),
+    'Playing re-simulates: the game is built from the header and stepped with the recorded inputs, and every stored hash it passes is checked. Seeking starts from the last keyframe before the target (or from tick 0) and steps from there; a tick back is a seek. The display only decides how many ticks run per frame — never what a tick does — so a replay is the same at 30 Hz, 144 Hz, 16× or one tick at a time.',
+    'A highscore server does the same: it re-simulates the submitted replay and ranks the score the replay reaches, not the one claimed. That proves these inputs reach that score with this seed on this version of the game; it cannot tell whether a person or a bot pressed them. Format: docs/replay-format.md.',
   );
 }

@@ -12,7 +12,7 @@ import {
   button,
   group,
   segmented,
-  slider,
+  jitterSlider,
   type Segmented,
   type Slider,
 } from '../../ui/controls.js';
@@ -190,17 +190,11 @@ class ReplaysChapter {
         this.lab?.setDisplay({ hz, jitter: this.jitter });
       },
     });
-    this.jitterSlider = slider({
+    this.jitterSlider = jitterSlider({
       id: 'replay-jitter',
-      label: 'Jitter',
-      testId: 'control-jitter',
-      min: 0,
-      max: 30,
-      step: 1,
-      value: 0,
-      text: (v) => `±${v} %`,
-      onChange: (v) => {
-        this.jitter = v / 100;
+      percent: 0,
+      onChange: (jitter) => {
+        this.jitter = jitter;
         if (!shell.real) this.lab?.setDisplay({ hz: this.hz, jitter: this.jitter });
       },
     });

@@ -62,7 +62,7 @@ import {
   type Tower,
   type World,
 } from '@fixedstep/rapier';
-import { DisplayClock, type DisplaySpec } from '../../shell/display-clock.js';
+import { DisplayClock, OnDisplayClock, type DisplaySpec } from '../../shell/display-clock.js';
 
 /** Ticks per second of every simulation on this page. */
 export const TICK_RATE = 60;
@@ -1098,7 +1098,7 @@ export class WorldsSideBySide {
  * The whole chapter's model: the live knock-over, its replay (once asked for), the network duel
  * and the two worlds side by side, all fed by one display clock.
  */
-export class RigidLab {
+export class RigidLab extends OnDisplayClock {
   knock: KnockOver;
   replay: ReplayRun | undefined;
   net: TowerNet;
@@ -1106,7 +1106,7 @@ export class RigidLab {
   private link: LinkSettings;
   private worldsScene: WorldsScene = 'knock';
   private bots = true;
-  private clock: DisplayClock;
+  protected clock: DisplayClock;
   private real = false;
 
   /** Needs Rapier loaded (`await loadRapier()`, or build it with {@link openRigidLab}). */
@@ -1114,6 +1114,7 @@ export class RigidLab {
     private readonly rapier: RapierModule,
     link: Partial<LinkSettings> = {},
   ) {
+    super();
     this.link = { ...DEFAULT_LINK, ...link };
     this.clock = this.newClock();
     this.knock = new KnockOver(rapier);
@@ -1134,11 +1135,6 @@ export class RigidLab {
     return net;
   }
 
-  /** The lab's time: ms of the display's time line since the start. */
-  get timeMs(): number {
-    return this.clock.timeMs;
-  }
-
   get linkSettings(): Readonly<LinkSettings> {
     return this.link;
   }
@@ -1153,25 +1149,6 @@ export class RigidLab {
 
   get realClock(): boolean {
     return this.real;
-  }
-
-  /** The lab's time of a real-clock reading (for stamping input events between frames). */
-  timeOfReal(realMs: number): number {
-    return this.clock.timeOfReal(realMs);
-  }
-
-  /** Simulated display: move the clock to `ms`, every part taking the display frames due. */
-  advanceTo(ms: number): void {
-    this.clock.advanceTo(ms);
-  }
-
-  advanceBy(ms: number): void {
-    this.clock.advanceBy(ms);
-  }
-
-  /** Real clock: one of the page's animation frames at `realMs` on the driver's time line. */
-  realFrame(realMs: number): void {
-    this.clock.realFrame(realMs);
   }
 
   /** Switch between the simulated 60 Hz display and the page's real frames, going on from now. */

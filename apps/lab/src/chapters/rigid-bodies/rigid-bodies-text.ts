@@ -4,6 +4,7 @@
  * with the command that gives them), and how the page works.
  */
 import { h } from '../../ui/dom.js';
+import { textSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import type {
   KnockReadouts,
@@ -113,10 +114,10 @@ export function worldNote(r: WorldReadouts, rotates: boolean): string {
 export function howItWorks(): HTMLElement {
   const li = (...parts: (string | HTMLElement)[]) => h('li', {}, ...parts);
   const c = (text: string) => h('code', {}, text);
-  return h(
-    'section',
-    { class: 'how', 'aria-labelledby': 'rigid-how-title' },
-    h('h2', { id: 'rigid-how-title' }, 'How this page works'),
+  return textSection(
+    'how',
+    'rigid-how-title',
+    'How this page works',
     h(
       'ul',
       {},

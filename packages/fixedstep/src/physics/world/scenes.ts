@@ -101,33 +101,13 @@ export function circlesInBoxScene(
   seed: number,
   def: Partial<WorldDef> = {},
 ): PhysicsScene {
-  if (!(Number.isInteger(n) && n >= 0))
-    throw new RangeError(`circlesInBox: n must be a non-negative integer, got ${String(n)}`);
-  const rng = new Random(seed);
-  const spacing = 0.4;
-  const cols = Math.max(10, Math.ceil(1.5 * Math.sqrt(n)));
-  const rows = Math.ceil(n / cols);
-  const width = cols * spacing;
-  const height = rows * spacing + 2;
-  const bodies: SceneBody[] = [];
-  for (let k = 0; k < n; k++) {
-    const col = k % cols;
-    const row = (k - col) / cols;
-    bodies.push({
-      x: -width / 2 + spacing / 2 + col * spacing + rng.range(-0.04, 0.04),
-      y: spacing / 2 + row * spacing + rng.range(-0.04, 0.04),
-      vx: 0,
-      vy: 0,
-      radius: rng.range(0.1, 0.15),
-    });
-  }
-  return {
-    def: { ...defaultWorldDef(), ...def },
-    walls: container(-width / 2, 0, width / 2, height),
-    segments: [],
-    bodies,
-    inner: [-width / 2, 0, width / 2, height],
-  };
+  return latticeInBox('circlesInBox', n, seed, def, (_k, x, y, rng) => ({
+    x,
+    y,
+    vx: 0,
+    vy: 0,
+    radius: rng.range(0.1, 0.15),
+  }));
 }
 
 /** {@link circlesInBoxScene} as a ready world. */
@@ -147,8 +127,28 @@ export function bodiesInBoxScene(
   seed: number,
   def: Partial<WorldDef> = {},
 ): PhysicsScene {
+  return latticeInBox('bodiesInBox', n, seed, def, (k, x, y, rng) => {
+    if (k % 2 === 0) return { x, y, vx: 0, vy: 0, radius: rng.range(0.1, 0.15) };
+    const halfWidth = rng.range(0.08, 0.14);
+    return { x, y, vx: 0, vy: 0, halfWidth, halfHeight: rng.range(0.08, 0.14) };
+  });
+}
+
+/**
+ * The box scenes' layout: `n` bodies at rest on a jittered 0.4 m lattice, `ceil(1.5·√n)` (at least
+ * 10) columns wide, filled row by row from 0.2 m above the floor, in a closed box as wide as the
+ * lattice and 2 m higher than its top row. `make` makes body `k` at (x, y), drawing its size from
+ * `rng` after the jitter of its position.
+ */
+function latticeInBox(
+  what: string,
+  n: number,
+  seed: number,
+  def: Partial<WorldDef>,
+  make: (k: number, x: number, y: number, rng: Random) => SceneBody,
+): PhysicsScene {
   if (!(Number.isInteger(n) && n >= 0))
-    throw new RangeError(`bodiesInBox: n must be a non-negative integer, got ${String(n)}`);
+    throw new RangeError(`${what}: n must be a non-negative integer, got ${String(n)}`);
   const rng = new Random(seed);
   const spacing = 0.4;
   const cols = Math.max(10, Math.ceil(1.5 * Math.sqrt(n)));
@@ -161,11 +161,7 @@ export function bodiesInBoxScene(
     const row = (k - col) / cols;
     const x = -width / 2 + spacing / 2 + col * spacing + rng.range(-0.04, 0.04);
     const y = spacing / 2 + row * spacing + rng.range(-0.04, 0.04);
-    if (k % 2 === 0) bodies.push({ x, y, vx: 0, vy: 0, radius: rng.range(0.1, 0.15) });
-    else {
-      const halfWidth = rng.range(0.08, 0.14);
-      bodies.push({ x, y, vx: 0, vy: 0, halfWidth, halfHeight: rng.range(0.08, 0.14) });
-    }
+    bodies.push(make(k, x, y, rng));
   }
   return {
     def: { ...defaultWorldDef(), ...def },
