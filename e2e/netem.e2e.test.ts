@@ -100,7 +100,8 @@ describe.runIf(found.ok)('loss harness: WebRTC vs WebSocket between two Chromium
   it('WebRTC: page 1 hosts the relay, page 2 joins peer to peer through TURN', async () => {
     const { pages: ps, problems } = await pages();
     udp.setConditions(CLEAN);
-    const signalUrl = `ws://127.0.0.1:${server.port}/signal`;
+    // The page's own origin (`localhost`): signalling takes same-origin pages only.
+    const signalUrl = `${server.url.replace(/^http/, 'ws')}signal`;
     const ice = turn.iceServers(udp.port);
     const invite = await ps[0]!.evaluate(([u, r, i]) => window.netem!.host(u, r, i), [
       signalUrl,

@@ -193,8 +193,11 @@ describe('chapter 6, people play people online', () => {
     expect(await one.getByTestId('readout-online-via').getAttribute('data-value')).toBe(
       'WebRTC, hosting',
     );
+    // The second tab's link carries the room's invite: nobody joins the host without it.
     const link = await one.getByTestId('link-room-tab').getAttribute('href');
-    expect(link).toBe(`#/network?room=people-p2p&ticks=${ticks}&p2p=1&join=1`);
+    expect(link).toMatch(
+      new RegExp(`^#/network\\?room=people-p2p&ticks=${ticks}&p2p=1&invite=[0-9a-f]{32}&join=1$`),
+    );
     await two.goto(`${server.url}${link}`);
     for (const p of pages) await expect.poll(() => state(p), { timeout: 40_000 }).toBe('running');
     const via = await two.getByTestId('readout-online-via').getAttribute('data-value');

@@ -26,7 +26,14 @@ import {
 } from 'fixedstep';
 import { ctfGame, type Game } from '@fixedstep/games';
 import { createServer, type FixedstepServer } from '../src/index.js';
-import { MatchQueue, MatchTickets, type Match } from '../src/match/index.js';
+import {
+  MatchQueue,
+  isLoopbackKey,
+  MatchTickets,
+  type Match,
+  type MatchQueueOptions,
+} from '../src/match/index.js';
+import { addressKey } from '../src/http/admission.js';
 import { connectNodeWebSocket } from '../src/relay/index.js';
 
 const INPUT = '0123456789abcdef';
@@ -58,7 +65,7 @@ const req = (over: Partial<MatchQueueRequest> = {}): MatchQueueRequest => ({
   ...over,
 });
 
-function makeQueue(limits = {}) {
+function makeQueue(limits = {}, options: Partial<MatchQueueOptions> = {}) {
   const clock = new ManualClock(1000);
   let n = 0;
   const queue = new MatchQueue<string>({
@@ -67,6 +74,7 @@ function makeQueue(limits = {}) {
     limits,
     randomBytes: (k) => new Uint8Array(k).fill(++n),
     randomU32: () => 0xc0ffee,
+    ...options,
   });
   /** Sweeps; every proposal is accepted by all but `refuse`; returns the matches made. */
   const sweep = (refuse: (data: string) => boolean = () => false): Match<string>[] => {
@@ -160,6 +168,23 @@ describe('the quick-match queue (no sockets, a manual clock)', () => {
     expect(sweep()).toEqual([]);
     queue.join(req(), 'away', 'd');
     expect(teams(sweep())).toEqual([['a', 'd']]);
+  });
+
+  it("pairs this machine's own tabs (loopback), and only those, with each other", () => {
+    expect([isLoopbackKey('127.0.0.1'), isLoopbackKey('127.4.5.6')]).toEqual([true, true]);
+    expect(isLoopbackKey(addressKey('::1'))).toBe(true);
+    expect([isLoopbackKey('10.0.0.1'), isLoopbackKey(addressKey('2001:db8::1'))]).toEqual([
+      false,
+      false,
+    ]);
+    const { queue, sweep } = makeQueue();
+    queue.join(req(), '127.0.0.1', 'tab1');
+    queue.join(req(), '127.0.0.1', 'tab2');
+    expect(teams(sweep())).toEqual([['tab1', 'tab2']]);
+    const strict = makeQueue({}, { matchesItself: () => false });
+    strict.queue.join(req(), '127.0.0.1', 'tab1');
+    strict.queue.join(req(), '127.0.0.1', 'tab2');
+    expect(strict.sweep()).toEqual([]);
   });
 
   it('an attacker holding its tickets and re-queueing after every match captures only its share', () => {

@@ -5,7 +5,13 @@
  * fixedstep. See docs/network.md.
  * @module
  */
-export { MatchQueue, DEFAULT_MATCHMAKING_LIMITS, ACCEPT_MS, FILL_WINDOW_MS } from './queue.js';
+export {
+  MatchQueue,
+  DEFAULT_MATCHMAKING_LIMITS,
+  ACCEPT_MS,
+  FILL_WINDOW_MS,
+  isLoopbackKey,
+} from './queue.js';
 export type {
   MatchmakingLimits,
   MatchQueueOptions,

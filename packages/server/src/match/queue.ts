@@ -59,6 +59,20 @@ export interface MatchQueueOptions {
   randomBytes?: (n: number) => Uint8Array;
   /** A random u32 for a match's seed. Default `crypto.randomInt`. */
   randomU32?: () => number;
+  /**
+   * Whether players from `address` (a caps key) may be matched with each other. Default
+   * {@link isLoopbackKey}: only this machine's own tabs (a developer trying quick match in two
+   * tabs); every other address is never matched with itself.
+   */
+  matchesItself?: (address: string) => boolean;
+}
+
+/**
+ * Whether caps key `address` is this machine (127.0.0.0/8, or `::1`'s /64). A proxy on loopback
+ * must be trusted for its header (see the server's `trustProxy`), or every client looks local.
+ */
+export function isLoopbackKey(address: string): boolean {
+  return address.startsWith('127.') || address === '0:0:0:0::/64';
 }
 
 /** One player of a {@link Match}. */
@@ -151,6 +165,7 @@ export class MatchQueue<T> {
   private readonly fillWindowMs: number;
   private readonly randomBytes: (n: number) => Uint8Array;
   private readonly randomU32: () => number;
+  private readonly matchesItself: (address: string) => boolean;
   private readonly entries = new Map<number, Entry<T>>();
   private readonly perAddress = new Map<string, number>();
   private nextTicket = 1;
@@ -169,6 +184,7 @@ export class MatchQueue<T> {
     this.fillWindowMs = options.fillWindowMs ?? FILL_WINDOW_MS;
     this.randomBytes = options.randomBytes ?? ((n) => cryptoRandomBytes(n));
     this.randomU32 = options.randomU32 ?? (() => randomInt(0, 2 ** 32 - 1));
+    this.matchesItself = options.matchesItself ?? isLoopbackKey;
   }
 
   /** Players queued (waiting or in a proposal), all games together. */
@@ -351,8 +367,8 @@ export class MatchQueue<T> {
       const addresses = new Set([oldest.address]);
       for (const e of waiting) {
         if (chosen.length === n - 1) break;
-        if (e === oldest || taken.has(e) || e.key !== oldest.key || addresses.has(e.address))
-          continue;
+        if (e === oldest || taken.has(e) || e.key !== oldest.key) continue;
+        if (addresses.has(e.address) && !this.matchesItself(e.address)) continue;
         if (e.minPlayers > n || n > e.maxPlayers) continue;
         chosen.push(e);
         addresses.add(e.address);
