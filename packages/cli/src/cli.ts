@@ -32,7 +32,14 @@ import {
   replayInfo,
   replayVerify,
 } from './replay.js';
-import { GamesModuleError, createServer, loadGames, prepareStore } from '@fixedstep/server';
+import {
+  GamesModuleError,
+  createServer,
+  loadGames,
+  parseOriginPolicy,
+  prepareStore,
+  type OriginPolicy,
+} from '@fixedstep/server';
 import { lineChartSvg } from './svg.js';
 
 /** Exit codes: 0 done, 1 it failed while running, 2 the command line was wrong. */
@@ -127,7 +134,7 @@ const SERVE_OPTIONS: OptionSpec[] = [
     name: 'allowed-origins',
     kind: 'string',
     valueName: 'list',
-    help: 'Comma-separated origins allowed to open the relay WebSocket\n(default: any)',
+    help: 'Which pages may open the WebSockets (relay, state sync, signalling,\nquick match): same-origin (the default: pages of this server only), a\ncomma-separated list like https://game.example, or any\n(default: $FIXEDSTEP_ALLOWED_ORIGINS, else same-origin)',
   },
   {
     name: 'workers',
@@ -154,12 +161,14 @@ Serves the built lab, the highscore API (replays re-simulated in worker threads;
 their replays in PostgreSQL) and, on the same port: the multiplayer relay at /ws/<room>
 (WebSocket; server-ordered inputs for lockstep and rollback, desync detection), state-sync
 rooms at /state/<room> (the server runs the game and sends the world), WebRTC signalling for
-peer-to-peer matches at /signal, a quick-match queue at /match; /healthz, /readyz and
-/metrics (Prometheus).
+peer-to-peer matches at /signal/<room>, a quick-match queue at /match; /healthz, /readyz and
+/metrics (Prometheus). Every WebSocket surface takes pages of this server only unless
+--allowed-origins says otherwise, and caps sockets and rooms per client address.
 
 Ctrl-C stops at once; SIGTERM drains first (no new rooms; running matches get
-$FIXEDSTEP_DRAIN_MS, default 25000 ms). The relay reads its caps, allowed origins and trusted
-proxy from FIXEDSTEP_* variables (docs/deploy.md).
+$FIXEDSTEP_DRAIN_MS, default 25000 ms). Caps, allowed origins, the trusted proxy and the
+quick-match ticket secret shared by a deployment's processes ($FIXEDSTEP_MATCH_SECRET) come from
+FIXEDSTEP_* variables (docs/deploy.md).
 
 Scores go to the embedded PostgreSQL (PGlite) in <data>/pglite, or to the PostgreSQL server
 of $DATABASE_URL when it is set (then any number of server processes may share it).
@@ -263,7 +272,7 @@ export type Command =
       data?: string;
       games?: string;
       trustProxy?: string;
-      allowedOrigins?: string[];
+      allowedOrigins?: OriginPolicy;
       workers?: number;
       maxConnections?: number;
       databaseUrl?: string;
@@ -304,11 +313,11 @@ function parseServe(
   if (envPort !== undefined && envPort !== '')
     port = convertValue(SERVE_OPTIONS[0]!, 'PORT', envPort) as number;
   const originList = str(values['allowed-origins']);
-  const origins = originList?.split(',').map((o) => o.trim());
-  if (origins?.some((o) => !/^https?:\/\/[^/\s]+$/.test(o))) {
-    throw new UsageError(
-      `--allowed-origins must be origins like https://game.example, got "${originList ?? ''}"`,
-    );
+  let origins: OriginPolicy | undefined;
+  try {
+    if (originList !== undefined) origins = parseOriginPolicy(originList, '--allowed-origins');
+  } catch (e) {
+    throw new UsageError((e as Error).message);
   }
   return {
     kind: 'serve',

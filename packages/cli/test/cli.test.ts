@@ -67,6 +67,25 @@ describe('parseArgs', () => {
     });
   });
 
+  it('takes --allowed-origins: same-origin (the default, and what --help says), a list, or any', () => {
+    expect(SERVE_HELP).toMatch(/same-origin \(the default: pages of this server only\)/);
+    expect(SERVE_HELP).not.toMatch(/default: any/);
+    expect(SERVE_HELP).toContain('/signal/<room>');
+    expect(parseArgs(['serve'])).not.toHaveProperty('allowedOrigins');
+    expect(parseArgs(['serve', '--allowed-origins', 'same-origin'])).toMatchObject({
+      allowedOrigins: 'same-origin',
+    });
+    expect(
+      parseArgs(['serve', '--allowed-origins', 'https://a.example, http://b.example:8080']),
+    ).toMatchObject({ allowedOrigins: ['https://a.example', 'http://b.example:8080'] });
+    expect(parseArgs(['serve', '--allowed-origins=any'])).toMatchObject({ allowedOrigins: 'any' });
+    expect(parseArgs(['serve', '--allowed-origins', 'a.example'])).toMatchObject({
+      kind: 'usage-error',
+      message:
+        '--allowed-origins: "a.example" is not an origin like https://game.example (or same-origin, or any)',
+    });
+  });
+
   it.each([
     [['bogus'], 'unknown command: bogus'],
     [['--bogus'], 'unknown option: --bogus'],

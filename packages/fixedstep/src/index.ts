@@ -1,82 +1,16 @@
 /**
- * fixedstep — fixed-step, deterministic simulation.
+ * fixedstep — fixed-step, deterministic simulation. Everything in one import, or by topic from a
+ * sub-path: `fixedstep/time`, `fixedstep/sim`, `fixedstep/input`, `fixedstep/det`,
+ * `fixedstep/physics`, `fixedstep/replay`, `fixedstep/net`, `fixedstep/testing`. No name is
+ * exported by two sub-paths (a test holds it), so the root is their union.
  * @packageDocumentation
  * @module fixedstep
  */
-export { Timestep } from './time/timestep.js';
-export type { Loop, LoopKind } from './time/loop.js';
-export { FixedLoop } from './time/fixed-loop.js';
-export type {
-  FixedLoopOptions,
-  OverloadPolicy,
-  HiddenPolicy,
-  DropReason,
-  LoopWarning,
-} from './time/fixed-loop.js';
-export {
-  FrameLockedLoop,
-  VariableLoop,
-  NaiveFixedLoop,
-  FinalFixedLoop,
-} from './time/talk-loops.js';
-export {
-  ManualClock,
-  performanceClock,
-  animationFrameScheduler,
-  timerScheduler,
-  ManualScheduler,
-  FrameDriver,
-  trackVisibility,
-} from './time/drivers.js';
-export type { Clock, FrameCallback, FrameScheduler } from './time/drivers.js';
-export {
-  MAX_BUTTONS,
-  PRESSED_SHIFT,
-  DOWN_MASK,
-  downBit,
-  pressedBit,
-  anyBit,
-  isDown,
-  wasPressed,
-  packButtons,
-  downMask,
-  pressedMask,
-  heldOnly,
-  interleave,
-  deinterleave,
-} from './sim/buttons.js';
-export type { ButtonInput } from './sim/buttons.js';
-export {
-  defineInput,
-  inputSchemaFromDescriptor,
-  BUTTON_WORD,
-  MAX_AXES,
-  PlayerInput,
-} from './sim/input-schema.js';
-export type {
-  InputSchema,
-  InputDefinition,
-  AxisDefinition,
-  AxisSpec,
-  LinearAxisSpec,
-  AngleAxisSpec,
-} from './sim/input-schema.js';
-export { InputSampler, ButtonSampler } from './sim/input.js';
-export { FrameStepper } from './sim/stepper.js';
-export type { FrameStepperOptions } from './sim/stepper.js';
-export { InterpolationBuffer } from './sim/interpolation.js';
-export { CorrectionSmoother } from './sim/smoothing.js';
-export type { CorrectionSmootherOptions } from './sim/smoothing.js';
-export { defineGame, gameOptions, gameSetup, findGameById } from './sim/game.js';
-export type { GameDefinition, GameSetup, AnyGameDefinition } from './sim/game.js';
+export * from './time/index.js';
+export * from './sim/index.js';
 export * from './input/index.js';
-export { SimulatedDisplay } from './time/display.js';
-export type { SimulatedDisplayOptions, DisplayEvent, DisplayFrame } from './time/display.js';
-export type { Simulation } from './sim/simulation.js';
-export { guardStep, guardSimulation } from './sim/guard.js';
-export { runForHash, snapshotRoundTrip, hashTrace } from './testing/index.js';
-export type { RoundTripResult } from './testing/index.js';
 export * from './det/index.js';
 export * from './physics/index.js';
 export * from './replay/index.js';
 export * from './net/index.js';
+export * from './testing/index.js';

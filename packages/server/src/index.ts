@@ -25,6 +25,7 @@ export {
   trustedProxy,
   trustedProxyList,
   admissionOptionsFromEnv,
+  parseOriginPolicy,
   roomCapsFromEnv,
   DEFAULT_ORIGIN_POLICY,
   MAX_SOCKETS,
@@ -83,7 +84,7 @@ export {
   RELAY_UPDATE_MS,
   connectNodeWebSocket,
 } from './relay/index.js';
-export type { RelayEndpointOptions } from './relay/index.js';
+export type { RelayEndpointOptions, NodeWebSocketOptions } from './relay/index.js';
 export { attachStateSync, StateSyncEndpoint, STATE_SYNC_UPDATE_MS } from './state-sync/index.js';
 export type { StateSyncEndpointOptions } from './state-sync/index.js';
 export { attachSignalling, SignallingEndpoint, SIGNALLING_UPDATE_MS } from './signalling/index.js';

@@ -1,3 +1,10 @@
+/**
+ * Determinism's tools: a seeded random generator, FNV-1a 64-bit hashes, canonical byte readers
+ * and writers (varints, bounded counts), deterministic math (`dsin`, `dcos`, `datan2`, `dexp`,
+ * `dhypot` … the same bits in every JS engine), and the guard that forbids clocks and
+ * `Math.random` inside a step.
+ * @module
+ */
 export { Random } from './random.js';
 export { Fnv1a64, fnv1a64, fnv1a64Hex, hex64 } from './hash.js';
 export {

@@ -1,10 +1,10 @@
-import { fnv1a64, hex64 } from '../det/hash.js';
-import type { Simulation } from '../sim/simulation.js';
-
 /**
  * Test helpers every scene and game uses (Box2D-style): a golden hash after N ticks, and the
  * snapshot round trip. They return plain results and messages so they work with any test runner.
+ * @module
  */
+import { fnv1a64, hex64 } from '../det/hash.js';
+import type { Simulation } from '../sim/simulation.js';
 
 export { hex64 };
 

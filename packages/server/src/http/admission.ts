@@ -164,6 +164,26 @@ export function originAllowed(req: http.IncomingMessage, policy: OriginPolicy): 
   return policy.includes(origin);
 }
 
+/**
+ * An {@link OriginPolicy} written as text (an environment variable, a command-line option):
+ * `same-origin`, `any` (or `*`), or comma-separated origins like `https://game.example`. Throws an
+ * Error naming `what` for anything else.
+ */
+export function parseOriginPolicy(text: string, what: string): OriginPolicy {
+  const t = text.trim();
+  if (t === 'same-origin') return 'same-origin';
+  if (t === 'any' || t === '*') return 'any';
+  const list = t.split(',').map((o) => o.trim());
+  for (const o of list) {
+    if (!isOrigin(o)) {
+      throw new Error(
+        `${what}: "${o}" is not an origin like https://game.example (or same-origin, or any)`,
+      );
+    }
+  }
+  return list;
+}
+
 /** Options of {@link Admission}. */
 export interface AdmissionOptions {
   /** Browser origins allowed to open a WebSocket. Default {@link DEFAULT_ORIGIN_POLICY}. */
@@ -252,21 +272,7 @@ export function admissionOptionsFromEnv(
 ): Partial<AdmissionOptions> {
   const out: Partial<AdmissionOptions> = {};
   const origins = env.FIXEDSTEP_ALLOWED_ORIGINS?.trim();
-  if (origins) {
-    if (origins === 'same-origin') out.allowedOrigins = 'same-origin';
-    else if (origins === '*') out.allowedOrigins = 'any';
-    else {
-      const list = origins.split(',').map((o) => o.trim());
-      for (const o of list) {
-        if (!isOrigin(o)) {
-          throw new Error(
-            `FIXEDSTEP_ALLOWED_ORIGINS: "${o}" is not an origin like https://example.com`,
-          );
-        }
-      }
-      out.allowedOrigins = list;
-    }
-  }
+  if (origins) out.allowedOrigins = parseOriginPolicy(origins, 'FIXEDSTEP_ALLOWED_ORIGINS');
   const header = env.FIXEDSTEP_PROXY_HEADER?.trim();
   if (header) {
     if (!/^[A-Za-z0-9-]{1,64}$/.test(header)) {

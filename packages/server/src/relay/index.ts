@@ -12,3 +12,4 @@ export {
 } from './endpoint.js';
 export type { RelayEndpointOptions } from './endpoint.js';
 export { connectNodeWebSocket } from './client.js';
+export type { NodeWebSocketOptions } from './client.js';

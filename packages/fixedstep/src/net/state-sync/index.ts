@@ -58,5 +58,5 @@ export type {
   StateSyncSessionStats,
   StateSyncCorrection,
 } from './session.js';
-export { SnapshotTimeline, CorrectionSmoother, LatenessWindow } from './render.js';
+export { SnapshotTimeline, PredictionSmoother, LatenessWindow } from './render.js';
 export type { StateSyncRender } from './render.js';

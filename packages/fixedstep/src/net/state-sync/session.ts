@@ -24,7 +24,7 @@ import {
 } from './messages.js';
 import { applyDelta } from './delta.js';
 import {
-  CorrectionSmoother,
+  PredictionSmoother,
   LatenessWindow,
   SnapshotTimeline,
   type StateSyncRender,
@@ -177,7 +177,7 @@ const MAX_INPUT_WINDOW = DEFAULT_STATE_SYNC_LIMITS.maxInputTicks;
  * `load`) changes nothing and asks the server for a full one.
  *
  * Draw with {@link render}: the local player's entities come from the prediction (no input lag;
- * corrections glide, see {@link CorrectionSmoother}), everything else is drawn between the two
+ * corrections glide, see {@link PredictionSmoother}), everything else is drawn between the two
  * snapshots around `now − renderDelay`.
  *
  * The game need not be deterministic — every snapshot replaces the client's state — and the
@@ -271,7 +271,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
   private predPrev: Float64Array;
   private predCurr: Float64Array;
   private owned: readonly number[] = [];
-  private smoother: CorrectionSmoother;
+  private smoother: PredictionSmoother;
   private ownBefore = new Float64Array(0);
   private ownAfter = new Float64Array(0);
   private lastRenderTick = -Infinity;
@@ -342,7 +342,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.scratchValues = new Float64Array(size);
     this.predPrev = new Float64Array(size);
     this.predCurr = new Float64Array(size);
-    this.smoother = new CorrectionSmoother(0);
+    this.smoother = new PredictionSmoother(0);
     this.transport.onMessage((bytes) => {
       this.receive(bytes);
     });
@@ -756,7 +756,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       const n = owned.length * r.fields;
       this.ownBefore = new Float64Array(n);
       this.ownAfter = new Float64Array(n);
-      this.smoother = new CorrectionSmoother(
+      this.smoother = new PredictionSmoother(
         n,
         this.options.smoothingHalfLifeMs ?? 80,
         r.teleport ?? Infinity,

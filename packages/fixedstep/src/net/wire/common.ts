@@ -121,7 +121,7 @@ export interface ErrorMessage {
 
 /** The fields of every protocol's `error` message. */
 export const ERROR_FIELDS = {
-  code: oneOf(NET_ERROR_CODES),
+  code: oneOf(NET_ERROR_CODES, 'an error code (NET_ERROR_CODES)'),
   fatal: flag(),
   message: text({ max: MAX_ERROR_TEXT_BYTES, clip: true }),
 } satisfies { [K in Exclude<keyof ErrorMessage, 'type'>]: Field<ErrorMessage[K]> };

@@ -7,7 +7,14 @@
 export { ProtocolError } from './error.js';
 export type { ProtocolErrorCode, ProtocolErrorPlace } from './error.js';
 export { WireProtocol, defineProtocol } from './protocol.js';
-export type { DecodeOptions, Sender, MessageSpec, ProtocolSpec } from './protocol.js';
+export type {
+  DecodeOptions,
+  Sender,
+  MessageSpec,
+  ProtocolSpec,
+  MessageDescription,
+} from './protocol.js';
+export { protocolTable } from './table.js';
 export { NAME_PATTERN } from './fields.js';
 export type { Field, Fields, Limits, Bound } from './fields.js';
 export {

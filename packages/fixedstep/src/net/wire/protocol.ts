@@ -29,6 +29,18 @@ export interface MessageSpec<T extends { type: string }> {
   check?: (m: T, limits: Limits) => readonly [string, string] | undefined;
 }
 
+/** One message as {@link WireProtocol.describe} tells it. */
+export interface MessageDescription {
+  type: string;
+  code: number;
+  from: Sender;
+  /** Its fields in wire order: name and kind in words (`varint 0–maxPlayers`, `name` …). */
+  fields: { name: string; kind: string }[];
+  /** Fewest and most bytes, header included, under the limits described. */
+  minBytes: number;
+  maxBytes: number;
+}
+
 /** A protocol's declaration. */
 export interface ProtocolSpec<M extends { type: string }, L extends object> {
   /** Its name in messages: `relay`, `state sync` … */
@@ -117,6 +129,22 @@ export class WireProtocol<M extends { type: string }, L extends object> {
   /** Who sends messages of `type`. */
   sender(type: M['type']): Sender {
     return this.compiled(type).from;
+  }
+
+  /** Every message as its declaration says, in type-byte order (docs are made from this). */
+  describe(limits: Readonly<L> = this.limits): MessageDescription[] {
+    return this.byCode
+      .filter((c): c is Compiled => c !== undefined)
+      .map((c) => ({
+        type: c.type,
+        code: c.code,
+        from: c.from,
+        fields: c.layout.entries
+          .filter(([, f]) => !f.carried)
+          .map(([name, f]) => ({ name, kind: f.kind })),
+        minBytes: 2 + c.layout.minBytes,
+        maxBytes: 2 + c.layout.maxBytes(limits as Limits),
+      }));
   }
 
   /**
