@@ -1,11 +1,16 @@
-import { fnv1a64 } from '../det/hash.js';
-import type { ButtonInput } from '../sim/buttons.js';
-import type { AnyGameDefinition, GameSetup } from '../sim/game.js';
-import { BUTTON_WORD, type InputSchema } from '../sim/input-schema.js';
-import type { Simulation } from '../sim/simulation.js';
-import type { Clock } from '../time/drivers.js';
-import { ClockSync } from './clock-sync.js';
-import { InputRing, SnapshotRing } from './history.js';
+/**
+ * A client session of a relay room: join with hello/welcome, keep the server's clock, receive the
+ * confirmed inputs, send the local ones, report state hashes and answer forensics requests — what
+ * lockstep, rollback and spectator sessions share; the kinds decide when a tick is stepped.
+ * @module
+ */
+import { fnv1a64 } from '../../det/hash.js';
+import type { ButtonInput } from '../../sim/buttons.js';
+import { BUTTON_WORD, type InputSchema } from '../../sim/input-schema.js';
+import type { Simulation } from '../../sim/simulation.js';
+import type { Clock } from '../../time/drivers.js';
+import { ClockSync } from '../clock-sync.js';
+import { InputRing, SnapshotRing } from '../history.js';
 import {
   DEFAULT_PROTOCOL_LIMITS,
   decodeMessage,
@@ -14,140 +19,17 @@ import {
   type DesyncMessage,
   type NetMessage,
   type WelcomeMessage,
-} from './relay/messages.js';
-import { ProtocolError } from './wire/error.js';
-import type { ErrorMessage, LeaveReason } from './wire/common.js';
-import type { Transport } from './transport.js';
-
-/** Where a session is. */
-export type NetPhase = 'connecting' | 'waiting' | 'running' | 'closed';
-
-/** What a session tells its owner about. */
-export type NetEvent =
-  | { type: 'welcome'; welcome: WelcomeMessage }
-  | { type: 'start'; startAt: number }
-  | { type: 'desync'; desync: DesyncMessage }
-  | { type: 'error'; error: ErrorMessage }
-  | { type: 'leave'; peer: number; reason: LeaveReason }
-  | { type: 'closed'; reason: string };
-
-/** The game setup a welcome describes: the room's seed, players and option bytes. */
-export function setupFromWelcome(welcome: WelcomeMessage): GameSetup {
-  return Object.freeze({ seed: welcome.seed, players: welcome.players, options: welcome.config });
-}
-
-/** Options every network session takes. */
-export interface NetSessionOptions<I = ButtonInput> {
-  /** The pipe to the server. */
-  transport: Transport;
-  /**
-   * The clock frames and pings are measured on (`performanceClock()` in a browser, the
-   * scheduler's clock in a simulated network). Only differences matter.
-   */
-  clock: Clock;
-  /** Room to join (created by the first hello). */
-  room: string;
-  /**
-   * The game: a definition (id, version, input schema and how to build it all come from it), or
-   * its id — then give `gameVersion`, `createSimulation` and, unless it is `BUTTON_WORD`, `input`.
-   * Every member of a room must run the same game, version and input schema.
-   */
-  game: string | AnyGameDefinition;
-  /** The game's version, when `game` is an id. */
-  gameVersion?: number;
-  /** The input schema, when `game` is an id. Default `BUTTON_WORD`. */
-  input?: InputSchema<I>;
-  /** Player slots, when this session creates the room (default: the game's minimum). */
-  players?: number;
-  /** The game's seed, when this session creates the room (default: the server picks). */
-  seed?: number;
-  /** Display name (at most 32 UTF-8 bytes). */
-  name?: string;
-  /** Reconnect token from an earlier welcome: take back that slot. */
-  token?: Uint8Array;
-  /**
-   * A quick-match ticket (`quickMatch`'s `ticket`): the room, its setup and this player's seat
-   * come from it; `players` and `seed` are then ignored.
-   */
-  ticket?: Uint8Array;
-  /**
-   * Spectators: the room's invite token (`welcome.invite` of one of its players). The relay lets
-   * no spectator in without it.
-   */
-  invite?: Uint8Array;
-  /**
-   * Builds the simulation from the welcome (its seed, `players` and `config` bytes). Default, with
-   * a game definition: `game.create(setupFromWelcome(welcome))`.
-   */
-  createSimulation?(welcome: WelcomeMessage): Simulation<I>;
-  /**
-   * The local player's input for `tick` — called exactly once per tick, in tick order, some
-   * ticks before the tick is simulated (the input delay). `sim` is the current state (read it,
-   * never step it). Default: the schema's neutral input (nothing pressed).
-   *
-   * From an `InputSampler` fed by device adapters:
-   * `sampler.sample({ isBeforeUpdateEnd: (t) => t <= clock.now() }, 0)` gives the tick being
-   * issued every event up to now, so each press reaches exactly one tick (as precisely as the
-   * frames that issue ticks allow).
-   */
-  localInput?: (tick: number, sim: Simulation<I>) => I;
-  /**
-   * The most ticks one {@link NetSession.frame} steps forward: the catch-up budget after a
-   * background tab, a late join or a hitch. Default 32. Resimulation after a rollback is not
-   * counted (it is bounded by the prediction window).
-   */
-  maxTicksPerFrame?: number;
-  /** Clock sync probe interval, in ms. Default 250 (the first four go 50 ms apart). */
-  pingIntervalMs?: number;
-  /**
-   * Keep the `save()` of each of the last this many confirmed ticks, so the server can pin a
-   * desync to its exact tick and diff both sides' states. Default 180. 0 saves only at hash
-   * report ticks (the server can then only name the report tick).
-   */
-  forensicsWindow?: number;
-  /** Never simulate past this tick (tests, benchmarks, a match of fixed length). */
-  stopAt?: number;
-  /** Events: welcome, start, desync, error, leave, closed. */
-  onEvent?: (event: NetEvent) => void;
-}
-
-/** Counters of a session; all cumulative except the current delays. */
-export interface NetSessionStats {
-  /** Calls of {@link NetSession.frame}. */
-  frames: number;
-  /** Ticks stepped forward (not counting resimulation). */
-  ticks: number;
-  /** Most forward ticks in one frame. */
-  maxTicksInFrame: number;
-  /** Frames that wanted to step but could not (missing inputs, or the prediction window full). */
-  stallFrames: number;
-  /** Stalls: runs of consecutive stalled frames. */
-  stalls: number;
-  /** Rollbacks (rollback sessions). */
-  rollbacks: number;
-  /** Ticks resimulated by rollbacks. */
-  resimulatedTicks: number;
-  /** Deepest rollback, in ticks. */
-  maxRollbackDepth: number;
-  /** Confirmed inputs of this player that differ from what it sent (filled after the deadline). */
-  replacedInputs: number;
-  /** Input delay in ticks now (lockstep: adaptive to RTT; rollback: fixed). */
-  inputDelay: number;
-  /** Rollback: ticks ahead of the server clock now. */
-  lead: number;
-  /** Lockstep / spectator: ticks behind the server clock now (adaptive jitter buffer). */
-  playoutDelay: number;
-  /** Round trip to the server, min and high of the window, in ms. */
-  rtt: number;
-  rttHigh: number;
-  messagesSent: number;
-  messagesReceived: number;
-  bytesSent: number;
-  bytesReceived: number;
-  hashesReported: number;
-  /** Messages from the server that could not be decoded. */
-  badMessages: number;
-}
+} from '../relay/messages.js';
+import { ProtocolError } from '../wire/error.js';
+import type { ErrorMessage } from '../wire/common.js';
+import type { Transport } from '../transport.js';
+import {
+  setupFromWelcome,
+  type NetEvent,
+  type NetPhase,
+  type NetSessionOptions,
+  type NetSessionStats,
+} from './relay-options.js';
 
 /** Messages the session has buffered and may resend: never more than this many ticks. */
 const MAX_INPUT_WINDOW = DEFAULT_PROTOCOL_LIMITS.maxInputTicks;
@@ -772,151 +654,5 @@ export abstract class NetSession<I = ButtonInput> {
 
   private emit(e: NetEvent): void {
     this.options.onEvent?.(e);
-  }
-}
-
-// ------------------------------------------------------------------------------------ lockstep
-
-/** Options of a {@link LockstepSession}. */
-export interface LockstepSessionOptions<I = ButtonInput> extends NetSessionOptions<I> {
-  /**
-   * Input delay in ticks: the local input sampled now is for the tick this many ticks ahead of
-   * the server clock. `'auto'` (the default) sizes it from the measured round trip — a high
-   * percentile of recent RTTs plus a tick and a half — so confirmed inputs are back before their
-   * tick is due; it grows at once and shrinks by one tick a second.
-   */
-  inputDelay?: number | 'auto';
-  /** Most the adaptive input delay may grow to, in ticks. Default 60. */
-  maxInputDelay?: number;
-}
-
-/** Keeps the last `n` values and their maximum. */
-class WindowMax {
-  private readonly values: Float64Array;
-  private i = 0;
-  private n = 0;
-  constructor(size: number) {
-    this.values = new Float64Array(size);
-  }
-  add(v: number): void {
-    this.values[this.i] = v;
-    this.i = (this.i + 1) % this.values.length;
-    if (this.n < this.values.length) this.n++;
-  }
-  get max(): number {
-    let m = -Infinity;
-    for (let k = 0; k < this.n; k++) if (this.values[k]! > m) m = this.values[k]!;
-    return m;
-  }
-}
-
-/**
- * Lockstep over a server relay: a tick is stepped only once the confirmed inputs of every player
- * for it are here, so the state is never predicted and never rolled back. The local input is
- * sent `inputDelay` ticks ahead (adaptive to the RTT) so it is back, confirmed, in time; the
- * display runs `playoutDelay` ticks behind the server clock, a jitter buffer sized from how late
- * confirmed ticks have actually arrived. A spectator is a lockstep session without inputs
- * ({@link SpectatorSession}).
- */
-export class LockstepSession<I = ButtonInput> extends NetSession<I> {
-  private delay: number;
-  private readonly autoDelay: boolean;
-  private readonly maxDelay: number;
-  private lastDelayDrop = 0;
-  private playout = 0;
-  private lastPlayoutDrop = 0;
-  private readonly lateness = new WindowMax(600);
-  private row: I[] = [];
-  private rowWords = new Uint32Array(0);
-
-  constructor(options: LockstepSessionOptions<I>, role: 'player' | 'spectator' = 'player') {
-    super(options, role);
-    this.autoDelay = options.inputDelay === undefined || options.inputDelay === 'auto';
-    this.delay = typeof options.inputDelay === 'number' ? options.inputDelay : 4;
-    this.maxDelay = options.maxInputDelay ?? 60;
-    if (!(Number.isInteger(this.delay) && this.delay >= 0 && this.delay <= 600)) {
-      throw new RangeError(
-        `inputDelay must be 'auto' or an integer from 0 to 600, got ${this.delay}`,
-      );
-    }
-  }
-
-  confirmedStateTick(): number {
-    return this.sim?.tick ?? 0;
-  }
-
-  protected override onConfirmed(from: number, _to: number, now: number): void {
-    // How late the first newly confirmed tick arrived against the server clock (the one the
-    // display may have been waiting for): the jitter buffer's input.
-    const s = this.serverTick(now);
-    if (Number.isFinite(s)) this.lateness.add(s - from);
-  }
-
-  protected displayTime(now: number): number {
-    return this.serverTick(now) - this.playout;
-  }
-
-  protected advance(serverTick: number, now: number): number {
-    const sim = this.sim!;
-    if (!Number.isFinite(serverTick)) return 0;
-    this.adapt(now);
-    const clockTick = Math.floor(serverTick);
-    this.issueUntil(clockTick + 1 + this.delay);
-    const target = Math.min(clockTick - this.playout, this.stopAt);
-    let n = 0;
-    if (this.rowWords.length !== this.players * this.words) {
-      this.rowWords = new Uint32Array(this.players * this.words);
-      this.row = new Array<I>(this.players);
-    }
-    const row = this.row;
-    while (sim.tick < target && sim.tick < this.confirmedEnd && n < this.maxTicksPerFrame) {
-      const t = sim.tick;
-      this.confirmed.copy(t, this.rowWords);
-      this.decodeRow(this.rowWords, row);
-      sim.step(row);
-      this.remember();
-      n++;
-    }
-    this.markStall(sim.tick < target && sim.tick >= this.confirmedEnd);
-    return n;
-  }
-
-  private adapt(now: number): void {
-    const tickMs = this.tickMs;
-    if (this.autoDelay && this.slot >= 0 && this.clockSync.ready) {
-      const want = Math.min(
-        this.maxDelay,
-        Math.ceil((this.clockSync.rttHigh + 1.5 * tickMs) / tickMs),
-      );
-      if (want > this.delay) {
-        this.delay = want;
-        this.lastDelayDrop = now;
-      } else if (want < this.delay && now - this.lastDelayDrop >= 1000) {
-        this.delay--;
-        this.lastDelayDrop = now;
-      }
-    }
-    // Confirmed tick t is needed once the display passes t + 1.
-    const late = this.lateness.max;
-    const wantPlayout = Number.isFinite(late) ? Math.max(0, Math.min(120, Math.ceil(late - 1))) : 0;
-    if (wantPlayout > this.playout) {
-      this.playout = wantPlayout;
-      this.lastPlayoutDrop = now;
-    } else if (wantPlayout < this.playout && now - this.lastPlayoutDrop >= 2000) {
-      this.playout--;
-      this.lastPlayoutDrop = now;
-    }
-    this.stats.inputDelay = this.slot >= 0 ? this.delay : 0;
-    this.stats.playoutDelay = this.playout;
-  }
-}
-
-/**
- * Watches a room: steps confirmed inputs only, sends none. Joins late at any time (from a
- * member's snapshot) and catches up at `maxTicksPerFrame` ticks a frame.
- */
-export class SpectatorSession<I = ButtonInput> extends LockstepSession<I> {
-  constructor(options: Omit<LockstepSessionOptions<I>, 'localInput' | 'inputDelay'>) {
-    super(options, 'spectator');
   }
 }

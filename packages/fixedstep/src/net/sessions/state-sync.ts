@@ -21,148 +21,17 @@ import {
   type StateSyncLimits,
   type StateSyncMessage,
   type StateWelcomeMessage,
-} from './messages.js';
-import { applyDelta } from './delta.js';
-import {
-  CorrectionSmoother,
-  LatenessWindow,
-  SnapshotTimeline,
-  type StateSyncRender,
-} from './render.js';
+} from '../state-sync/messages.js';
+import { applyDelta } from '../state-sync/delta.js';
+import { LatenessWindow } from '../state-sync/render.js';
+import { StateSyncDrawing } from './state-sync-drawing.js';
 
-/** Where a state-sync session is. */
-export type StateSyncPhase = 'connecting' | 'waiting' | 'running' | 'closed';
-
-/** What a state-sync session tells its owner. */
-export type StateSyncEvent =
-  | { type: 'welcome'; welcome: StateWelcomeMessage }
-  | { type: 'running'; tick: number }
-  /** A snapshot could not be used (nothing was applied); a full one was asked for. */
-  | { type: 'bad-snapshot'; reason: ResyncReason; message: string; tick: number }
-  | { type: 'error'; error: ErrorMessage }
-  | { type: 'closed'; reason: string };
-
-/** Options of a {@link StateSyncSession}. */
-export interface StateSyncSessionOptions<I, S extends Simulation<I>> {
-  /** The pipe to the server. */
-  transport: Transport;
-  /** The clock frames and probes are measured on (`performanceClock()`; a `ManualClock` in tests). */
-  clock: Clock;
-  /** Room to join (the first join creates it). */
-  room: string;
-  /** The game: id, version, input schema, tick rate and how to build it. */
-  game: GameDefinition<I, S>;
-  /** Play a slot, or watch. Default `'player'`. */
-  role?: 'player' | 'spectator';
-  /** Player slots, when this session creates the room (default: the game's minimum). */
-  players?: number;
-  /** The game's seed, when this session creates the room (default: the server picks). */
-  seed?: number;
-  /** Display name (at most 32 UTF-8 bytes). */
-  name?: string;
-  /** Reconnect token from an earlier welcome: take that slot back. */
-  token?: Uint8Array;
-  /**
-   * Spectators: the room's invite token (`welcome.invite` of one of its players). The server lets
-   * no spectator in without it.
-   */
-  invite?: Uint8Array;
-  /**
-   * Builds the client's own copy of the game from the room's setup. Default `game.create(setup)`.
-   * It need not be the server's exact code: every snapshot replaces the client's state (the tests
-   * give clients a game that drifts on purpose).
-   */
-  createSimulation?: (setup: GameSetup) => S;
-  /**
-   * The local player's input for `tick`, called once per tick, in order, just before the client
-   * predicts that tick (so it shows at once). `sim` is the predicted state (read it, never step
-   * it). Default: the neutral input.
-   */
-  localInput?: (tick: number, sim: S) => I;
-  /** What to draw, for {@link StateSyncSession.render}. Without it the session only predicts. */
-  render?: StateSyncRender<S>;
-  /**
-   * How far behind the server clock other entities are drawn, in ms: `'auto'` (default) takes the
-   * snapshot interval plus a high lateness of recent snapshots (one-way delay and jitter), so the
-   * snapshot after the drawn moment is nearly always in; it moves gradually, never backwards.
-   */
-  renderDelay?: number | 'auto';
-  /** Half-life of the correction offset, ms (0: corrections show at once). Default 80. */
-  smoothingHalfLifeMs?: number;
-  /** Called after every reconciliation that moved the own entities (needs `render`). */
-  onCorrection?: (correction: StateSyncCorrection) => void;
-  /**
-   * Ticks to predict ahead of the server clock, so an input reaches the server before its tick is
-   * stepped. `'auto'` (default): half a high round trip plus two ticks, one tick at a time every
-   * 250 ms, and a tick more whenever the server had to fill one of our inputs.
-   */
-  lead?: number | 'auto';
-  /** Most ticks the prediction may run past the newest snapshot; then it waits. Default 60. */
-  maxPrediction?: number;
-  /** Most forward ticks per {@link StateSyncSession.frame}. Default 32. */
-  maxTicksPerFrame?: number;
-  /** Clock probe interval, ms. Default 250 (the first four go 50 ms apart). */
-  pingIntervalMs?: number;
-  /** Snapshots kept as delta bases. Default 64. */
-  baseHistory?: number;
-  limits?: Partial<StateSyncLimits>;
-  onEvent?: (event: StateSyncEvent) => void;
-}
-
-/** What a reconciliation changed of the own player's drawn numbers. */
-export interface StateSyncCorrection {
-  /** The predicted tick it was corrected at, and the snapshot's tick it replayed from. */
-  tick: number;
-  snapshotTick: number;
-  /** The largest change of any own number (game units). */
-  size: number;
-  /**
-   * Whether it was drawn at once (larger than `render.teleport`: a respawn, a teleport) instead
-   * of gliding.
-   */
-  snapped: boolean;
-}
-
-/** Counters of a state-sync session. */
-export interface StateSyncSessionStats {
-  frames: number;
-  /** Forward ticks predicted (resimulation not counted). */
-  ticks: number;
-  /** Snapshots received and applied: whole, delta-coded. */
-  fullSnapshots: number;
-  deltaSnapshots: number;
-  /** Snapshots older than one already applied (reordered on the way): not applied. */
-  staleSnapshots: number;
-  /** Snapshots refused (damaged, wrong base, unloadable); each asked for a resync. */
-  badSnapshots: number;
-  /** Reconciliations: a snapshot loaded and the unacknowledged inputs applied again. */
-  reconciliations: number;
-  /** Ticks resimulated by reconciliations, and the most in one. */
-  resimulatedTicks: number;
-  maxResimulated: number;
-  /** Corrections of the own player's drawn numbers above 1e-9, and the largest (game units). */
-  corrections: number;
-  maxCorrection: number;
-  /** Frames that could not predict further (no snapshot for `maxPrediction` ticks). */
-  stallFrames: number;
-  /** Frames whose render time was past the newest snapshot (the render delay was too short). */
-  starvedFrames: number;
-  /** Of our ticks, how many the server stepped without our input (it says so in snapshots). */
-  filledInputs: number;
-  /** Ticks predicted ahead of the server clock now; render delay now (ms); measured jitter (ms). */
-  lead: number;
-  renderDelayMs: number;
-  jitterMs: number;
-  /** Round trip: the smallest and a high one of the window, ms. */
-  rtt: number;
-  rttHigh: number;
-  messagesSent: number;
-  messagesReceived: number;
-  bytesSent: number;
-  bytesReceived: number;
-  /** Messages that did not decode. */
-  badMessages: number;
-}
+import type {
+  StateSyncEvent,
+  StateSyncPhase,
+  StateSyncSessionOptions,
+  StateSyncSessionStats,
+} from './state-sync-options.js';
 
 const ISSUED_CAPACITY = 512;
 const MAX_INPUT_WINDOW = DEFAULT_STATE_SYNC_LIMITS.maxInputTicks;
@@ -263,20 +132,8 @@ export class StateSyncSession<I, S extends Simulation<I>> {
   private delayMs = -1;
   private lastDelayAt = -Infinity;
 
-  // Rendering.
-  private readonly renderer: StateSyncRender<S> | undefined;
-  private readonly timeline: SnapshotTimeline | undefined;
-  private readonly out: Float64Array;
-  private readonly scratchValues: Float64Array;
-  private predPrev: Float64Array;
-  private predCurr: Float64Array;
-  private owned: readonly number[] = [];
-  private smoother: CorrectionSmoother;
-  private ownBefore = new Float64Array(0);
-  private ownAfter = new Float64Array(0);
-  private lastRenderTick = -Infinity;
-  private lastRenderAt: number | undefined;
-  private renderAlpha = 0;
+  /** What to draw: the snapshots' numbers, the prediction's, the corrections' offsets. */
+  private readonly drawing: StateSyncDrawing<S>;
 
   constructor(options: StateSyncSessionOptions<I, S>) {
     this.options = options;
@@ -322,27 +179,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.bases = new SnapshotRing(options.baseHistory ?? 64);
     this.issued = new InputRing(ISSUED_CAPACITY, this.words);
     this.ownWords = new Uint32Array(this.words);
-    const r = options.render;
-    this.renderer = r;
-    if (r) {
-      if (!(Number.isInteger(r.fields) && r.fields >= 1 && r.fields <= 16)) {
-        throw new RangeError(
-          `StateSyncSession: render.fields must be an integer from 1 to 16, got ${r.fields}`,
-        );
-      }
-      if (!(Number.isInteger(r.entities) && r.entities >= 0 && r.entities <= 1 << 20)) {
-        throw new RangeError(
-          `StateSyncSession: render.entities must be an integer from 0 to 2^20, got ${r.entities}`,
-        );
-      }
-      this.timeline = new SnapshotTimeline(r.fields, r.entities, 32);
-    }
-    const size = r ? r.fields * r.entities : 0;
-    this.out = new Float64Array(size);
-    this.scratchValues = new Float64Array(size);
-    this.predPrev = new Float64Array(size);
-    this.predCurr = new Float64Array(size);
-    this.smoother = new CorrectionSmoother(0);
+    this.drawing = new StateSyncDrawing(options.render);
     this.transport.onMessage((bytes) => {
       this.receive(bytes);
     });
@@ -422,27 +259,27 @@ export class StateSyncSession<I, S extends Simulation<I>> {
 
   /** The numbers of the last {@link render} (the array it returned; do not modify). */
   get drawn(): Float64Array {
-    return this.out;
+    return this.drawing.out;
   }
 
   /** The fractional tick the last {@link render} drew other entities at. */
   get renderTick(): number {
-    return this.lastRenderTick;
+    return this.drawing.renderTick;
   }
 
   /** The last {@link render}'s blend between the previous and the current predicted tick. */
   get alpha(): number {
-    return this.renderAlpha;
+    return this.drawing.alpha;
   }
 
   /** The own player's correction offset now (largest number; 0 without corrections). */
   get correctionOffset(): number {
-    return this.smoother.magnitude;
+    return this.drawing.correctionOffset;
   }
 
   /** The entities this client predicts (its player's), from `render.owned`. */
   get ownedEntities(): readonly number[] {
-    return this.owned;
+    return this.drawing.owned;
   }
 
   // ---------------------------------------------------------------------------- driving
@@ -498,35 +335,13 @@ export class StateSyncSession<I, S extends Simulation<I>> {
    * the last two predicted ticks) plus the decaying correction offset. The array is reused.
    */
   render(now = this.clock.now()): Float64Array {
-    const r = this.renderer;
+    const d = this.drawing;
     const w = this.welcomeMsg;
-    if (!r || !this.timeline || !w || !this.appliedOnce) return this.out;
+    if (!d.enabled || !w || !this.appliedOnce) return d.out;
     const server = this.serverTick(now);
-    let tick = server - this.renderDelayMs / this.tickMs;
-    if (tick < this.lastRenderTick) tick = this.lastRenderTick;
-    this.lastRenderTick = tick;
-    const how = this.timeline.sample(tick, this.out, r.teleport ?? Infinity);
-    if (how === 'after') this.stats.starvedFrames++;
-    if (this.lastRenderAt !== undefined) this.smoother.decay(now - this.lastRenderAt);
-    this.lastRenderAt = now;
-    if (w.slot >= 0 && this.sim) {
-      const display = server + this.leadTicks;
-      const a = display - this.sim.tick;
-      const alpha = a <= 0 ? 0 : a >= 1 ? 1 : a;
-      // The state at sim.tick is drawn at display time sim.tick + 1: blend prev → curr.
-      this.renderAlpha = alpha;
-      const f = r.fields;
-      let k = 0;
-      for (const e of this.owned) {
-        for (let j = 0; j < f; j++) {
-          const i = e * f + j;
-          const p = this.predPrev[i]!;
-          const c = this.predCurr[i]!;
-          this.out[i] = p + (c - p) * alpha + this.smoother.offset[k++]!;
-        }
-      }
-    }
-    return this.out;
+    const own = w.slot >= 0 && this.sim ? server + this.leadTicks - this.sim.tick : undefined;
+    if (d.draw(server - this.renderDelayMs / this.tickMs, own, now)) this.stats.starvedFrames++;
+    return d.out;
   }
 
   /** Leave the room politely and close the transport. */
@@ -553,14 +368,9 @@ export class StateSyncSession<I, S extends Simulation<I>> {
         row[slot] = this.neutral;
       }
     }
-    const r = this.renderer;
-    if (r) {
-      const swap = this.predPrev;
-      this.predPrev = this.predCurr;
-      this.predCurr = swap;
-    }
+    this.drawing.beforeStep();
     sim.step(row);
-    if (r) r.read(sim, this.predCurr);
+    this.drawing.afterStep(sim);
   }
 
   private issue(t: number, sim: S): void {
@@ -584,23 +394,17 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     const p = this.pending!;
     this.pending = undefined;
     const sim = this.sim!;
-    const r = this.renderer;
+    const d = this.drawing;
     const predicted = sim.tick;
     const had = this.appliedOnce;
-    if (r && had) {
-      for (let k = 0; k < this.ownBefore.length; k++)
-        this.ownBefore[k] = this.predCurr[this.ownIndex(k)]!;
-    }
+    if (had) d.beforeReconcile();
     sim.load(p.state);
     this.appliedOnce = true;
     if (this.phaseValue === 'waiting') {
       this.phaseValue = 'running';
       this.emit({ type: 'running', tick: p.tick });
     }
-    if (r) {
-      r.read(sim, this.predCurr);
-      this.predPrev.set(this.predCurr);
-    }
+    d.loaded(sim);
     if (this.welcomeMsg!.slot < 0) return;
     if (this.issueNext < p.tick) this.issueNext = p.tick;
     if (predicted <= p.tick || !had) return;
@@ -609,27 +413,17 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.stats.reconciliations++;
     this.stats.resimulatedTicks += depth;
     if (depth > this.stats.maxResimulated) this.stats.maxResimulated = depth;
-    if (r && this.owned.length > 0) {
-      for (let k = 0; k < this.ownAfter.length; k++)
-        this.ownAfter[k] = this.predCurr[this.ownIndex(k)]!;
-      const size = this.smoother.correct(this.ownBefore, this.ownAfter);
-      if (size > 1e-9) {
-        this.stats.corrections++;
-        if (size > this.stats.maxCorrection) this.stats.maxCorrection = size;
-        this.options.onCorrection?.({
-          tick: predicted,
-          snapshotTick: p.tick,
-          size,
-          snapped: !(size <= (r.teleport ?? Infinity)),
-        });
-      }
+    const size = d.afterReconcile();
+    if (size > 1e-9) {
+      this.stats.corrections++;
+      if (size > this.stats.maxCorrection) this.stats.maxCorrection = size;
+      this.options.onCorrection?.({
+        tick: predicted,
+        snapshotTick: p.tick,
+        size,
+        snapped: d.snaps(size),
+      });
     }
-  }
-
-  /** The index in a render array of the k-th owned number. */
-  private ownIndex(k: number): number {
-    const f = this.renderer!.fields;
-    return this.owned[Math.floor(k / f)]! * f + (k % f);
   }
 
   // ---------------------------------------------------------------------------- adapting
@@ -742,26 +536,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.issueFrom = w.inputFrom;
     this.issueNext = w.inputFrom;
     this.serverInputAck = w.inputFrom;
-    const r = this.renderer;
-    if (r) {
-      const owned = w.slot < 0 ? [] : (r.owned?.(w.slot) ?? [w.slot]);
-      for (const e of owned) {
-        if (!(Number.isInteger(e) && e >= 0 && e < r.entities)) {
-          throw new RangeError(
-            `render.owned(${w.slot}) names entity ${e}, not one of 0–${r.entities - 1}`,
-          );
-        }
-      }
-      this.owned = owned;
-      const n = owned.length * r.fields;
-      this.ownBefore = new Float64Array(n);
-      this.ownAfter = new Float64Array(n);
-      this.smoother = new CorrectionSmoother(
-        n,
-        this.options.smoothingHalfLifeMs ?? 80,
-        r.teleport ?? Infinity,
-      );
-    }
+    this.drawing.welcome(w.slot, this.options.smoothingHalfLifeMs ?? 80);
     this.phaseValue = 'waiting';
     this.emit({ type: 'welcome', welcome: w });
   }
@@ -824,10 +599,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.pending = { tick: m.tick, state };
     if (m.base < 0) this.stats.fullSnapshots++;
     else this.stats.deltaSnapshots++;
-    if (this.renderer && this.timeline) {
-      this.renderer.read(scratch, this.scratchValues);
-      this.timeline.push(m.tick, this.scratchValues);
-    }
+    this.drawing.snapshot(m.tick, scratch);
     this.lateness.add(this.clockSync.serverTime(now) - (w.startAt + m.tick * this.tickMs));
   }
 
