@@ -206,7 +206,7 @@ export class SimulatedMatch {
     return this.clients.every(
       (c) =>
         c.closed ||
-        (c.session !== undefined && (c.session.finished || c.session.phase === 'closed')),
+        (c.session !== undefined && (c.session.isFinished || c.session.phase === 'closed')),
     );
   }
 

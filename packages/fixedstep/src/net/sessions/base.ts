@@ -6,7 +6,7 @@
  */
 import { fnv1a64 } from '../../det/hash.js';
 import type { ButtonInput } from '../../sim/buttons.js';
-import { BUTTON_WORD, type InputSchema } from '../../sim/input-schema.js';
+import type { InputSchema } from '../../sim/input-schema.js';
 import type { Simulation } from '../../sim/simulation.js';
 import type { Clock } from '../../time/drivers.js';
 import { ClockSync } from '../clock-sync.js';
@@ -24,9 +24,16 @@ import { ProtocolError } from '../wire/error.js';
 import type { ErrorMessage } from '../wire/common.js';
 import type { Transport } from '../transport.js';
 import {
-  setupFromWelcome,
+  SessionError,
+  type SessionErrorCode,
+  type SessionEvent,
+  type SessionPhase,
+} from './events.js';
+import { SessionLife } from './lifecycle.js';
+import {
+  emptyNetStats,
+  resolveGame,
   type NetEvent,
-  type NetPhase,
   type NetSessionOptions,
   type NetSessionStats,
 } from './relay-options.js';
@@ -42,39 +49,21 @@ const CONFIRMED_CAPACITY = 4096;
 const ISSUED_CAPACITY = 512;
 
 /**
- * The machinery every client session shares: the hello/welcome handshake, clock sync, the
+ * The machinery every relay session shares: the hello/welcome handshake, clock sync, the
  * confirmed-input store and acks, sending local inputs with a redundant window, periodic state
  * hashes, and answering the server's forensics requests (snapshots, per-tick hashes).
  *
  * Call {@link frame} once per display frame; it steps as many ticks as are due (at most
  * `maxTicksPerFrame`) and sends what needs sending. Render {@link simulation} with {@link alpha}.
+ * How it ends: {@link finished} resolves when the state at `stopAt` is confirmed (or the owner
+ * left), and rejects with a {@link SessionError} when the server refuses or drops it, its welcome
+ * cannot be built, or its transport closes first — an `error` event says the same.
  */
 export abstract class NetSession<I = ButtonInput> {
-  readonly stats: NetSessionStats = {
-    frames: 0,
-    ticks: 0,
-    maxTicksInFrame: 0,
-    stallFrames: 0,
-    stalls: 0,
-    rollbacks: 0,
-    resimulatedTicks: 0,
-    maxRollbackDepth: 0,
-    replacedInputs: 0,
-    inputDelay: 0,
-    lead: 0,
-    playoutDelay: 0,
-    rtt: 0,
-    rttHigh: 0,
-    messagesSent: 0,
-    messagesReceived: 0,
-    bytesSent: 0,
-    bytesReceived: 0,
-    hashesReported: 0,
-    badMessages: 0,
-  };
+  readonly stats: NetSessionStats = emptyNetStats();
   /** Desyncs the server reported. */
   readonly desyncs: DesyncMessage[] = [];
-  /** Errors the server sent. */
+  /** Errors the server sent (the first 64), fatal or not. */
   readonly errors: ErrorMessage[] = [];
 
   protected readonly transport: Transport;
@@ -117,7 +106,11 @@ export abstract class NetSession<I = ButtonInput> {
   /** Snapshots of confirmed (lockstep) or recent (rollback) ticks. */
   protected ring = new SnapshotRing(1);
 
-  private phaseValue: NetPhase = 'connecting';
+  /** Phase, events and the `finished` promise. */
+  private readonly life: SessionLife<
+    WelcomeMessage,
+    Exclude<NetEvent, SessionEvent<WelcomeMessage>>
+  >;
   private pingId = 0;
   private pingsSent = 0;
   private nextPingAt = -Infinity;
@@ -136,29 +129,12 @@ export abstract class NetSession<I = ButtonInput> {
 
   constructor(options: NetSessionOptions<I>, role: 'player' | 'spectator') {
     this.options = options;
+    this.life = new SessionLife(options.onEvent);
     this.transport = options.transport;
     this.clock = options.clock;
-    const game = options.game;
-    let gameId: string;
-    let gameVersion: number;
-    if (typeof game === 'string') {
-      if (options.gameVersion === undefined || options.createSimulation === undefined) {
-        throw new RangeError(
-          'NetSession: with a game id, give gameVersion and createSimulation (or pass the game definition)',
-        );
-      }
-      gameId = game;
-      gameVersion = options.gameVersion;
-      this.schema = options.input ?? (BUTTON_WORD as unknown as InputSchema<I>);
-      this.build = options.createSimulation.bind(options);
-    } else {
-      gameId = game.id;
-      gameVersion = game.version;
-      this.schema = game.input as InputSchema<I>;
-      const create = options.createSimulation?.bind(options);
-      this.build =
-        create ?? ((w: WelcomeMessage) => game.create(setupFromWelcome(w)) as Simulation<I>);
-    }
+    const { gameId, gameVersion, schema, build } = resolveGame(options);
+    this.schema = schema;
+    this.build = build;
     this.words = this.schema.words;
     this.scratch = new Uint32Array(this.words);
     this.issued = new InputRing(ISSUED_CAPACITY, this.words);
@@ -175,7 +151,7 @@ export abstract class NetSession<I = ButtonInput> {
       this.receive(bytes);
     });
     this.transport.onClose((reason) => {
-      this.closed(reason);
+      this.life.closed(reason);
     });
     const hello: NetMessage = {
       type: 'hello',
@@ -199,8 +175,35 @@ export abstract class NetSession<I = ButtonInput> {
 
   // ---------------------------------------------------------------------------- reading
 
-  get phase(): NetPhase {
-    return this.phaseValue;
+  /** Where the session is: connecting, waiting (welcomed), running, closed. */
+  get phase(): SessionPhase {
+    return this.life.phase;
+  }
+
+  /**
+   * How the session ends; settles once. Resolves at its end: the state at `stopAt` is confirmed
+   * here ({@link isFinished}), or its owner called {@link leave}. Rejects with a
+   * {@link SessionError} when it fails first: a fatal error from the server (its code —
+   * `WRONG_ROOM`, `BAD_TOKEN`, `ROOM_FULL`, `GAME_MISMATCH`, `SHUTDOWN` …), a welcome this
+   * client cannot build (`BAD_WELCOME`), or the transport closing (`CLOSED`). The `error` event
+   * carries the same error first. Awaiting it is optional: a rejection nobody observes is not
+   * reported as unhandled.
+   */
+  get finished(): Promise<void> {
+    return this.life.finished;
+  }
+
+  /**
+   * Whether {@link finished} has resolved: the session reached `stopAt` with a confirmed state
+   * (or its owner left). What a frame loop on simulated time polls.
+   */
+  get isFinished(): boolean {
+    return this.life.isFinished;
+  }
+
+  /** The error {@link finished} rejected with, once it has. */
+  get failure(): SessionError | undefined {
+    return this.life.failure;
   }
 
   /** The simulation, once welcomed. */
@@ -252,15 +255,6 @@ export abstract class NetSession<I = ButtonInput> {
     return t <= 0 ? 0 : t >= 1 ? 0.999 : t;
   }
 
-  /** Whether the session reached `stopAt` with a confirmed state. */
-  get finished(): boolean {
-    return (
-      this.sim !== undefined &&
-      this.sim.tick >= this.stopAt &&
-      this.confirmedStateTick() >= this.stopAt
-    );
-  }
-
   // ---------------------------------------------------------------------------- driving
 
   /**
@@ -269,17 +263,17 @@ export abstract class NetSession<I = ButtonInput> {
    * @returns ticks stepped forward.
    */
   frame(now = this.clock.now()): number {
-    if (this.phaseValue === 'closed') return 0;
+    if (this.life.phase === 'closed') return 0;
     this.stats.frames++;
     if (now >= this.nextPingAt && !this.hidden) this.ping(now);
     // The handshake survives a lossy link: hello is repeated until welcomed, and a waiting
     // member acks now and then so the server can repeat a lost start.
-    if (this.phaseValue === 'connecting' && now - this.helloSentAt >= 250) {
+    if (this.life.phase === 'connecting' && now - this.helloSentAt >= 250) {
       this.send(this.hello);
       this.helloSentAt = now;
     }
-    if (this.phaseValue === 'waiting') this.flushAck(now);
-    if (this.phaseValue !== 'running' || this.sim === undefined) return 0;
+    if (this.life.phase === 'waiting') this.flushAck(now);
+    if (this.life.phase !== 'running' || this.sim === undefined) return 0;
     const serverTick = this.serverTick(now);
     const n = this.advance(serverTick, now);
     if (n > this.stats.maxTicksInFrame) this.stats.maxTicksInFrame = n;
@@ -289,6 +283,7 @@ export abstract class NetSession<I = ButtonInput> {
     this.flushAck(now);
     this.stats.rtt = this.clockSync.rtt;
     this.stats.rttHigh = this.clockSync.rttHigh;
+    this.checkEnd();
     return n;
   }
 
@@ -302,9 +297,12 @@ export abstract class NetSession<I = ButtonInput> {
     this.hidden = hidden;
   }
 
-  /** Leave the room politely and close the transport. */
+  /**
+   * Leave the room politely and close the transport. The session's end: {@link finished}
+   * resolves (unless it failed before).
+   */
   leave(): void {
-    if (this.phaseValue === 'closed') return;
+    if (this.life.phase === 'closed') return;
     if (this.welcomeMsg) {
       this.send({
         type: 'leave',
@@ -313,6 +311,7 @@ export abstract class NetSession<I = ButtonInput> {
         reason: 'left',
       });
     }
+    this.life.finish();
     this.transport.close('left');
   }
 
@@ -417,8 +416,8 @@ export abstract class NetSession<I = ButtonInput> {
       case 'start':
         if (m.room === this.welcomeMsg?.room && this.startAt === undefined) {
           this.startAt = m.startAt;
-          this.phaseValue = 'running';
-          this.emit({ type: 'start', startAt: m.startAt });
+          this.life.phase = 'running';
+          this.life.emit({ type: 'running', tick: this.startTick });
         }
         break;
       case 'pong':
@@ -436,15 +435,15 @@ export abstract class NetSession<I = ButtonInput> {
       case 'desync':
         if (m.room === this.welcomeMsg?.room) {
           if (this.desyncs.length < 16) this.desyncs.push(m);
-          this.emit({ type: 'desync', desync: m });
+          this.life.emit({ type: 'desync', desync: m });
         }
         break;
       case 'error':
         if (this.errors.length < 64) this.errors.push(m);
-        this.emit({ type: 'error', error: m });
+        this.life.error(SessionError.fromServer(m));
         break;
       case 'leave':
-        this.emit({ type: 'leave', peer: m.peer, reason: m.reason });
+        this.life.emit({ type: 'leave', peer: m.peer, reason: m.reason });
         break;
       case 'snapshot-request':
         this.onSnapshotRequest(m.room, m.id, m.tick);
@@ -457,11 +456,13 @@ export abstract class NetSession<I = ButtonInput> {
         this.stats.badMessages++;
     }
     // Frames may have stopped (a background tab) while messages still arrive: stay heard.
-    if (this.welcomeMsg && this.phaseValue !== 'closed' && now - this.lastSendAt >= KEEPALIVE_MS) {
+    if (this.welcomeMsg && this.life.phase !== 'closed' && now - this.lastSendAt >= KEEPALIVE_MS) {
       this.send({ type: 'ack', room: this.welcomeMsg.room, ack: this.confirmedEnd });
       this.lastAckSent = this.confirmedEnd;
       this.lastAckSendAt = now;
     }
+    // Newly confirmed inputs may complete the state at `stopAt` (or a welcome may be at it).
+    this.checkEnd();
   }
 
   private onWelcome(w: WelcomeMessage): void {
@@ -477,11 +478,11 @@ export abstract class NetSession<I = ButtonInput> {
       // broken one. Refuse it here; a wrong but loadable one shows up as a desync.
       if (w.snapshot) sim.load(w.snapshot);
     } catch (error) {
-      this.transport.close(`cannot build the game from the welcome: ${String(error)}`);
+      this.fail('BAD_WELCOME', `cannot build the game from the welcome: ${String(error)}`);
       return;
     }
     if (sim.tick !== w.startTick) {
-      this.transport.close(`snapshot is at tick ${sim.tick}, the welcome says ${w.startTick}`);
+      this.fail('BAD_WELCOME', `snapshot is at tick ${sim.tick}, the welcome says ${w.startTick}`);
       return;
     }
     this.sim = sim;
@@ -496,12 +497,12 @@ export abstract class NetSession<I = ButtonInput> {
     this.ring = new SnapshotRing(this.ringCapacity());
     this.ring.put(sim.tick, w.snapshot ?? sim.save());
     this.nextReport = (Math.floor(w.startTick / w.hashEvery) + 1) * w.hashEvery;
-    this.phaseValue = 'waiting';
-    this.emit({ type: 'welcome', welcome: w });
+    this.life.phase = 'waiting';
+    this.life.emit({ type: 'welcome', welcome: w });
     if (w.startAt !== undefined) {
       this.startAt = w.startAt;
-      this.phaseValue = 'running';
-      this.emit({ type: 'start', startAt: w.startAt });
+      this.life.phase = 'running';
+      this.life.emit({ type: 'running', tick: w.startTick });
     }
   }
 
@@ -513,7 +514,7 @@ export abstract class NetSession<I = ButtonInput> {
   private onConfirmedMessage(m: ConfirmedMessage, now: number): void {
     if (m.players !== this.players || m.words !== this.words || this.sim === undefined) return;
     // Until the start time is known nothing is acked: the server sees that and repeats the start.
-    if (this.phaseValue !== 'running') return;
+    if (this.life.phase !== 'running') return;
     if (m.delta) {
       // XOR-coded against tick − 1: only a continuation of what we hold can be read. Otherwise
       // wait: our ack stops moving, and the relay resends from it uncoded.
@@ -646,13 +647,16 @@ export abstract class NetSession<I = ButtonInput> {
     }
   }
 
-  private closed(reason: string): void {
-    if (this.phaseValue === 'closed') return;
-    this.phaseValue = 'closed';
-    this.emit({ type: 'closed', reason });
+  /** The session's end: the state at `stopAt` is confirmed here. */
+  private checkEnd(): void {
+    if (this.life.settled || this.sim === undefined) return;
+    if (this.sim.tick >= this.stopAt && this.confirmedStateTick() >= this.stopAt)
+      this.life.finish();
   }
 
-  private emit(e: NetEvent): void {
-    this.options.onEvent?.(e);
+  /** A local failure: the `error` event, `finished` rejects, and the transport closes. */
+  private fail(code: SessionErrorCode, message: string): void {
+    this.life.error(new SessionError(code, message));
+    this.transport.close(message);
   }
 }

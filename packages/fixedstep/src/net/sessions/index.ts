@@ -3,9 +3,11 @@
  * room (sharing {@link NetSession}), the state-sync session, and the local sync test.
  * @module
  */
+export { SessionError } from './events.js';
+export type { SessionPhase, SessionErrorCode, SessionEvent } from './events.js';
 export { NetSession } from './base.js';
 export { setupFromWelcome } from './relay-options.js';
-export type { NetPhase, NetEvent, NetSessionOptions, NetSessionStats } from './relay-options.js';
+export type { NetEvent, NetSessionOptions, NetSessionStats } from './relay-options.js';
 export { LockstepSession } from './lockstep.js';
 export type { LockstepSessionOptions } from './lockstep.js';
 export { SpectatorSession } from './spectator.js';
@@ -15,7 +17,6 @@ export { SyncTestSession, SyncTestError } from './sync-test.js';
 export type { SyncTestOptions, SyncTestMismatch } from './sync-test.js';
 export { StateSyncSession } from './state-sync.js';
 export type {
-  StateSyncPhase,
   StateSyncEvent,
   StateSyncSessionOptions,
   StateSyncSessionStats,

@@ -5,24 +5,24 @@
  */
 import type { ButtonInput } from '../../sim/buttons.js';
 import type { AnyGameDefinition, GameSetup } from '../../sim/game.js';
-import type { InputSchema } from '../../sim/input-schema.js';
+import { BUTTON_WORD, type InputSchema } from '../../sim/input-schema.js';
 import type { Simulation } from '../../sim/simulation.js';
 import type { Clock } from '../../time/drivers.js';
 import type { DesyncMessage, WelcomeMessage } from '../relay/messages.js';
-import type { ErrorMessage, LeaveReason } from '../wire/common.js';
+import type { LeaveReason } from '../wire/common.js';
 import type { Transport } from '../transport.js';
+import type { SessionEvent } from './events.js';
 
-/** Where a session is. */
-export type NetPhase = 'connecting' | 'waiting' | 'running' | 'closed';
-
-/** What a session tells its owner about. */
+/**
+ * What a relay session (lockstep, rollback, spectator) tells its owner: the events every session
+ * shares ({@link SessionEvent}: welcome, running, error, closed) and the relay's own:
+ * - `desync` — the relay found that the players' states differ (also kept in `desyncs`);
+ * - `leave` — another member of the room left (`peer`, and why).
+ */
 export type NetEvent =
-  | { type: 'welcome'; welcome: WelcomeMessage }
-  | { type: 'start'; startAt: number }
+  | SessionEvent<WelcomeMessage>
   | { type: 'desync'; desync: DesyncMessage }
-  | { type: 'error'; error: ErrorMessage }
-  | { type: 'leave'; peer: number; reason: LeaveReason }
-  | { type: 'closed'; reason: string };
+  | { type: 'leave'; peer: number; reason: LeaveReason };
 
 /** The game setup a welcome describes: the room's seed, players and option bytes. */
 export function setupFromWelcome(welcome: WelcomeMessage): GameSetup {
@@ -98,9 +98,16 @@ export interface NetSessionOptions<I = ButtonInput> {
    * report ticks (the server can then only name the report tick).
    */
   forensicsWindow?: number;
-  /** Never simulate past this tick (tests, benchmarks, a match of fixed length). */
+  /**
+   * Never simulate past this tick (tests, benchmarks, a match of fixed length). It is the
+   * session's end: `finished` resolves once the state at this tick is confirmed. Default: none
+   * (the session ends only when its owner calls `leave()`).
+   */
   stopAt?: number;
-  /** Events: welcome, start, desync, error, leave, closed. */
+  /**
+   * Events ({@link NetEvent}): welcome, running, desync, error, leave, closed. An error also
+   * rejects `finished` when it is fatal and comes before the session's end.
+   */
   onEvent?: (event: NetEvent) => void;
 }
 
@@ -140,4 +147,63 @@ export interface NetSessionStats {
   hashesReported: number;
   /** Messages from the server that could not be decoded. */
   badMessages: number;
+}
+
+/** A session's counters at the start: all zero. */
+export function emptyNetStats(): NetSessionStats {
+  return {
+    frames: 0,
+    ticks: 0,
+    maxTicksInFrame: 0,
+    stallFrames: 0,
+    stalls: 0,
+    rollbacks: 0,
+    resimulatedTicks: 0,
+    maxRollbackDepth: 0,
+    replacedInputs: 0,
+    inputDelay: 0,
+    lead: 0,
+    playoutDelay: 0,
+    rtt: 0,
+    rttHigh: 0,
+    messagesSent: 0,
+    messagesReceived: 0,
+    bytesSent: 0,
+    bytesReceived: 0,
+    hashesReported: 0,
+    badMessages: 0,
+  };
+}
+
+/**
+ * The game a session's options name: its id, version and input schema, and how to build it from
+ * a welcome (the options' `createSimulation`, else the definition's `create`).
+ */
+export function resolveGame<I>(options: NetSessionOptions<I>): {
+  gameId: string;
+  gameVersion: number;
+  schema: InputSchema<I>;
+  build: (welcome: WelcomeMessage) => Simulation<I>;
+} {
+  const game = options.game;
+  if (typeof game === 'string') {
+    if (options.gameVersion === undefined || options.createSimulation === undefined) {
+      throw new RangeError(
+        'NetSession: with a game id, give gameVersion and createSimulation (or pass the game definition)',
+      );
+    }
+    return {
+      gameId: game,
+      gameVersion: options.gameVersion,
+      schema: options.input ?? (BUTTON_WORD as unknown as InputSchema<I>),
+      build: options.createSimulation.bind(options),
+    };
+  }
+  const create = options.createSimulation?.bind(options);
+  return {
+    gameId: game.id,
+    gameVersion: game.version,
+    schema: game.input as InputSchema<I>,
+    build: create ?? ((w: WelcomeMessage) => game.create(setupFromWelcome(w)) as Simulation<I>),
+  };
 }

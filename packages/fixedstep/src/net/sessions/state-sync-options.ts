@@ -7,22 +7,20 @@ import type { GameSetup } from '../../sim/game.js';
 import type { GameDefinition } from '../../sim/game.js';
 import type { Simulation } from '../../sim/simulation.js';
 import type { Clock } from '../../time/drivers.js';
-import type { ErrorMessage } from '../wire/common.js';
 import type { Transport } from '../transport.js';
 import type { ResyncReason, StateSyncLimits, StateWelcomeMessage } from '../state-sync/messages.js';
 import type { StateSyncRender } from '../state-sync/render.js';
+import type { SessionEvent } from './events.js';
 
-/** Where a state-sync session is. */
-export type StateSyncPhase = 'connecting' | 'waiting' | 'running' | 'closed';
-
-/** What a state-sync session tells its owner. */
+/**
+ * What a state-sync session tells its owner: the events every session shares
+ * ({@link SessionEvent}: welcome, running, error, closed) and its own:
+ * - `bad-snapshot` — a snapshot could not be used (nothing was applied); a whole one was asked
+ *   for.
+ */
 export type StateSyncEvent =
-  | { type: 'welcome'; welcome: StateWelcomeMessage }
-  | { type: 'running'; tick: number }
-  /** A snapshot could not be used (nothing was applied); a full one was asked for. */
-  | { type: 'bad-snapshot'; reason: ResyncReason; message: string; tick: number }
-  | { type: 'error'; error: ErrorMessage }
-  | { type: 'closed'; reason: string };
+  | SessionEvent<StateWelcomeMessage>
+  | { type: 'bad-snapshot'; reason: ResyncReason; message: string; tick: number };
 
 /** Options of a {@link StateSyncSession}. */
 export interface StateSyncSessionOptions<I, S extends Simulation<I>> {
@@ -87,7 +85,12 @@ export interface StateSyncSessionOptions<I, S extends Simulation<I>> {
   pingIntervalMs?: number;
   /** Snapshots kept as delta bases. Default 64. */
   baseHistory?: number;
+  /** Size limits of the messages this client decodes. Default: the protocol's. */
   limits?: Partial<StateSyncLimits>;
+  /**
+   * Events ({@link StateSyncEvent}): welcome, running, bad-snapshot, error, closed. An error also
+   * rejects `finished` when it is fatal and comes before the session's end.
+   */
   onEvent?: (event: StateSyncEvent) => void;
 }
 
@@ -144,4 +147,34 @@ export interface StateSyncSessionStats {
   bytesReceived: number;
   /** Messages that did not decode. */
   badMessages: number;
+}
+
+/** A state-sync session's counters at the start: all zero. */
+export function emptyStateSyncStats(): StateSyncSessionStats {
+  return {
+    frames: 0,
+    ticks: 0,
+    fullSnapshots: 0,
+    deltaSnapshots: 0,
+    staleSnapshots: 0,
+    badSnapshots: 0,
+    reconciliations: 0,
+    resimulatedTicks: 0,
+    maxResimulated: 0,
+    corrections: 0,
+    maxCorrection: 0,
+    stallFrames: 0,
+    starvedFrames: 0,
+    filledInputs: 0,
+    lead: 0,
+    renderDelayMs: 0,
+    jitterMs: 0,
+    rtt: 0,
+    rttHigh: 0,
+    messagesSent: 0,
+    messagesReceived: 0,
+    bytesSent: 0,
+    bytesReceived: 0,
+    badMessages: 0,
+  };
 }

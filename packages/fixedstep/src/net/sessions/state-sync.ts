@@ -1,6 +1,7 @@
 /**
- * The client side of state sync: a session that receives the world from the server, predicts its
- * own player, and draws everything else between snapshots.
+ * A state-sync client: take the world from the server's snapshots (checked against its hash),
+ * predict the own player from its inputs and reconcile on every snapshot, draw everything else
+ * between snapshots — and send nothing but inputs.
  * @module
  */
 import { fnv1a64 } from '../../det/hash.js';
@@ -24,13 +25,14 @@ import {
 } from '../state-sync/messages.js';
 import { applyDelta } from '../state-sync/delta.js';
 import { LatenessWindow } from '../state-sync/render.js';
+import { SessionError, type SessionEvent, type SessionPhase } from './events.js';
+import { SessionLife } from './lifecycle.js';
 import { StateSyncDrawing } from './state-sync-drawing.js';
-
-import type {
-  StateSyncEvent,
-  StateSyncPhase,
-  StateSyncSessionOptions,
-  StateSyncSessionStats,
+import {
+  emptyStateSyncStats,
+  type StateSyncEvent,
+  type StateSyncSessionOptions,
+  type StateSyncSessionStats,
 } from './state-sync-options.js';
 
 const ISSUED_CAPACITY = 512;
@@ -53,32 +55,7 @@ const MAX_INPUT_WINDOW = DEFAULT_STATE_SYNC_LIMITS.maxInputTicks;
  * client sends no state, so it cannot change the world except through its inputs.
  */
 export class StateSyncSession<I, S extends Simulation<I>> {
-  readonly stats: StateSyncSessionStats = {
-    frames: 0,
-    ticks: 0,
-    fullSnapshots: 0,
-    deltaSnapshots: 0,
-    staleSnapshots: 0,
-    badSnapshots: 0,
-    reconciliations: 0,
-    resimulatedTicks: 0,
-    maxResimulated: 0,
-    corrections: 0,
-    maxCorrection: 0,
-    stallFrames: 0,
-    starvedFrames: 0,
-    filledInputs: 0,
-    lead: 0,
-    renderDelayMs: 0,
-    jitterMs: 0,
-    rtt: 0,
-    rttHigh: 0,
-    messagesSent: 0,
-    messagesReceived: 0,
-    bytesSent: 0,
-    bytesReceived: 0,
-    badMessages: 0,
-  };
+  readonly stats: StateSyncSessionStats = emptyStateSyncStats();
   /** Errors the server sent (the last 64). */
   readonly errors: ErrorMessage[] = [];
 
@@ -96,7 +73,11 @@ export class StateSyncSession<I, S extends Simulation<I>> {
   private readonly autoDelay: boolean;
   private readonly joinBytes: Uint8Array;
 
-  private phaseValue: StateSyncPhase = 'connecting';
+  /** Phase, events and the `finished` promise. */
+  private readonly life: SessionLife<
+    StateWelcomeMessage,
+    Exclude<StateSyncEvent, SessionEvent<StateWelcomeMessage>>
+  >;
   private welcomeMsg: StateWelcomeMessage | undefined;
   private tickMs = 1000 / 60;
   private sim: S | undefined;
@@ -137,6 +118,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
 
   constructor(options: StateSyncSessionOptions<I, S>) {
     this.options = options;
+    this.life = new SessionLife(options.onEvent);
     this.transport = options.transport;
     this.clock = options.clock;
     this.game = options.game;
@@ -184,7 +166,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       this.receive(bytes);
     });
     this.transport.onClose((reason) => {
-      this.closed(reason);
+      this.life.closed(reason);
     });
     const join: StateSyncMessage = {
       type: 'join',
@@ -208,8 +190,33 @@ export class StateSyncSession<I, S extends Simulation<I>> {
 
   // ---------------------------------------------------------------------------- reading
 
-  get phase(): StateSyncPhase {
-    return this.phaseValue;
+  /** Where the session is: connecting, waiting (welcomed, no snapshot yet), running, closed. */
+  get phase(): SessionPhase {
+    return this.life.phase;
+  }
+
+  /**
+   * How the session ends; settles once. State sync has no last tick: it resolves when the
+   * session's owner calls {@link leave}, or when the server closes the room after welcoming it
+   * (a fatal `SHUTDOWN`: `StateSyncRoom.close()`, a server that shuts down or drains) — the room's
+   * end. Rejects with a {@link SessionError} when it fails first: any other fatal error from the
+   * server (its code — `WRONG_ROOM`, `BAD_TOKEN`, `ROOM_FULL`, `GAME_MISMATCH` …; a `SHUTDOWN`
+   * before the welcome is a refusal too), a welcome this client cannot build (`BAD_WELCOME`), or
+   * the transport closing (`CLOSED`). The `error` event carries the same error first. Awaiting it
+   * is optional: a rejection nobody observes is not reported as unhandled.
+   */
+  get finished(): Promise<void> {
+    return this.life.finished;
+  }
+
+  /** Whether {@link finished} has resolved (the owner left, or the server ended the room). */
+  get isFinished(): boolean {
+    return this.life.isFinished;
+  }
+
+  /** The error {@link finished} rejected with, once it has. */
+  get failure(): SessionError | undefined {
+    return this.life.failure;
   }
 
   /** The welcome (slot, seed, tick rate, snapshot interval, reconnect token …), once here. */
@@ -219,7 +226,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
 
   /** The predicted world (the newest snapshot plus the local inputs since), once running. */
   get simulation(): S | undefined {
-    return this.phaseValue === 'running' || this.appliedOnce ? this.sim : undefined;
+    return this.life.phase === 'running' || this.appliedOnce ? this.sim : undefined;
   }
 
   /** The predicted tick. */
@@ -290,10 +297,10 @@ export class StateSyncSession<I, S extends Simulation<I>> {
    * @returns ticks predicted forward.
    */
   frame(now = this.clock.now()): number {
-    if (this.phaseValue === 'closed') return 0;
+    if (this.life.phase === 'closed') return 0;
     this.stats.frames++;
     if (now >= this.nextPingAt) this.ping(now);
-    if (this.phaseValue === 'connecting' && now - this.joinSentAt >= 250) {
+    if (this.life.phase === 'connecting' && now - this.joinSentAt >= 250) {
       this.sendBytes(this.joinBytes);
       this.joinSentAt = now;
     }
@@ -344,10 +351,14 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     return d.out;
   }
 
-  /** Leave the room politely and close the transport. */
+  /**
+   * Leave the room politely and close the transport. The session's end: {@link finished}
+   * resolves (unless it failed before).
+   */
   leave(): void {
-    if (this.phaseValue === 'closed') return;
+    if (this.life.phase === 'closed') return;
     this.send({ type: 'leave' });
+    this.life.finish();
     this.transport.close('left');
   }
 
@@ -400,9 +411,9 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     if (had) d.beforeReconcile();
     sim.load(p.state);
     this.appliedOnce = true;
-    if (this.phaseValue === 'waiting') {
-      this.phaseValue = 'running';
-      this.emit({ type: 'running', tick: p.tick });
+    if (this.life.phase === 'waiting') {
+      this.life.phase = 'running';
+      this.life.emit({ type: 'running', tick: p.tick });
     }
     d.loaded(sim);
     if (this.welcomeMsg!.slot < 0) return;
@@ -505,7 +516,9 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       case 'error':
         if (this.errors.length >= 64) this.errors.shift();
         this.errors.push(m);
-        this.emit({ type: 'error', error: m });
+        // The server closing the room this session plays in is how a state-sync room ends.
+        if (m.fatal && m.code === 'SHUTDOWN' && this.welcomeMsg !== undefined) this.life.finish();
+        this.life.error(SessionError.fromServer(m));
         break;
       default:
         this.stats.badMessages++;
@@ -515,9 +528,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
   private onWelcome(w: StateWelcomeMessage): void {
     if (this.welcomeMsg) return;
     if (w.tickRate !== this.game.tickRate) {
-      this.transport.close(
-        `the room ticks at ${w.tickRate} Hz, ${this.game.id} at ${this.game.tickRate}`,
-      );
+      this.fail(`the room ticks at ${w.tickRate} Hz, ${this.game.id} at ${this.game.tickRate}`);
       return;
     }
     const setup: GameSetup = Object.freeze({ seed: w.seed, players: w.players, options: w.config });
@@ -526,7 +537,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       this.sim = create(setup);
       this.scratch = create(setup);
     } catch (e) {
-      this.transport.close(`cannot build the game from the welcome: ${String(e)}`);
+      this.fail(`cannot build the game from the welcome: ${String(e)}`);
       return;
     }
     this.welcomeMsg = w;
@@ -537,8 +548,8 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.issueNext = w.inputFrom;
     this.serverInputAck = w.inputFrom;
     this.drawing.welcome(w.slot, this.options.smoothingHalfLifeMs ?? 80);
-    this.phaseValue = 'waiting';
-    this.emit({ type: 'welcome', welcome: w });
+    this.life.phase = 'waiting';
+    this.life.emit({ type: 'welcome', welcome: w });
   }
 
   private onSnapshot(m: StateSnapshotMessage, now: number): void {
@@ -606,7 +617,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
   private badSnapshot(m: StateSnapshotMessage, reason: ResyncReason, message: string): void {
     this.stats.badSnapshots++;
     this.send({ type: 'resync', reason });
-    this.emit({ type: 'bad-snapshot', reason, message, tick: m.tick });
+    this.life.emit({ type: 'bad-snapshot', reason, message, tick: m.tick });
   }
 
   // ---------------------------------------------------------------------------- sending
@@ -653,13 +664,9 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.transport.send(bytes);
   }
 
-  private closed(reason: string): void {
-    if (this.phaseValue === 'closed') return;
-    this.phaseValue = 'closed';
-    this.emit({ type: 'closed', reason });
-  }
-
-  private emit(e: StateSyncEvent): void {
-    this.options.onEvent?.(e);
+  /** A welcome this client cannot use: the `error` event, `finished` rejects, the transport closes. */
+  private fail(message: string): void {
+    this.life.error(new SessionError('BAD_WELCOME', message));
+    this.transport.close(message);
   }
 }
