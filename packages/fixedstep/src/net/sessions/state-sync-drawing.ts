@@ -3,11 +3,7 @@
  * prediction plus a decaying correction offset. It reads states and never writes one.
  * @module
  */
-import {
-  CorrectionSmoother,
-  SnapshotTimeline,
-  type StateSyncRender,
-} from '../state-sync/render.js';
+import { HalfLifeSmoother, SnapshotTimeline, type StateSyncRender } from '../state-sync/render.js';
 
 /**
  * The drawing side of a {@link StateSyncSession}, kept apart from its connection and prediction:
@@ -29,7 +25,7 @@ export class StateSyncDrawing<S> {
   private predPrev: Float64Array;
   private predCurr: Float64Array;
   private ownedValue: readonly number[] = [];
-  private smoother = new CorrectionSmoother(0);
+  private smoother = new HalfLifeSmoother(0);
   private ownBefore = new Float64Array(0);
   private ownAfter = new Float64Array(0);
   private lastDrawAt: number | undefined;
@@ -100,7 +96,7 @@ export class StateSyncDrawing<S> {
     const n = owned.length * r.fields;
     this.ownBefore = new Float64Array(n);
     this.ownAfter = new Float64Array(n);
-    this.smoother = new CorrectionSmoother(n, halfLifeMs, r.teleport ?? Infinity);
+    this.smoother = new HalfLifeSmoother(n, halfLifeMs, r.teleport ?? Infinity);
   }
 
   /** A verified snapshot of `tick`, loaded into `sim`: keep its numbers to draw the others. */

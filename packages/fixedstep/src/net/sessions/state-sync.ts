@@ -48,7 +48,7 @@ const MAX_INPUT_WINDOW = DEFAULT_STATE_SYNC_LIMITS.maxInputTicks;
  * `load`) changes nothing and asks the server for a full one.
  *
  * Draw with {@link render}: the local player's entities come from the prediction (no input lag;
- * corrections glide, see {@link CorrectionSmoother}), everything else is drawn between the two
+ * corrections glide, see {@link HalfLifeSmoother}), everything else is drawn between the two
  * snapshots around `now − renderDelay`.
  *
  * The game need not be deterministic — every snapshot replaces the client's state — and the

@@ -50,5 +50,5 @@ export type {
   StateSyncServerOptions,
   StateSyncServerEvent,
 } from './server.js';
-export { SnapshotTimeline, CorrectionSmoother, LatenessWindow } from './render.js';
+export { SnapshotTimeline, HalfLifeSmoother, LatenessWindow } from './render.js';
 export type { StateSyncRender } from './render.js';

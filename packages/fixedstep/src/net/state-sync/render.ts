@@ -133,12 +133,13 @@ export class SnapshotTimeline {
 }
 
 /**
- * Render-side smoothing of corrections: when a snapshot moves the client's own prediction, the
+ * Render-side smoothing of state-sync corrections (the rollback sessions' is `CorrectionSmoother`,
+ * which blends linearly over frames): when a snapshot moves the client's own prediction, the
  * drawn position keeps the difference as an offset that halves every `halfLifeMs`, so the player
  * glides to the corrected place instead of jumping. A correction larger than `snap` (a respawn) is
  * shown at once.
  */
-export class CorrectionSmoother {
+export class HalfLifeSmoother {
   /** The current offsets (drawn = predicted + offset). */
   readonly offset: Float64Array;
   private readonly halfLifeMs: number;
@@ -147,7 +148,7 @@ export class CorrectionSmoother {
   constructor(size: number, halfLifeMs = 80, snap = Infinity) {
     if (!(halfLifeMs >= 0 && Number.isFinite(halfLifeMs))) {
       throw new RangeError(
-        `CorrectionSmoother: halfLifeMs must be a finite number >= 0, got ${halfLifeMs}`,
+        `HalfLifeSmoother: halfLifeMs must be a finite number >= 0, got ${halfLifeMs}`,
       );
     }
     this.offset = new Float64Array(size);
