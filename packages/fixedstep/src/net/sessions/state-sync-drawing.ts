@@ -1,6 +1,6 @@
 /**
- * What a state-sync session draws: the other entities between two snapshots, its own from the
- * prediction plus a decaying correction offset. It reads states and never writes one.
+ * What a state-sync session draws — the other entities between two snapshots, its own from the
+ * prediction plus a decaying correction offset — reading states, never writing one.
  * @module
  */
 import { HalfLifeSmoother, SnapshotTimeline, type StateSyncRender } from '../state-sync/render.js';

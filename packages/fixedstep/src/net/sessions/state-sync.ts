@@ -53,6 +53,10 @@ const MAX_INPUT_WINDOW = DEFAULT_STATE_SYNC_LIMITS.maxInputTicks;
  *
  * The game need not be deterministic — every snapshot replaces the client's state — and the
  * client sends no state, so it cannot change the world except through its inputs.
+ *
+ * How it ends: {@link finished} resolves when its owner leaves or the server closes the room, and
+ * rejects with a {@link SessionError} when the server refuses or drops it, its welcome cannot be
+ * built, or its transport closes first — an `error` event says the same.
  */
 export class StateSyncSession<I, S extends Simulation<I>> {
   readonly stats: StateSyncSessionStats = emptyStateSyncStats();
