@@ -211,7 +211,7 @@ export async function runNodeMatch(o: NodeMatchOptions): Promise<NodeMatchResult
           s.frame();
           probes[i]!.afterFrame(s);
         }
-        if (sessions.every((s) => s.finished)) {
+        if (sessions.every((s) => s.isFinished)) {
           resolve();
           return;
         }

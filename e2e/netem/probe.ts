@@ -91,7 +91,7 @@ export class Probe {
     const now = wallNow();
     const shown = Math.min(session.tick, session.confirmedTick, this.ticks);
     if (this.startedAt === 0 && session.tick > 0) this.startedAt = now;
-    if (session.tick > 60 && !session.finished)
+    if (session.tick > 60 && !session.isFinished)
       this.lags.push(session.serverTick() - session.confirmedTick);
     if (session.stats.stalls > this.lastStalls) {
       this.lastStalls = session.stats.stalls;
@@ -102,7 +102,7 @@ export class Probe {
         );
     }
     while (this.shownUpTo < shown) this.shownAt[this.shownUpTo++] = now;
-    if (this.endedAt === 0 && session.finished) this.endedAt = now;
+    if (this.endedAt === 0 && session.isFinished) this.endedAt = now;
   }
 
   report(session: NetSession<unknown>): ProbeReport {

@@ -150,7 +150,7 @@ window.netem = {
     const frame = () => {
       s.frame();
       p.afterFrame(s);
-      if (s.finished) {
+      if (s.isFinished) {
         say(`finished at tick ${s.tick}`);
         return;
       }
@@ -159,7 +159,7 @@ window.netem = {
     };
     frame();
   },
-  finished: () => session?.finished ?? false,
+  finished: () => session?.isFinished ?? false,
   report(): string {
     if (!session || !probe) throw new Error('report: no match');
     const r: ProbeReport = probe.report(session);

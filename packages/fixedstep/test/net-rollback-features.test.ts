@@ -97,7 +97,7 @@ describe('input delay changed during a match', () => {
     // Both players agree: from tick 300 on, 4 ticks of input delay (from the default 1).
     for (const s of sessions) s.setInputDelay(4, 300);
     expect(sessions[0]!.inputDelayTicks).toBe(1);
-    expect(scheduler.runUntilDone(() => sessions.every((s) => s.finished), 60_000)).toBe(true);
+    expect(scheduler.runUntilDone(() => sessions.every((s) => s.isFinished), 60_000)).toBe(true);
     for (const [i, s] of sessions.entries()) {
       expect(s.inputDelayTicks).toBe(4);
       // Inputs asked for while the simulation was well before 300 are for about lead + 1 ticks
@@ -176,7 +176,7 @@ describe('several local players on one machine', () => {
       return s;
     });
     if (link) RollbackSession.linkLocalPlayers([sessions[0]!, sessions[1]!]);
-    expect(scheduler.runUntilDone(() => sessions.every((s) => s.finished), 60_000)).toBe(true);
+    expect(scheduler.runUntilDone(() => sessions.every((s) => s.isFinished), 60_000)).toBe(true);
     expect(sessions.map((s) => s.welcome?.slot).sort((a, b) => (a ?? -1) - (b ?? -1))).toEqual([
       0, 1, 2,
     ]);

@@ -199,7 +199,7 @@ function offline(players: number, ticks: number): bigint {
   return fnv1a64(t.save());
 }
 
-const done = (ss: NetSession[]) => () => ss.length > 0 && ss.every((s) => s.finished);
+const done = (ss: NetSession[]) => () => ss.length > 0 && ss.every((s) => s.isFinished);
 
 /** 3 players and a spectator, scripted inputs, 100 ± 30 ms and 5 % loss: everyone on the offline hash. */
 function playScripted(kind: 'lockstep' | 'rollback') {
@@ -466,7 +466,7 @@ describe('late join and reconnect', () => {
     const others = () => [w.sessions[0]!, ...w.sessions.slice(2)];
     expect(
       w.scheduler.runUntilDone(
-        () => w.sessions.length === 4 && others().every((s) => s.finished),
+        () => w.sessions.length === 4 && others().every((s) => s.isFinished),
         120_000,
       ),
     ).toBe(true);

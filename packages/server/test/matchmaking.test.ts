@@ -467,7 +467,7 @@ describe('quick match over real sockets through createServer', () => {
     }, 8);
     try {
       await expect
-        .poll(() => sessions.every((s) => s.finished), { timeout: 30_000, interval: 50 })
+        .poll(() => sessions.every((s) => s.isFinished), { timeout: 30_000, interval: 50 })
         .toBe(true);
     } finally {
       clearInterval(timer);

@@ -308,7 +308,7 @@ describe.skipIf(haproxy === undefined)('three relays behind HAProxy', () => {
       }
       // They start again under the same name: HAProxy sends the room to a live process.
       for (const n of orphans) rooms.set(n, await playRoom(n, ticks));
-      await until('every room to finish', () => all().every((p) => p.session.finished), 120_000);
+      await until('every room to finish', () => all().every((p) => p.session.isFinished), 120_000);
       for (const n of orphans) {
         const on = await Promise.all(
           relays.map((r, i) => (i === victim ? Promise.resolve(false) : roomOn(r.port, n))),

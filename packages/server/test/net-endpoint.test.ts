@@ -317,7 +317,7 @@ describe('500 idle WebSockets beside a game', () => {
     }, 8);
     try {
       await expect
-        .poll(() => sessions.every((s) => s.finished), { timeout: 20_000, interval: 50 })
+        .poll(() => sessions.every((s) => s.isFinished), { timeout: 20_000, interval: 50 })
         .toBe(true);
     } finally {
       clearInterval(timer);

@@ -251,7 +251,7 @@ describe('a frozen peer', () => {
     expect(m.relay.room('honest')!.members).toHaveLength(2);
     expect(m.relay.stats.dropped).toEqual({});
     expect(
-      m.scheduler.runUntilDone(() => session.finished && m.sessions[0]!.finished, 120_000),
+      m.scheduler.runUntilDone(() => session.isFinished && m.sessions[0]!.isFinished, 120_000),
     ).toBe(true);
     expect(session.hashAt(3000)).toBe(m.sessions[0]!.hashAt(3000));
     // Its frames came back at 35 s, 30 s of ticks behind: it caught up, 32 ticks a frame.

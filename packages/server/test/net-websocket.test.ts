@@ -85,7 +85,7 @@ describe('the relay over real WebSockets on 127.0.0.1', () => {
     }
     try {
       await expect
-        .poll(() => sessions.every((s) => s.finished), { timeout: 20_000, interval: 50 })
+        .poll(() => sessions.every((s) => s.isFinished), { timeout: 20_000, interval: 50 })
         .toBe(true);
     } finally {
       clearInterval(timer);

@@ -248,7 +248,7 @@ describe('peer-to-peer fallback: no direct route, the game goes through the serv
       ['fixedstep-u', { ordered: false, maxRetransmits: 1 }],
       ['fixedstep-r', { ordered: true }],
     ]);
-    await until(() => sessions.every((s) => s.finished), 'the end of the match');
+    await until(() => sessions.every((s) => s.isFinished), 'the end of the match');
     const hashes = sessions.map((s) => s.hashAt(ticks));
     expect(hashes[0]).toBeDefined();
     expect(hashes[1]).toBe(hashes[0]);

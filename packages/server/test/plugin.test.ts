@@ -103,7 +103,7 @@ describe('a user game as a plug-in', () => {
     }, 8);
     try {
       await expect
-        .poll(() => sessions.every((s) => s.finished), { timeout: 30_000, interval: 50 })
+        .poll(() => sessions.every((s) => s.isFinished), { timeout: 30_000, interval: 50 })
         .toBe(true);
     } finally {
       clearInterval(timer);

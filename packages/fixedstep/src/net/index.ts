@@ -40,18 +40,7 @@ export type { Transport, LinkConditions, LinkStats, SimulatedLinkOptions } from 
 export { webSocketTransport, connectWebSocket, nodeWebSocketTransport } from './websocket.js';
 export type { WebSocketTransportOptions, NodeWebSocketLike } from './websocket.js';
 export { ClockSync } from './clock-sync.js';
-export { NetSession, LockstepSession, SpectatorSession, setupFromWelcome } from './session.js';
-export type {
-  NetPhase,
-  NetEvent,
-  NetSessionOptions,
-  NetSessionStats,
-  LockstepSessionOptions,
-} from './session.js';
-export { RollbackSession } from './rollback.js';
-export type { RollbackSessionOptions, Correction } from './rollback.js';
-export { SyncTestSession, SyncTestError } from './sync-test.js';
-export type { SyncTestOptions, SyncTestMismatch } from './sync-test.js';
+export * from './sessions/index.js';
 export { diffSnapshots } from './forensics.js';
 export type { SnapshotDiff } from './forensics.js';
 export * from './room/index.js';

@@ -6,15 +6,12 @@ import type { WelcomeMessage } from './relay/messages.js';
 import { gameCatalog, type GameCatalog, type HostedGame } from './room/game-join.js';
 import type { ConnectionInfo } from './room/host.js';
 import { Relay, type RelayOptions, type RelayStats, type RoomInfo } from './relay/relay.js';
-import { RollbackSession } from './rollback.js';
 import { EventScheduler } from './scheduler.js';
-import {
-  LockstepSession,
-  SpectatorSession,
-  type NetSession,
-  type NetSessionOptions,
-  type NetSessionStats,
-} from './session.js';
+import type { NetSession } from './sessions/base.js';
+import { LockstepSession } from './sessions/lockstep.js';
+import type { NetSessionOptions, NetSessionStats } from './sessions/relay-options.js';
+import { RollbackSession } from './sessions/rollback.js';
+import { SpectatorSession } from './sessions/spectator.js';
 import { SimulatedLink, type LinkConditions, type LinkStats, type Transport } from './transport.js';
 
 /**
@@ -209,7 +206,7 @@ export class SimulatedMatch {
     return this.clients.every(
       (c) =>
         c.closed ||
-        (c.session !== undefined && (c.session.finished || c.session.phase === 'closed')),
+        (c.session !== undefined && (c.session.isFinished || c.session.phase === 'closed')),
     );
   }
 

@@ -219,8 +219,12 @@ export class StateOnlinePanel {
             return held;
           },
           onEvent: (e) => {
-            if (e.type === 'closed') this.state = `closed (${e.reason})`;
+            // A fatal error (a refusal, a welcome it cannot build, the connection lost: what
+            // `finished` rejects with) says more than the close that follows it.
             if (e.type === 'error') this.state = `error: ${e.error.message}`;
+            if (e.type === 'closed' && this.session?.failure === undefined) {
+              this.state = `closed (${e.reason})`;
+            }
           },
         });
         this.session = session;

@@ -50,13 +50,5 @@ export type {
   StateSyncServerOptions,
   StateSyncServerEvent,
 } from './server.js';
-export { StateSyncSession } from './session.js';
-export type {
-  StateSyncPhase,
-  StateSyncEvent,
-  StateSyncSessionOptions,
-  StateSyncSessionStats,
-  StateSyncCorrection,
-} from './session.js';
 export { SnapshotTimeline, PredictionSmoother, LatenessWindow } from './render.js';
 export type { StateSyncRender } from './render.js';

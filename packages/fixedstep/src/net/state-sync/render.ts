@@ -133,11 +133,11 @@ export class SnapshotTimeline {
 }
 
 /**
- * Render-side smoothing of a state-sync client's own prediction: when a snapshot moves it, the
- * drawn position keeps the difference as an offset that halves every `halfLifeMs` of render time,
- * so the player glides to the corrected place instead of jumping. A correction larger than `snap`
- * (a respawn) is shown at once. (Rollback's `CorrectionSmoother` blends each entity linearly over
- * a number of frames instead.)
+ * Render-side smoothing of state-sync corrections (the rollback sessions' is `CorrectionSmoother`,
+ * which blends linearly over frames): when a snapshot moves the client's own prediction, the
+ * drawn position keeps the difference as an offset that halves every `halfLifeMs`, so the player
+ * glides to the corrected place instead of jumping. A correction larger than `snap` (a respawn) is
+ * shown at once.
  */
 export class PredictionSmoother {
   /** The current offsets (drawn = predicted + offset). */

@@ -1,11 +1,16 @@
-import { fnv1a64 } from '../det/hash.js';
-import type { ButtonInput } from '../sim/buttons.js';
-import type { AnyGameDefinition, GameSetup } from '../sim/game.js';
-import { BUTTON_WORD, type InputSchema } from '../sim/input-schema.js';
-import type { Simulation } from '../sim/simulation.js';
-import type { Clock } from '../time/drivers.js';
-import { ClockSync } from './clock-sync.js';
-import { InputRing, SnapshotRing } from './history.js';
+/**
+ * A client session of a relay room: join with hello/welcome, keep the server's clock, receive the
+ * confirmed inputs, send the local ones, report state hashes and answer forensics requests — what
+ * lockstep, rollback and spectator sessions share; the kinds decide when a tick is stepped.
+ * @module
+ */
+import { fnv1a64 } from '../../det/hash.js';
+import type { ButtonInput } from '../../sim/buttons.js';
+import type { InputSchema } from '../../sim/input-schema.js';
+import type { Simulation } from '../../sim/simulation.js';
+import type { Clock } from '../../time/drivers.js';
+import { ClockSync } from '../clock-sync.js';
+import { InputRing, SnapshotRing } from '../history.js';
 import {
   DEFAULT_PROTOCOL_LIMITS,
   decodeMessage,
@@ -14,140 +19,24 @@ import {
   type DesyncMessage,
   type NetMessage,
   type WelcomeMessage,
-} from './relay/messages.js';
-import { ProtocolError } from './wire/error.js';
-import type { ErrorMessage, LeaveReason } from './wire/common.js';
-import type { Transport } from './transport.js';
-
-/** Where a session is. */
-export type NetPhase = 'connecting' | 'waiting' | 'running' | 'closed';
-
-/** What a session tells its owner about. */
-export type NetEvent =
-  | { type: 'welcome'; welcome: WelcomeMessage }
-  | { type: 'start'; startAt: number }
-  | { type: 'desync'; desync: DesyncMessage }
-  | { type: 'error'; error: ErrorMessage }
-  | { type: 'leave'; peer: number; reason: LeaveReason }
-  | { type: 'closed'; reason: string };
-
-/** The game setup a welcome describes: the room's seed, players and option bytes. */
-export function setupFromWelcome(welcome: WelcomeMessage): GameSetup {
-  return Object.freeze({ seed: welcome.seed, players: welcome.players, options: welcome.config });
-}
-
-/** Options every network session takes. */
-export interface NetSessionOptions<I = ButtonInput> {
-  /** The pipe to the server. */
-  transport: Transport;
-  /**
-   * The clock frames and pings are measured on (`performanceClock()` in a browser, the
-   * scheduler's clock in a simulated network). Only differences matter.
-   */
-  clock: Clock;
-  /** Room to join (created by the first hello). */
-  room: string;
-  /**
-   * The game: a definition (id, version, input schema and how to build it all come from it), or
-   * its id — then give `gameVersion`, `createSimulation` and, unless it is `BUTTON_WORD`, `input`.
-   * Every member of a room must run the same game, version and input schema.
-   */
-  game: string | AnyGameDefinition;
-  /** The game's version, when `game` is an id. */
-  gameVersion?: number;
-  /** The input schema, when `game` is an id. Default `BUTTON_WORD`. */
-  input?: InputSchema<I>;
-  /** Player slots, when this session creates the room (default: the game's minimum). */
-  players?: number;
-  /** The game's seed, when this session creates the room (default: the server picks). */
-  seed?: number;
-  /** Display name (at most 32 UTF-8 bytes). */
-  name?: string;
-  /** Reconnect token from an earlier welcome: take back that slot. */
-  token?: Uint8Array;
-  /**
-   * A quick-match ticket (`quickMatch`'s `ticket`): the room, its setup and this player's seat
-   * come from it; `players` and `seed` are then ignored.
-   */
-  ticket?: Uint8Array;
-  /**
-   * Spectators: the room's invite token (`welcome.invite` of one of its players). The relay lets
-   * no spectator in without it.
-   */
-  invite?: Uint8Array;
-  /**
-   * Builds the simulation from the welcome (its seed, `players` and `config` bytes). Default, with
-   * a game definition: `game.create(setupFromWelcome(welcome))`.
-   */
-  createSimulation?(welcome: WelcomeMessage): Simulation<I>;
-  /**
-   * The local player's input for `tick` — called exactly once per tick, in tick order, some
-   * ticks before the tick is simulated (the input delay). `sim` is the current state (read it,
-   * never step it). Default: the schema's neutral input (nothing pressed).
-   *
-   * From an `InputSampler` fed by device adapters:
-   * `sampler.sample({ isBeforeUpdateEnd: (t) => t <= clock.now() }, 0)` gives the tick being
-   * issued every event up to now, so each press reaches exactly one tick (as precisely as the
-   * frames that issue ticks allow).
-   */
-  localInput?: (tick: number, sim: Simulation<I>) => I;
-  /**
-   * The most ticks one {@link NetSession.frame} steps forward: the catch-up budget after a
-   * background tab, a late join or a hitch. Default 32. Resimulation after a rollback is not
-   * counted (it is bounded by the prediction window).
-   */
-  maxTicksPerFrame?: number;
-  /** Clock sync probe interval, in ms. Default 250 (the first four go 50 ms apart). */
-  pingIntervalMs?: number;
-  /**
-   * Keep the `save()` of each of the last this many confirmed ticks, so the server can pin a
-   * desync to its exact tick and diff both sides' states. Default 180. 0 saves only at hash
-   * report ticks (the server can then only name the report tick).
-   */
-  forensicsWindow?: number;
-  /** Never simulate past this tick (tests, benchmarks, a match of fixed length). */
-  stopAt?: number;
-  /** Events: welcome, start, desync, error, leave, closed. */
-  onEvent?: (event: NetEvent) => void;
-}
-
-/** Counters of a session; all cumulative except the current delays. */
-export interface NetSessionStats {
-  /** Calls of {@link NetSession.frame}. */
-  frames: number;
-  /** Ticks stepped forward (not counting resimulation). */
-  ticks: number;
-  /** Most forward ticks in one frame. */
-  maxTicksInFrame: number;
-  /** Frames that wanted to step but could not (missing inputs, or the prediction window full). */
-  stallFrames: number;
-  /** Stalls: runs of consecutive stalled frames. */
-  stalls: number;
-  /** Rollbacks (rollback sessions). */
-  rollbacks: number;
-  /** Ticks resimulated by rollbacks. */
-  resimulatedTicks: number;
-  /** Deepest rollback, in ticks. */
-  maxRollbackDepth: number;
-  /** Confirmed inputs of this player that differ from what it sent (filled after the deadline). */
-  replacedInputs: number;
-  /** Input delay in ticks now (lockstep: adaptive to RTT; rollback: fixed). */
-  inputDelay: number;
-  /** Rollback: ticks ahead of the server clock now. */
-  lead: number;
-  /** Lockstep / spectator: ticks behind the server clock now (adaptive jitter buffer). */
-  playoutDelay: number;
-  /** Round trip to the server, min and high of the window, in ms. */
-  rtt: number;
-  rttHigh: number;
-  messagesSent: number;
-  messagesReceived: number;
-  bytesSent: number;
-  bytesReceived: number;
-  hashesReported: number;
-  /** Messages from the server that could not be decoded. */
-  badMessages: number;
-}
+} from '../relay/messages.js';
+import { ProtocolError } from '../wire/error.js';
+import type { ErrorMessage } from '../wire/common.js';
+import type { Transport } from '../transport.js';
+import {
+  SessionError,
+  type SessionErrorCode,
+  type SessionEvent,
+  type SessionPhase,
+} from './events.js';
+import { SessionLife } from './lifecycle.js';
+import {
+  emptyNetStats,
+  resolveGame,
+  type NetEvent,
+  type NetSessionOptions,
+  type NetSessionStats,
+} from './relay-options.js';
 
 /** Messages the session has buffered and may resend: never more than this many ticks. */
 const MAX_INPUT_WINDOW = DEFAULT_PROTOCOL_LIMITS.maxInputTicks;
@@ -160,39 +49,21 @@ const CONFIRMED_CAPACITY = 4096;
 const ISSUED_CAPACITY = 512;
 
 /**
- * The machinery every client session shares: the hello/welcome handshake, clock sync, the
+ * The machinery every relay session shares: the hello/welcome handshake, clock sync, the
  * confirmed-input store and acks, sending local inputs with a redundant window, periodic state
  * hashes, and answering the server's forensics requests (snapshots, per-tick hashes).
  *
  * Call {@link frame} once per display frame; it steps as many ticks as are due (at most
  * `maxTicksPerFrame`) and sends what needs sending. Render {@link simulation} with {@link alpha}.
+ * How it ends: {@link finished} resolves when the state at `stopAt` is confirmed (or the owner
+ * left), and rejects with a {@link SessionError} when the server refuses or drops it, its welcome
+ * cannot be built, or its transport closes first — an `error` event says the same.
  */
 export abstract class NetSession<I = ButtonInput> {
-  readonly stats: NetSessionStats = {
-    frames: 0,
-    ticks: 0,
-    maxTicksInFrame: 0,
-    stallFrames: 0,
-    stalls: 0,
-    rollbacks: 0,
-    resimulatedTicks: 0,
-    maxRollbackDepth: 0,
-    replacedInputs: 0,
-    inputDelay: 0,
-    lead: 0,
-    playoutDelay: 0,
-    rtt: 0,
-    rttHigh: 0,
-    messagesSent: 0,
-    messagesReceived: 0,
-    bytesSent: 0,
-    bytesReceived: 0,
-    hashesReported: 0,
-    badMessages: 0,
-  };
+  readonly stats: NetSessionStats = emptyNetStats();
   /** Desyncs the server reported. */
   readonly desyncs: DesyncMessage[] = [];
-  /** Errors the server sent. */
+  /** Errors the server sent (the first 64), fatal or not. */
   readonly errors: ErrorMessage[] = [];
 
   protected readonly transport: Transport;
@@ -235,7 +106,11 @@ export abstract class NetSession<I = ButtonInput> {
   /** Snapshots of confirmed (lockstep) or recent (rollback) ticks. */
   protected ring = new SnapshotRing(1);
 
-  private phaseValue: NetPhase = 'connecting';
+  /** Phase, events and the `finished` promise. */
+  private readonly life: SessionLife<
+    WelcomeMessage,
+    Exclude<NetEvent, SessionEvent<WelcomeMessage>>
+  >;
   private pingId = 0;
   private pingsSent = 0;
   private nextPingAt = -Infinity;
@@ -254,29 +129,12 @@ export abstract class NetSession<I = ButtonInput> {
 
   constructor(options: NetSessionOptions<I>, role: 'player' | 'spectator') {
     this.options = options;
+    this.life = new SessionLife(options.onEvent);
     this.transport = options.transport;
     this.clock = options.clock;
-    const game = options.game;
-    let gameId: string;
-    let gameVersion: number;
-    if (typeof game === 'string') {
-      if (options.gameVersion === undefined || options.createSimulation === undefined) {
-        throw new RangeError(
-          'NetSession: with a game id, give gameVersion and createSimulation (or pass the game definition)',
-        );
-      }
-      gameId = game;
-      gameVersion = options.gameVersion;
-      this.schema = options.input ?? (BUTTON_WORD as unknown as InputSchema<I>);
-      this.build = options.createSimulation.bind(options);
-    } else {
-      gameId = game.id;
-      gameVersion = game.version;
-      this.schema = game.input as InputSchema<I>;
-      const create = options.createSimulation?.bind(options);
-      this.build =
-        create ?? ((w: WelcomeMessage) => game.create(setupFromWelcome(w)) as Simulation<I>);
-    }
+    const { gameId, gameVersion, schema, build } = resolveGame(options);
+    this.schema = schema;
+    this.build = build;
     this.words = this.schema.words;
     this.scratch = new Uint32Array(this.words);
     this.issued = new InputRing(ISSUED_CAPACITY, this.words);
@@ -293,7 +151,7 @@ export abstract class NetSession<I = ButtonInput> {
       this.receive(bytes);
     });
     this.transport.onClose((reason) => {
-      this.closed(reason);
+      this.life.closed(reason);
     });
     const hello: NetMessage = {
       type: 'hello',
@@ -317,8 +175,35 @@ export abstract class NetSession<I = ButtonInput> {
 
   // ---------------------------------------------------------------------------- reading
 
-  get phase(): NetPhase {
-    return this.phaseValue;
+  /** Where the session is: connecting, waiting (welcomed), running, closed. */
+  get phase(): SessionPhase {
+    return this.life.phase;
+  }
+
+  /**
+   * How the session ends; settles once. Resolves at its end: the state at `stopAt` is confirmed
+   * here ({@link isFinished}), or its owner called {@link leave}. Rejects with a
+   * {@link SessionError} when it fails first: a fatal error from the server (its code —
+   * `WRONG_ROOM`, `BAD_TOKEN`, `ROOM_FULL`, `GAME_MISMATCH`, `SHUTDOWN` …), a welcome this
+   * client cannot build (`BAD_WELCOME`), or the transport closing (`CLOSED`). The `error` event
+   * carries the same error first. Awaiting it is optional: a rejection nobody observes is not
+   * reported as unhandled.
+   */
+  get finished(): Promise<void> {
+    return this.life.finished;
+  }
+
+  /**
+   * Whether {@link finished} has resolved: the session reached `stopAt` with a confirmed state
+   * (or its owner left). What a frame loop on simulated time polls.
+   */
+  get isFinished(): boolean {
+    return this.life.isFinished;
+  }
+
+  /** The error {@link finished} rejected with, once it has. */
+  get failure(): SessionError | undefined {
+    return this.life.failure;
   }
 
   /** The simulation, once welcomed. */
@@ -370,15 +255,6 @@ export abstract class NetSession<I = ButtonInput> {
     return t <= 0 ? 0 : t >= 1 ? 0.999 : t;
   }
 
-  /** Whether the session reached `stopAt` with a confirmed state. */
-  get finished(): boolean {
-    return (
-      this.sim !== undefined &&
-      this.sim.tick >= this.stopAt &&
-      this.confirmedStateTick() >= this.stopAt
-    );
-  }
-
   // ---------------------------------------------------------------------------- driving
 
   /**
@@ -387,17 +263,17 @@ export abstract class NetSession<I = ButtonInput> {
    * @returns ticks stepped forward.
    */
   frame(now = this.clock.now()): number {
-    if (this.phaseValue === 'closed') return 0;
+    if (this.life.phase === 'closed') return 0;
     this.stats.frames++;
     if (now >= this.nextPingAt && !this.hidden) this.ping(now);
     // The handshake survives a lossy link: hello is repeated until welcomed, and a waiting
     // member acks now and then so the server can repeat a lost start.
-    if (this.phaseValue === 'connecting' && now - this.helloSentAt >= 250) {
+    if (this.life.phase === 'connecting' && now - this.helloSentAt >= 250) {
       this.send(this.hello);
       this.helloSentAt = now;
     }
-    if (this.phaseValue === 'waiting') this.flushAck(now);
-    if (this.phaseValue !== 'running' || this.sim === undefined) return 0;
+    if (this.life.phase === 'waiting') this.flushAck(now);
+    if (this.life.phase !== 'running' || this.sim === undefined) return 0;
     const serverTick = this.serverTick(now);
     const n = this.advance(serverTick, now);
     if (n > this.stats.maxTicksInFrame) this.stats.maxTicksInFrame = n;
@@ -407,6 +283,7 @@ export abstract class NetSession<I = ButtonInput> {
     this.flushAck(now);
     this.stats.rtt = this.clockSync.rtt;
     this.stats.rttHigh = this.clockSync.rttHigh;
+    this.checkEnd();
     return n;
   }
 
@@ -420,9 +297,12 @@ export abstract class NetSession<I = ButtonInput> {
     this.hidden = hidden;
   }
 
-  /** Leave the room politely and close the transport. */
+  /**
+   * Leave the room politely and close the transport. The session's end: {@link finished}
+   * resolves (unless it failed before).
+   */
   leave(): void {
-    if (this.phaseValue === 'closed') return;
+    if (this.life.phase === 'closed') return;
     if (this.welcomeMsg) {
       this.send({
         type: 'leave',
@@ -431,6 +311,7 @@ export abstract class NetSession<I = ButtonInput> {
         reason: 'left',
       });
     }
+    this.life.finish();
     this.transport.close('left');
   }
 
@@ -535,8 +416,8 @@ export abstract class NetSession<I = ButtonInput> {
       case 'start':
         if (m.room === this.welcomeMsg?.room && this.startAt === undefined) {
           this.startAt = m.startAt;
-          this.phaseValue = 'running';
-          this.emit({ type: 'start', startAt: m.startAt });
+          this.life.phase = 'running';
+          this.life.emit({ type: 'running', tick: this.startTick });
         }
         break;
       case 'pong':
@@ -554,15 +435,15 @@ export abstract class NetSession<I = ButtonInput> {
       case 'desync':
         if (m.room === this.welcomeMsg?.room) {
           if (this.desyncs.length < 16) this.desyncs.push(m);
-          this.emit({ type: 'desync', desync: m });
+          this.life.emit({ type: 'desync', desync: m });
         }
         break;
       case 'error':
         if (this.errors.length < 64) this.errors.push(m);
-        this.emit({ type: 'error', error: m });
+        this.life.error(SessionError.fromServer(m));
         break;
       case 'leave':
-        this.emit({ type: 'leave', peer: m.peer, reason: m.reason });
+        this.life.emit({ type: 'leave', peer: m.peer, reason: m.reason });
         break;
       case 'snapshot-request':
         this.onSnapshotRequest(m.room, m.id, m.tick);
@@ -575,11 +456,13 @@ export abstract class NetSession<I = ButtonInput> {
         this.stats.badMessages++;
     }
     // Frames may have stopped (a background tab) while messages still arrive: stay heard.
-    if (this.welcomeMsg && this.phaseValue !== 'closed' && now - this.lastSendAt >= KEEPALIVE_MS) {
+    if (this.welcomeMsg && this.life.phase !== 'closed' && now - this.lastSendAt >= KEEPALIVE_MS) {
       this.send({ type: 'ack', room: this.welcomeMsg.room, ack: this.confirmedEnd });
       this.lastAckSent = this.confirmedEnd;
       this.lastAckSendAt = now;
     }
+    // Newly confirmed inputs may complete the state at `stopAt` (or a welcome may be at it).
+    this.checkEnd();
   }
 
   private onWelcome(w: WelcomeMessage): void {
@@ -595,11 +478,11 @@ export abstract class NetSession<I = ButtonInput> {
       // broken one. Refuse it here; a wrong but loadable one shows up as a desync.
       if (w.snapshot) sim.load(w.snapshot);
     } catch (error) {
-      this.transport.close(`cannot build the game from the welcome: ${String(error)}`);
+      this.fail('BAD_WELCOME', `cannot build the game from the welcome: ${String(error)}`);
       return;
     }
     if (sim.tick !== w.startTick) {
-      this.transport.close(`snapshot is at tick ${sim.tick}, the welcome says ${w.startTick}`);
+      this.fail('BAD_WELCOME', `snapshot is at tick ${sim.tick}, the welcome says ${w.startTick}`);
       return;
     }
     this.sim = sim;
@@ -614,12 +497,12 @@ export abstract class NetSession<I = ButtonInput> {
     this.ring = new SnapshotRing(this.ringCapacity());
     this.ring.put(sim.tick, w.snapshot ?? sim.save());
     this.nextReport = (Math.floor(w.startTick / w.hashEvery) + 1) * w.hashEvery;
-    this.phaseValue = 'waiting';
-    this.emit({ type: 'welcome', welcome: w });
+    this.life.phase = 'waiting';
+    this.life.emit({ type: 'welcome', welcome: w });
     if (w.startAt !== undefined) {
       this.startAt = w.startAt;
-      this.phaseValue = 'running';
-      this.emit({ type: 'start', startAt: w.startAt });
+      this.life.phase = 'running';
+      this.life.emit({ type: 'running', tick: w.startTick });
     }
   }
 
@@ -631,7 +514,7 @@ export abstract class NetSession<I = ButtonInput> {
   private onConfirmedMessage(m: ConfirmedMessage, now: number): void {
     if (m.players !== this.players || m.words !== this.words || this.sim === undefined) return;
     // Until the start time is known nothing is acked: the server sees that and repeats the start.
-    if (this.phaseValue !== 'running') return;
+    if (this.life.phase !== 'running') return;
     if (m.delta) {
       // XOR-coded against tick − 1: only a continuation of what we hold can be read. Otherwise
       // wait: our ack stops moving, and the relay resends from it uncoded.
@@ -764,159 +647,16 @@ export abstract class NetSession<I = ButtonInput> {
     }
   }
 
-  private closed(reason: string): void {
-    if (this.phaseValue === 'closed') return;
-    this.phaseValue = 'closed';
-    this.emit({ type: 'closed', reason });
+  /** The session's end: the state at `stopAt` is confirmed here. */
+  private checkEnd(): void {
+    if (this.life.settled || this.sim === undefined) return;
+    if (this.sim.tick >= this.stopAt && this.confirmedStateTick() >= this.stopAt)
+      this.life.finish();
   }
 
-  private emit(e: NetEvent): void {
-    this.options.onEvent?.(e);
-  }
-}
-
-// ------------------------------------------------------------------------------------ lockstep
-
-/** Options of a {@link LockstepSession}. */
-export interface LockstepSessionOptions<I = ButtonInput> extends NetSessionOptions<I> {
-  /**
-   * Input delay in ticks: the local input sampled now is for the tick this many ticks ahead of
-   * the server clock. `'auto'` (the default) sizes it from the measured round trip — a high
-   * percentile of recent RTTs plus a tick and a half — so confirmed inputs are back before their
-   * tick is due; it grows at once and shrinks by one tick a second.
-   */
-  inputDelay?: number | 'auto';
-  /** Most the adaptive input delay may grow to, in ticks. Default 60. */
-  maxInputDelay?: number;
-}
-
-/** Keeps the last `n` values and their maximum. */
-class WindowMax {
-  private readonly values: Float64Array;
-  private i = 0;
-  private n = 0;
-  constructor(size: number) {
-    this.values = new Float64Array(size);
-  }
-  add(v: number): void {
-    this.values[this.i] = v;
-    this.i = (this.i + 1) % this.values.length;
-    if (this.n < this.values.length) this.n++;
-  }
-  get max(): number {
-    let m = -Infinity;
-    for (let k = 0; k < this.n; k++) if (this.values[k]! > m) m = this.values[k]!;
-    return m;
-  }
-}
-
-/**
- * Lockstep over a server relay: a tick is stepped only once the confirmed inputs of every player
- * for it are here, so the state is never predicted and never rolled back. The local input is
- * sent `inputDelay` ticks ahead (adaptive to the RTT) so it is back, confirmed, in time; the
- * display runs `playoutDelay` ticks behind the server clock, a jitter buffer sized from how late
- * confirmed ticks have actually arrived. A spectator is a lockstep session without inputs
- * ({@link SpectatorSession}).
- */
-export class LockstepSession<I = ButtonInput> extends NetSession<I> {
-  private delay: number;
-  private readonly autoDelay: boolean;
-  private readonly maxDelay: number;
-  private lastDelayDrop = 0;
-  private playout = 0;
-  private lastPlayoutDrop = 0;
-  private readonly lateness = new WindowMax(600);
-  private row: I[] = [];
-  private rowWords = new Uint32Array(0);
-
-  constructor(options: LockstepSessionOptions<I>, role: 'player' | 'spectator' = 'player') {
-    super(options, role);
-    this.autoDelay = options.inputDelay === undefined || options.inputDelay === 'auto';
-    this.delay = typeof options.inputDelay === 'number' ? options.inputDelay : 4;
-    this.maxDelay = options.maxInputDelay ?? 60;
-    if (!(Number.isInteger(this.delay) && this.delay >= 0 && this.delay <= 600)) {
-      throw new RangeError(
-        `inputDelay must be 'auto' or an integer from 0 to 600, got ${this.delay}`,
-      );
-    }
-  }
-
-  confirmedStateTick(): number {
-    return this.sim?.tick ?? 0;
-  }
-
-  protected override onConfirmed(from: number, _to: number, now: number): void {
-    // How late the first newly confirmed tick arrived against the server clock (the one the
-    // display may have been waiting for): the jitter buffer's input.
-    const s = this.serverTick(now);
-    if (Number.isFinite(s)) this.lateness.add(s - from);
-  }
-
-  protected displayTime(now: number): number {
-    return this.serverTick(now) - this.playout;
-  }
-
-  protected advance(serverTick: number, now: number): number {
-    const sim = this.sim!;
-    if (!Number.isFinite(serverTick)) return 0;
-    this.adapt(now);
-    const clockTick = Math.floor(serverTick);
-    this.issueUntil(clockTick + 1 + this.delay);
-    const target = Math.min(clockTick - this.playout, this.stopAt);
-    let n = 0;
-    if (this.rowWords.length !== this.players * this.words) {
-      this.rowWords = new Uint32Array(this.players * this.words);
-      this.row = new Array<I>(this.players);
-    }
-    const row = this.row;
-    while (sim.tick < target && sim.tick < this.confirmedEnd && n < this.maxTicksPerFrame) {
-      const t = sim.tick;
-      this.confirmed.copy(t, this.rowWords);
-      this.decodeRow(this.rowWords, row);
-      sim.step(row);
-      this.remember();
-      n++;
-    }
-    this.markStall(sim.tick < target && sim.tick >= this.confirmedEnd);
-    return n;
-  }
-
-  private adapt(now: number): void {
-    const tickMs = this.tickMs;
-    if (this.autoDelay && this.slot >= 0 && this.clockSync.ready) {
-      const want = Math.min(
-        this.maxDelay,
-        Math.ceil((this.clockSync.rttHigh + 1.5 * tickMs) / tickMs),
-      );
-      if (want > this.delay) {
-        this.delay = want;
-        this.lastDelayDrop = now;
-      } else if (want < this.delay && now - this.lastDelayDrop >= 1000) {
-        this.delay--;
-        this.lastDelayDrop = now;
-      }
-    }
-    // Confirmed tick t is needed once the display passes t + 1.
-    const late = this.lateness.max;
-    const wantPlayout = Number.isFinite(late) ? Math.max(0, Math.min(120, Math.ceil(late - 1))) : 0;
-    if (wantPlayout > this.playout) {
-      this.playout = wantPlayout;
-      this.lastPlayoutDrop = now;
-    } else if (wantPlayout < this.playout && now - this.lastPlayoutDrop >= 2000) {
-      this.playout--;
-      this.lastPlayoutDrop = now;
-    }
-    this.stats.inputDelay = this.slot >= 0 ? this.delay : 0;
-    this.stats.playoutDelay = this.playout;
-  }
-}
-
-/**
- * Watches a room: steps confirmed inputs only, sends none. Joins late at any time (from a
- * member's snapshot) and catches up at `maxTicksPerFrame` ticks a frame.
- */
-export class SpectatorSession<I = ButtonInput> extends LockstepSession<I> {
-  constructor(options: Omit<LockstepSessionOptions<I>, 'localInput' | 'inputDelay'>) {
-    super(options, 'spectator');
+  /** A local failure: the `error` event, `finished` rejects, and the transport closes. */
+  private fail(code: SessionErrorCode, message: string): void {
+    this.life.error(new SessionError(code, message));
+    this.transport.close(message);
   }
 }

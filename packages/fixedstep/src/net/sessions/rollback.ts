@@ -1,7 +1,14 @@
-import { InputRing, type SavesInto } from './history.js';
-import type { ButtonInput } from '../sim/buttons.js';
-import { NetSession, type NetSessionOptions } from './session.js';
-import { diffSnapshots } from './forensics.js';
+/**
+ * Rollback over a relay: predict the other players' inputs and run ahead; when the confirmed
+ * inputs differ from a prediction, load the first wrong tick's state and resimulate to the
+ * present.
+ * @module
+ */
+import type { ButtonInput } from '../../sim/buttons.js';
+import { diffSnapshots } from '../forensics.js';
+import { InputRing, type SavesInto } from '../history.js';
+import { NetSession } from './base.js';
+import type { NetSessionOptions } from './relay-options.js';
 
 /** What a rollback changed at the current tick: for the renderer's smoothing. */
 export interface Correction {

@@ -1,6 +1,12 @@
-import { fnv1a64 } from '../det/hash.js';
-import type { Simulation } from '../sim/simulation.js';
-import { diffSnapshots, type SnapshotDiff } from './forensics.js';
+/**
+ * A sync test, without a network: every tick, roll back `checkDistance` ticks and resimulate
+ * them, comparing each state's bytes with the first run — a non-deterministic step or an inexact
+ * save/load is caught at the exact tick on one machine.
+ * @module
+ */
+import { fnv1a64 } from '../../det/hash.js';
+import type { Simulation } from '../../sim/simulation.js';
+import { diffSnapshots, type SnapshotDiff } from '../forensics.js';
 
 /** What a {@link SyncTestSession} caught. */
 export interface SyncTestMismatch {

@@ -1,6 +1,7 @@
 /**
- * The client side of state sync: a session that receives the world from the server, predicts its
- * own player, and draws everything else between snapshots.
+ * A state-sync client: take the world from the server's snapshots (checked against its hash),
+ * predict the own player from its inputs and reconcile on every snapshot, draw everything else
+ * between snapshots — and send nothing but inputs.
  * @module
  */
 import { fnv1a64 } from '../../det/hash.js';
@@ -21,148 +22,18 @@ import {
   type StateSyncLimits,
   type StateSyncMessage,
   type StateWelcomeMessage,
-} from './messages.js';
-import { applyDelta } from './delta.js';
+} from '../state-sync/messages.js';
+import { applyDelta } from '../state-sync/delta.js';
+import { LatenessWindow } from '../state-sync/render.js';
+import { SessionError, type SessionEvent, type SessionPhase } from './events.js';
+import { SessionLife } from './lifecycle.js';
+import { StateSyncDrawing } from './state-sync-drawing.js';
 import {
-  PredictionSmoother,
-  LatenessWindow,
-  SnapshotTimeline,
-  type StateSyncRender,
-} from './render.js';
-
-/** Where a state-sync session is. */
-export type StateSyncPhase = 'connecting' | 'waiting' | 'running' | 'closed';
-
-/** What a state-sync session tells its owner. */
-export type StateSyncEvent =
-  | { type: 'welcome'; welcome: StateWelcomeMessage }
-  | { type: 'running'; tick: number }
-  /** A snapshot could not be used (nothing was applied); a full one was asked for. */
-  | { type: 'bad-snapshot'; reason: ResyncReason; message: string; tick: number }
-  | { type: 'error'; error: ErrorMessage }
-  | { type: 'closed'; reason: string };
-
-/** Options of a {@link StateSyncSession}. */
-export interface StateSyncSessionOptions<I, S extends Simulation<I>> {
-  /** The pipe to the server. */
-  transport: Transport;
-  /** The clock frames and probes are measured on (`performanceClock()`; a `ManualClock` in tests). */
-  clock: Clock;
-  /** Room to join (the first join creates it). */
-  room: string;
-  /** The game: id, version, input schema, tick rate and how to build it. */
-  game: GameDefinition<I, S>;
-  /** Play a slot, or watch. Default `'player'`. */
-  role?: 'player' | 'spectator';
-  /** Player slots, when this session creates the room (default: the game's minimum). */
-  players?: number;
-  /** The game's seed, when this session creates the room (default: the server picks). */
-  seed?: number;
-  /** Display name (at most 32 UTF-8 bytes). */
-  name?: string;
-  /** Reconnect token from an earlier welcome: take that slot back. */
-  token?: Uint8Array;
-  /**
-   * Spectators: the room's invite token (`welcome.invite` of one of its players). The server lets
-   * no spectator in without it.
-   */
-  invite?: Uint8Array;
-  /**
-   * Builds the client's own copy of the game from the room's setup. Default `game.create(setup)`.
-   * It need not be the server's exact code: every snapshot replaces the client's state (the tests
-   * give clients a game that drifts on purpose).
-   */
-  createSimulation?: (setup: GameSetup) => S;
-  /**
-   * The local player's input for `tick`, called once per tick, in order, just before the client
-   * predicts that tick (so it shows at once). `sim` is the predicted state (read it, never step
-   * it). Default: the neutral input.
-   */
-  localInput?: (tick: number, sim: S) => I;
-  /** What to draw, for {@link StateSyncSession.render}. Without it the session only predicts. */
-  render?: StateSyncRender<S>;
-  /**
-   * How far behind the server clock other entities are drawn, in ms: `'auto'` (default) takes the
-   * snapshot interval plus a high lateness of recent snapshots (one-way delay and jitter), so the
-   * snapshot after the drawn moment is nearly always in; it moves gradually, never backwards.
-   */
-  renderDelay?: number | 'auto';
-  /** Half-life of the correction offset, ms (0: corrections show at once). Default 80. */
-  smoothingHalfLifeMs?: number;
-  /** Called after every reconciliation that moved the own entities (needs `render`). */
-  onCorrection?: (correction: StateSyncCorrection) => void;
-  /**
-   * Ticks to predict ahead of the server clock, so an input reaches the server before its tick is
-   * stepped. `'auto'` (default): half a high round trip plus two ticks, one tick at a time every
-   * 250 ms, and a tick more whenever the server had to fill one of our inputs.
-   */
-  lead?: number | 'auto';
-  /** Most ticks the prediction may run past the newest snapshot; then it waits. Default 60. */
-  maxPrediction?: number;
-  /** Most forward ticks per {@link StateSyncSession.frame}. Default 32. */
-  maxTicksPerFrame?: number;
-  /** Clock probe interval, ms. Default 250 (the first four go 50 ms apart). */
-  pingIntervalMs?: number;
-  /** Snapshots kept as delta bases. Default 64. */
-  baseHistory?: number;
-  limits?: Partial<StateSyncLimits>;
-  onEvent?: (event: StateSyncEvent) => void;
-}
-
-/** What a reconciliation changed of the own player's drawn numbers. */
-export interface StateSyncCorrection {
-  /** The predicted tick it was corrected at, and the snapshot's tick it replayed from. */
-  tick: number;
-  snapshotTick: number;
-  /** The largest change of any own number (game units). */
-  size: number;
-  /**
-   * Whether it was drawn at once (larger than `render.teleport`: a respawn, a teleport) instead
-   * of gliding.
-   */
-  snapped: boolean;
-}
-
-/** Counters of a state-sync session. */
-export interface StateSyncSessionStats {
-  frames: number;
-  /** Forward ticks predicted (resimulation not counted). */
-  ticks: number;
-  /** Snapshots received and applied: whole, delta-coded. */
-  fullSnapshots: number;
-  deltaSnapshots: number;
-  /** Snapshots older than one already applied (reordered on the way): not applied. */
-  staleSnapshots: number;
-  /** Snapshots refused (damaged, wrong base, unloadable); each asked for a resync. */
-  badSnapshots: number;
-  /** Reconciliations: a snapshot loaded and the unacknowledged inputs applied again. */
-  reconciliations: number;
-  /** Ticks resimulated by reconciliations, and the most in one. */
-  resimulatedTicks: number;
-  maxResimulated: number;
-  /** Corrections of the own player's drawn numbers above 1e-9, and the largest (game units). */
-  corrections: number;
-  maxCorrection: number;
-  /** Frames that could not predict further (no snapshot for `maxPrediction` ticks). */
-  stallFrames: number;
-  /** Frames whose render time was past the newest snapshot (the render delay was too short). */
-  starvedFrames: number;
-  /** Of our ticks, how many the server stepped without our input (it says so in snapshots). */
-  filledInputs: number;
-  /** Ticks predicted ahead of the server clock now; render delay now (ms); measured jitter (ms). */
-  lead: number;
-  renderDelayMs: number;
-  jitterMs: number;
-  /** Round trip: the smallest and a high one of the window, ms. */
-  rtt: number;
-  rttHigh: number;
-  messagesSent: number;
-  messagesReceived: number;
-  bytesSent: number;
-  bytesReceived: number;
-  /** Messages that did not decode. */
-  badMessages: number;
-}
+  emptyStateSyncStats,
+  type StateSyncEvent,
+  type StateSyncSessionOptions,
+  type StateSyncSessionStats,
+} from './state-sync-options.js';
 
 const ISSUED_CAPACITY = 512;
 const MAX_INPUT_WINDOW = DEFAULT_STATE_SYNC_LIMITS.maxInputTicks;
@@ -182,34 +53,13 @@ const MAX_INPUT_WINDOW = DEFAULT_STATE_SYNC_LIMITS.maxInputTicks;
  *
  * The game need not be deterministic — every snapshot replaces the client's state — and the
  * client sends no state, so it cannot change the world except through its inputs.
+ *
+ * How it ends: {@link finished} resolves when its owner leaves or the server closes the room, and
+ * rejects with a {@link SessionError} when the server refuses or drops it, its welcome cannot be
+ * built, or its transport closes first — an `error` event says the same.
  */
 export class StateSyncSession<I, S extends Simulation<I>> {
-  readonly stats: StateSyncSessionStats = {
-    frames: 0,
-    ticks: 0,
-    fullSnapshots: 0,
-    deltaSnapshots: 0,
-    staleSnapshots: 0,
-    badSnapshots: 0,
-    reconciliations: 0,
-    resimulatedTicks: 0,
-    maxResimulated: 0,
-    corrections: 0,
-    maxCorrection: 0,
-    stallFrames: 0,
-    starvedFrames: 0,
-    filledInputs: 0,
-    lead: 0,
-    renderDelayMs: 0,
-    jitterMs: 0,
-    rtt: 0,
-    rttHigh: 0,
-    messagesSent: 0,
-    messagesReceived: 0,
-    bytesSent: 0,
-    bytesReceived: 0,
-    badMessages: 0,
-  };
+  readonly stats: StateSyncSessionStats = emptyStateSyncStats();
   /** Errors the server sent (the last 64). */
   readonly errors: ErrorMessage[] = [];
 
@@ -227,7 +77,11 @@ export class StateSyncSession<I, S extends Simulation<I>> {
   private readonly autoDelay: boolean;
   private readonly joinBytes: Uint8Array;
 
-  private phaseValue: StateSyncPhase = 'connecting';
+  /** Phase, events and the `finished` promise. */
+  private readonly life: SessionLife<
+    StateWelcomeMessage,
+    Exclude<StateSyncEvent, SessionEvent<StateWelcomeMessage>>
+  >;
   private welcomeMsg: StateWelcomeMessage | undefined;
   private tickMs = 1000 / 60;
   private sim: S | undefined;
@@ -263,23 +117,12 @@ export class StateSyncSession<I, S extends Simulation<I>> {
   private delayMs = -1;
   private lastDelayAt = -Infinity;
 
-  // Rendering.
-  private readonly renderer: StateSyncRender<S> | undefined;
-  private readonly timeline: SnapshotTimeline | undefined;
-  private readonly out: Float64Array;
-  private readonly scratchValues: Float64Array;
-  private predPrev: Float64Array;
-  private predCurr: Float64Array;
-  private owned: readonly number[] = [];
-  private smoother: PredictionSmoother;
-  private ownBefore = new Float64Array(0);
-  private ownAfter = new Float64Array(0);
-  private lastRenderTick = -Infinity;
-  private lastRenderAt: number | undefined;
-  private renderAlpha = 0;
+  /** What to draw: the snapshots' numbers, the prediction's, the corrections' offsets. */
+  private readonly drawing: StateSyncDrawing<S>;
 
   constructor(options: StateSyncSessionOptions<I, S>) {
     this.options = options;
+    this.life = new SessionLife(options.onEvent);
     this.transport = options.transport;
     this.clock = options.clock;
     this.game = options.game;
@@ -322,32 +165,12 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.bases = new SnapshotRing(options.baseHistory ?? 64);
     this.issued = new InputRing(ISSUED_CAPACITY, this.words);
     this.ownWords = new Uint32Array(this.words);
-    const r = options.render;
-    this.renderer = r;
-    if (r) {
-      if (!(Number.isInteger(r.fields) && r.fields >= 1 && r.fields <= 16)) {
-        throw new RangeError(
-          `StateSyncSession: render.fields must be an integer from 1 to 16, got ${r.fields}`,
-        );
-      }
-      if (!(Number.isInteger(r.entities) && r.entities >= 0 && r.entities <= 1 << 20)) {
-        throw new RangeError(
-          `StateSyncSession: render.entities must be an integer from 0 to 2^20, got ${r.entities}`,
-        );
-      }
-      this.timeline = new SnapshotTimeline(r.fields, r.entities, 32);
-    }
-    const size = r ? r.fields * r.entities : 0;
-    this.out = new Float64Array(size);
-    this.scratchValues = new Float64Array(size);
-    this.predPrev = new Float64Array(size);
-    this.predCurr = new Float64Array(size);
-    this.smoother = new PredictionSmoother(0);
+    this.drawing = new StateSyncDrawing(options.render);
     this.transport.onMessage((bytes) => {
       this.receive(bytes);
     });
     this.transport.onClose((reason) => {
-      this.closed(reason);
+      this.life.closed(reason);
     });
     const join: StateSyncMessage = {
       type: 'join',
@@ -371,8 +194,33 @@ export class StateSyncSession<I, S extends Simulation<I>> {
 
   // ---------------------------------------------------------------------------- reading
 
-  get phase(): StateSyncPhase {
-    return this.phaseValue;
+  /** Where the session is: connecting, waiting (welcomed, no snapshot yet), running, closed. */
+  get phase(): SessionPhase {
+    return this.life.phase;
+  }
+
+  /**
+   * How the session ends; settles once. State sync has no last tick: it resolves when the
+   * session's owner calls {@link leave}, or when the server closes the room after welcoming it
+   * (a fatal `SHUTDOWN`: `StateSyncRoom.close()`, a server that shuts down or drains) — the room's
+   * end. Rejects with a {@link SessionError} when it fails first: any other fatal error from the
+   * server (its code — `WRONG_ROOM`, `BAD_TOKEN`, `ROOM_FULL`, `GAME_MISMATCH` …; a `SHUTDOWN`
+   * before the welcome is a refusal too), a welcome this client cannot build (`BAD_WELCOME`), or
+   * the transport closing (`CLOSED`). The `error` event carries the same error first. Awaiting it
+   * is optional: a rejection nobody observes is not reported as unhandled.
+   */
+  get finished(): Promise<void> {
+    return this.life.finished;
+  }
+
+  /** Whether {@link finished} has resolved (the owner left, or the server ended the room). */
+  get isFinished(): boolean {
+    return this.life.isFinished;
+  }
+
+  /** The error {@link finished} rejected with, once it has. */
+  get failure(): SessionError | undefined {
+    return this.life.failure;
   }
 
   /** The welcome (slot, seed, tick rate, snapshot interval, reconnect token …), once here. */
@@ -382,7 +230,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
 
   /** The predicted world (the newest snapshot plus the local inputs since), once running. */
   get simulation(): S | undefined {
-    return this.phaseValue === 'running' || this.appliedOnce ? this.sim : undefined;
+    return this.life.phase === 'running' || this.appliedOnce ? this.sim : undefined;
   }
 
   /** The predicted tick. */
@@ -422,27 +270,27 @@ export class StateSyncSession<I, S extends Simulation<I>> {
 
   /** The numbers of the last {@link render} (the array it returned; do not modify). */
   get drawn(): Float64Array {
-    return this.out;
+    return this.drawing.out;
   }
 
   /** The fractional tick the last {@link render} drew other entities at. */
   get renderTick(): number {
-    return this.lastRenderTick;
+    return this.drawing.renderTick;
   }
 
   /** The last {@link render}'s blend between the previous and the current predicted tick. */
   get alpha(): number {
-    return this.renderAlpha;
+    return this.drawing.alpha;
   }
 
   /** The own player's correction offset now (largest number; 0 without corrections). */
   get correctionOffset(): number {
-    return this.smoother.magnitude;
+    return this.drawing.correctionOffset;
   }
 
   /** The entities this client predicts (its player's), from `render.owned`. */
   get ownedEntities(): readonly number[] {
-    return this.owned;
+    return this.drawing.owned;
   }
 
   // ---------------------------------------------------------------------------- driving
@@ -453,10 +301,10 @@ export class StateSyncSession<I, S extends Simulation<I>> {
    * @returns ticks predicted forward.
    */
   frame(now = this.clock.now()): number {
-    if (this.phaseValue === 'closed') return 0;
+    if (this.life.phase === 'closed') return 0;
     this.stats.frames++;
     if (now >= this.nextPingAt) this.ping(now);
-    if (this.phaseValue === 'connecting' && now - this.joinSentAt >= 250) {
+    if (this.life.phase === 'connecting' && now - this.joinSentAt >= 250) {
       this.sendBytes(this.joinBytes);
       this.joinSentAt = now;
     }
@@ -498,41 +346,23 @@ export class StateSyncSession<I, S extends Simulation<I>> {
    * the last two predicted ticks) plus the decaying correction offset. The array is reused.
    */
   render(now = this.clock.now()): Float64Array {
-    const r = this.renderer;
+    const d = this.drawing;
     const w = this.welcomeMsg;
-    if (!r || !this.timeline || !w || !this.appliedOnce) return this.out;
+    if (!d.enabled || !w || !this.appliedOnce) return d.out;
     const server = this.serverTick(now);
-    let tick = server - this.renderDelayMs / this.tickMs;
-    if (tick < this.lastRenderTick) tick = this.lastRenderTick;
-    this.lastRenderTick = tick;
-    const how = this.timeline.sample(tick, this.out, r.teleport ?? Infinity);
-    if (how === 'after') this.stats.starvedFrames++;
-    if (this.lastRenderAt !== undefined) this.smoother.decay(now - this.lastRenderAt);
-    this.lastRenderAt = now;
-    if (w.slot >= 0 && this.sim) {
-      const display = server + this.leadTicks;
-      const a = display - this.sim.tick;
-      const alpha = a <= 0 ? 0 : a >= 1 ? 1 : a;
-      // The state at sim.tick is drawn at display time sim.tick + 1: blend prev → curr.
-      this.renderAlpha = alpha;
-      const f = r.fields;
-      let k = 0;
-      for (const e of this.owned) {
-        for (let j = 0; j < f; j++) {
-          const i = e * f + j;
-          const p = this.predPrev[i]!;
-          const c = this.predCurr[i]!;
-          this.out[i] = p + (c - p) * alpha + this.smoother.offset[k++]!;
-        }
-      }
-    }
-    return this.out;
+    const own = w.slot >= 0 && this.sim ? server + this.leadTicks - this.sim.tick : undefined;
+    if (d.draw(server - this.renderDelayMs / this.tickMs, own, now)) this.stats.starvedFrames++;
+    return d.out;
   }
 
-  /** Leave the room politely and close the transport. */
+  /**
+   * Leave the room politely and close the transport. The session's end: {@link finished}
+   * resolves (unless it failed before).
+   */
   leave(): void {
-    if (this.phaseValue === 'closed') return;
+    if (this.life.phase === 'closed') return;
     this.send({ type: 'leave' });
+    this.life.finish();
     this.transport.close('left');
   }
 
@@ -553,14 +383,9 @@ export class StateSyncSession<I, S extends Simulation<I>> {
         row[slot] = this.neutral;
       }
     }
-    const r = this.renderer;
-    if (r) {
-      const swap = this.predPrev;
-      this.predPrev = this.predCurr;
-      this.predCurr = swap;
-    }
+    this.drawing.beforeStep();
     sim.step(row);
-    if (r) r.read(sim, this.predCurr);
+    this.drawing.afterStep(sim);
   }
 
   private issue(t: number, sim: S): void {
@@ -584,23 +409,17 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     const p = this.pending!;
     this.pending = undefined;
     const sim = this.sim!;
-    const r = this.renderer;
+    const d = this.drawing;
     const predicted = sim.tick;
     const had = this.appliedOnce;
-    if (r && had) {
-      for (let k = 0; k < this.ownBefore.length; k++)
-        this.ownBefore[k] = this.predCurr[this.ownIndex(k)]!;
-    }
+    if (had) d.beforeReconcile();
     sim.load(p.state);
     this.appliedOnce = true;
-    if (this.phaseValue === 'waiting') {
-      this.phaseValue = 'running';
-      this.emit({ type: 'running', tick: p.tick });
+    if (this.life.phase === 'waiting') {
+      this.life.phase = 'running';
+      this.life.emit({ type: 'running', tick: p.tick });
     }
-    if (r) {
-      r.read(sim, this.predCurr);
-      this.predPrev.set(this.predCurr);
-    }
+    d.loaded(sim);
     if (this.welcomeMsg!.slot < 0) return;
     if (this.issueNext < p.tick) this.issueNext = p.tick;
     if (predicted <= p.tick || !had) return;
@@ -609,27 +428,17 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.stats.reconciliations++;
     this.stats.resimulatedTicks += depth;
     if (depth > this.stats.maxResimulated) this.stats.maxResimulated = depth;
-    if (r && this.owned.length > 0) {
-      for (let k = 0; k < this.ownAfter.length; k++)
-        this.ownAfter[k] = this.predCurr[this.ownIndex(k)]!;
-      const size = this.smoother.correct(this.ownBefore, this.ownAfter);
-      if (size > 1e-9) {
-        this.stats.corrections++;
-        if (size > this.stats.maxCorrection) this.stats.maxCorrection = size;
-        this.options.onCorrection?.({
-          tick: predicted,
-          snapshotTick: p.tick,
-          size,
-          snapped: !(size <= (r.teleport ?? Infinity)),
-        });
-      }
+    const size = d.afterReconcile();
+    if (size > 1e-9) {
+      this.stats.corrections++;
+      if (size > this.stats.maxCorrection) this.stats.maxCorrection = size;
+      this.options.onCorrection?.({
+        tick: predicted,
+        snapshotTick: p.tick,
+        size,
+        snapped: d.snaps(size),
+      });
     }
-  }
-
-  /** The index in a render array of the k-th owned number. */
-  private ownIndex(k: number): number {
-    const f = this.renderer!.fields;
-    return this.owned[Math.floor(k / f)]! * f + (k % f);
   }
 
   // ---------------------------------------------------------------------------- adapting
@@ -711,7 +520,9 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       case 'error':
         if (this.errors.length >= 64) this.errors.shift();
         this.errors.push(m);
-        this.emit({ type: 'error', error: m });
+        // The server closing the room this session plays in is how a state-sync room ends.
+        if (m.fatal && m.code === 'SHUTDOWN' && this.welcomeMsg !== undefined) this.life.finish();
+        this.life.error(SessionError.fromServer(m));
         break;
       default:
         this.stats.badMessages++;
@@ -721,9 +532,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
   private onWelcome(w: StateWelcomeMessage): void {
     if (this.welcomeMsg) return;
     if (w.tickRate !== this.game.tickRate) {
-      this.transport.close(
-        `the room ticks at ${w.tickRate} Hz, ${this.game.id} at ${this.game.tickRate}`,
-      );
+      this.fail(`the room ticks at ${w.tickRate} Hz, ${this.game.id} at ${this.game.tickRate}`);
       return;
     }
     const setup: GameSetup = Object.freeze({ seed: w.seed, players: w.players, options: w.config });
@@ -732,7 +541,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       this.sim = create(setup);
       this.scratch = create(setup);
     } catch (e) {
-      this.transport.close(`cannot build the game from the welcome: ${String(e)}`);
+      this.fail(`cannot build the game from the welcome: ${String(e)}`);
       return;
     }
     this.welcomeMsg = w;
@@ -742,28 +551,9 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.issueFrom = w.inputFrom;
     this.issueNext = w.inputFrom;
     this.serverInputAck = w.inputFrom;
-    const r = this.renderer;
-    if (r) {
-      const owned = w.slot < 0 ? [] : (r.owned?.(w.slot) ?? [w.slot]);
-      for (const e of owned) {
-        if (!(Number.isInteger(e) && e >= 0 && e < r.entities)) {
-          throw new RangeError(
-            `render.owned(${w.slot}) names entity ${e}, not one of 0–${r.entities - 1}`,
-          );
-        }
-      }
-      this.owned = owned;
-      const n = owned.length * r.fields;
-      this.ownBefore = new Float64Array(n);
-      this.ownAfter = new Float64Array(n);
-      this.smoother = new PredictionSmoother(
-        n,
-        this.options.smoothingHalfLifeMs ?? 80,
-        r.teleport ?? Infinity,
-      );
-    }
-    this.phaseValue = 'waiting';
-    this.emit({ type: 'welcome', welcome: w });
+    this.drawing.welcome(w.slot, this.options.smoothingHalfLifeMs ?? 80);
+    this.life.phase = 'waiting';
+    this.life.emit({ type: 'welcome', welcome: w });
   }
 
   private onSnapshot(m: StateSnapshotMessage, now: number): void {
@@ -824,17 +614,14 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.pending = { tick: m.tick, state };
     if (m.base < 0) this.stats.fullSnapshots++;
     else this.stats.deltaSnapshots++;
-    if (this.renderer && this.timeline) {
-      this.renderer.read(scratch, this.scratchValues);
-      this.timeline.push(m.tick, this.scratchValues);
-    }
+    this.drawing.snapshot(m.tick, scratch);
     this.lateness.add(this.clockSync.serverTime(now) - (w.startAt + m.tick * this.tickMs));
   }
 
   private badSnapshot(m: StateSnapshotMessage, reason: ResyncReason, message: string): void {
     this.stats.badSnapshots++;
     this.send({ type: 'resync', reason });
-    this.emit({ type: 'bad-snapshot', reason, message, tick: m.tick });
+    this.life.emit({ type: 'bad-snapshot', reason, message, tick: m.tick });
   }
 
   // ---------------------------------------------------------------------------- sending
@@ -881,13 +668,9 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.transport.send(bytes);
   }
 
-  private closed(reason: string): void {
-    if (this.phaseValue === 'closed') return;
-    this.phaseValue = 'closed';
-    this.emit({ type: 'closed', reason });
-  }
-
-  private emit(e: StateSyncEvent): void {
-    this.options.onEvent?.(e);
+  /** A welcome this client cannot use: the `error` event, `finished` rejects, the transport closes. */
+  private fail(message: string): void {
+    this.life.error(new SessionError('BAD_WELCOME', message));
+    this.transport.close(message);
   }
 }
