@@ -3,14 +3,17 @@
  * parsed with a YAML library and validated against the Kubernetes API schemas
  * (kubernetes-models), cross-checked against each other and against the server (ports, probe
  * paths, environment variables the relay reads); the HAProxy configuration is checked by HAProxy
- * itself (`haproxy -c`, skipped with the reason when Debian's haproxy is not installed); the
- * Dockerfile's instructions, paths and command are checked against the repository.
+ * itself (`haproxy -c`) and run in front of three stub servers to see where each path goes
+ * (both skipped with the reason when Debian's haproxy is not installed); the Dockerfile's
+ * instructions, paths and command are checked against the repository.
  */
-import { spawnSync } from 'node:child_process';
+import { spawnSync, type ChildProcess } from 'node:child_process';
 import { existsSync, readFileSync } from 'node:fs';
+import { mkdtemp, rm } from 'node:fs/promises';
+import http from 'node:http';
+import os from 'node:os';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { describe, expect, it } from 'vitest';
+import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { parseAllDocuments, parse as parseYaml } from 'yaml';
 import { Namespace } from 'kubernetes-models/v1/Namespace';
 import { Service } from 'kubernetes-models/v1/Service';
@@ -18,8 +21,16 @@ import { Deployment } from 'kubernetes-models/apps/v1/Deployment';
 import { StatefulSet } from 'kubernetes-models/apps/v1/StatefulSet';
 import { PodDisruptionBudget } from 'kubernetes-models/policy/v1/PodDisruptionBudget';
 import { admissionOptionsFromEnv } from '../src/http/admission.js';
+import { request } from './helpers.js';
+import {
+  haproxy,
+  root,
+  startHaproxy,
+  stopProcess,
+  until,
+  type RunningHaproxy,
+} from './haproxy-harness.js';
 
-const root = fileURLToPath(new URL('../../../', import.meta.url));
 const deploy = path.join(root, 'deploy');
 const read = (p: string) => readFileSync(path.join(deploy, p), 'utf8');
 
@@ -57,11 +68,16 @@ const find = (kind: string, name: string): K8sObject => {
   return o;
 };
 
+interface SecretKeyRef {
+  name: string;
+  key: string;
+  optional?: boolean;
+}
 interface Container {
   name: string;
   image: string;
   ports: { name: string; containerPort: number }[];
-  env?: { name: string; value?: string }[];
+  env?: { name: string; value?: string; valueFrom?: { secretKeyRef?: SecretKeyRef } }[];
   readinessProbe?: { httpGet?: { path: string; port: string } };
   livenessProbe?: { httpGet?: { path: string; port: string } };
 }
@@ -149,6 +165,19 @@ describe('deploy/: Kubernetes manifests', () => {
     });
   });
 
+  it('every relay signs and checks quick-match tickets with one secret, from one Secret', () => {
+    // The queue's process signs, the process a qm- room hashes to checks: one secret for all pods,
+    // and no pod without it (a random secret of its own would refuse the others' tickets).
+    const c = podSpec(find('StatefulSet', 'fixedstep-relay')).containers[0]!;
+    const secret = c.env?.find((e) => e.name === 'FIXEDSTEP_MATCH_SECRET');
+    expect(secret?.value).toBeUndefined();
+    expect(secret?.valueFrom?.secretKeyRef).toEqual({ name: 'fixedstep-match', key: 'secret' });
+    // How to make it is said where it is used, and in docs/deploy.md.
+    const howTo = 'kubectl -n fixedstep create secret generic fixedstep-match';
+    expect(read('kubernetes/relay.yaml')).toContain(howTo);
+    expect(readFileSync(path.join(root, 'docs/deploy.md'), 'utf8')).toContain(howTo);
+  });
+
   it('the public service keeps client addresses and reaches HAProxy’s port', () => {
     const svc = find('Service', 'fixedstep').spec as {
       type: string;
@@ -167,7 +196,6 @@ describe('deploy/: Kubernetes manifests', () => {
 });
 
 describe('deploy/: HAProxy', () => {
-  const haproxy = ['/usr/sbin/haproxy', '/usr/local/sbin/haproxy'].find((p) => existsSync(p));
   it.skipIf(haproxy === undefined)(
     'haproxy -c accepts the configuration (needs Debian’s haproxy, which npm test installs as root; skipped without it)',
     () => {
@@ -188,15 +216,121 @@ describe('deploy/: HAProxy', () => {
     },
   );
 
-  it('routes WebSockets by the room in the URL, with a consistent hash and fixed server ids', () => {
+  it('routes every room-scoped path by its room with a consistent hash, /match to one process', () => {
     const cfg = read('haproxy/haproxy.cfg');
-    expect(cfg).toMatch(/set-var\(txn\.room\) path,field\(3,\/\) if \{ path_beg \/ws\/ \}/);
-    expect(cfg).toMatch(/set-var\(txn\.room\) url_param\(room\) if \{ path \/ws \}/);
-    expect(cfg).toMatch(/balance hash var\(txn\.room\)\n\s+hash-type consistent/);
+    // The relay, state sync and signalling: the room is the third path field (or the relay's query).
+    expect(cfg).toMatch(
+      /set-var\(txn\.room\) path,field\(3,\/\),url_dec if \{ path_beg \/ws\/ \/state\/ \/signal\/ \}/,
+    );
+    expect(cfg).toMatch(/set-var\(txn\.room\) url_param\(room\),url_dec if \{ path \/ws \}/);
+    expect(cfg).toMatch(/use_backend relays_by_room if \{ var\(txn\.room\) -m found \}/);
+    expect(cfg).toMatch(
+      /backend relays_by_room\n\s+balance hash var\(txn\.room\)\n\s+hash-type consistent/,
+    );
+    // Quick match: the first live server by id.
+    expect(cfg).toMatch(/use_backend relays_match if \{ path \/match \}/);
+    expect(cfg).toMatch(/backend relays_match\n\s+balance first\n/);
+    expect(cfg).not.toMatch(/^\s*(server|default-server)\b.*\bmaxconn\b/m);
     expect(cfg).toMatch(/option forwardfor/);
     expect(cfg).toMatch(/timeout tunnel 1h/);
-    expect(cfg.match(/^\s+server relay\d .* id \d check$/gm)).toHaveLength(6);
+    // Three backends, three servers each, with the same fixed ids and checks.
+    const servers = cfg.match(/^\s+server relay\d .* id \d check$/gm)!;
+    expect(servers).toHaveLength(9);
+    expect(new Set(servers.map((l) => l.trim())).size).toBe(3);
+    expect(
+      cfg.match(/http-check send meth GET uri "\$\{FIXEDSTEP_CHECK_PATH-\/readyz\}"/g),
+    ).toHaveLength(3);
   });
+});
+
+/**
+ * The configuration run for real in front of three stub servers that answer every request with
+ * their own number (and 200 at /readyz): where each path goes, and what a dead server moves.
+ */
+describe.skipIf(haproxy === undefined)('deploy/: where HAProxy sends each path', () => {
+  let dir: string;
+  let lb: RunningHaproxy;
+  /** HAProxy, once started (stopped after, whatever failed). */
+  let started: ChildProcess | undefined;
+  const stubs: http.Server[] = [];
+
+  beforeAll(async () => {
+    dir = await mkdtemp(path.join(os.tmpdir(), 'fixedstep-routes-'));
+    for (let n = 1; n <= 3; n++) {
+      const stub = http.createServer((req, res) => {
+        res.end(req.url === '/readyz' ? 'ready' : String(n));
+      });
+      await new Promise<void>((resolve) => stub.listen(0, '127.0.0.1', resolve));
+      stubs.push(stub);
+    }
+    lb = await startHaproxy(
+      dir,
+      stubs.map((s) => (s.address() as { port: number }).port),
+    );
+    started = lb.child;
+    await until(
+      'HAProxy to see three servers up',
+      async () => (await lb.usable('relays_by_room')) === 3,
+    );
+  }, 60_000);
+
+  afterAll(async () => {
+    if (started) await stopProcess(started);
+    for (const s of stubs) {
+      s.closeAllConnections();
+      s.close();
+    }
+    if (dir) await rm(dir, { recursive: true, force: true });
+  });
+
+  /** The stub a request for `p` reached (1 to 3). */
+  const via = async (p: string) => Number((await request(lb.port, p)).body.toString());
+  const names = Array.from({ length: 40 }, (_, i) => `room-${i}`);
+  /** Where each room's four URLs go; they must agree. */
+  const homes = async () => {
+    const home = new Map<string, number>();
+    for (const name of names) {
+      const at = await Promise.all(
+        [`/ws/${name}`, `/ws?room=${name}`, `/state/${name}`, `/signal/${name}`].map(via),
+      );
+      expect(new Set(at), `${name}: ${at.join(',')}`).toEqual(new Set([at[0]]));
+      home.set(name, at[0]!);
+    }
+    return home;
+  };
+
+  it('a room’s relay, state-sync and signalling URLs reach one process; /match the first; a dead one moves only its own rooms and the queue', async () => {
+    const before = await homes();
+    // The rooms spread over all three.
+    const counts = [1, 2, 3].map((n) => [...before.values()].filter((h) => h === n).length);
+    expect(
+      counts.every((c) => c > 0),
+      `rooms per server ${counts.join(',')}`,
+    ).toBe(true);
+    // A room's name percent-encoded is the same room (the server decodes it too).
+    expect(await via('/ws/%72oom-0')).toBe(before.get('room-0'));
+    // The queue: always the first server. Anything else: round robin over all three.
+    for (let i = 0; i < 6; i++) expect(await via('/match')).toBe(1);
+    const others = new Set<number>();
+    for (let i = 0; i < 6; i++) others.add(await via('/'));
+    expect(others).toEqual(new Set([1, 2, 3]));
+
+    // Server 1 dies: its rooms move, the others' stay; the queue moves to server 2.
+    stubs[0]!.closeAllConnections();
+    stubs[0]!.close();
+    await until(
+      'HAProxy to take server 1 off',
+      async () => (await lb.usable('relays_by_room')) === 2,
+      30_000,
+      () => lb.log(),
+    );
+    expect(await via('/match')).toBe(2);
+    const after = await homes();
+    const moved = names.filter((n) => before.get(n) === 1);
+    const stayed = names.filter((n) => before.get(n) !== 1);
+    expect(moved.filter((n) => after.get(n) === 1)).toEqual([]);
+    expect(stayed.map((n) => after.get(n))).toEqual(stayed.map((n) => before.get(n)));
+  }, 60_000);
 });
 
 describe('deploy/: Dockerfile', () => {
