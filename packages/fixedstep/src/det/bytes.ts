@@ -61,6 +61,16 @@ export function varintProblem(code: number): string {
   }
 }
 
+/** The u32 at `p` of `b`, little-endian. */
+function littleU32(b: Uint8Array, p: number): number {
+  return (b[p]! | (b[p + 1]! << 8) | (b[p + 2]! << 16) | (b[p + 3]! << 24)) >>> 0;
+}
+
+// One float64's bytes, for reading a single value without a DataView.
+const F64 = new Float64Array(1);
+const F64_BYTES = new Uint8Array(F64.buffer);
+const LITTLE_ENDIAN = new Uint8Array(new Uint16Array([1]).buffer)[0] === 1;
+
 /** Appends canonical little-endian values to a growing buffer. Reuse one writer to avoid allocation. */
 export class ByteWriter {
   private buf: Uint8Array;
@@ -310,39 +320,46 @@ export class ByteReader {
     return this.buf[this.pos++]!;
   }
 
+  // Single values are assembled from the bytes: a message of a few numbers would otherwise spend
+  // more on creating its DataView than on everything else.
+
   u16(what = 'u16'): number {
     this.need(2, what);
-    const v = this.view.getUint16(this.pos, true);
+    const b = this.buf;
+    const p = this.pos;
     this.pos += 2;
-    return v;
+    return b[p]! | (b[p + 1]! << 8);
   }
 
   u32(what = 'u32'): number {
     this.need(4, what);
-    const v = this.view.getUint32(this.pos, true);
+    const v = littleU32(this.buf, this.pos);
     this.pos += 4;
     return v;
   }
 
   i32(what = 'i32'): number {
     this.need(4, what);
-    const v = this.view.getInt32(this.pos, true);
+    const v = littleU32(this.buf, this.pos) | 0;
     this.pos += 4;
     return v;
   }
 
   u64(what = 'u64'): bigint {
     this.need(8, what);
-    const v = this.view.getBigUint64(this.pos, true);
+    const lo = littleU32(this.buf, this.pos);
+    const hi = littleU32(this.buf, this.pos + 4);
     this.pos += 8;
-    return v;
+    return (BigInt(hi) << 32n) | BigInt(lo);
   }
 
   f64(what = 'f64'): number {
     this.need(8, what);
-    const v = this.view.getFloat64(this.pos, true);
+    const b = this.buf;
+    const p = this.pos;
+    for (let i = 0; i < 8; i++) F64_BYTES[LITTLE_ENDIAN ? i : 7 - i] = b[p + i]!;
     this.pos += 8;
-    return v;
+    return F64[0]!;
   }
 
   /** Fill `out` with float64s. */
@@ -390,18 +407,21 @@ export class ByteReader {
     return v < 0 ? this.fail('invalid', `${what}: ${varintProblem(v)}`, at) : v;
   }
 
-  /** A varint from `min` to `max`: above `max` is `'too-large'`, below `min` `'invalid'`. */
-  count(what: string, max: number, min = 0): number {
+  /**
+   * A varint from `min` to `max`: above `max` is `'too-large'`, below `min` `'invalid'`. A failure
+   * names it `what` and then `noun` (`inputs` `rows`), joined only then.
+   */
+  count(what: string, max: number, min = 0, noun = ''): number {
     const at = this.pos;
     const n = this.varint(what);
-    if (n > max) this.fail('too-large', `${what} is ${n}, at most ${max}`, at);
-    if (n < min) this.fail('invalid', `${what} is ${n}, at least ${min}`, at);
+    if (n > max) this.fail('too-large', `${what}${noun} is ${n}, at most ${max}`, at);
+    if (n < min) this.fail('invalid', `${what}${noun} is ${n}, at least ${min}`, at);
     return n;
   }
 
   /** A varint byte length (at most `max`), then that many bytes: a copy the caller may keep. */
   field(what: string, max: number): Uint8Array {
-    const n = this.count(`${what} length`, max);
+    const n = this.count(what, max, 0, ' length');
     this.need(n, what);
     const b = this.buf.slice(this.pos, this.pos + n);
     this.pos += n;
@@ -411,7 +431,7 @@ export class ByteReader {
   /** A varint byte length (at most `maxBytes`), then that many bytes of valid UTF-8. */
   str(what: string, maxBytes: number): string {
     const at = this.pos;
-    const n = this.count(`${what} length`, maxBytes);
+    const n = this.count(what, maxBytes, 0, ' length');
     this.need(n, what);
     try {
       const s = utf8Decoder.decode(this.buf.subarray(this.pos, this.pos + n));

@@ -178,10 +178,10 @@ export type StateSyncKind = StateSyncMessage['type'];
  * match); -1 (none: a full snapshot) as 0.
  */
 function tickBefore(): Field<number> {
-  const distance = uint();
   return {
-    ...distance,
     kind: 'varint ticks back (0: none)',
+    minBytes: 1,
+    maxBytes: () => 5,
     problem: (v, m) =>
       typeof v === 'number' && Number.isInteger(v) && v >= -1 && v < (m.tick as number)
         ? undefined

@@ -4,8 +4,8 @@
  * @module
  */
 import { deinterleave, interleave } from '../../sim/buttons.js';
+import { Layout } from './layout.js';
 import {
-  Layout,
   bound,
   describe,
   pick,
@@ -77,7 +77,7 @@ export function list<T>(item: Field<T>, options: ListOptions): Field<T[]> {
     },
     read(r, m) {
       const field = r.fieldName;
-      const n = r.count(`${field} count`, bound(max, r.limits), min);
+      const n = r.count(field, bound(max, r.limits), min, ' count');
       r.need(n * item.minBytes, field);
       const out: T[] = [];
       for (let i = 0; i < n; i++) {
@@ -110,7 +110,7 @@ export function u64s(options: { max: Bound }): Field<BigUint64Array> {
       for (const h of v) w.u64(h);
     },
     read(r) {
-      const n = r.count(`${r.fieldName} count`, bound(options.max, r.limits));
+      const n = r.count(r.fieldName, bound(options.max, r.limits), 0, ' count');
       r.need(n * 8, r.fieldName);
       const out = new BigUint64Array(n);
       for (let i = 0; i < n; i++) out[i] = r.u64(r.fieldName);
@@ -179,7 +179,7 @@ export function inputs(options: InputsOptions): Field<Uint32Array> {
     read(r, m) {
       const field = r.fieldName;
       const max = bound(most, r.limits);
-      let n = r.count(`${field} rows`, flagKey === undefined ? max : max * 2 + 1, 0);
+      let n = r.count(field, flagKey === undefined ? max : max * 2 + 1, 0, ' rows');
       if (flagKey !== undefined) {
         m[flagKey] = (n & 1) === 1;
         n >>>= 1;

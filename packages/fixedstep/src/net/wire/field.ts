@@ -2,9 +2,9 @@
  * What a wire message is declared with: a {@link Field} (one kind of value: how to write it, read
  * it back — checking every size against the bytes left and the protocol's limits before
  * allocating —, say why a value cannot be sent, how many bytes it may take, and how to make a
- * valid random value), and a {@link Layout} (the fields of one message or struct, in wire order).
- * So a protocol's encoder, decoder, size limits and fuzz test all follow from its declaration (see
- * `protocol.ts`). The kinds themselves are in `scalars.ts` and `compound.ts`.
+ * valid random value). A `Layout` (`layout.ts`) holds the fields of one message or struct, in wire
+ * order. So a protocol's encoder, decoder, size limits and fuzz test all follow from its
+ * declaration (see `protocol.ts`). The kinds themselves are in `scalars.ts` and `compound.ts`.
  * @module
  */
 import { ByteReader, type ByteReadProblem, type ByteWriter } from '../../det/bytes.js';
@@ -55,6 +55,24 @@ export class WireReader extends ByteReader {
   }
 }
 
+/**
+ * A scalar kind a `Layout` handles by a `switch` on `op`, calling the kind's own module functions
+ * directly. Every message field goes through one loop; calling each field's functions through its
+ * object makes that loop's call sites megamorphic, which cost more than the rest of a small
+ * message. One object shape for every kind keeps the loop's own property loads monomorphic.
+ */
+export interface Fast {
+  readonly op: number;
+  /** `uint`: the smallest value (the wire holds `v − min`). */
+  readonly min: number;
+  /** `uint`: the largest; `bytes`: the longest. */
+  readonly max: Bound;
+  /** `oneOf`: the values, by index. */
+  readonly values: readonly string[] | undefined;
+  /** `bytes`: the only lengths allowed. */
+  readonly sizes: readonly number[] | undefined;
+}
+
 /** One field kind: see the module's comment. */
 export interface Field<T> {
   /** What it is on the wire, in words (`varint 1–16`, `name`, `bytes ≤ maxSnapshotBytes`). */
@@ -63,6 +81,11 @@ export interface Field<T> {
   readonly optional?: boolean;
   /** Written inside another field's bytes (the `packed` and `inputs` kinds): writes nothing itself. */
   readonly carried?: boolean;
+  /**
+   * For the common scalar kinds: which one, so a `Layout` reads, writes and checks it with a direct
+   * call (see {@link Fast}) instead of through this object's functions.
+   */
+  readonly fast?: Fast;
   /** Fewest bytes it takes (bounds what a count may allocate). */
   readonly minBytes: number;
   /** Why `v` cannot be written (undefined: it can). `m` holds the message's other fields. */
@@ -88,93 +111,4 @@ export function pick(rng: Random, lo: number, hi: number): number {
   if (r === 1) return hi;
   const span = Math.min(hi - lo, 4000);
   return lo + rng.int(span + 1);
-}
-
-/**
- * The fields of one message or struct, in wire order. Up to eight optional fields share one
- * presence byte, written just before the first of them.
- */
-export class Layout {
-  readonly entries: readonly (readonly [string, Field<unknown>])[];
-  private readonly optionals: readonly string[];
-  private readonly firstOptional: number;
-
-  constructor(fields: Readonly<Record<string, Field<unknown>>>) {
-    this.entries = Object.entries(fields);
-    this.optionals = this.entries.filter(([, f]) => f.optional).map(([k]) => k);
-    if (this.optionals.length > 8) throw new RangeError('wire: at most 8 optional fields');
-    this.firstOptional = this.entries.findIndex(([, f]) => f.optional);
-  }
-
-  /** The first field that cannot be written and why, or undefined. */
-  problem(m: Fields, limits: Limits): [string, string] | undefined {
-    for (const [key, f] of this.entries) {
-      const v = m[key];
-      if (v === undefined && f.optional) continue;
-      const p = f.problem(v, m, limits);
-      if (p !== undefined) return [key, p];
-    }
-    return undefined;
-  }
-
-  write(w: ByteWriter, m: Fields, limits: Limits): void {
-    const entries = this.entries;
-    for (let i = 0; i < entries.length; i++) {
-      if (i === this.firstOptional) {
-        let bits = 0;
-        this.optionals.forEach((k, b) => {
-          if (m[k] !== undefined) bits |= 1 << b;
-        });
-        w.u8(bits);
-      }
-      const [key, f] = entries[i]!;
-      const v = m[key];
-      if (f.carried || (f.optional && v === undefined)) continue;
-      f.write(w, v, m, limits);
-    }
-  }
-
-  /** Reads the fields into `m` (which may hold a `type`); field names in errors start with `prefix`. */
-  read(r: WireReader, m: Fields, prefix = ''): Fields {
-    const entries = this.entries;
-    let present = 0;
-    for (let i = 0; i < entries.length; i++) {
-      if (i === this.firstOptional) {
-        r.fieldName = `${prefix}(presence)`;
-        const at = r.pos;
-        present = r.u8(r.fieldName);
-        if (present >>> this.optionals.length !== 0) {
-          r.fail('invalid', `presence bits 0x${present.toString(16)}`, at);
-        }
-      }
-      const [key, f] = entries[i]!;
-      r.fieldName = prefix + key;
-      // A carried field's value was set by its carrier.
-      if (f.carried) continue;
-      if (f.optional && (present & (1 << this.optionals.indexOf(key))) === 0) continue;
-      m[key] = f.read(r, m);
-    }
-    return m;
-  }
-
-  sample(rng: Random, m: Fields, limits: Limits): Fields {
-    for (const [key, f] of this.entries) {
-      if (f.carried) continue;
-      const v = f.sample(rng, m, limits);
-      if (v !== undefined) m[key] = v;
-    }
-    return m;
-  }
-
-  maxBytes(limits: Limits): number {
-    let n = this.firstOptional >= 0 ? 1 : 0;
-    for (const [, f] of this.entries) n += f.maxBytes(limits);
-    return n;
-  }
-
-  get minBytes(): number {
-    let n = this.firstOptional >= 0 ? 1 : 0;
-    for (const [, f] of this.entries) n += f.minBytes;
-    return n;
-  }
 }

@@ -4,16 +4,19 @@
  * names (a varint byte length, then UTF-8), and byte strings.
  * @module
  */
-import { varintSize } from '../../det/bytes.js';
+import { varintSize, type ByteWriter } from '../../det/bytes.js';
+import type { Random } from '../../det/random.js';
 import {
   bound,
   describe,
   isInt,
   pick,
   type Bound,
+  type Fast,
   type Field,
   type Fields,
   type Limits,
+  type WireReader,
 } from './field.js';
 
 /** Room names and game ids: 1–32 of `A–Z a–z 0–9 _ - .`. */
@@ -23,6 +26,165 @@ const CONTROL = /[\u0000-\u001f\u007f]/;
 // eslint-disable-next-line no-control-regex
 const CONTROLS = /[\u0000-\u001f\u007f]/g;
 const encoder = new TextEncoder();
+/** {@link NAME_PATTERN} in words. */
+const NAME_RULE = '1–32 of A–Z a–z 0–9 _ - .';
+
+// ------------------------------------------------------------------------------------ fast kinds
+
+// The scalar kinds a Layout handles with one direct call (see `Fast`): each kind's reading,
+// writing and checking is here, once, and its Field's functions are these too.
+const OP_UINT = 1;
+const OP_U32 = 2;
+const OP_U64 = 3;
+const OP_TIME = 4;
+const OP_FLAG = 5;
+const OP_ONE_OF = 6;
+const OP_BYTES = 7;
+const OP_NAME = 8;
+
+/** A fast kind's description; every field of it is set, so all share one shape. */
+function fastKind(
+  op: number,
+  more: { min?: number; max?: Bound; values?: readonly string[]; sizes?: readonly number[] } = {},
+): Fast {
+  return {
+    op,
+    min: more.min ?? 0,
+    max: more.max ?? 0,
+    values: more.values,
+    sizes: more.sizes,
+  };
+}
+
+/** Reads a value of fast kind `f`. */
+export function fastRead(f: Fast, r: WireReader): unknown {
+  const at = r.pos;
+  switch (f.op) {
+    case OP_UINT: {
+      const v = r.varint(r.fieldName) + f.min;
+      const hi = typeof f.max === 'number' ? f.max : bound(f.max, r.limits);
+      return v > hi ? r.fail('too-large', `${v}, at most ${hi}`, at) : v;
+    }
+    case OP_U32:
+      return r.u32(r.fieldName);
+    case OP_U64:
+      return r.u64(r.fieldName);
+    case OP_TIME: {
+      const v = r.f64(r.fieldName);
+      if (!Number.isFinite(v)) r.fail('invalid', 'not a finite number', at);
+      return Object.is(v, -0) ? r.fail('invalid', '-0 (not canonical: +0)', at) : v;
+    }
+    case OP_FLAG: {
+      const v = r.u8(r.fieldName);
+      return v > 1 ? r.fail('invalid', `${v} is not 0 or 1`, at) : v === 1;
+    }
+    case OP_ONE_OF:
+      return f.values![r.u8(r.fieldName)] ?? r.fail('invalid', `unknown value ${r.buf[at]}`, at);
+    case OP_BYTES: {
+      const b = r.field(r.fieldName, bound(f.max, r.limits));
+      if (f.sizes && !f.sizes.includes(b.length)) {
+        r.fail('invalid', `${b.length} bytes, not ${f.sizes.join(' or ')}`, at);
+      }
+      return b;
+    }
+    default: {
+      const s = r.str(r.fieldName, 32);
+      return NAME_PATTERN.test(s) ? s : r.fail('invalid', `must be ${NAME_RULE}`, at);
+    }
+  }
+}
+
+/** Writes `v` as fast kind `f` (it passed {@link fastProblem}). */
+export function fastWrite(f: Fast, w: ByteWriter, v: unknown): void {
+  switch (f.op) {
+    case OP_UINT:
+      w.varint((v as number) - f.min);
+      return;
+    case OP_U32:
+      w.u32(v as number);
+      return;
+    case OP_U64:
+      w.u64(v as bigint);
+      return;
+    case OP_TIME:
+      w.f64(v as number);
+      return;
+    case OP_FLAG:
+      w.u8(v ? 1 : 0);
+      return;
+    case OP_ONE_OF:
+      w.u8(f.values!.indexOf(v as string));
+      return;
+    case OP_BYTES:
+      w.varint((v as Uint8Array).length).bytes(v as Uint8Array);
+      return;
+    default:
+      w.str(v as string);
+  }
+}
+
+/** Why `v` cannot be written as fast kind `f`, or undefined. */
+export function fastProblem(f: Fast, v: unknown, limits: Limits): string | undefined {
+  switch (f.op) {
+    case OP_UINT: {
+      if (!isInt(v)) return `${String(v)} is not an integer`;
+      const hi = typeof f.max === 'number' ? f.max : bound(f.max, limits);
+      if (v < f.min || v > hi) return `${v} is not from ${f.min} to ${hi}`;
+      return v - f.min > 0xffffffff ? `${v} is above 2^32` : undefined;
+    }
+    case OP_U32:
+      return isInt(v) && v >= 0 && v <= 0xffffffff ? undefined : `${String(v)} is not a u32`;
+    case OP_U64:
+      return typeof v === 'bigint' && v >= 0n && v < 1n << 64n
+        ? undefined
+        : `${String(v)} is not a u64`;
+    case OP_TIME:
+      return typeof v === 'number' && Number.isFinite(v)
+        ? undefined
+        : `${String(v)} is not a finite time`;
+    case OP_FLAG:
+      return typeof v === 'boolean' ? undefined : `${String(v)} is not a boolean`;
+    case OP_ONE_OF:
+      return f.values!.includes(v as string)
+        ? undefined
+        : `"${String(v)}" is not one of ${f.values!.join(', ')}`;
+    case OP_BYTES: {
+      if (!(v instanceof Uint8Array)) return 'is not a Uint8Array';
+      const max = bound(f.max, limits);
+      if (v.length > max) return `${v.length} bytes, at most ${max}`;
+      if (f.sizes && !f.sizes.includes(v.length)) {
+        return `${v.length} bytes, not ${f.sizes.join(' or ')}`;
+      }
+      return undefined;
+    }
+    default:
+      return typeof v === 'string' && NAME_PATTERN.test(v)
+        ? undefined
+        : `"${String(v)}" is not ${NAME_RULE}`;
+  }
+}
+
+/** A Field of fast kind `f`: its read, write and problem are the functions above. */
+function fastField<T>(
+  kind: string,
+  minBytes: number,
+  f: Fast,
+  sample: (rng: Random, m: Fields, limits: Limits) => T,
+  maxBytes: (limits: Limits) => number,
+): Field<T> {
+  return {
+    kind,
+    minBytes,
+    fast: f,
+    problem: (v, _m, limits) => fastProblem(f, v, limits),
+    write: (w, v) => {
+      fastWrite(f, w, v);
+    },
+    read: (r) => fastRead(f, r) as T,
+    sample,
+    maxBytes,
+  };
+}
 
 // ------------------------------------------------------------------------------------ integers
 
@@ -44,42 +206,46 @@ export function uint(options: UintOptions = {}): Field<number> {
   const min = options.min ?? 0;
   const max = options.max ?? 0xffffffff + min;
   const base = options.base;
+  const kind =
+    max === 0xffffffff + min
+      ? min === 0
+        ? 'varint'
+        : `varint ≥ ${min}`
+      : `varint ${min}–${describe(max)}`;
   const top = (limits: Limits) => bound(max, limits);
+  if (base === undefined) {
+    return fastField(
+      kind,
+      1,
+      fastKind(OP_UINT, { min, max }),
+      (rng, _m, limits) => pick(rng, min, Math.min(top(limits), min + 0xffffffff)),
+      (limits) => varintSize(Math.min(0xffffffff, top(limits) - min)),
+    );
+  }
   return {
-    kind:
-      max === 0xffffffff + min
-        ? min === 0
-          ? 'varint'
-          : `varint ≥ ${min}`
-        : `varint ${min}–${describe(max)}`,
+    kind,
     minBytes: 1,
     problem(v, m, limits) {
       if (!isInt(v)) return `${String(v)} is not an integer`;
       if (v < min || v > top(limits)) return `${v} is not from ${min} to ${top(limits)}`;
-      if (base !== undefined) {
-        const b = base(m);
-        if (v < b || v - b > 0xffffffff) return `${v} is before ${b}`;
-      } else if (v - min > 0xffffffff) return `${v} is above 2^32`;
-      return undefined;
+      const b = base(m);
+      return v < b || v - b > 0xffffffff ? `${v} is before ${b}` : undefined;
     },
     write(w, v, m) {
-      w.varint(base !== undefined ? v - base(m) : v - min);
+      w.varint(v - base(m));
     },
     read(r, m) {
       const at = r.pos;
-      const n = r.varint(r.fieldName);
-      const v = base !== undefined ? n + base(m) : n + min;
+      const v = r.varint(r.fieldName) + base(m);
       const hi = top(r.limits);
       if (v > hi) r.fail('too-large', `${v}, at most ${hi}`, at);
-      if (v > 0xffffffff + min) r.fail('invalid', `${v} is past 2^32`, at);
       return v;
     },
     sample(rng, m, limits) {
-      const lo = base !== undefined ? Math.max(min, base(m)) : min;
+      const lo = Math.max(min, base(m));
       return pick(rng, lo, Math.min(top(limits), lo + 0xffffffff));
     },
-    maxBytes: (limits) =>
-      base !== undefined ? 5 : varintSize(Math.min(0xffffffff, top(limits) - min)),
+    maxBytes: () => 5,
   };
 }
 
@@ -112,23 +278,25 @@ export function packed(
     write(w, _v, m) {
       let value = 0;
       let scale = 1;
-      digits.forEach(([key, lo], i) => {
+      for (let i = 0; i < digits.length; i++) {
+        const [key, lo] = digits[i]!;
         value += ((m[key] as number) - lo) * scale;
         scale *= spans[i] ?? 1;
-      });
+      }
       w.varint(value);
     },
     read(r, m) {
       const at = r.pos;
       let rest = r.varint(r.fieldName);
-      digits.forEach(([key, lo, hi], i) => {
+      for (let i = 0; i < digits.length; i++) {
+        const [key, lo, hi] = digits[i]!;
         const span = spans[i];
         const v = (span === undefined ? rest : rest % span) + lo;
         if (span !== undefined) rest = Math.floor(rest / span);
-        const max = bound(hi, r.limits);
+        const max = typeof hi === 'number' ? hi : bound(hi, r.limits);
         if (v > max) r.fail('too-large', `${key} ${v}, at most ${max}`, at);
         m[key] = v;
-      });
+      }
       return m[own] as number;
     },
     sample(rng, m, limits) {
@@ -158,30 +326,24 @@ export function carried<T>(): Field<T> {
 
 /** A u32 in four bytes (seeds: every value is as likely). */
 export function u32(): Field<number> {
-  return {
-    kind: 'u32',
-    minBytes: 4,
-    problem: (v) =>
-      isInt(v) && v >= 0 && v <= 0xffffffff ? undefined : `${String(v)} is not a u32`,
-    write: (w, v) => void w.u32(v),
-    read: (r) => r.u32(r.fieldName),
-    sample: (rng) => rng.nextU32(),
-    maxBytes: () => 4,
-  };
+  return fastField(
+    'u32',
+    4,
+    fastKind(OP_U32),
+    (rng) => rng.nextU32(),
+    () => 4,
+  );
 }
 
 /** A u64 (a hash) in eight bytes. */
 export function u64(): Field<bigint> {
-  return {
-    kind: 'u64',
-    minBytes: 8,
-    problem: (v) =>
-      typeof v === 'bigint' && v >= 0n && v < 1n << 64n ? undefined : `${String(v)} is not a u64`,
-    write: (w, v) => void w.u64(v),
-    read: (r) => r.u64(r.fieldName),
-    sample: (rng) => (BigInt(rng.nextU32()) << 32n) | BigInt(rng.nextU32()),
-    maxBytes: () => 8,
-  };
+  return fastField(
+    'u64',
+    8,
+    fastKind(OP_U64),
+    (rng) => (BigInt(rng.nextU32()) << 32n) | BigInt(rng.nextU32()),
+    () => 8,
+  );
 }
 
 /** A 64-bit id written as 16 lower-case hex digits (an input schema's `id`), sent as a u64. */
@@ -203,40 +365,24 @@ export function hex64(): Field<string> {
 
 /** A server or client clock reading in ms: a finite float64, never -0. */
 export function time(): Field<number> {
-  return {
-    kind: 'f64 ms',
-    minBytes: 8,
-    problem: (v) =>
-      typeof v === 'number' && Number.isFinite(v) ? undefined : `${String(v)} is not a finite time`,
-    write: (w, v) => void w.f64(v),
-    read(r) {
-      const at = r.pos;
-      const v = r.f64(r.fieldName);
-      if (!Number.isFinite(v)) r.fail('invalid', 'not a finite number', at);
-      if (Object.is(v, -0)) r.fail('invalid', '-0 (not canonical: +0)', at);
-      return v;
-    },
-    sample: (rng) => [0, 1e12 * rng.next(), -1e3 * rng.next(), 0.5][rng.int(4)]!,
-    maxBytes: () => 8,
-  };
+  return fastField(
+    'f64 ms',
+    8,
+    fastKind(OP_TIME),
+    (rng) => [0, 1e12 * rng.next(), -1e3 * rng.next(), 0.5][rng.int(4)]!,
+    () => 8,
+  );
 }
 
 /** A boolean as one byte, 0 or 1. */
 export function flag(): Field<boolean> {
-  return {
-    kind: 'u8 0 | 1',
-    minBytes: 1,
-    problem: (v) => (typeof v === 'boolean' ? undefined : `${String(v)} is not a boolean`),
-    write: (w, v) => void w.u8(v ? 1 : 0),
-    read(r) {
-      const at = r.pos;
-      const v = r.u8(r.fieldName);
-      if (v > 1) r.fail('invalid', `${v} is not 0 or 1`, at);
-      return v === 1;
-    },
-    sample: (rng) => rng.int(2) === 1,
-    maxBytes: () => 1,
-  };
+  return fastField(
+    'u8 0 | 1',
+    1,
+    fastKind(OP_FLAG),
+    (rng) => rng.int(2) === 1,
+    () => 1,
+  );
 }
 
 /**
@@ -245,20 +391,13 @@ export function flag(): Field<boolean> {
  */
 export function oneOf<T extends string>(values: readonly T[], label?: string): Field<T> {
   if (values.length > 256) throw new RangeError('oneOf: at most 256 values');
-  return {
-    kind: `u8: ${label ?? values.join(' | ')}`,
-    minBytes: 1,
-    problem: (v) =>
-      values.includes(v as T) ? undefined : `"${String(v)}" is not one of ${values.join(', ')}`,
-    write: (w, v) => void w.u8(values.indexOf(v)),
-    read(r) {
-      const at = r.pos;
-      const v = values[r.u8(r.fieldName)];
-      return v ?? r.fail('invalid', `unknown value ${r.buf[at]}`, at);
-    },
-    sample: (rng) => values[rng.int(values.length)]!,
-    maxBytes: () => 1,
-  };
+  return fastField(
+    `u8: ${label ?? values.join(' | ')}`,
+    1,
+    fastKind(OP_ONE_OF, { values }),
+    (rng) => values[rng.int(values.length)]!,
+    () => 1,
+  );
 }
 
 // ------------------------------------------------------------------------------------ text, bytes
@@ -323,28 +462,18 @@ function cutText(s: string, max: number): string {
 
 /** A room name or game id: 1–32 of `A–Z a–z 0–9 _ - .` (see {@link NAME_PATTERN}). */
 export function name(): Field<string> {
-  return {
-    kind: 'name',
-    minBytes: 2,
-    problem: (v) =>
-      typeof v === 'string' && NAME_PATTERN.test(v)
-        ? undefined
-        : `"${String(v)}" is not 1–32 of A–Z a–z 0–9 _ - .`,
-    write: (w, v) => void w.str(v),
-    read(r) {
-      const at = r.pos;
-      const s = r.str(r.fieldName, 32);
-      if (!NAME_PATTERN.test(s)) r.fail('invalid', 'must be 1–32 of A–Z a–z 0–9 _ - .', at);
-      return s;
-    },
-    sample(rng) {
+  return fastField(
+    'name',
+    2,
+    fastKind(OP_NAME),
+    (rng) => {
       const chars = 'abcXYZ019_.-';
       let s = '';
       for (let i = pick(rng, 1, 32); i > 0; i--) s += chars[rng.int(chars.length)]!;
       return s;
     },
-    maxBytes: () => 33,
-  };
+    () => 33,
+  );
 }
 
 /** Options of {@link bytes}. */
@@ -358,25 +487,11 @@ export interface BytesOptions {
 /** Bytes: a varint length, then the bytes (a copy the receiver may keep). */
 export function bytes(options: BytesOptions): Field<Uint8Array> {
   const { max, sizes } = options;
-  return {
-    kind: sizes ? `bytes of ${sizes.join(' or ')}` : `bytes ≤ ${describe(max)}`,
-    minBytes: 1,
-    problem(v, _m, limits) {
-      if (!(v instanceof Uint8Array)) return 'is not a Uint8Array';
-      if (v.length > bound(max, limits)) return `${v.length} bytes, at most ${bound(max, limits)}`;
-      if (sizes && !sizes.includes(v.length)) return `${v.length} bytes, not ${sizes.join(' or ')}`;
-      return undefined;
-    },
-    write: (w, v) => void w.varint(v.length).bytes(v),
-    read(r) {
-      const at = r.pos;
-      const b = r.field(r.fieldName, bound(max, r.limits));
-      if (sizes && !sizes.includes(b.length)) {
-        r.fail('invalid', `${b.length} bytes, not ${sizes.join(' or ')}`, at);
-      }
-      return b;
-    },
-    sample(rng, _m, limits) {
+  return fastField(
+    sizes ? `bytes of ${sizes.join(' or ')}` : `bytes ≤ ${describe(max)}`,
+    1,
+    fastKind(OP_BYTES, { max, ...(sizes ? { sizes } : {}) }),
+    (rng, _m, limits) => {
       const n = sizes
         ? sizes[rng.int(sizes.length)]!
         : pick(rng, 0, Math.min(bound(max, limits), 300));
@@ -384,6 +499,6 @@ export function bytes(options: BytesOptions): Field<Uint8Array> {
       for (let i = 0; i < n; i++) b[i] = rng.int(256);
       return b;
     },
-    maxBytes: (limits) => varintSize(bound(max, limits)) + bound(max, limits),
-  };
+    (limits) => varintSize(bound(max, limits)) + bound(max, limits),
+  );
 }
