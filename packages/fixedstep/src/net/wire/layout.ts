@@ -73,6 +73,34 @@ export class Layout {
     }
   }
 
+  /**
+   * Checks each field and writes it, in one pass (a message's hot path). Returns the first field
+   * that cannot be written and why — the bytes written so far are then to be dropped — or
+   * undefined when all of `m` was written.
+   */
+  encode(w: ByteWriter, m: Fields, limits: Limits): [string, string] | undefined {
+    const { keys, fields, bits, fasts } = this;
+    for (let i = 0; i < keys.length; i++) {
+      if (i === this.firstOptional) {
+        let present = 0;
+        for (let j = i; j < keys.length; j++) {
+          if (bits[j]! > 0 && m[keys[j]!] !== undefined) present |= bits[j]!;
+        }
+        w.u8(present);
+      }
+      const f = fields[i]!;
+      const v = m[keys[i]!];
+      const fast = fasts[i];
+      const bit = bits[i]!;
+      if (bit > 0 && v === undefined) continue;
+      const p = fast !== undefined ? fastProblem(fast, v, limits) : f.problem(v, m, limits);
+      if (p !== undefined) return [keys[i]!, p];
+      if (fast !== undefined) fastWrite(fast, w, v);
+      else if (bit >= 0) f.write(w, v, m, limits);
+    }
+    return undefined;
+  }
+
   /** Reads the fields into `m` (which may hold a `type`); field names in errors start with `prefix`. */
   read(r: WireReader, m: Fields, prefix = ''): Fields {
     const { keys, fields, bits } = this;

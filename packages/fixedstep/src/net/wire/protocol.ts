@@ -156,13 +156,12 @@ export class WireProtocol<M extends { type: string }, L extends object> {
     const c = this.compiled(m.type);
     const fields = m as unknown as Fields;
     const limits = this.limits as Limits;
-    const problem = c.layout.problem(fields, limits) ?? c.check?.(m as never, limits);
+    const w = this.scratch.reset();
+    w.u8(this.header).u8(c.code);
+    const problem = c.layout.encode(w, fields, limits) ?? c.check?.(m as never, limits);
     if (problem !== undefined) {
       throw new RangeError(`${this.name}: cannot encode ${m.type}.${problem[0]}: ${problem[1]}`);
     }
-    const w = this.scratch.reset();
-    w.u8(this.header).u8(c.code);
-    c.layout.write(w, fields, limits);
     return w.finish();
   }
 
