@@ -21,7 +21,6 @@ import {
   performanceClock,
   gameCatalog,
   type AnyGameDefinition,
-  type PeerConnectionConstructor,
   type Transport,
 } from 'fixedstep';
 import { ctfGame } from '@fixedstep/games';
@@ -96,7 +95,7 @@ export async function runNodeMatch(o: NodeMatchOptions): Promise<NodeMatchResult
       hub.accept(hostHub);
       hub.accept(joinHub);
       const rtc = {
-        PeerConnection: RTCPeerConnection as unknown as PeerConnectionConstructor,
+        PeerConnection: RTCPeerConnection,
         iceServers: turn.iceServers(proxy.port),
         iceTransportPolicy: 'relay' as const,
         room: 'netem',

@@ -65,8 +65,7 @@ let transport: Transport | undefined;
 let relay: Relay | undefined;
 let session: RollbackSession<unknown> | undefined;
 let probe: Probe | undefined;
-const PC = (globalThis as unknown as { RTCPeerConnection: PeerConnectionConstructor })
-  .RTCPeerConnection;
+const PC: PeerConnectionConstructor = RTCPeerConnection;
 
 async function signal(url: string): Promise<SignalClient> {
   return new SignalClient(await connectWebSocket(url));

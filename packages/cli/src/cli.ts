@@ -128,7 +128,7 @@ const SERVE_OPTIONS: OptionSpec[] = [
     name: 'trust-proxy',
     kind: 'string',
     valueName: 'header',
-    help: 'Behind a reverse proxy: the header with the client address\n(x-forwarded-for, x-real-ip), for rate limits',
+    help: 'Behind a reverse proxy on this machine: the header it puts the client\naddress in (x-forwarded-for, x-real-ip), for every per-address cap and\nrate limit. A proxy elsewhere: FIXEDSTEP_PROXY_HEADER and\nFIXEDSTEP_TRUSTED_PROXIES instead (docs/deploy.md)',
   },
   {
     name: 'allowed-origins',

@@ -39,9 +39,7 @@ import {
   performanceClock,
   quickMatch,
   type ButtonInput,
-  type DataChannelLike,
   type MatchmakingError,
-  type PeerConnectionLike,
   type PeerLink,
   type QuickMatchResult,
   type Transport,
@@ -56,6 +54,7 @@ import {
   until,
   type RunningHaproxy,
 } from './haproxy-harness.js';
+import { UnreachablePeerConnection } from './unreachable-peer.js';
 
 interface Relay {
   port: number;
@@ -283,46 +282,6 @@ function stateAgreement(watchers: Watcher[]): { common: number; newest: number; 
   return { common, newest, differ };
 }
 
-/** A peer connection whose channels never open: joiners fall back to the tunnel through the hub. */
-class NoRoute implements PeerConnectionLike {
-  connectionState = 'new';
-  localDescription: { type: string; sdp: string } | undefined;
-  onicecandidate = null;
-  ondatachannel = null;
-  onconnectionstatechange = null;
-  createDataChannel(label: string): DataChannelLike {
-    return {
-      label,
-      readyState: 'connecting',
-      bufferedAmount: 0,
-      send: () => undefined,
-      close: () => undefined,
-      onopen: null,
-      onclose: null,
-      onmessage: null,
-    };
-  }
-  createOffer() {
-    return Promise.resolve({ type: 'offer', sdp: 'v=0 (never connects)' });
-  }
-  createAnswer() {
-    return Promise.resolve({ type: 'answer', sdp: 'v=0 (never connects)' });
-  }
-  setLocalDescription(d: { type: string; sdp?: string }) {
-    this.localDescription = { type: d.type, sdp: d.sdp ?? '' };
-    return Promise.resolve();
-  }
-  setRemoteDescription() {
-    return Promise.resolve();
-  }
-  addIceCandidate() {
-    return Promise.resolve();
-  }
-  close(): void {
-    this.connectionState = 'closed';
-  }
-}
-
 interface SignalRoom {
   host: SignalClient;
   joiner: SignalClient;
@@ -338,7 +297,7 @@ interface SignalRoom {
  */
 async function hostSignal(room: string): Promise<SignalRoom> {
   const host = new SignalClient(await open(`/signal/${room}`));
-  const rtc = { PeerConnection: NoRoute, room, connectTimeoutMs: 100 };
+  const rtc = { PeerConnection: UnreachablePeerConnection, room, connectTimeoutMs: 100 };
   const hosting = new PeerHost({
     ...rtc,
     signal: host,

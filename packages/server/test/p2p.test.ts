@@ -24,12 +24,11 @@ import {
   gameCatalog,
   SignallingHub,
   type DataChannelInitLike,
-  type DataChannelLike,
   type PeerConnectionConstructor,
-  type PeerConnectionLike,
   type PeerLink,
   type Simulation,
 } from 'fixedstep';
+import { UnreachablePeerConnection } from './unreachable-peer.js';
 
 /** Each player's counter moves by its input and a seeded draw; `glitchFrom` breaks determinism. */
 class Toy implements Simulation {
@@ -170,7 +169,7 @@ async function peerToPeer(o: {
 describe('peer-to-peer rollback: the host runs the relay, the joiner connects over WebRTC', () => {
   it('a deliberately diverging joiner: the host names the first differing tick', async () => {
     const { relay, sessions, link } = await peerToPeer({
-      PeerConnection: RTCPeerConnection as unknown as PeerConnectionConstructor,
+      PeerConnection: RTCPeerConnection,
       connectTimeoutMs: 20_000,
       ticks: 600,
       joinerGlitchFrom: 200,
@@ -190,61 +189,18 @@ describe('peer-to-peer rollback: the host runs the relay, the joiner connects ov
   }, 60_000);
 });
 
-/** A peer connection whose channels never open: no route between the peers. */
-class Unreachable implements PeerConnectionLike {
-  /** Every channel created: label and options. */
-  static readonly created: [string, DataChannelInitLike | undefined][] = [];
-  connectionState = 'new';
-  localDescription: { type: string; sdp: string } | undefined;
-  onicecandidate = null;
-  ondatachannel = null;
-  onconnectionstatechange = null;
-  createDataChannel(label: string, init?: DataChannelInitLike): DataChannelLike {
-    Unreachable.created.push([label, init]);
-    return {
-      label,
-      readyState: 'connecting',
-      bufferedAmount: 0,
-      send: () => undefined,
-      close: () => undefined,
-      onopen: null,
-      onclose: null,
-      onmessage: null,
-    };
-  }
-  createOffer() {
-    return Promise.resolve({ type: 'offer', sdp: 'v=0 (never connects)' });
-  }
-  createAnswer() {
-    return Promise.resolve({ type: 'answer', sdp: 'v=0 (never connects)' });
-  }
-  setLocalDescription(d: { type: string; sdp?: string }) {
-    this.localDescription = { type: d.type, sdp: d.sdp ?? '' };
-    return Promise.resolve();
-  }
-  setRemoteDescription() {
-    return Promise.resolve();
-  }
-  addIceCandidate() {
-    return Promise.resolve();
-  }
-  close(): void {
-    this.connectionState = 'closed';
-  }
-}
-
 describe('peer-to-peer fallback: no direct route, the game goes through the server', () => {
   it('the joiner tunnels through the signalling hub and the match ends on equal hashes', async () => {
     const ticks = 240;
     const { relay, hub, sessions, link } = await peerToPeer({
-      PeerConnection: Unreachable,
+      PeerConnection: UnreachablePeerConnection,
       connectTimeoutMs: 200,
       ticks,
       unreliableChannel: { ordered: false, maxRetransmits: 1 },
     });
     expect(link.via).toBe('server');
     // The joiner asked for the unreliable channel it was told to (werift needs this, see docs).
-    expect(Unreachable.created).toEqual([
+    expect(UnreachablePeerConnection.created).toEqual([
       ['fixedstep-u', { ordered: false, maxRetransmits: 1 }],
       ['fixedstep-r', { ordered: true }],
     ]);

@@ -49,10 +49,8 @@ export async function connectPeerToPeer(
   def: GameDefinition,
   invite?: Uint8Array,
 ): Promise<P2pConnection> {
-  const PeerConnection = (
-    globalThis as unknown as { RTCPeerConnection?: PeerConnectionConstructor }
-  ).RTCPeerConnection;
-  if (PeerConnection === undefined) throw new Error('this browser has no WebRTC');
+  if (typeof RTCPeerConnection !== 'function') throw new Error('this browser has no WebRTC');
+  const PeerConnection: PeerConnectionConstructor = RTCPeerConnection;
   const url = `${signalUrl}/${room}`;
   if (invite !== undefined) {
     const signal = new SignalClient(await connectWebSocket(url));

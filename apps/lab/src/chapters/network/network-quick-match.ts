@@ -65,7 +65,7 @@ export class QuickMatchControl {
     })
       .then((match) => {
         if (this.abort !== abort) return;
-        // The relay gives slots in the order hellos arrive: the panel shows which one is yours.
+        // The ticket seats this tab in the slot the matchmaker gave it: the panel shows which.
         this.done(`Matched with ${match.players - 1} other player(s): joining the room.`);
         this.onMatch(match);
       })

@@ -658,7 +658,9 @@ export abstract class RoomHost<
         );
       } else if (room.empty) {
         room.emptySince ??= now;
-        if (room.state === 'waiting' || now - room.emptySince >= s.emptyRoomTtlMs) {
+        // A seat still held for a dropped player keeps the room for that player's reconnect.
+        const held = room.seats.some((seat) => seat.heldUntil > now);
+        if (room.state === 'waiting' || (now - room.emptySince >= s.emptyRoomTtlMs && !held)) {
           this.removeRoom(room);
         }
       }

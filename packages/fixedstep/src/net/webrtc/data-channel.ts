@@ -1,5 +1,5 @@
 import { BaseTransport, type Transport } from '../transport.js';
-import type { DataChannelLike } from './types.js';
+import type { DataChannelLike, DataChannelMessageLike } from './types.js';
 
 /** Options of {@link dataChannelTransport}. */
 export interface DataChannelTransportOptions {
@@ -62,14 +62,14 @@ class DataChannelTransport extends BaseTransport {
         this.onClosed?.('closed by the peer');
       };
     }
-    unreliable.onmessage = (event) => {
+    unreliable.onmessage = (event: DataChannelMessageLike) => {
       const bytes = toBytes(event.data);
       if (bytes === undefined) this.close('text message on a binary protocol');
       else if (bytes.length > this.maxMessage) this.close(`message of ${bytes.length} bytes`);
       else this.deliver(bytes);
     };
     if (reliableChannel) {
-      reliableChannel.onmessage = (event) => {
+      reliableChannel.onmessage = (event: DataChannelMessageLike) => {
         const bytes = toBytes(event.data);
         if (bytes === undefined || bytes.length < 1) {
           this.close('bad chunk on the reliable channel');
@@ -117,7 +117,7 @@ class DataChannelTransport extends BaseTransport {
     }
     try {
       if (!big) {
-        ch.send(bytes);
+        ch.send(bytes as never);
         return;
       }
       for (let at = 0; at < bytes.length; at += CHUNK_BYTES) {
@@ -125,7 +125,7 @@ class DataChannelTransport extends BaseTransport {
         const chunk = new Uint8Array(end - at + 1);
         chunk[0] = end === bytes.length ? LAST : MORE;
         chunk.set(bytes.subarray(at, end), 1);
-        ch.send(chunk);
+        ch.send(chunk as never);
       }
     } catch (error) {
       this.close(`send failed: ${String(error)}`);

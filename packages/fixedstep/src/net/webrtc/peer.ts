@@ -11,7 +11,9 @@ import {
 import { ProtocolError } from '../wire/error.js';
 import type {
   DataChannelInitLike,
+  DataChannelEventLike,
   DataChannelLike,
+  IceCandidateEventLike,
   IceCandidateLike,
   PeerConnectionConstructor,
   PeerConnectionLike,
@@ -229,7 +231,7 @@ class PeerConnectionSide {
     };
     if (options.iceTransportPolicy) config.iceTransportPolicy = options.iceTransportPolicy;
     this.pc = new options.PeerConnection(config);
-    this.pc.onicecandidate = (event) => {
+    this.pc.onicecandidate = (event: IceCandidateEventLike) => {
       if (this.closed) return;
       const c = event.candidate;
       if (!c) {
@@ -242,7 +244,7 @@ class PeerConnectionSide {
         options.signal.send({ type: 'signal', peer, kind: 'candidate', text });
       }
     };
-    this.pc.ondatachannel = (event) => {
+    this.pc.ondatachannel = (event: DataChannelEventLike) => {
       this.adopt(event.channel);
     };
   }

@@ -8,7 +8,7 @@ import type { IceServerConfig } from './signal-messages.js';
 
 /** A session description (offer or answer). */
 export interface SessionDescriptionLike {
-  type: string;
+  type: 'offer' | 'answer' | 'pranswer' | 'rollback';
   sdp?: string;
 }
 
@@ -30,11 +30,18 @@ export interface DataChannelLike {
   readonly readyState: string;
   readonly bufferedAmount: number;
   binaryType?: string;
-  send(data: Uint8Array): void;
+  /**
+   * Sends bytes. Typed `never` so that every implementation's own parameter type fits (the
+   * browser's `ArrayBufferView<ArrayBuffer>`, werift's `Buffer`); the library passes a Uint8Array,
+   * which all of them take.
+   */
+  send(data: never): void;
   close(): void;
-  onopen: ((...args: never[]) => unknown) | null | undefined;
-  onclose: ((...args: never[]) => unknown) | null | undefined;
-  onmessage: ((event: DataChannelMessageLike) => unknown) | null | undefined;
+  // Handlers take `never` for the same reason as `send`: each implementation types its events its
+  // own way; the library's handlers read only what the `…Like` event types below say.
+  onopen?: ((event: never) => unknown) | null;
+  onclose?: ((event: never) => unknown) | null;
+  onmessage?: ((event: never) => unknown) | null;
 }
 
 /** Options of `createDataChannel`. */
@@ -54,14 +61,19 @@ export interface PeerConnectionLike {
   readonly localDescription: SessionDescriptionLike | null | undefined;
   addIceCandidate(candidate: IceCandidateLike): Promise<unknown>;
   close(): unknown;
-  onicecandidate:
-    | ((event: {
-        candidate?: { toJSON?(): IceCandidateLike } | IceCandidateLike | null;
-      }) => unknown)
-    | null
-    | undefined;
-  ondatachannel: ((event: { channel: DataChannelLike }) => unknown) | null | undefined;
-  onconnectionstatechange: ((...args: never[]) => unknown) | null | undefined;
+  onicecandidate?: ((event: never) => unknown) | null;
+  ondatachannel?: ((event: never) => unknown) | null;
+  onconnectionstatechange?: ((event: never) => unknown) | null;
+}
+
+/** What an `icecandidate` event carries, as far as the library reads it. */
+export interface IceCandidateEventLike {
+  candidate?: { toJSON?(): IceCandidateLike } | IceCandidateLike | null;
+}
+
+/** What a `datachannel` event carries. */
+export interface DataChannelEventLike {
+  channel: DataChannelLike;
 }
 
 /** What `new RTCPeerConnection(config)` takes, as far as the library sets it. */
