@@ -417,6 +417,27 @@ describe('the handshake and the room', () => {
       'room-removed',
     ]);
   });
+  it('keeps a room whose players all dropped while their seats are held; a token takes one back', () => {
+    const w = world({ emptyRoomTtlMs: 5000, seatHoldMs: 20_000 });
+    void w.add({ kind: 'lockstep' }, 2, 100_000);
+    void w.add({ kind: 'lockstep' }, 2, 100_000);
+    w.scheduler.runUntil(3000);
+    expect(w.relay.room('r')!.state).toBe('running');
+    const token = w.sessions[1]!.welcome!.token;
+    // Both cables pulled at once: nobody is left, but both seats are held for 20 s.
+    for (const l of w.links) l.a.close('cable pulled');
+    w.scheduler.runUntil(15_000);
+    expect(w.relay.room('r')!.members).toEqual([]);
+    void w.add({ kind: 'lockstep', joinAt: 15_000, session: { token } }, 2, 100_000);
+    w.scheduler.runUntil(17_000);
+    expect(w.sessions[2]!.welcome?.slot).toBe(1);
+    w.sessions[2]!.leave();
+    // Empty again at 17 s: it goes 5 s later or when the other seat's hold ends (23 s), later one.
+    w.scheduler.runUntil(22_500);
+    expect(w.relay.room('r')).toBeDefined();
+    w.scheduler.runUntil(24_000);
+    expect(w.relay.room('r')).toBeUndefined();
+  });
 });
 
 describe('clock sync survives a background tab', () => {
