@@ -57,13 +57,7 @@ export class Layout {
   write(w: ByteWriter, m: Fields, limits: Limits): void {
     const { keys, fields, bits } = this;
     for (let i = 0; i < keys.length; i++) {
-      if (i === this.firstOptional) {
-        let present = 0;
-        for (let j = i; j < keys.length; j++) {
-          if (bits[j]! > 0 && m[keys[j]!] !== undefined) present |= bits[j]!;
-        }
-        w.u8(present);
-      }
+      if (i === this.firstOptional) w.u8(this.presence(m));
       const bit = bits[i]!;
       if (bit < 0) continue;
       const v = m[keys[i]!];
@@ -71,6 +65,16 @@ export class Layout {
       if (fast !== undefined) fastWrite(fast, w, v);
       else if (bit === 0 || v !== undefined) fields[i]!.write(w, v, m, limits);
     }
+  }
+
+  /** The presence byte of `m`: a bit for each optional field it has. */
+  private presence(m: Fields): number {
+    const { keys, bits } = this;
+    let present = 0;
+    for (let j = this.firstOptional; j < keys.length; j++) {
+      if (bits[j]! > 0 && m[keys[j]!] !== undefined) present |= bits[j]!;
+    }
+    return present;
   }
 
   /**
@@ -81,13 +85,7 @@ export class Layout {
   encode(w: ByteWriter, m: Fields, limits: Limits): [string, string] | undefined {
     const { keys, fields, bits, fasts } = this;
     for (let i = 0; i < keys.length; i++) {
-      if (i === this.firstOptional) {
-        let present = 0;
-        for (let j = i; j < keys.length; j++) {
-          if (bits[j]! > 0 && m[keys[j]!] !== undefined) present |= bits[j]!;
-        }
-        w.u8(present);
-      }
+      if (i === this.firstOptional) w.u8(this.presence(m));
       const f = fields[i]!;
       const v = m[keys[i]!];
       const fast = fasts[i];
