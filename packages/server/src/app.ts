@@ -94,6 +94,13 @@ export interface ServerOptions {
    */
   trustProxy?: string | TrustedProxy;
   /**
+   * WebSockets at once from one client address, every surface together. Default
+   * `MAX_SOCKETS_PER_ADDRESS` (or `FIXEDSTEP_MAX_SOCKETS_PER_ADDRESS`).
+   */
+  maxSocketsPerAddress?: number;
+  /** WebSockets at once, every surface together. Default `MAX_SOCKETS`. */
+  maxSockets?: number;
+  /**
    * The quick-match ticket secret, shared by every process of a deployment (the one that matches
    * and the ones whose relays seat the players). Default `FIXEDSTEP_MATCH_SECRET`, else random for
    * this process.
@@ -237,6 +244,10 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     ...fromEnv,
     ...(options.allowedOrigins !== undefined ? { allowedOrigins: options.allowedOrigins } : {}),
     ...(trust !== undefined ? { trustProxy: trust } : {}),
+    ...(options.maxSocketsPerAddress !== undefined
+      ? { maxSocketsPerAddress: options.maxSocketsPerAddress }
+      : {}),
+    ...(options.maxSockets !== undefined ? { maxSockets: options.maxSockets } : {}),
   });
   // Tickets signed by the matchmaker, checked by the relay (of this process or another's).
   const tickets = new MatchTickets({
@@ -269,6 +280,8 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
   });
   const server = app.server;
   server.maxConnections = limits.maxConnections;
+  // One address's connections (half-sent requests too) hold at most its share of those.
+  admission.watch(server, limits.maxConnectionsPerAddress);
 
   let draining = false;
   let api: HighscoreApi | undefined;
@@ -495,6 +508,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
   if (options.signalling !== false) {
     signalling = attachSignalling(server, {
       admission,
+      env,
       ...(typeof options.signalling === 'object' ? options.signalling : {}),
     });
   }
@@ -505,6 +519,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     matchmaking = attachMatchmaking(server, {
       games: gameList,
       admission,
+      env,
       tickets,
       ...(typeof options.matchmaking === 'object' ? options.matchmaking : {}),
     });

@@ -26,6 +26,7 @@ export {
   trustedProxyList,
   admissionOptionsFromEnv,
   parseOriginPolicy,
+  endpointAdmission,
   roomCapsFromEnv,
   DEFAULT_ORIGIN_POLICY,
   MAX_SOCKETS,
@@ -33,12 +34,17 @@ export {
 } from './http/admission.js';
 export type {
   AdmissionOptions,
+  EndpointAdmissionOptions,
   Admitted,
   Refused,
   OriginPolicy,
   TrustedProxy,
 } from './http/admission.js';
-export { WebSocketEndpoint, refuseUpgrade } from './http/websocket-endpoint.js';
+export {
+  WebSocketEndpoint,
+  refuseUpgrade,
+  CLOSE_UNSUPPORTED_DATA,
+} from './http/websocket-endpoint.js';
 export type { WebSocketEndpointSetup, UpgradeInfo, RoomInPath } from './http/websocket-endpoint.js';
 export { highscoreApi, highscoreRoutes, readBody } from './highscores.js';
 export type { HighscoreApi, HighscoreApiOptions, ApiHandler, ApiAnswer } from './highscores.js';
@@ -85,7 +91,12 @@ export {
   connectNodeWebSocket,
 } from './relay/index.js';
 export type { RelayEndpointOptions, NodeWebSocketOptions } from './relay/index.js';
-export { attachStateSync, StateSyncEndpoint, STATE_SYNC_UPDATE_MS } from './state-sync/index.js';
+export {
+  attachStateSync,
+  StateSyncEndpoint,
+  STATE_SYNC_HEARTBEAT_MS,
+  STATE_SYNC_UPDATE_MS,
+} from './state-sync/index.js';
 export type { StateSyncEndpointOptions } from './state-sync/index.js';
 export { attachSignalling, SignallingEndpoint, SIGNALLING_UPDATE_MS } from './signalling/index.js';
 export type { SignallingEndpointOptions } from './signalling/index.js';

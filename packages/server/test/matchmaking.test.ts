@@ -344,7 +344,8 @@ describe('quick match over real sockets through createServer', () => {
       signalling: false,
       games: [ctfGame],
       env: {},
-      matchmaking: { clock },
+      // The manual clock's jumps are the test's, not stalls of the server.
+      matchmaking: { clock, stallToleranceMs: Infinity },
     });
     base = `ws://127.0.0.1:${server.port}`;
   }, 60_000);
@@ -559,8 +560,18 @@ describe('quick match over real sockets through createServer', () => {
   });
 
   it('refuses garbage, unknown games and a second request with a clear error', async () => {
+    // A text frame is refused as on every surface: the error, then close code 1003.
+    const text = raw(['hello?']);
+    expect(await text.closed).toBe(1003);
+    expect(text.got).toEqual([
+      {
+        type: 'error',
+        code: 'BAD_MESSAGE',
+        fatal: true,
+        message: 'quick match messages are binary frames, not text',
+      },
+    ]);
     const cases: [(string | Uint8Array)[], string, string][] = [
-      [['hello?'], 'BAD_MESSAGE', 'quick-match messages are binary frames'],
       [[new Uint8Array([1, 2, 3])], 'BAD_MESSAGE', 'a relay message, not quick match'],
       [
         [Uint8Array.of(MATCH_PROTOCOL.header, 0x13)],

@@ -116,7 +116,7 @@ describe('the relay over real WebSockets on 127.0.0.1', () => {
       ws.on('error', () => undefined);
     });
     expect(status).toBe(404);
-    // A text frame: the adapter closes the connection (binary protocol only).
+    // A text frame: refused as on every surface (binary protocols only), close code 1003.
     const closed = await new Promise<{ code: number }>((resolve) => {
       const ws = new WebSocket(wsUrl());
       ws.on('open', () => {
@@ -126,7 +126,7 @@ describe('the relay over real WebSockets on 127.0.0.1', () => {
         resolve({ code });
       });
     });
-    expect(closed.code).toBe(1000);
+    expect(closed.code).toBe(1003);
     // A binary message over the frame limit never reaches the relay: ws closes with 1009.
     const tooBig = await new Promise<number>((resolve) => {
       const ws = new WebSocket(wsUrl());

@@ -215,6 +215,8 @@ export class Admission {
   readonly trustProxy: TrustedProxy | undefined;
   private readonly proxies: net.BlockList | undefined;
   private readonly sockets: AddressTally;
+  /** Connections closed at once by {@link watch}: their address held its share. */
+  refusedConnections = 0;
 
   constructor(options: AdmissionOptions = {}) {
     this.allowedOrigins = options.allowedOrigins ?? DEFAULT_ORIGIN_POLICY;
@@ -230,6 +232,41 @@ export class Admission {
   /** Open WebSockets, every surface together. */
   get open(): number {
     return this.sockets.total;
+  }
+
+  /**
+   * Holds the TCP connections to `server` from one address to `perAddress` at once, from the moment
+   * they connect — before any request is read, so half-sent requests (a slow handshake that never
+   * finishes its headers) count too: a connection over the share is closed at once. A trusted
+   * proxy's connections are not counted (every client behind it shares its address). Returns a
+   * function that stops watching.
+   */
+  watch(server: net.Server, perAddress: number): () => void {
+    if (!(Number.isInteger(perAddress) && perAddress >= 1)) {
+      throw new RangeError(`connections per address must be an integer >= 1, got ${perAddress}`);
+    }
+    const tally = new AddressTally('connections', perAddress, Infinity);
+    const onConnection = (socket: net.Socket) => {
+      const peer = socket.remoteAddress;
+      if (peer === undefined) return;
+      const plain = /^::ffff:(\d+\.\d+\.\d+\.\d+)$/i.exec(peer)?.[1] ?? peer;
+      if (this.proxies?.check(plain, net.isIPv4(plain) ? 'ipv4' : 'ipv6') === true) return;
+      const key = addressKey(plain);
+      if (tally.refusal(key) !== undefined) {
+        this.refusedConnections++;
+        socket.destroy();
+        return;
+      }
+      tally.add(key);
+      socket.once('close', () => {
+        tally.remove(key);
+      });
+    };
+    // Before the HTTP server's own listener: a connection over the share is never parsed.
+    server.prependListener('connection', onConnection);
+    return () => {
+      server.off('connection', onConnection);
+    };
   }
 
   /** The client address of a request (for the HTTP API's rate limits too), or why it is refused. */
@@ -264,6 +301,35 @@ export class Admission {
       },
     };
   }
+}
+
+/** How an endpoint attached on its own is admitted, when not given the server's admission. */
+export interface EndpointAdmissionOptions {
+  /** The server's admission, shared by every surface (`createServer` gives each its one). */
+  admission?: Admission;
+  /** Browser origins allowed to connect. Default `'same-origin'` (or `FIXEDSTEP_ALLOWED_ORIGINS`). */
+  allowedOrigins?: OriginPolicy;
+  /** Read the client address from a proxy's header. Default: none (or `FIXEDSTEP_PROXY_HEADER`). */
+  trustProxy?: TrustedProxy;
+}
+
+/**
+ * The admission of an endpoint — the same rule on every surface: the server's when given, else one
+ * of its own from `options`, then the environment (`FIXEDSTEP_ALLOWED_ORIGINS`,
+ * `FIXEDSTEP_PROXY_*`, `FIXEDSTEP_MAX_SOCKETS_PER_ADDRESS`), then the defaults.
+ */
+export function endpointAdmission(
+  options: EndpointAdmissionOptions,
+  env: Readonly<Record<string, string | undefined>>,
+): Admission {
+  return (
+    options.admission ??
+    new Admission({
+      ...admissionOptionsFromEnv(env),
+      ...(options.allowedOrigins !== undefined ? { allowedOrigins: options.allowedOrigins } : {}),
+      ...(options.trustProxy !== undefined ? { trustProxy: options.trustProxy } : {}),
+    })
+  );
 }
 
 /** Origin and proxy settings from environment variables (a bad value throws an Error naming it). */

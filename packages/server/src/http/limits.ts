@@ -8,6 +8,14 @@ export interface HttpLimits {
    * served), at most 10 000 — so a flood of idle sockets cannot exhaust file descriptors (EMFILE).
    */
   maxConnections: number;
+  /**
+   * Most open connections from one client address (HTTP and WebSocket together, counted from the
+   * moment they connect, before a byte of the request is read); further ones are closed at once —
+   * so one address's half-sent requests cannot fill {@link maxConnections}. A trusted proxy's
+   * connections are not counted (every client behind it shares its address). Default 96: an
+   * address's share of WebSockets (`MAX_SOCKETS_PER_ADDRESS`) and a few browsers' HTTP connections.
+   */
+  maxConnectionsPerAddress: number;
   /** The request line and headers must arrive within this many ms. Default 10 000. */
   headersTimeoutMs: number;
   /**
@@ -44,6 +52,7 @@ function defaultMaxConnections(): number {
 /** The defaults of {@link HttpLimits}. */
 export const DEFAULT_HTTP_LIMITS: Readonly<HttpLimits> = Object.freeze({
   maxConnections: defaultMaxConnections(),
+  maxConnectionsPerAddress: 96,
   headersTimeoutMs: 10_000,
   requestTimeoutMs: 15_000,
   keepAliveTimeoutMs: 5_000,

@@ -7,7 +7,7 @@
 import type http from 'node:http';
 import type { Duplex } from 'node:stream';
 import { WebSocketServer, type WebSocket } from 'ws';
-import { NAME_PATTERN } from 'fixedstep';
+import { NAME_PATTERN, type WireProtocol } from 'fixedstep';
 import type { Admission } from './admission.js';
 import { claimUpgradePaths, shouldRefuseUpgrade } from './upgrade-paths.js';
 
@@ -23,6 +23,19 @@ export interface WebSocketEndpointSetup {
   /** Largest message a client may send (`ws` refuses a larger frame before buffering it). */
   maxPayload: number;
   admission: Admission;
+  /** The protocol its clients speak: a text frame is refused with its `error` message. */
+  protocol: WireProtocol<{ type: string }, object>;
+}
+
+/** The close code of a connection that sent a text frame (RFC 6455: data it cannot accept). */
+export const CLOSE_UNSUPPORTED_DATA = 1003;
+
+/** Answers a text frame: the protocol's fatal `BAD_MESSAGE`, then close code 1003. */
+function refuseText(ws: WebSocket, protocol: WireProtocol<{ type: string }, object>): void {
+  if (ws.readyState !== ws.OPEN) return;
+  const message = `${protocol.name} messages are binary frames, not text`;
+  ws.send(protocol.encode({ type: 'error', code: 'BAD_MESSAGE', fatal: true, message } as never));
+  ws.close(CLOSE_UNSUPPORTED_DATA, 'binary frames only');
 }
 
 /** Where an admitted connection comes from. */
@@ -45,7 +58,9 @@ export function refuseUpgrade(socket: Duplex, status: string, reason = ''): void
 /**
  * One WebSocket surface on an `http.Server`. Upgrades to its path are admitted (origin, address,
  * the per-address share of sockets) and become {@link connected} calls; a bad room name in the URL
- * gets 400; other paths are left to other endpoints (404 when nobody owns them).
+ * gets 400; other paths are left to other endpoints (404 when nobody owns them). Every protocol is
+ * binary: a text frame is answered here, the same on every surface — the protocol's fatal
+ * `BAD_MESSAGE` error, then close code 1003 — before the surface's own handlers see it.
  */
 export abstract class WebSocketEndpoint {
   readonly path: string;
@@ -115,6 +130,10 @@ export abstract class WebSocketEndpoint {
       socket.once('close', admitted.release);
       this.wss.handleUpgrade(req, socket, head, (ws) => {
         ws.once('close', admitted.release);
+        // First of its listeners: the surface's own see a text frame only after it is refused.
+        ws.on('message', (_data, isBinary) => {
+          if (!isBinary) refuseText(ws, setup.protocol);
+        });
         this.connected(ws, { address: admitted.address, ...(room !== undefined ? { room } : {}) });
       });
     };

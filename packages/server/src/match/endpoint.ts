@@ -6,8 +6,10 @@
 import type http from 'node:http';
 import type { RawData, WebSocket } from 'ws';
 import {
+  LivenessClock,
   MATCH_PROTOCOL,
   ProtocolError,
+  STALL_TOLERANCE_MS,
   TokenBucket,
   gameCatalog,
   performanceClock,
@@ -20,7 +22,12 @@ import {
   type NetErrorCode,
 } from 'fixedstep';
 import { GAMES } from '@fixedstep/games';
-import { Admission, type OriginPolicy, type TrustedProxy } from '../http/admission.js';
+import {
+  endpointAdmission,
+  type Admission,
+  type OriginPolicy,
+  type TrustedProxy,
+} from '../http/admission.js';
 import { WebSocketEndpoint, type UpgradeInfo } from '../http/websocket-endpoint.js';
 import { MatchQueue, DEFAULT_MATCHMAKING_LIMITS, type MatchmakingLimits } from './queue.js';
 import { MatchTickets } from './tickets.js';
@@ -52,6 +59,11 @@ export interface MatchmakingEndpointOptions {
   /** See {@link MatchQueue}'s fill window. */
   fillWindowMs?: number;
   /**
+   * Whether players from one client address may be matched with each other. Default
+   * `isLoopbackKey`: this machine's own tabs only, never any other address with itself.
+   */
+  matchesItself?: (address: string) => boolean;
+  /**
    * Signs the tickets of matched players. Default: {@link MatchTickets} with
    * `FIXEDSTEP_MATCH_SECRET` — give the relay the same (`createServer` does).
    */
@@ -66,8 +78,21 @@ export interface MatchmakingEndpointOptions {
   requestTimeoutMs?: number;
   /** The clock waits are measured on. Default the process's monotonic clock. */
   clock?: Clock;
+  /**
+   * A gap between two sweeps longer than this is the server's own stall: only this much of it
+   * counts against the waits (a ready check, a queue deadline), so players whose answers wait
+   * unread in a stalled server's sockets are not dropped as no-shows. Default
+   * `STALL_TOLERANCE_MS` (1 s), as the room core's liveness; `Infinity` for a manual clock whose
+   * jumps are no stalls.
+   */
+  stallToleranceMs?: number;
   /** Random bytes for room names. Default `crypto.randomBytes`. */
   randomBytes?: (n: number) => Uint8Array;
+  /**
+   * Where admission settings not given here are read from (`FIXEDSTEP_*`: origins, proxy), as for
+   * every surface. Default `process.env`.
+   */
+  env?: Readonly<Record<string, string | undefined>>;
 }
 
 /** One matchmaking connection, as the queue holds it. */
@@ -84,6 +109,9 @@ export class MatchEndpoint extends WebSocketEndpoint {
   /** The tickets it signs (the relay checks them with {@link MatchTickets.verify}). */
   readonly tickets: MatchTickets;
   private readonly clock: Clock;
+  /** The server's responsive time, on which the queue's waits run (see `stallToleranceMs`). */
+  private readonly liveness: LivenessClock;
+  private readonly responsive: Clock;
   private readonly requestTimeoutMs: number;
   private readonly sweepTimer: ReturnType<typeof setInterval>;
   private open = 0;
@@ -93,24 +121,23 @@ export class MatchEndpoint extends WebSocketEndpoint {
       path: options.path ?? '/match',
       rooms: 'none',
       maxPayload: MATCH_PROTOCOL.largest('client'),
-      admission:
-        options.admission ??
-        new Admission({
-          ...(options.allowedOrigins !== undefined
-            ? { allowedOrigins: options.allowedOrigins }
-            : {}),
-          ...(options.trustProxy !== undefined ? { trustProxy: options.trustProxy } : {}),
-        }),
+      protocol: MATCH_PROTOCOL,
+      admission: endpointAdmission(options, options.env ?? process.env),
     });
     this.clock = options.clock ?? performanceClock();
+    const clock = this.clock;
+    const liveness = new LivenessClock(options.stallToleranceMs ?? STALL_TOLERANCE_MS);
+    this.liveness = liveness;
+    this.responsive = { now: () => liveness.at(clock.now()) };
     this.requestTimeoutMs = options.requestTimeoutMs ?? MATCH_REQUEST_TIMEOUT_MS;
     this.tickets = options.tickets ?? new MatchTickets();
     this.queue = new MatchQueue<Connection>({
-      clock: this.clock,
+      clock: this.responsive,
       catalog: options.catalog ?? gameCatalog(options.games ?? GAMES),
       limits: { ...DEFAULT_MATCHMAKING_LIMITS, ...options.limits },
       ...(options.acceptMs !== undefined ? { acceptMs: options.acceptMs } : {}),
       ...(options.fillWindowMs !== undefined ? { fillWindowMs: options.fillWindowMs } : {}),
+      ...(options.matchesItself ? { matchesItself: options.matchesItself } : {}),
       ...(options.randomBytes ? { randomBytes: options.randomBytes } : {}),
     });
     this.sweepTimer = setInterval(() => {
@@ -119,12 +146,17 @@ export class MatchEndpoint extends WebSocketEndpoint {
     this.sweepTimer.unref();
   }
 
+  /** Counters: the time the server's sweeps stalled (not counted against any wait), ms. */
+  readonly stats = { stalledMs: 0 };
+
   /** Open matchmaking connections (waiting or not yet sent their request). */
   get connections(): number {
     return this.open;
   }
 
   private sweep(): void {
+    this.liveness.update(this.clock.now());
+    this.stats.stalledMs = this.liveness.stalledMs;
     const s = this.queue.sweep();
     for (const m of s.expired) m.data.end({ type: 'no-match' });
     for (const m of s.noShows) {
@@ -137,7 +169,7 @@ export class MatchEndpoint extends WebSocketEndpoint {
     }
     for (const m of s.requeued) m.data.send({ type: 'queued', timeoutMs: 0 });
     for (const p of s.proposed) {
-      const acceptMs = Math.max(1, Math.round(p.deadline - this.clock.now()));
+      const acceptMs = Math.max(1, Math.round(p.deadline - this.responsive.now()));
       for (const m of p.members) m.data.send({ type: 'found', players: p.players, acceptMs });
     }
   }
@@ -162,19 +194,25 @@ export class MatchEndpoint extends WebSocketEndpoint {
     const fail = (code: NetErrorCode, message: string) => {
       connection.end({ type: 'error', code, fatal: true, message });
     };
-    const timer = setTimeout(() => {
-      fail('TIMEOUT', `no request within ${this.requestTimeoutMs} ms`);
-    }, this.requestTimeoutMs);
-    timer.unref();
+    // The request deadline runs on the responsive time too: a request that waited, unread, through
+    // a stall of the server is not late.
+    const openedAt = this.responsive.now();
+    let timer: ReturnType<typeof setTimeout>;
+    const arm = (ms: number) => {
+      timer = setTimeout(() => {
+        const left = this.requestTimeoutMs - (this.responsive.now() - openedAt);
+        if (left > 0) arm(left);
+        else fail('TIMEOUT', `no request within ${this.requestTimeoutMs} ms`);
+      }, ms);
+      timer.unref();
+    };
+    arm(this.requestTimeoutMs);
     ws.on('message', (data: RawData, isBinary: boolean) => {
-      if (done) return;
+      // A text frame was refused by the endpoint (the base class).
+      if (done || !isBinary) return;
       const bytes = Array.isArray(data) ? Buffer.concat(data) : Buffer.from(data as Buffer);
       if (!bucket.take(bytes.length, this.clock.now())) {
         fail('RATE_LIMIT', 'too many messages');
-        return;
-      }
-      if (!isBinary) {
-        fail('BAD_MESSAGE', 'quick-match messages are binary frames');
         return;
       }
       let m: MatchClientMessage;

@@ -16,9 +16,9 @@ import {
 } from 'fixedstep';
 import { GAMES } from '@fixedstep/games';
 import {
-  Admission,
-  admissionOptionsFromEnv,
+  endpointAdmission,
   roomCapsFromEnv,
+  type Admission,
   type OriginPolicy,
   type TrustedProxy,
 } from '../http/admission.js';
@@ -71,11 +71,6 @@ export class RelayEndpoint extends WebSocketEndpoint {
 
   constructor(server: http.Server, options: RelayEndpointOptions = {}) {
     const { env = process.env, ...given } = options;
-    const merged: RelayEndpointOptions = {
-      ...admissionOptionsFromEnv(env),
-      ...roomCapsFromEnv(env),
-      ...given,
-    };
     const {
       path = '/ws',
       updateIntervalMs = RELAY_UPDATE_MS,
@@ -83,7 +78,7 @@ export class RelayEndpoint extends WebSocketEndpoint {
       allowedOrigins,
       trustProxy,
       ...relayOptions
-    } = merged;
+    } = { ...roomCapsFromEnv(env), ...given };
     const clock = relayOptions.clock ?? performanceClock();
     const relay = createRelay({ ...relayOptions, clock });
     super(server, {
@@ -93,12 +88,15 @@ export class RelayEndpoint extends WebSocketEndpoint {
         ...RELAY_PROTOCOL.limits,
         ...relayOptions.limits,
       }),
-      admission:
-        admission ??
-        new Admission({
+      protocol: RELAY_PROTOCOL,
+      admission: endpointAdmission(
+        {
+          ...(admission !== undefined ? { admission } : {}),
           ...(allowedOrigins !== undefined ? { allowedOrigins } : {}),
           ...(trustProxy !== undefined ? { trustProxy } : {}),
-        }),
+        },
+        env,
+      ),
     });
     this.relay = relay;
     this.timer = setInterval(() => {

@@ -12,7 +12,13 @@ import {
   performanceClock,
   type SignallingHubOptions,
 } from 'fixedstep';
-import { Admission, type OriginPolicy, type TrustedProxy } from '../http/admission.js';
+import {
+  endpointAdmission,
+  roomCapsFromEnv,
+  type Admission,
+  type OriginPolicy,
+  type TrustedProxy,
+} from '../http/admission.js';
 import { WebSocketEndpoint, type UpgradeInfo } from '../http/websocket-endpoint.js';
 
 /** How often the hub's liveness and time-outs are checked, ms. */
@@ -28,6 +34,11 @@ export interface SignallingEndpointOptions extends Partial<SignallingHubOptions>
   allowedOrigins?: OriginPolicy;
   /** Read the client address from a proxy's header. Default: none. */
   trustProxy?: TrustedProxy;
+  /**
+   * Where options not given here are read from (`FIXEDSTEP_*`: origins, proxy, the room core's
+   * caps), as for every surface. Default `process.env`; pass `{}` to ignore it.
+   */
+  env?: Readonly<Record<string, string | undefined>>;
 }
 
 /** Signalling attached to an HTTP server (see {@link attachSignalling}). */
@@ -36,7 +47,14 @@ export class SignallingEndpoint extends WebSocketEndpoint {
   private readonly timer: ReturnType<typeof setInterval>;
 
   constructor(server: http.Server, options: SignallingEndpointOptions = {}) {
-    const { path = '/signal', admission, allowedOrigins, trustProxy, ...hubOptions } = options;
+    const { env = process.env, ...given } = options;
+    const {
+      path = '/signal',
+      admission,
+      allowedOrigins,
+      trustProxy,
+      ...hubOptions
+    } = { ...roomCapsFromEnv(env), ...given };
     const clock = hubOptions.clock ?? performanceClock();
     const hub = new SignallingHub({ ...hubOptions, clock });
     super(server, {
@@ -47,12 +65,15 @@ export class SignallingEndpoint extends WebSocketEndpoint {
         ...SIGNAL_PROTOCOL.limits,
         ...hubOptions.limits,
       }),
-      admission:
-        admission ??
-        new Admission({
+      protocol: SIGNAL_PROTOCOL,
+      admission: endpointAdmission(
+        {
+          ...(admission !== undefined ? { admission } : {}),
           ...(allowedOrigins !== undefined ? { allowedOrigins } : {}),
           ...(trustProxy !== undefined ? { trustProxy } : {}),
-        }),
+        },
+        env,
+      ),
     });
     this.hub = hub;
     this.timer = setInterval(() => {

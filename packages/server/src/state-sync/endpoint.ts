@@ -12,8 +12,9 @@ import type { WebSocket } from 'ws';
 import { STATE_SYNC_PROTOCOL, type RoomHostOptions, type StateSyncRoomDefaults } from 'fixedstep';
 import type { FromWorker, ToWorker, WorkerSetup } from './messages.js';
 import {
-  Admission,
+  endpointAdmission,
   roomCapsFromEnv,
+  type Admission,
   type OriginPolicy,
   type TrustedProxy,
 } from '../http/admission.js';
@@ -21,6 +22,12 @@ import { WebSocketEndpoint, type UpgradeInfo } from '../http/websocket-endpoint.
 
 /** How often each worker advances its rooms, ms: a 60 Hz tick is stepped within 4 ms of its time. */
 export const STATE_SYNC_UPDATE_MS = 4;
+/**
+ * How often the main thread tells each worker it is responsive, ms: while it stalls (and its
+ * sockets go unread), the workers' liveness stops — a member's silence then is not its own. Well
+ * within the room core's stall tolerance (1 s by default).
+ */
+export const STATE_SYNC_HEARTBEAT_MS = 100;
 /** A peer that does not read is dropped when this much is waiting to be sent to it. */
 const MAX_BUFFERED = 4 << 20;
 
@@ -54,7 +61,7 @@ export interface StateSyncEndpointOptions {
   trustProxy?: TrustedProxy;
   /** Where problems are reported (a worker that failed, a room whose game threw). Default: console.error. */
   log?: (message: string) => void;
-  /** Where `FIXEDSTEP_*` caps are read from. Default `process.env`. */
+  /** Where `FIXEDSTEP_*` settings (caps, origins, proxy) are read from. Default `process.env`. */
   env?: Readonly<Record<string, string | undefined>>;
 }
 
@@ -97,6 +104,7 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
   private readonly slots: Slot[];
   private nextId = 1;
   private closing = false;
+  private readonly heartbeat: ReturnType<typeof setInterval>;
 
   constructor(server: http.Server, options: StateSyncEndpointOptions = {}) {
     const count = options.workers ?? Math.max(1, Math.min(4, availableParallelism() - 1));
@@ -113,14 +121,8 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
         ...STATE_SYNC_PROTOCOL.limits,
         ...options.room?.limits,
       }),
-      admission:
-        options.admission ??
-        new Admission({
-          ...(options.allowedOrigins !== undefined
-            ? { allowedOrigins: options.allowedOrigins }
-            : {}),
-          ...(options.trustProxy !== undefined ? { trustProxy: options.trustProxy } : {}),
-        }),
+      protocol: STATE_SYNC_PROTOCOL,
+      admission: endpointAdmission(options, options.env ?? process.env),
     });
     this.workers = count;
     this.log =
@@ -141,6 +143,10 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
     };
     this.slots = Array.from({ length: count }, (_, i) => this.spawn(i));
     this.ready = Promise.all(this.slots.map((s) => s.ready)).then(() => undefined);
+    this.heartbeat = setInterval(() => {
+      for (let i = 0; i < this.slots.length; i++) this.post(i, { t: 'beat' });
+    }, STATE_SYNC_HEARTBEAT_MS);
+    this.heartbeat.unref();
   }
 
   /** Room names now, with the worker each runs on. */
@@ -167,10 +173,8 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
     this.conns.set(id, { ws, room, worker: w });
     this.post(w, { t: 'open', id, room, address: info.address });
     ws.on('message', (data, isBinary) => {
-      if (!isBinary) {
-        ws.close(1003, 'binary messages only');
-        return;
-      }
+      // A text frame was refused by the endpoint (the base class).
+      if (!isBinary) return;
       const chunks = Array.isArray(data)
         ? data
         : [data instanceof ArrayBuffer ? Buffer.from(data) : data];
@@ -195,6 +199,7 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
   /** Each worker says `SHUTDOWN` to its rooms' members, then ends. */
   protected async stop(): Promise<void> {
     this.closing = true;
+    clearInterval(this.heartbeat);
     await Promise.all(
       this.slots.map(
         (s) =>

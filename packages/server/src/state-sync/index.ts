@@ -3,5 +3,10 @@
  * pool of worker threads.
  * @module
  */
-export { attachStateSync, StateSyncEndpoint, STATE_SYNC_UPDATE_MS } from './endpoint.js';
+export {
+  attachStateSync,
+  StateSyncEndpoint,
+  STATE_SYNC_HEARTBEAT_MS,
+  STATE_SYNC_UPDATE_MS,
+} from './endpoint.js';
 export type { StateSyncEndpointOptions } from './endpoint.js';

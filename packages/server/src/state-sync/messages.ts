@@ -24,6 +24,8 @@ export type ToWorker =
   | { t: 'open'; id: number; room: string; address: string }
   | { t: 'data'; id: number; bytes: ArrayBuffer }
   | { t: 'close'; id: number; reason: string }
+  /** The main thread is responsive (see `RoomHost.heartbeat`). */
+  | { t: 'beat' }
   | { t: 'stop' };
 
 /** Worker → main thread. */

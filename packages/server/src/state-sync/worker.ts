@@ -85,6 +85,10 @@ function handle(m: ToWorker): void {
       connections.get(m.id)?.remoteClose(m.reason);
       connections.delete(m.id);
       break;
+    case 'beat':
+      // The main thread reads the sockets: while it stalls, no member's silence is its own.
+      server.heartbeat();
+      break;
     case 'stop':
       if (timer !== undefined) clearInterval(timer);
       server.close();

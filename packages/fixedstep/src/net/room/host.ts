@@ -300,6 +300,17 @@ export abstract class RoomHost<
     }
   }
 
+  /**
+   * A heartbeat of the stage in front of this host — what reads the clients' sockets and hands it
+   * their bytes, such as the main thread of a server whose rooms run in a worker thread. Send one
+   * every 100 ms or so (well within `stallToleranceMs`) once you send any: the host's responsive
+   * time then also stops while that stage is stalled, so its members' silence meanwhile — their
+   * messages waiting, unread, in its sockets — is not held against them.
+   */
+  heartbeat(now = this.clock.now()): void {
+    this.liveness.upstream(now);
+  }
+
   /** Whether {@link drain} was called: no new rooms are made. */
   get draining(): boolean {
     return this.drainState !== undefined;
@@ -422,7 +433,14 @@ export abstract class RoomHost<
         return undefined;
       }
     }
-    const refusal = room.seat(m, plan, now, this.settings);
+    // A seat's connection is live while it was heard within two probe intervals (a quiet but
+    // live client answers every probe): its token is then in use, and no second connection takes it.
+    const live = this.liveness.at(now);
+    const refusal = room.seat(m, plan, now, {
+      maxSpectators: this.settings.maxSpectators,
+      live: (holder) =>
+        holder.state !== 'closed' && live - holder.heardAt < 2 * this.settings.probeAfterMs,
+    });
     if (refusal !== undefined) {
       this.drop(m, refusal[0], refusal[1]);
       return undefined;

@@ -10,10 +10,17 @@
  * `toleranceMs` is a stall, and only `toleranceMs` of it counts. A member's silence is measured on
  * this clock, so when a stalled server wakes up to a backlog of its players' messages, it does not
  * close them as "silent" before it has read what they sent.
+ *
+ * When the host runs behind another stage — a worker thread fed by the main thread that reads the
+ * sockets — that stage's stalls leave the clients' messages unread too: once told of it
+ * ({@link upstream}), the clock also stops while that stage has not been heard from for more than
+ * `toleranceMs`.
  */
 export class LivenessClock {
   private last: number | undefined;
   private responsive = 0;
+  /** When the stage in front last showed it was responsive; undefined: no such stage. */
+  private upstreamAt: number | undefined;
   /** Time the server lost to stalls so far, in ms. */
   stalledMs = 0;
 
@@ -22,16 +29,35 @@ export class LivenessClock {
   /** The responsive time at real time `now` (ms). */
   at(now: number): number {
     if (this.last === undefined) return this.responsive;
-    return this.responsive + Math.min(Math.max(0, now - this.last), this.toleranceMs);
+    return this.responsive + this.counted(this.last, now);
   }
 
   /** The host's periodic call: advances the responsive time to `now`. */
   update(now: number): void {
     if (this.last !== undefined) {
-      const gap = Math.max(0, now - this.last);
-      if (gap > this.toleranceMs) this.stalledMs += gap - this.toleranceMs;
+      const counted = this.counted(this.last, now);
+      this.stalledMs += Math.max(0, now - this.last) - counted;
+      this.responsive += counted;
     }
-    this.responsive = this.at(now);
     this.last = now;
+  }
+
+  /**
+   * The stage in front of the host (what reads the sockets and hands the host their bytes) was
+   * responsive at `now`: call it every few hundred ms at most — well within `toleranceMs` — once
+   * you call it at all.
+   */
+  upstream(now: number): void {
+    this.upstreamAt = now;
+  }
+
+  /**
+   * How much of the real time from `from` (the last update) to `to` counts: no more than
+   * `toleranceMs` past the host's last update, nor past the stage in front's last sign of life.
+   */
+  private counted(from: number, to: number): number {
+    let end = Math.min(to, from + this.toleranceMs);
+    if (this.upstreamAt !== undefined) end = Math.min(end, this.upstreamAt + this.toleranceMs);
+    return Math.max(0, end - from);
   }
 }

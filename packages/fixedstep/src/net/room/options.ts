@@ -6,7 +6,11 @@ import type { RateLimits } from './bucket.js';
 
 /** A connection must send its join (hello) within this: clients send it at once. */
 export const HELLO_TIMEOUT_MS = 5000;
-/** A member silent this long is pinged (a live client answers even from a background tab). */
+/**
+ * A member silent this long is pinged (a live client answers even from a background tab). One heard
+ * within two of these is live: its reconnect token takes no seat from it (a stolen token is no use
+ * while its owner plays).
+ */
 export const PROBE_AFTER_MS = 1000;
 /** A member silent this long — ten unanswered probes — is dropped and its seat held for it. */
 export const SILENCE_TIMEOUT_MS = 10_000;
@@ -26,11 +30,15 @@ export const WAITING_ROOM_TTL_MS = 120_000;
 export const IDLE_ROOM_TTL_MS = 120_000;
 /**
  * At capacity, a room nobody has played in for this long makes way for a new one — the idlest,
- * of the address holding the most, first — before a new room is refused.
+ * of the address holding the most, first — before a new room is refused: a new honest room starts
+ * within 5 s however many addresses squat the rest.
  */
 export const IDLE_GRACE_MS = 5000;
-/** At capacity, a room still waiting for players this long after it was made makes way too. */
-export const WAITING_GRACE_MS = 10_000;
+/**
+ * At capacity, a room still waiting for players this long after it was made makes way too — as
+ * soon as an idle one does (the 5 s goal holds for rooms squatted while waiting, too).
+ */
+export const WAITING_GRACE_MS = 5000;
 /** An empty running room is kept this long, so its players can come back with their tokens. */
 export const EMPTY_ROOM_TTL_MS = 30_000;
 /** A dropped player's seat is held for it this long: no stranger takes it meanwhile. */

@@ -140,14 +140,15 @@ export abstract class Room<M extends Member> {
 
   /**
    * Finds `m` a place for `request`: a spectator seat with the invite; a player's own seat back
-   * with its token (replacing a connection still in it); the seat a ticket names; or the first
-   * seat neither taken nor held. Returns why not, or undefined when seated (`m.slot`, `m.peer`).
+   * with its token (replacing a connection still in it, unless that one is `live`: a stolen token
+   * takes no seat from its playing owner); the seat a ticket names; or the first seat neither taken
+   * nor held. Returns why not, or undefined when seated (`m.slot`, `m.peer`).
    */
   seat(
     m: M,
     request: SeatRequest,
     now: number,
-    limits: { maxSpectators: number },
+    limits: { maxSpectators: number; live?: (member: M) => boolean },
   ): [NetErrorCode, string] | undefined {
     if (request.role === 'spectator') {
       if (request.token === undefined || !sameToken(request.token, this.invite)) {
@@ -165,6 +166,14 @@ export abstract class Room<M extends Member> {
     if (request.token !== undefined) {
       slot = this.seats.findIndex((s) => sameToken(s.token, request.token!));
       if (slot < 0) return ['BAD_TOKEN', 'no seat of this room has that token'];
+      const holder = this.seats[slot]!.member;
+      if (holder !== undefined && holder !== m && limits.live?.(holder) === true) {
+        return [
+          'ROOM_FULL',
+          `seat ${slot} is in use: its player is connected and live (a reconnect takes the seat ` +
+            'once that connection has closed or gone quiet)',
+        ];
+      }
     } else if (request.slot !== undefined) {
       slot = request.slot;
       const s = this.seats[slot];
