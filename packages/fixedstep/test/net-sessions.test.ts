@@ -417,6 +417,33 @@ describe('the handshake and the room', () => {
       'room-removed',
     ]);
   });
+  it('a token whose seat is still connected: a live owner keeps it, a silent one is replaced within a probe', () => {
+    const w = world();
+    void w.add({ kind: 'lockstep' }, 2, 100_000);
+    void w.add({ kind: 'lockstep' }, 2, 100_000);
+    w.scheduler.runUntil(3000);
+    const token = w.sessions[1]!.welcome!.token;
+    // A thief with the token while its owner plays: the owner answers, the thief is refused.
+    const errors: string[] = [];
+    const onEvent = (e: NetEvent) => {
+      if (e.type === 'error') errors.push(e.error.code);
+    };
+    void w.add({ kind: 'lockstep', joinAt: 3000, session: { token, onEvent } }, 2, 100_000);
+    w.scheduler.runUntil(6000);
+    expect(errors).toEqual(['ROOM_FULL']);
+    expect(w.relay.room('r')!.members.map((m) => m.peer)).toEqual([0, 1]);
+    // The owner's network changes: its old path goes silent but stays open; its new connection
+    // brings the token and takes the seat about a second later.
+    w.links[1]!.setConditions({ loss: 1 });
+    w.scheduler.runUntil(6500);
+    void w.add({ kind: 'lockstep', joinAt: 6500, session: { token } }, 2, 100_000);
+    w.scheduler.runUntil(9000);
+    const back = w.sessions[3]!;
+    expect(back.welcome?.slot).toBe(1);
+    expect(back.phase).toBe('running');
+    expect(w.relay.room('r')!.members).toHaveLength(2);
+  });
+
   it('keeps a room whose players all dropped while their seats are held; a token takes one back', () => {
     const w = world({ emptyRoomTtlMs: 5000, seatHoldMs: 20_000 });
     void w.add({ kind: 'lockstep' }, 2, 100_000);

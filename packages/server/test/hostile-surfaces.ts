@@ -94,6 +94,8 @@ export interface RoomSurface {
   invite(peer: Peer): Uint8Array;
   /** A ping a member may send any time: the server answers with a pong of its `id`. */
   ping(id: number): AnyMessage;
+  /** What a member sends to leave on purpose (signalling: none; closing is leaving). */
+  leave(peer: Peer): AnyMessage | undefined;
 }
 
 /** One surface. */
@@ -151,14 +153,22 @@ function stateAck(peer: Peer): number {
 
 function welcomeOf(peer: Peer): {
   room: number;
+  peer: number;
   slot: number;
   token: Uint8Array;
   invite: Uint8Array;
 } {
   const w = peer.first('welcome') as
-    { room?: number; slot: number; token: Uint8Array; invite: Uint8Array } | undefined;
+    | { room?: number; peer?: number; slot: number; token: Uint8Array; invite: Uint8Array }
+    | undefined;
   if (w === undefined) throw new Error(`${peer.address} has no welcome`);
-  return { room: w.room ?? 0, slot: w.slot, token: w.token, invite: w.invite };
+  return {
+    room: w.room ?? 0,
+    peer: w.peer ?? w.slot,
+    slot: w.slot,
+    token: w.token,
+    invite: w.invite,
+  };
 }
 
 function roomUrl(base: string, path: string, room: string | undefined): string {
@@ -247,6 +257,10 @@ const RELAY: Surface = {
     token: (peer) => welcomeOf(peer).token,
     invite: (peer) => welcomeOf(peer).invite,
     ping: (id) => ({ type: 'ping', id, time: 0 }) satisfies NetMessage,
+    leave: (peer) => {
+      const w = welcomeOf(peer);
+      return { type: 'leave', room: w.room, peer: w.peer, reason: 'left' } satisfies NetMessage;
+    },
   },
 };
 
@@ -330,6 +344,7 @@ const STATE: Surface = {
     token: (peer) => welcomeOf(peer).token,
     invite: (peer) => welcomeOf(peer).invite,
     ping: (id) => ({ type: 'ping', id, time: 0 }) satisfies StateSyncMessage,
+    leave: () => ({ type: 'leave' }) satisfies StateSyncMessage,
   },
 };
 
@@ -397,6 +412,7 @@ const SIGNAL: Surface = {
     },
     invite: (peer) => (peer.first('joined') as unknown as { invite: Uint8Array }).invite,
     ping: (id) => ({ type: 'ping', id, time: 0 }) satisfies SignalMessage,
+    leave: () => undefined,
   },
 };
 

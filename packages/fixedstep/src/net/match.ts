@@ -4,7 +4,7 @@ import type { AnyGameDefinition } from '../sim/game.js';
 import type { Simulation } from '../sim/simulation.js';
 import type { WelcomeMessage } from './relay/messages.js';
 import { gameCatalog, type GameCatalog, type HostedGame } from './room/game-join.js';
-import type { ConnectionInfo } from './room/host.js';
+import type { ConnectionInfo } from './room/host-types.js';
 import { Relay, type RelayOptions, type RelayStats, type RoomInfo } from './relay/relay.js';
 import { EventScheduler } from './scheduler.js';
 import type { NetSession } from './sessions/base.js';

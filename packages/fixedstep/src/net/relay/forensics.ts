@@ -6,7 +6,7 @@
  * @module
  */
 import { diffSnapshots, type SnapshotDiff } from '../forensics.js';
-import type { RoomContext } from '../room/host.js';
+import type { RoomContext } from '../room/host-types.js';
 import type { NetMessage } from './messages.js';
 import type { RelayMember, RelayRoom, RelayRoomEvents, RelaySettings } from './room.js';
 

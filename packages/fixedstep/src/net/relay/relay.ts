@@ -5,7 +5,8 @@
  */
 import type { Clock } from '../../time/drivers.js';
 import { gameJoinPlan, type GameCatalog, type TicketVerifier } from '../room/game-join.js';
-import { RoomHost, type ConnectionInfo, type HostEvent, type HostStats } from '../room/host.js';
+import { RoomHost } from '../room/host.js';
+import type { ConnectionInfo, HostEvent, HostStats } from '../room/host-types.js';
 import type { TokenBucket } from '../room/bucket.js';
 import type { RoomHostOptions } from '../room/options.js';
 import type { Transport } from '../transport.js';

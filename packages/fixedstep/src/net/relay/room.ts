@@ -4,7 +4,7 @@
  * @module
  */
 import { InputRing } from '../history.js';
-import type { RoomContext } from '../room/host.js';
+import type { RoomContext } from '../room/host-types.js';
 import type { HostedGame } from '../room/game-join.js';
 import { Member, Room } from '../room/room.js';
 import type { TokenBucket } from '../room/bucket.js';

@@ -6,7 +6,7 @@
 import type { AnyGameDefinition } from '../../sim/game.js';
 import type { InputSchema } from '../../sim/input-schema.js';
 import type { JoinFields, NetErrorCode } from '../wire/common.js';
-import type { JoinPlan } from './host.js';
+import type { JoinPlan } from './host-types.js';
 
 /** What a host needs to know of a game: a game definition fits. */
 export interface HostedGame {

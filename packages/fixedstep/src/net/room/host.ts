@@ -17,102 +17,16 @@ import {
   type RoomHostOptions,
   type RoomHostSettings,
 } from './options.js';
-import type { Member, Room, SeatRequest } from './room.js';
+import type { Member, Room } from './room.js';
+import {
+  ADOPTED,
+  type ConnectionInfo,
+  type HostEvent,
+  type HostStats,
+  type JoinPlan,
+  type RoomContext,
+} from './host-types.js';
 import { cryptoU32, newToken } from './tokens.js';
-
-/** The creator address of an adopted room (not counted against any address). */
-export const ADOPTED = '(adopted)';
-
-/** Where a connection comes from, for {@link RoomHost.accept}. */
-export interface ConnectionInfo {
-  /**
-   * The client's address (its IP, or any key: the per-address caps count connections and rooms by
-   * it). Default: one shared key, `"unknown"` — give it whenever you know it.
-   */
-  address?: string;
-  /**
-   * The room the connection's URL names (`/ws/<room>`): its join must be for this room, else it is
-   * dropped (`WRONG_ROOM`). Lets a load balancer route by room without reading the protocol.
-   */
-  room?: string;
-  /**
-   * Whether the transport delivers every message in order or closes (a WebSocket). Default: the
-   * transport's own `reliable`.
-   */
-  reliable?: boolean;
-}
-
-/** Counters of a host. */
-export interface HostStats {
-  connections: number;
-  rooms: number;
-  /** Rooms waiting for players (refreshed every housekeeping round, 250 ms). */
-  waitingRooms: number;
-  /** Distinct client addresses connected. */
-  addresses: number;
-  /** Players and spectators in rooms (refreshed every housekeeping round). */
-  members: number;
-  messagesIn: number;
-  messagesOut: number;
-  bytesIn: number;
-  bytesOut: number;
-  /** Connections dropped for misbehaviour, silence or caps, by code. */
-  dropped: Partial<Record<NetErrorCode, number>>;
-  /** Liveness pings sent to silent members. */
-  probes: number;
-  /** Rooms closed to make way for a new one at capacity (idle or long-waiting ones). */
-  evictions: number;
-  /** Rooms closed because nobody played in them. */
-  idleRooms: number;
-  /** Time the server's updates stalled (not counted as its members' silence), ms. */
-  stalledMs: number;
-}
-
-/** What every host reports. */
-export type HostEvent =
-  | { type: 'room-created'; room: string; game: string; players: number }
-  | { type: 'room-removed'; room: string }
-  | { type: 'room-closed'; room: string; code: NetErrorCode; message: string }
-  | { type: 'join'; room: string; peer: number; slot: number; late: boolean }
-  | { type: 'leave'; room: string; peer: number; reason: LeaveReason }
-  | { type: 'drop'; connection: number; code: NetErrorCode; message: string }
-  | { type: 'internal-error'; connection: number; error: unknown };
-
-/** What a room may ask of its host (`Msg`: its protocol's messages). */
-export interface RoomContext<M extends Member, Msg extends { type: string } = { type: string }> {
-  readonly settings: Readonly<RoomHostSettings>;
-  readonly clock: Clock;
-  /** Encodes and sends a message of the host's protocol. */
-  send(m: M, message: Msg): void;
-  sendBytes(m: M, bytes: Uint8Array): void;
-  /** A fatal error, then the connection is closed. */
-  drop(m: M, code: NetErrorCode, message: string, reason?: LeaveReason): void;
-  /** A violation: the first is told, more than `maxStrikes` drop the connection. */
-  strike(m: M, code: NetErrorCode, message: string): void;
-  /** The member leaves on its own (its seat is not held). */
-  leave(m: M): void;
-  /** How long `m` has been silent at server time `now`, on the responsive clock (ms). */
-  silence(m: M, now: number): number;
-  /** Reports an event of the room (joins, leaves) through the host. */
-  emit(event: HostEvent): void;
-  /** Closes a room: every connection in it is told `code` and closed, and the room removed. */
-  closeRoom(room: Room<M>, code: NetErrorCode, message: string): void;
-  /** A random u32 (seeds, request ids). */
-  readonly randomU32: () => number;
-}
-
-/** The room a join names, and how to make it when it does not exist yet. */
-export interface JoinPlan<R> extends SeatRequest {
-  room: string;
-  /** Makes the room (only called when admission allows a new one), or says why it cannot be. */
-  create: (number: number, tokens: () => Uint8Array) => R | [NetErrorCode, string];
-  /** Why an existing room does not take this join (another game), or undefined. */
-  fits?: (room: R) => [NetErrorCode, string] | undefined;
-  /** Why this join may not make the room (a `qm-` room is made by a match ticket only). */
-  mayCreate?: [NetErrorCode, string] | undefined;
-  /** Told when the join made the room (before it is seated in it). */
-  created?: (room: R) => void;
-}
 
 /**
  * Connections and rooms by name, with every protection in one place, so each room kind — the
@@ -149,6 +63,8 @@ export abstract class RoomHost<
   protected readonly settings: RoomHostSettings;
   protected readonly liveness: LivenessClock;
   protected readonly rooms = new Map<string, R>();
+  // Connections whose token names a seat still in use, waiting for its old connection's answer.
+  private readonly claims = new Map<M, { room: R; plan: JoinPlan<R>; since: number; holder: M }>();
   private readonly random: () => number;
   private readonly members = new Map<number, M>();
   private readonly connectionTally: AddressTally;
@@ -271,6 +187,7 @@ export abstract class RoomHost<
     this.liveness.update(now);
     this.stats.stalledMs = this.liveness.stalledMs;
     const housekeeping = now - this.lastHousekeeping >= HOUSEKEEPING_MS;
+    if (this.claims.size > 0) this.settleClaims(now);
     if (housekeeping) {
       this.lastHousekeeping = now;
       this.checkLiveness(now);
@@ -433,14 +350,28 @@ export abstract class RoomHost<
         return undefined;
       }
     }
-    // A seat's connection is live while it was heard within two probe intervals (a quiet but
-    // live client answers every probe): its token is then in use, and no second connection takes it.
+    // A token for a seat whose connection was heard lately: the seat's owner reconnecting from a
+    // new network (the old connection not dead yet), or someone who stole the token. Ask the old
+    // connection; if it answers, it keeps its seat (see settleClaims).
+    const holder =
+      plan.token !== undefined && plan.role === 'player' ? room.holderOf(plan.token) : undefined;
     const live = this.liveness.at(now);
-    const refusal = room.seat(m, plan, now, {
-      maxSpectators: this.settings.maxSpectators,
-      live: (holder) =>
-        holder.state !== 'closed' && live - holder.heardAt < 2 * this.settings.probeAfterMs,
-    });
+    if (
+      holder !== undefined &&
+      holder !== m &&
+      live - holder.heardAt < 2 * this.settings.probeAfterMs
+    ) {
+      m.state = 'claiming';
+      this.claims.set(m, { room, plan, since: live, holder });
+      this.probe(holder, now);
+      return undefined;
+    }
+    return this.seatIn(room, m, plan, now);
+  }
+
+  /** Seats `m` in `room` per `plan` and welcomes it; a refusal drops the connection. */
+  private seatIn(room: R, m: M, plan: JoinPlan<R>, now: number): R | undefined {
+    const refusal = room.seat(m, plan, now, { maxSpectators: this.settings.maxSpectators });
     if (refusal !== undefined) {
       this.drop(m, refusal[0], refusal[1]);
       return undefined;
@@ -450,6 +381,35 @@ export abstract class RoomHost<
     m.state = 'joining';
     room.welcome(m, now);
     return room;
+  }
+
+  /**
+   * Decides the seats claimed by token (see `join`): the old connection answered since the claim
+   * — a live player: the claimant is refused (`ROOM_FULL`); it closed, or stayed silent for a
+   * probe interval — gone: the claimant takes the seat and the old one is replaced.
+   */
+  private settleClaims(now: number): void {
+    const live = this.liveness.at(now);
+    for (const [m, c] of this.claims) {
+      if (m.state !== 'claiming') {
+        this.claims.delete(m);
+      } else if (this.rooms.get(c.room.name) !== c.room) {
+        this.claims.delete(m);
+        this.drop(m, 'NO_ROOM', `room ${c.room.name} has ended`);
+      } else if (c.holder.state !== 'closed' && c.holder.heardAt > c.since) {
+        this.claims.delete(m);
+        this.drop(
+          m,
+          'ROOM_FULL',
+          `seat ${c.holder.slot} is in use: its player is connected and answers (a reconnect takes ` +
+            'the seat once that connection has closed or gone quiet)',
+        );
+      } else if (c.holder.state === 'closed' || live - c.since >= this.settings.probeAfterMs) {
+        this.claims.delete(m);
+        m.state = 'new';
+        this.seatIn(c.room, m, c.plan, now);
+      }
+    }
   }
 
   /** Encodes and sends `message`. */
@@ -632,6 +592,14 @@ export abstract class RoomHost<
     return best;
   }
 
+  /** Pings `m` (a protocol whose server pings): a live client answers at once. */
+  private probe(m: M, now: number): void {
+    if (!this.probes) return;
+    m.probedAt = this.liveness.at(now);
+    this.stats.probes++;
+    this.send(m, { type: 'ping', id: this.nextProbeId++ >>> 0, time: now } as unknown as Msg);
+  }
+
   private checkLiveness(now: number): void {
     const s = this.settings;
     const live = this.liveness.at(now);
@@ -643,10 +611,8 @@ export abstract class RoomHost<
       }
       if (silent >= s.silenceTimeoutMs) {
         this.drop(m, 'TIMEOUT', `silent for ${Math.round(silent / 1000)} s`, 'timeout');
-      } else if (this.probes && silent >= s.probeAfterMs && live - m.probedAt >= s.probeAfterMs) {
-        m.probedAt = live;
-        this.stats.probes++;
-        this.send(m, { type: 'ping', id: this.nextProbeId++ >>> 0, time: now } as unknown as Msg);
+      } else if (silent >= s.probeAfterMs && live - m.probedAt >= s.probeAfterMs) {
+        this.probe(m, now);
       }
     }
   }

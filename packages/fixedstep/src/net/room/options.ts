@@ -7,9 +7,10 @@ import type { RateLimits } from './bucket.js';
 /** A connection must send its join (hello) within this: clients send it at once. */
 export const HELLO_TIMEOUT_MS = 5000;
 /**
- * A member silent this long is pinged (a live client answers even from a background tab). One heard
- * within two of these is live: its reconnect token takes no seat from it (a stolen token is no use
- * while its owner plays).
+ * A member silent this long is pinged (a live client answers even from a background tab). A token
+ * naming a seat whose connection was heard within two of these pings that connection first: if it
+ * answers within one of these, it keeps its seat (a stolen token is no use while its owner plays);
+ * if not, the token's bearer takes the seat (its owner, back from another network).
  */
 export const PROBE_AFTER_MS = 1000;
 /** A member silent this long — ten unanswered probes — is dropped and its seat held for it. */

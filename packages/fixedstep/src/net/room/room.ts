@@ -9,7 +9,11 @@ import type { TokenBucket } from './bucket.js';
 import { sameToken } from './tokens.js';
 
 /** Where a connection is: before its join, being seated (a late joiner's snapshot), in, gone. */
-export type MemberState = 'new' | 'joining' | 'member' | 'closed';
+/**
+ * Where a connection is: `new` (no join yet), `claiming` (its token names a seat whose connection
+ * still looks live: the host asks that one first), `joining`, `member`, `closed`.
+ */
+export type MemberState = 'new' | 'claiming' | 'joining' | 'member' | 'closed';
 
 /** One connection to a host, and its place in a room once it has one. */
 export class Member {
@@ -134,21 +138,26 @@ export abstract class Room<M extends Member> {
     return this.seats.every((s) => s.member === undefined) && this.spectators.size === 0;
   }
 
+  /** The connection in the seat `token` opens, if any. */
+  holderOf(token: Uint8Array): M | undefined {
+    return this.seats.find((s) => sameToken(s.token, token))?.member;
+  }
+
   get hasPlayers(): boolean {
     return this.seats.some((s) => s.member !== undefined);
   }
 
   /**
    * Finds `m` a place for `request`: a spectator seat with the invite; a player's own seat back
-   * with its token (replacing a connection still in it, unless that one is `live`: a stolen token
-   * takes no seat from its playing owner); the seat a ticket names; or the first seat neither taken
-   * nor held. Returns why not, or undefined when seated (`m.slot`, `m.peer`).
+   * with its token (replacing a connection still in it: the host first makes sure that one is
+   * gone, see `RoomHost`); the seat a ticket names; or the first seat neither taken nor held.
+   * Returns why not, or undefined when seated (`m.slot`, `m.peer`).
    */
   seat(
     m: M,
     request: SeatRequest,
     now: number,
-    limits: { maxSpectators: number; live?: (member: M) => boolean },
+    limits: { maxSpectators: number },
   ): [NetErrorCode, string] | undefined {
     if (request.role === 'spectator') {
       if (request.token === undefined || !sameToken(request.token, this.invite)) {
@@ -166,14 +175,6 @@ export abstract class Room<M extends Member> {
     if (request.token !== undefined) {
       slot = this.seats.findIndex((s) => sameToken(s.token, request.token!));
       if (slot < 0) return ['BAD_TOKEN', 'no seat of this room has that token'];
-      const holder = this.seats[slot]!.member;
-      if (holder !== undefined && holder !== m && limits.live?.(holder) === true) {
-        return [
-          'ROOM_FULL',
-          `seat ${slot} is in use: its player is connected and live (a reconnect takes the seat ` +
-            'once that connection has closed or gone quiet)',
-        ];
-      }
     } else if (request.slot !== undefined) {
       slot = request.slot;
       const s = this.seats[slot];

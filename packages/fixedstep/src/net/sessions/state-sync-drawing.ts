@@ -3,7 +3,11 @@
  * prediction plus a decaying correction offset — reading states, never writing one.
  * @module
  */
-import { PredictionSmoother, SnapshotTimeline, type StateSyncRender } from '../state-sync/render.js';
+import {
+  PredictionSmoother,
+  SnapshotTimeline,
+  type StateSyncRender,
+} from '../state-sync/render.js';
 
 /**
  * The drawing side of a {@link StateSyncSession}, kept apart from its connection and prediction:

@@ -12,7 +12,7 @@ import { gameSetup } from '../../sim/game.js';
 import type { Simulation } from '../../sim/simulation.js';
 import type { Clock } from '../../time/drivers.js';
 import { InputRing, SnapshotRing } from '../history.js';
-import { ADOPTED, type RoomContext } from '../room/host.js';
+import { ADOPTED, type RoomContext } from '../room/host-types.js';
 import type { RoomHostOptions } from '../room/options.js';
 import { Member, Room } from '../room/room.js';
 import { newToken } from '../room/tokens.js';

@@ -13,7 +13,8 @@ import {
   type HostedGame,
   type TicketVerifier,
 } from '../room/game-join.js';
-import { RoomHost, type ConnectionInfo, type HostEvent } from '../room/host.js';
+import { RoomHost } from '../room/host.js';
+import type { ConnectionInfo, HostEvent } from '../room/host-types.js';
 import type { RoomHostOptions } from '../room/options.js';
 import type { Transport } from '../transport.js';
 import {

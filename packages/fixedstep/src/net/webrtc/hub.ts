@@ -8,13 +8,8 @@
  */
 import type { Clock } from '../../time/drivers.js';
 import type { TokenBucket } from '../room/bucket.js';
-import {
-  RoomHost,
-  type ConnectionInfo,
-  type HostEvent,
-  type HostStats,
-  type RoomContext,
-} from '../room/host.js';
+import { RoomHost } from '../room/host.js';
+import type { ConnectionInfo, HostEvent, HostStats, RoomContext } from '../room/host-types.js';
 import type { RoomHostOptions } from '../room/options.js';
 import { Member, Room, type SeatRequest } from '../room/room.js';
 import { sameToken } from '../room/tokens.js';
