@@ -162,6 +162,30 @@ export interface FixedstepServer {
   close(): Promise<void>;
 }
 
+/**
+ * Under `createServer` every surface shares one admission: an origin or proxy setting given to one
+ * surface alone would be ignored, so it is refused with a sentence saying where it goes.
+ */
+function refuseSurfaceAdmission(options: ServerOptions): void {
+  const surfaces = {
+    relay: options.relay,
+    stateSync: options.stateSync,
+    signalling: options.signalling,
+    matchmaking: options.matchmaking,
+  };
+  for (const [surface, given] of Object.entries(surfaces)) {
+    if (typeof given !== 'object') continue;
+    for (const key of ['allowedOrigins', 'trustProxy'] as const) {
+      if (key in given && (given as Record<string, unknown>)[key] !== undefined) {
+        throw new TypeError(
+          `createServer: set ${key} on createServer itself, not on ${surface}: ` +
+            'every WebSocket surface shares one admission',
+        );
+      }
+    }
+  }
+}
+
 /** The host to print in a URL: loopback and wildcard addresses are best opened as `localhost`. */
 export function displayHost(host: string): string {
   if (['127.0.0.1', '::1', '0.0.0.0', '::', 'localhost', ''].includes(host)) return 'localhost';
@@ -237,6 +261,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     : (gamesOption as LoadedGames).games;
   const metrics = new ServerMetrics();
   const env = options.env ?? process.env;
+  refuseSurfaceAdmission(options);
   // One admission for every WebSocket surface: origins, client addresses, sockets per address.
   const fromEnv = admissionOptionsFromEnv(env);
   const trust = trustedProxy(options.trustProxy) ?? fromEnv.trustProxy;

@@ -534,6 +534,9 @@ describe('quick match over real sockets through createServer', () => {
     expect(await squatter.closed).toBe(1000);
     expect(squatter.got.at(-1)).toMatchObject({ type: 'error', code: 'NO_SHOW' });
     await expect.poll(() => honest.got.map((m) => m.type)).toEqual(['queued', 'found', 'queued']);
+    // Told the wait it has left: its own, less the 3 s the proposal took.
+    const [first, , again] = honest.got as { timeoutMs: number }[];
+    expect(again!.timeoutMs).toBe(first!.timeoutMs - 3000);
     expect(server.matchmaking?.queue.size).toBe(1);
     honest.ws.terminate();
     await expect.poll(() => server.matchmaking?.queue.size).toBe(0);

@@ -20,6 +20,7 @@ import {
 import { ctfGame, type Game } from '@fixedstep/games';
 import { attachRelay, type RelayEndpoint, type RelayEndpointOptions } from '../src/relay/index.js';
 import { addressKey, admissionOptionsFromEnv, roomCapsFromEnv } from '../src/http/admission.js';
+import { createServer } from '../src/index.js';
 
 /** What the relay's endpoint reads from the environment. */
 const relayEndpointOptionsFromEnv = (env: Record<string, string>) => ({
@@ -233,6 +234,29 @@ describe('options from the environment', () => {
     const url = `ws://127.0.0.1:${port}/ws`;
     expect(await upgrade(url, { Origin: `http://127.0.0.1:${port}` })).toBe(403);
     expect(await upgrade(url, { Origin: 'https://play.example.com' })).toBe(101);
+  });
+});
+
+describe('createServer’s one admission', () => {
+  it('refuses an origin or proxy setting given to one surface alone, naming where it goes', async () => {
+    await expect(
+      createServer({
+        port: 0,
+        host: '127.0.0.1',
+        stateSync: false,
+        relay: { allowedOrigins: 'any' },
+      }),
+    ).rejects.toThrow(
+      'createServer: set allowedOrigins on createServer itself, not on relay: every WebSocket surface shares one admission',
+    );
+    await expect(
+      createServer({
+        port: 0,
+        host: '127.0.0.1',
+        stateSync: false,
+        matchmaking: { trustProxy: { header: 'x-forwarded-for' } },
+      }),
+    ).rejects.toThrow(/set trustProxy on createServer itself, not on matchmaking/);
   });
 });
 

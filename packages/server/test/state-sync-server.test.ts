@@ -49,9 +49,13 @@ async function client<S extends Simulation>(
     events?: StateSyncEvent[];
     /** The client's own copy of the game (default: the game's own). */
     local?: GameDefinition<ButtonInput, S>;
+    /** The address to connect from (127/8: each a client of its own). Default 127.0.0.1. */
+    address?: string;
   } = {},
 ): Promise<{ session: StateSyncSession<ButtonInput, S>; stop: () => void }> {
-  const transport = await connectNodeWebSocket(`${url}/${room}`);
+  const transport = await connectNodeWebSocket(`${url}/${room}`, {
+    ...(extra.address !== undefined ? { localAddress: extra.address } : {}),
+  });
   const local = extra.local ?? game;
   const session: StateSyncSession<ButtonInput, S> = new StateSyncSession<ButtonInput, S>({
     transport,
@@ -210,10 +214,14 @@ describe('state-sync rooms in a pool of workers', () => {
 
   it('a room that keeps its worker busy holds up neither the HTTP server nor a room on another worker', async () => {
     // The client runs a plain counter (a state-sync client need not run the server's code).
-    const slow = await client(url, 'slow', stall, { players: 1, local: counter });
-    const fast = await client(url, 'fast', counter, { players: 1 });
+    const slow = await client(url, 'slow', stall, {
+      players: 1,
+      local: counter,
+      address: '127.0.3.1',
+    });
+    const fast = await client(url, 'fast', counter, { players: 1, address: '127.0.3.2' });
     try {
-      // New rooms go to the worker with the fewest rooms: one each.
+      // New rooms of two addresses go to the worker with the fewest rooms: one each.
       await expect.poll(() => endpoint.rooms().length).toBe(2);
       expect(new Set(endpoint.rooms().map((r) => r.worker))).toEqual(new Set([0, 1]));
       // The slow room's step of tick 60 blocks its worker for 5 s: its snapshots stop at 60.
@@ -236,6 +244,33 @@ describe('state-sync rooms in a pool of workers', () => {
     } finally {
       slow.stop();
       fast.stop();
+    }
+  });
+
+  it("an address's rooms share a worker, so its per-address caps count them all", async () => {
+    const workerOf = async (room: string) => {
+      await expect.poll(() => endpoint.rooms().some((r) => r.room === room)).toBe(true);
+      return endpoint.rooms().find((r) => r.room === room)!.worker;
+    };
+    const loads = () => {
+      const n = [0, 0];
+      for (const r of endpoint.rooms()) n[r.worker]!++;
+      return n;
+    };
+    const rooms = [await client(url, 'home-1', counter, { players: 1, address: '127.0.4.1' })];
+    try {
+      const home = await workerOf('home-1');
+      // Another address's new room goes where the fewest rooms are…
+      const before = loads();
+      rooms.push(await client(url, 'away-1', counter, { players: 1, address: '127.0.4.2' }));
+      expect(await workerOf('away-1')).toBe(before.indexOf(Math.min(...before)));
+      // …this address's next ones where its first one is, however loaded.
+      for (const name of ['home-2', 'home-3']) {
+        rooms.push(await client(url, name, counter, { players: 1, address: '127.0.4.1' }));
+        expect(await workerOf(name)).toBe(home);
+      }
+    } finally {
+      for (const r of rooms) r.stop();
     }
   });
 

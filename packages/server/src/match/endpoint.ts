@@ -167,7 +167,7 @@ export class MatchEndpoint extends WebSocketEndpoint {
         message: 'the match was not accepted in time',
       });
     }
-    for (const m of s.requeued) m.data.send({ type: 'queued', timeoutMs: 0 });
+    this.requeue(s.requeued);
     for (const p of s.proposed) {
       const acceptMs = Math.max(1, Math.round(p.deadline - this.responsive.now()));
       for (const m of p.members) m.data.send({ type: 'found', players: p.players, acceptMs });
@@ -275,9 +275,11 @@ export class MatchEndpoint extends WebSocketEndpoint {
     }
   }
 
-  /** Players whose proposal fell through are back in the queue: tell them. */
-  private requeue(members: { data: Connection }[]): void {
-    for (const m of members) m.data.send({ type: 'queued', timeoutMs: 0 });
+  /** Players whose proposal fell through are back in the queue: tell them, with the wait left. */
+  private requeue(members: { ticket: number; data: Connection }[]): void {
+    for (const m of members) {
+      m.data.send({ type: 'queued', timeoutMs: this.queue.waitLeft(m.ticket) });
+    }
   }
 
   /** Tell every waiting client `SHUTDOWN`. */

@@ -192,6 +192,12 @@ export class MatchQueue<T> {
     return this.entries.size;
   }
 
+  /** How long ticket `ticket` may still wait, ms (0: not queued, or its wait is over). */
+  waitLeft(ticket: number): number {
+    const e = this.entries.get(ticket);
+    return e === undefined ? 0 : Math.max(0, Math.round(e.deadline - this.clock.now()));
+  }
+
   /** Players queued from client address `address`. */
   waitingFrom(address: string): number {
     return this.perAddress.get(address) ?? 0;

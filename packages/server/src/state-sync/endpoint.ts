@@ -101,6 +101,8 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
   private readonly conns = new Map<number, Conn>();
   /** Room name → the worker it runs on, while it may exist there. */
   private readonly roomWorker = new Map<string, number>();
+  // Who made each room (the first connection's address): an address's rooms share a worker.
+  private readonly roomAddress = new Map<string, string>();
   private readonly slots: Slot[];
   private nextId = 1;
   private closing = false;
@@ -162,11 +164,9 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
     const room = info.room!;
     let index = this.roomWorker.get(room);
     if (index === undefined) {
-      // A new room: to the worker with the fewest.
-      const load = this.slots.map(() => 0);
-      for (const w of this.roomWorker.values()) load[w] = load[w]! + 1;
-      index = load.indexOf(Math.min(...load));
+      index = this.placeRoom(info.address);
       this.roomWorker.set(room, index);
+      this.roomAddress.set(room, info.address);
     }
     const id = this.nextId++;
     const w = index;
@@ -225,6 +225,21 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
     await Promise.all(this.slots.map((s) => s.worker.terminate()));
   }
 
+  /**
+   * The worker for a new room from `address`: the one its other rooms run on, so that worker's
+   * per-address caps count all of them (they would count per worker otherwise); else the worker
+   * with the fewest rooms.
+   */
+  private placeRoom(address: string): number {
+    for (const [room, from] of this.roomAddress) {
+      const w = this.roomWorker.get(room);
+      if (from === address && w !== undefined) return w;
+    }
+    const load = this.slots.map(() => 0);
+    for (const w of this.roomWorker.values()) load[w] = load[w]! + 1;
+    return load.indexOf(Math.min(...load));
+  }
+
   private post(index: number, m: ToWorker, transfer: ArrayBuffer[] = []): void {
     this.slots[index]!.worker.postMessage(m, transfer);
   }
@@ -253,7 +268,11 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
         this.conns.delete(id);
         c.ws.close(1011, 'the room’s worker stopped');
       }
-      for (const [room, w] of this.roomWorker) if (w === index) this.roomWorker.delete(room);
+      for (const [room, w] of this.roomWorker) {
+        if (w !== index) continue;
+        this.roomWorker.delete(room);
+        this.roomAddress.delete(room);
+      }
       if (!this.closing) this.slots[index] = this.spawn(index);
     });
     return { worker, ready };
@@ -282,7 +301,10 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
         // Forget where it ran — unless a connection to that name is open (it went to this worker
         // and may have made the room again there).
         const open = [...this.conns.values()].some((c) => c.room === m.room);
-        if (!open && this.roomWorker.get(m.room) === index) this.roomWorker.delete(m.room);
+        if (!open && this.roomWorker.get(m.room) === index) {
+          this.roomWorker.delete(m.room);
+          this.roomAddress.delete(m.room);
+        }
         break;
       }
       case 'room-failed':

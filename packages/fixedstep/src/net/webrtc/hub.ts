@@ -26,7 +26,10 @@ import {
 
 /**
  * A host waiting for its joiners keeps its room this long (they may be friends on the way; at
- * capacity a waiting room makes way sooner, as every room kind's does).
+ * capacity a waiting room makes way sooner, as every room kind's does). A room whose peers have
+ * connected directly is as quiet — their game goes peer to peer, not through here — so this is
+ * also how long a signalling room may go without a signal before it closes (`IDLE`): the peers
+ * already connected play on; a later joiner finds no room.
  */
 export const SIGNAL_WAITING_TTL_MS = 600_000;
 
@@ -172,6 +175,7 @@ export class SignallingHub extends RoomHost<Member, SignalRoom, SignalMessage> {
       options.clock,
       {
         waitingRoomTtlMs: SIGNAL_WAITING_TTL_MS,
+        idleRoomTtlMs: SIGNAL_WAITING_TTL_MS,
         ...options,
         rate: {
           // A host tunnelling for 15 peers at 60 Hz sends ~900 messages a second.
