@@ -150,9 +150,11 @@ export interface FixedstepServer {
   /** True from the start of {@link close} on (readiness then answers 503). */
   readonly draining: boolean;
   /**
-   * Drain before a shutdown: readiness goes false (a balancer takes the server off), the relay
-   * refuses new rooms and closes waiting ones, and running matches go on until they end or
-   * `timeoutMs` has passed (then `SHUTDOWN`). HTTP keeps answering. Call {@link close} after.
+   * Drain before a shutdown: readiness goes false (a balancer takes the server off); the relay,
+   * state sync and signalling make no new rooms and close waiting ones, their running rooms go on
+   * until they end or `timeoutMs` has passed (then `SHUTDOWN`); quick match refuses new requests
+   * and matches the players already waiting until none is left or the time is up. HTTP keeps
+   * answering. Call {@link close} after.
    */
   drain(timeoutMs: number): Promise<void>;
   /**
@@ -625,7 +627,12 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     },
     async drain(timeoutMs: number) {
       draining = true;
-      await relay?.drain(timeoutMs);
+      await Promise.all([
+        relay?.drain(timeoutMs),
+        stateSync?.drain(timeoutMs),
+        signalling?.drain(timeoutMs),
+        matchmaking?.drain(timeoutMs),
+      ]);
     },
     close,
   };

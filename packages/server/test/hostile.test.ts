@@ -434,6 +434,28 @@ describe.each(SURFACES)('$path', (surface) => {
     for (const p of pair) p.close();
   });
 
+  it('drain: a running room plays on until the timeout, then SHUTDOWN; a new room is refused (SHUTDOWN)', async () => {
+    // A server of its own: draining it ends it.
+    const own = await start(surface);
+    try {
+      const [a, b] = await rooms.play(own.base, 'draining', [freshAddress(), freshAddress()], true);
+      const drained = own.server.drain(1500);
+      const late = await surface.open(own.base, freshAddress(), 'after-drain');
+      late.send(surface.hello('after-drain'));
+      expect(await late.outcome([surface.welcome])).toBe('SHUTDOWN');
+      // Still playing: a drain lets a running room end on its own, up to the timeout.
+      expect(a.error).toBeUndefined();
+      await drained;
+      await until(
+        `both players told SHUTDOWN: ${[a, b].map((p) => `${p.error?.code}/${p.closed?.code}`).join(' ')}`,
+        () => [a, b].every((p) => p.error?.code === 'SHUTDOWN'),
+      );
+      expect(own.server.draining).toBe(true);
+    } finally {
+      await own.server.close();
+    }
+  });
+
   if (!rooms.holdsSeats) return;
 
   it('forged tokens — a random reconnect token, a forged, altered or expired match ticket, a ticket of another room — are refused (BAD_TOKEN)', async () => {
@@ -680,6 +702,16 @@ describe('/match', () => {
     for (const s of squatters) s.close();
     await until('the queue empty', () => server.matchmaking!.queue.size === 0);
   }, 30_000);
+
+  // The last test of the block: it drains the server.
+  it('drain: a new request is refused (SHUTDOWN); the drain ends when nobody waits', async () => {
+    const drained = server.drain(10_000);
+    const late = await MATCH.open(base, freshAddress());
+    late.send(queueRequest());
+    expect(await late.outcome(['queued'])).toBe('SHUTDOWN');
+    await drained;
+    expect(server.matchmaking!.queue.size).toBe(0);
+  });
 });
 
 describe('the HTTP handshake', () => {

@@ -115,6 +115,7 @@ export class MatchEndpoint extends WebSocketEndpoint {
   private readonly requestTimeoutMs: number;
   private readonly sweepTimer: ReturnType<typeof setInterval>;
   private open = 0;
+  private draining = false;
 
   constructor(server: http.Server, options: MatchmakingEndpointOptions = {}) {
     super(server, {
@@ -232,6 +233,8 @@ export class MatchEndpoint extends WebSocketEndpoint {
       } else if (ticket !== undefined) {
         this.requeue(this.queue.cancel(ticket));
         fail('UNEXPECTED', 'one queue request per connection');
+      } else if (this.draining) {
+        fail('SHUTDOWN', 'this server is shutting down: queue again (another server takes it)');
       } else {
         const result = this.queue.join(m, info.address, connection);
         if (!result.ok) {
@@ -283,6 +286,23 @@ export class MatchEndpoint extends WebSocketEndpoint {
   }
 
   /** Tell every waiting client `SHUTDOWN`. */
+  /**
+   * Drain before a shutdown: new requests get `SHUTDOWN` (the balancer sends the next ones to
+   * another server: readiness is false meanwhile); players already waiting are matched as usual
+   * until they are all gone or `timeoutMs` has passed. Call {@link close} after.
+   */
+  drain(timeoutMs = 25_000): Promise<void> {
+    this.draining = true;
+    const deadline = this.clock.now() + timeoutMs;
+    return new Promise((resolve) => {
+      const check = setInterval(() => {
+        if (this.queue.size > 0 && this.clock.now() < deadline) return;
+        clearInterval(check);
+        resolve();
+      }, MATCH_SWEEP_MS);
+    });
+  }
+
   protected stop(): void {
     clearInterval(this.sweepTimer);
     for (const c of this.queue.clear()) {

@@ -82,6 +82,14 @@ export class SignallingEndpoint extends WebSocketEndpoint {
     this.timer.unref();
   }
 
+  /**
+   * Drain before a shutdown: no new rooms, waiting hosts closed, rooms with peers kept until they
+   * have left or `timeoutMs` has passed (then `SHUTDOWN`). Resolves when no room is left.
+   */
+  drain(timeoutMs?: number): Promise<void> {
+    return this.hub.drain(timeoutMs === undefined ? {} : { timeoutMs });
+  }
+
   protected connected(ws: WebSocket, info: UpgradeInfo): void {
     this.hub.accept(nodeWebSocketTransport(ws), info);
   }

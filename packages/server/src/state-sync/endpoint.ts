@@ -196,6 +196,31 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
     });
   }
 
+  /**
+   * Drain before a shutdown: every worker makes no new rooms, closes waiting ones, and lets running
+   * rooms play on until their players have left or `timeoutMs` has passed (then `SHUTDOWN`).
+   * Resolves when no worker has a room left. Call {@link close} after.
+   */
+  drain(timeoutMs = 25_000): Promise<void> {
+    return Promise.all(
+      this.slots.map(
+        (s) =>
+          new Promise<void>((resolve) => {
+            const done = (m: FromWorker) => {
+              if (m.t !== 'drained') return;
+              s.worker.off('message', done);
+              resolve();
+            };
+            s.worker.on('message', done);
+            s.worker.once('exit', () => {
+              resolve();
+            });
+            s.worker.postMessage({ t: 'drain', timeoutMs } satisfies ToWorker);
+          }),
+      ),
+    ).then(() => undefined);
+  }
+
   /** Each worker says `SHUTDOWN` to its rooms' members, then ends. */
   protected async stop(): Promise<void> {
     this.closing = true;

@@ -26,6 +26,8 @@ export type ToWorker =
   | { t: 'close'; id: number; reason: string }
   /** The main thread is responsive (see `RoomHost.heartbeat`). */
   | { t: 'beat' }
+  /** Drain (see `RoomHost.drain`): no new rooms; running ones end by `timeoutMs`. */
+  | { t: 'drain'; timeoutMs: number }
   | { t: 'stop' };
 
 /** Worker → main thread. */
@@ -37,4 +39,6 @@ export type FromWorker =
   | { t: 'room-created'; room: string; game: string; players: number }
   | { t: 'room-removed'; room: string }
   | { t: 'room-failed'; room: string; message: string }
+  /** The drain is done: no room left. */
+  | { t: 'drained' }
   | { t: 'stopped' };

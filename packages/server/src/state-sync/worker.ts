@@ -89,6 +89,11 @@ function handle(m: ToWorker): void {
       // The main thread reads the sockets: while it stalls, no member's silence is its own.
       server.heartbeat();
       break;
+    case 'drain':
+      void server.drain({ timeoutMs: m.timeoutMs }).then(() => {
+        post({ t: 'drained' });
+      });
+      break;
     case 'stop':
       if (timer !== undefined) clearInterval(timer);
       server.close();

@@ -468,6 +468,7 @@ export abstract class RoomHost<
 
   /** Tell every connection of the room `code` (fatal), close them, and remove the room. */
   protected closeRoom(room: R, code: NetErrorCode, message: string): void {
+    room.closing = true;
     if (code !== 'SHUTDOWN') this.emit({ type: 'room-closed', room: room.name, code, message });
     for (const c of [...room.connections()]) {
       this.drop(c, code, message, code === 'TIMEOUT' ? 'timeout' : 'closed', code !== 'SHUTDOWN');

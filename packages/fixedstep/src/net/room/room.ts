@@ -89,6 +89,8 @@ export abstract class Room<M extends Member> {
   readonly seats: Seat<M>[] = [];
   readonly spectators = new Set<M>();
   state: 'waiting' | 'running' | 'ended' = 'waiting';
+  /** Its host is closing it: every member is being told why (one reason for all of them). */
+  closing = false;
   /** Since when the room has had no member (server ms), or undefined. */
   emptySince: number | undefined;
   /** When a player last played in it (an input, a signal — not a keep-alive), server ms. */

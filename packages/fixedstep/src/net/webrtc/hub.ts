@@ -141,7 +141,7 @@ class SignalRoom extends Room<Member> {
 
   onLeave(m: Member, reason: LeaveReason): void {
     this.ctx.emit({ type: 'leave', room: this.name, peer: m.peer, reason });
-    if (m.peer === 0) {
+    if (m.peer === 0 && !this.closing) {
       // The host is gone: its joiners are told, and the room closes.
       for (const p of this.connections())
         this.ctx.send(p, { type: 'leave', peer: 0 } satisfies SignalMessage);
