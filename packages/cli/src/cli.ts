@@ -167,8 +167,9 @@ peer-to-peer matches at /signal/<room>, a quick-match queue at /match; /healthz,
 
 Ctrl-C stops at once; SIGTERM drains first (no new rooms; running matches get
 $FIXEDSTEP_DRAIN_MS, default 25000 ms). Caps, allowed origins, the trusted proxy and the
-quick-match ticket secret shared by a deployment's processes ($FIXEDSTEP_MATCH_SECRET) come from
-FIXEDSTEP_* variables (docs/deploy.md).
+quick-match ticket secret shared by a deployment's processes ($FIXEDSTEP_MATCH_SECRET) and the
+STUN/TURN servers signalling announces ($FIXEDSTEP_ICE_SERVERS) come from FIXEDSTEP_* variables
+(docs/deploy.md, docs/webrtc.md).
 
 Scores go to the embedded PostgreSQL (PGlite) in <data>/pglite, or to the PostgreSQL server
 of $DATABASE_URL when it is set (then any number of server processes may share it).

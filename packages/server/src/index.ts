@@ -98,7 +98,12 @@ export {
   STATE_SYNC_UPDATE_MS,
 } from './state-sync/index.js';
 export type { StateSyncEndpointOptions } from './state-sync/index.js';
-export { attachSignalling, SignallingEndpoint, SIGNALLING_UPDATE_MS } from './signalling/index.js';
+export {
+  attachSignalling,
+  iceServersFromEnv,
+  SignallingEndpoint,
+  SIGNALLING_UPDATE_MS,
+} from './signalling/index.js';
 export type { SignallingEndpointOptions } from './signalling/index.js';
 export {
   attachMatchmaking,

@@ -11,7 +11,7 @@ import {
   type SignallingHubOptions,
   type Transport,
 } from 'fixedstep';
-import { attachSignalling } from '../src/signalling/endpoint.js';
+import { attachSignalling, iceServersFromEnv } from '../src/signalling/endpoint.js';
 import { connectNodeWebSocket } from '../src/relay/index.js';
 
 /** Lets the memory pairs deliver (they deliver on later microtasks). */
@@ -278,5 +278,38 @@ describe('attachSignalling', () => {
     expect(status).toBe(403);
     t.close('done');
     await endpoint.close();
+  });
+
+  it('announces the STUN/TURN servers of FIXEDSTEP_ICE_SERVERS; a bad value is refused, naming it', async () => {
+    const server = http.createServer();
+    servers.push(server);
+    const turn = { urls: ['turn:turn.example:3478?transport=udp'], username: 'u', credential: 'c' };
+    const endpoint = attachSignalling(server, {
+      env: { FIXEDSTEP_ICE_SERVERS: JSON.stringify([{ urls: 'stun:stun.example:3478' }, turn]) },
+    });
+    await new Promise<void>((resolve) => server.listen(0, '127.0.0.1', resolve));
+    const port = (server.address() as { port: number }).port;
+    const t: Transport = await connectNodeWebSocket(`ws://127.0.0.1:${port}/signal/ice`);
+    const got: SignalMessage[] = [];
+    t.onMessage((b) => got.push(decodeSignal(b)));
+    t.send(encodeSignal({ type: 'host', room: 'ice' }));
+    for (let k = 0; k < 200 && got.length === 0; k++) await settle();
+    expect(got[0]).toMatchObject({
+      type: 'joined',
+      iceServers: [{ urls: ['stun:stun.example:3478'] }, turn],
+    });
+    t.close('done');
+    await endpoint.close();
+    for (const [value, why] of [
+      ['stun:x', 'not JSON'],
+      ['{"urls":["stun:x"]}', 'not an array'],
+      ['[{"urls":[]}]', 'entry 0 has no urls'],
+      ['[{"urls":["stun:x"],"credential":5}]', "entry 0's credential is not a string"],
+    ]) {
+      expect(() => iceServersFromEnv({ FIXEDSTEP_ICE_SERVERS: value })).toThrow(
+        `FIXEDSTEP_ICE_SERVERS: ${why}`,
+      );
+    }
+    expect(iceServersFromEnv({})).toEqual({});
   });
 });

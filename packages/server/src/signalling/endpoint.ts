@@ -10,6 +10,7 @@ import {
   SignallingHub,
   nodeWebSocketTransport,
   performanceClock,
+  type IceServerConfig,
   type SignallingHubOptions,
 } from 'fixedstep';
 import {
@@ -41,6 +42,49 @@ export interface SignallingEndpointOptions extends Partial<SignallingHubOptions>
   env?: Readonly<Record<string, string | undefined>>;
 }
 
+/**
+ * The STUN/TURN servers `FIXEDSTEP_ICE_SERVERS` names, as JSON — an array of `{ "urls": [...],
+ * "username"?, "credential"? }` (a `urls` string is taken as one URL) — e.g.
+ * `[{"urls":["stun:stun.example.org:3478"]}]`. Unset: none. Anything else throws an Error naming
+ * the variable and what is wrong.
+ */
+export function iceServersFromEnv(env: Readonly<Record<string, string | undefined>>): {
+  iceServers?: IceServerConfig[];
+} {
+  const text = env.FIXEDSTEP_ICE_SERVERS?.trim();
+  if (!text) return {};
+  const bad = (why: string): never => {
+    throw new Error(
+      `FIXEDSTEP_ICE_SERVERS: ${why} (give a JSON array like [{"urls":["stun:host:3478"]}])`,
+    );
+  };
+  let list: unknown;
+  try {
+    list = JSON.parse(text);
+  } catch {
+    return bad('not JSON');
+  }
+  if (!Array.isArray(list)) return bad('not an array');
+  const servers = list.map((item: unknown, i): IceServerConfig => {
+    const o = item as Record<string, unknown> | null;
+    if (typeof o !== 'object' || o === null) return bad(`entry ${i} is not an object`);
+    const urls = typeof o.urls === 'string' ? [o.urls] : o.urls;
+    if (!Array.isArray(urls) || urls.length === 0 || urls.some((u) => typeof u !== 'string')) {
+      return bad(`entry ${i} has no urls (strings)`);
+    }
+    for (const key of ['username', 'credential'] as const) {
+      if (o[key] !== undefined && typeof o[key] !== 'string')
+        bad(`entry ${i}'s ${key} is not a string`);
+    }
+    return {
+      urls: urls as string[],
+      ...(typeof o.username === 'string' ? { username: o.username } : {}),
+      ...(typeof o.credential === 'string' ? { credential: o.credential } : {}),
+    };
+  });
+  return { iceServers: servers };
+}
+
 /** Signalling attached to an HTTP server (see {@link attachSignalling}). */
 export class SignallingEndpoint extends WebSocketEndpoint {
   readonly hub: SignallingHub;
@@ -54,7 +98,7 @@ export class SignallingEndpoint extends WebSocketEndpoint {
       allowedOrigins,
       trustProxy,
       ...hubOptions
-    } = { ...roomCapsFromEnv(env), ...given };
+    } = { ...roomCapsFromEnv(env), ...iceServersFromEnv(env), ...given };
     const clock = hubOptions.clock ?? performanceClock();
     const hub = new SignallingHub({ ...hubOptions, clock });
     super(server, {
