@@ -31,6 +31,7 @@ export {
   DEFAULT_ORIGIN_POLICY,
   MAX_SOCKETS,
   MAX_SOCKETS_PER_ADDRESS,
+  MAX_SOCKETS_PER_MINUTE,
 } from './http/admission.js';
 export type {
   AdmissionOptions,

@@ -19,7 +19,12 @@ import {
 } from 'fixedstep';
 import { ctfGame, type Game } from '@fixedstep/games';
 import { attachRelay, type RelayEndpoint, type RelayEndpointOptions } from '../src/relay/index.js';
-import { addressKey, admissionOptionsFromEnv, roomCapsFromEnv } from '../src/http/admission.js';
+import {
+  Admission,
+  addressKey,
+  admissionOptionsFromEnv,
+  roomCapsFromEnv,
+} from '../src/http/admission.js';
 import { createServer } from '../src/index.js';
 
 /** What the relay's endpoint reads from the environment. */
@@ -234,6 +239,29 @@ describe('options from the environment', () => {
     const url = `ws://127.0.0.1:${port}/ws`;
     expect(await upgrade(url, { Origin: `http://127.0.0.1:${port}` })).toBe(403);
     expect(await upgrade(url, { Origin: 'https://play.example.com' })).toBe(101);
+  });
+});
+
+describe('new connections a minute', () => {
+  it('one address opens at most its share a minute (429, saying when to try again); others are not held up', () => {
+    let now = 0;
+    const admission = new Admission({ maxSocketsPerMinute: 3, now: () => now });
+    const from = (ip: string) =>
+      ({ headers: {}, socket: { remoteAddress: ip } }) as unknown as http.IncomingMessage;
+    const opened = [1, 2, 3].map(() => admission.admit(from('10.0.0.1')));
+    for (const a of opened) expect(a).toHaveProperty('address', '10.0.0.1');
+    // Closing them gives back their places at once, not the minute's count.
+    for (const a of opened) if ('release' in a) a.release();
+    expect(admission.admit(from('10.0.0.1'))).toEqual({
+      status: '429 Too Many Requests',
+      reason: '3 new connections a minute from one address: try again in 60 s',
+    });
+    expect(admission.admit(from('10.0.0.2'))).toHaveProperty('address', '10.0.0.2');
+    now += 120_000;
+    expect(admission.admit(from('10.0.0.1'))).toHaveProperty('address', '10.0.0.1');
+    expect(admissionOptionsFromEnv({ FIXEDSTEP_MAX_SOCKETS_PER_MINUTE: '600' })).toEqual({
+      maxSocketsPerMinute: 600,
+    });
   });
 });
 

@@ -8,6 +8,7 @@
 import type http from 'node:http';
 import net from 'node:net';
 import { AddressTally } from 'fixedstep';
+import { RateLimiter } from './rate-limit.js';
 
 /**
  * Where the client address of a connection is read when the server sits behind a proxy (HAProxy,
@@ -47,6 +48,12 @@ export const DEFAULT_ORIGIN_POLICY: OriginPolicy = 'same-origin';
 export const MAX_SOCKETS_PER_ADDRESS = 64;
 /** WebSockets at once, all surfaces together. */
 export const MAX_SOCKETS = 10_000;
+/**
+ * New WebSockets a minute from one address, all surfaces together: a player's tabs and reconnects
+ * fit many times over, and an address remaking its rooms to keep them younger than the room core's
+ * grace (8 rooms, 5 s: 96 a minute) cannot.
+ */
+export const MAX_SOCKETS_PER_MINUTE = 60;
 
 /**
  * The key the per-address caps count by: an IPv4 address as it is (also when written IPv4-mapped,
@@ -194,6 +201,10 @@ export interface AdmissionOptions {
   maxSocketsPerAddress?: number;
   /** WebSockets at once, every surface together. Default {@link MAX_SOCKETS}. */
   maxSockets?: number;
+  /** New WebSockets a minute from one address. Default {@link MAX_SOCKETS_PER_MINUTE}. */
+  maxSocketsPerMinute?: number;
+  /** The clock of the per-minute count (tests). Default `Date.now`. */
+  now?: () => number;
 }
 
 /** An admitted upgrade: the client's address, and the release of its place once it closes. */
@@ -215,6 +226,7 @@ export class Admission {
   readonly trustProxy: TrustedProxy | undefined;
   private readonly proxies: net.BlockList | undefined;
   private readonly sockets: AddressTally;
+  private readonly opens: RateLimiter;
   /** Connections closed at once by {@link watch}: their address held its share. */
   refusedConnections = 0;
 
@@ -226,6 +238,11 @@ export class Admission {
       'sockets',
       options.maxSocketsPerAddress ?? MAX_SOCKETS_PER_ADDRESS,
       options.maxSockets ?? MAX_SOCKETS,
+    );
+    this.opens = new RateLimiter(
+      options.maxSocketsPerMinute ?? MAX_SOCKETS_PER_MINUTE,
+      60_000,
+      options.now ?? Date.now,
     );
   }
 
@@ -276,7 +293,8 @@ export class Admission {
 
   /**
    * Admits a WebSocket upgrade, or says why not: another site's page (403), a proxy header without
-   * an address (400), this address's share taken (429), the server's sockets taken (503).
+   * an address (400), this address's share taken or its new connections a minute used up (429),
+   * the server's sockets taken (503).
    */
   admit(req: http.IncomingMessage): Admitted | Refused {
     if (!originAllowed(req, this.allowedOrigins)) {
@@ -290,6 +308,14 @@ export class Admission {
         ? { status: '429 Too Many Requests', reason: refusal[1] }
         : { status: '503 Service Unavailable', reason: refusal[1] };
     }
+    const wait = this.opens.check(who.address);
+    if (wait > 0) {
+      return {
+        status: '429 Too Many Requests',
+        reason: `${this.opens.limit} new connections a minute from one address: try again in ${wait} s`,
+      };
+    }
+    this.opens.charge(who.address);
     this.sockets.add(who.address);
     let held = true;
     return {
@@ -364,6 +390,15 @@ export function admissionOptionsFromEnv(
     out.maxSocketsPerAddress = envInteger(
       'FIXEDSTEP_MAX_SOCKETS_PER_ADDRESS',
       perAddress,
+      1,
+      1_000_000,
+    );
+  }
+  const perMinute = env.FIXEDSTEP_MAX_SOCKETS_PER_MINUTE;
+  if (perMinute !== undefined && perMinute.trim() !== '') {
+    out.maxSocketsPerMinute = envInteger(
+      'FIXEDSTEP_MAX_SOCKETS_PER_MINUTE',
+      perMinute,
       1,
       1_000_000,
     );
