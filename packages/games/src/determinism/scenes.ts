@@ -33,7 +33,7 @@ import { BallButtons } from '../scenes/ball.js';
 import { WallRange, type WallRangeOptions } from '../scenes/collisions.js';
 import { OscillatorRace } from '../scenes/physics.js';
 import { Rope, type RopePoke } from '../scenes/springs.js';
-import { LoopRig, type ScriptedInput } from '../scenes/loop-rig.js';
+import { LoopRig, defaultBallScript, type ScriptedInput } from '../scenes/loop-rig.js';
 import {
   displayRun,
   rateLabel,
@@ -354,14 +354,7 @@ export function randomScene(ticks = 2000): TraceScene {
  */
 export function ballTraceScript(seconds: number): ScriptedInput[] {
   const rng = new Random(77);
-  const out: ScriptedInput[] = [
-    { timeMs: 400, button: BallButtons.throw, down: true },
-    { timeMs: 470, button: BallButtons.throw, down: false },
-    { timeMs: 1210, button: BallButtons.right, down: true },
-    { timeMs: 1710, button: BallButtons.right, down: false },
-    { timeMs: 2300, button: BallButtons.throw, down: true },
-    { timeMs: 2310, button: BallButtons.throw, down: false },
-  ];
+  const out = defaultBallScript();
   for (let t = 3000; t < seconds * 1000 - 700; t += rng.range(500, 1100)) {
     const pick = rng.int(3);
     const button =
