@@ -12,27 +12,34 @@ import { Random, dsincos } from 'fixedstep';
 import { CTF_WALLS, SURVIVAL_WALLS, Walls, type Rect } from '@fixedstep/games';
 import { GRID_MAX_RADIUS, WallGrid } from '../src/games/arena/wall-grid.js';
 
-/** `Walls`' all-walls loops (private): its queries as they were before the grid. */
+/**
+ * `Walls`' all-walls loops (private): its queries as they were before the grid. Like the register
+ * forms, some read their coordinates from `query`.
+ */
 interface AllWallsLoops {
-  overlapsAll(x: number, y: number, r: number): boolean;
-  pushOutAll(x: number, y: number, r: number, out: Float64Array): boolean;
+  overlapsAll(r: number): boolean;
+  pushOutAll(r: number, out: Float64Array): boolean;
   sweepAll(x: number, y: number, dx: number, dy: number, r: number): number;
-  crossesAll(x0: number, y0: number, x1: number, y1: number): boolean;
+  crossesAll(): boolean;
 }
 
 /** The walls' queries as they were before the grid: every wall, in index order. */
 class AllWalls {
+  private readonly walls: Walls;
   private readonly loops: AllWallsLoops;
 
   constructor(rects: readonly Rect[]) {
-    this.loops = new Walls(rects) as unknown as AllWallsLoops;
+    this.walls = new Walls(rects);
+    this.loops = this.walls as unknown as AllWallsLoops;
   }
 
   overlaps(x: number, y: number, r: number): boolean {
-    return this.loops.overlapsAll(x, y, r);
+    this.walls.query.set([x, y]);
+    return this.loops.overlapsAll(r);
   }
   pushOut(x: number, y: number, r: number, out: Float64Array): void {
-    this.loops.pushOutAll(x, y, r, out);
+    this.walls.query.set([x, y]);
+    this.loops.pushOutAll(r, out);
   }
   sweep(x: number, y: number, dx: number, dy: number, r: number): number {
     return this.loops.sweepAll(x, y, dx, dy, r);
@@ -41,7 +48,8 @@ class AllWalls {
     return this.sweep(x0, y0, x1 - x0, y1 - y0, r) < 0;
   }
   crosses(x0: number, y0: number, x1: number, y1: number): boolean {
-    return this.loops.crossesAll(x0, y0, x1, y1);
+    this.walls.query.set([x0, y0, x1, y1]);
+    return this.loops.crossesAll();
   }
 }
 
