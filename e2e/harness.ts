@@ -82,6 +82,37 @@ export function useHighscoreServer(name: string): { readonly url: string } {
   };
 }
 
+/** Chapter 9, the games, as a test file opens it (see {@link useGames}). */
+export interface GamesChapter {
+  /** The lab (its browser; its plain server, without the highscore API). */
+  readonly lab: Lab;
+  /** The lab with the highscore API, which the chapter reads its table from. */
+  readonly url: string;
+  /**
+   * Goes to the chapter at {@link url} with `query` (`game=ctf&seed=7`, …) on `page` and waits for
+   * the game's canvas and its first tick.
+   */
+  open(page: Page, query: string): Promise<void>;
+}
+
+/** The lab and a {@link useHighscoreServer} named `name`, for tests of the games chapter. */
+export function useGames(name: string): GamesChapter {
+  const lab = useLab();
+  const api = useHighscoreServer(name);
+  return {
+    lab,
+    get url(): string {
+      return api.url;
+    },
+    async open(page: Page, query: string): Promise<void> {
+      await page.goto(`${api.url}#/games?${query}`);
+      await expect.poll(() => page.title()).toBe('9. Games — fixedstep lab');
+      await page.getByTestId('canvas-game').waitFor();
+      await page.getByTestId('readout-tick').waitFor();
+    },
+  };
+}
+
 /** A page's viewport in CSS px. */
 export interface Viewport {
   width: number;
