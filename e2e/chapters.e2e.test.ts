@@ -9,16 +9,8 @@ import path from 'node:path';
 import { describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
 import { CHAPTERS } from '../apps/lab/src/chapters.js';
-import {
-  horizontalOverflow,
-  phonePage,
-  shots,
-  useHighscoreServer,
-  useLab,
-  watch,
-} from './harness.js';
+import { horizontalOverflow, phonePage, shots, useHighscoreServer, watch } from './harness.js';
 
-const lab = useLab();
 /** The lab as `fixedstep serve` serves it: with the highscore API the game chapters read. */
 const api = useHighscoreServer('chapters');
 
@@ -70,7 +62,7 @@ describe('every registered chapter', () => {
   });
 
   it('opens cleanly at 1440×900, one after another', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    const page = await api.lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
     await expectEachOpens(page, watch(page), 'desktop', async (c) => {
       expect(await page.title()).toBe(`${c.number}. ${c.title} — fixedstep lab`);
       expect(await page.locator('main .eyebrow').textContent()).toBe(`Chapter ${c.number}`);
@@ -79,7 +71,7 @@ describe('every registered chapter', () => {
   });
 
   it('opens cleanly on a phone (390×844), one after another', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
+    const { context, page, problems } = await phonePage(api.lab.browser);
     await expectEachOpens(page, problems, 'phone');
     await context.close();
   });
