@@ -9,16 +9,8 @@ import path from 'node:path';
 import { describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
 import { CHAPTERS } from '../apps/lab/src/chapters.js';
-import {
-  horizontalOverflow,
-  phonePage,
-  shots,
-  useHighscoreServer,
-  useLab,
-  watch,
-} from './harness.js';
+import { horizontalOverflow, phonePage, shots, useHighscoreServer, watch } from './harness.js';
 
-const lab = useLab();
 /** The lab as `fixedstep serve` serves it: with the highscore API the game chapters read. */
 const api = useHighscoreServer('chapters');
 
@@ -40,6 +32,28 @@ async function open(page: Page, id: string, title: string): Promise<void> {
   );
 }
 
+/**
+ * Every chapter in turn on `page` (whose problems `problems` collects): it opens, passes `check`,
+ * does not scroll sideways, is photographed as `chapter-<id>-<device>`, and has left no problem.
+ */
+async function expectEachOpens(
+  page: Page,
+  problems: readonly string[],
+  device: string,
+  check: (c: (typeof CHAPTERS)[number]) => Promise<void> = () => Promise.resolve(),
+): Promise<void> {
+  for (const c of CHAPTERS) {
+    await open(page, c.id, c.title);
+    await check(c);
+    expect({ chapter: c.id, overflow: await horizontalOverflow(page) }).toEqual({
+      chapter: c.id,
+      overflow: 0,
+    });
+    await page.screenshot({ path: path.join(shots, `chapter-${c.id}-${device}.png`) });
+    expect({ chapter: c.id, problems }).toEqual({ chapter: c.id, problems: [] });
+  }
+}
+
 describe('every registered chapter', () => {
   it('has a unique id, a number in order and a title', () => {
     expect(new Set(CHAPTERS.map((c) => c.id)).size).toBe(CHAPTERS.length);
@@ -48,33 +62,17 @@ describe('every registered chapter', () => {
   });
 
   it('opens cleanly at 1440×900, one after another', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
-    const problems = watch(page);
-    for (const c of CHAPTERS) {
-      await open(page, c.id, c.title);
+    const page = await api.lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    await expectEachOpens(page, watch(page), 'desktop', async (c) => {
       expect(await page.title()).toBe(`${c.number}. ${c.title} — fixedstep lab`);
       expect(await page.locator('main .eyebrow').textContent()).toBe(`Chapter ${c.number}`);
-      expect({ chapter: c.id, overflow: await horizontalOverflow(page) }).toEqual({
-        chapter: c.id,
-        overflow: 0,
-      });
-      await page.screenshot({ path: path.join(shots, `chapter-${c.id}-desktop.png`) });
-      expect({ chapter: c.id, problems }).toEqual({ chapter: c.id, problems: [] });
-    }
+    });
     await page.close();
   });
 
   it('opens cleanly on a phone (390×844), one after another', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
-    for (const c of CHAPTERS) {
-      await open(page, c.id, c.title);
-      expect({ chapter: c.id, overflow: await horizontalOverflow(page) }).toEqual({
-        chapter: c.id,
-        overflow: 0,
-      });
-      await page.screenshot({ path: path.join(shots, `chapter-${c.id}-phone.png`) });
-      expect({ chapter: c.id, problems }).toEqual({ chapter: c.id, problems: [] });
-    }
+    const { context, page, problems } = await phonePage(api.lab.browser);
+    await expectEachOpens(page, problems, 'phone');
     await context.close();
   });
 });

@@ -15,21 +15,12 @@ import {
   readouts,
   shoot,
   shots,
-  useHighscoreServer,
-  useLab,
+  useGames,
   value,
   watch,
 } from './harness.js';
 
-const lab = useLab();
-const api = useHighscoreServer('games');
-
-async function openGame(page: Page, query: string): Promise<void> {
-  await page.goto(`${api.url}#/games?${query}`);
-  await expect.poll(() => page.title()).toBe('9. Games — fixedstep lab');
-  await page.getByTestId('canvas-game').waitFor();
-  await page.getByTestId('readout-tick').waitFor();
-}
+const games = useGames('games');
 
 async function skip(page: Page, times: number): Promise<void> {
   const before = Number(await value(page, 'readout-clock'));
@@ -83,9 +74,9 @@ describe('chapter 9, games', () => {
 
   for (const id of ['runner', 'ctf', 'survival']) {
     it(`${id}: runs with the bot, the HUD numbers move, no console problems`, async () => {
-      const page = await lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
+      const page = await games.lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
       const problems = watch(page);
-      await openGame(page, `game=${id}&seed=7`);
+      await games.open(page, `game=${id}&seed=7`);
       expect(await page.getByTestId('start-overlay').isVisible()).toBe(true);
       const start = await readouts(page);
       expect(num(start, 'tick')).toBe(0);
@@ -128,9 +119,9 @@ describe('chapter 9, games', () => {
   }
 
   it('the variable-Δt switch lets bullets through walls at 30 Hz; the fixed step lets none', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
+    const page = await games.lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
     const problems = watch(page);
-    await openGame(page, 'game=ctf&seed=7&loop=variable');
+    await games.open(page, 'game=ctf&seed=7&loop=variable');
     await page.getByTestId('control-hz-30').click();
     await setRange(page, 'control-jitter', 30);
     await page.getByTestId('control-bot').click();
@@ -155,9 +146,9 @@ describe('chapter 9, games', () => {
   });
 
   it('under a variable Δt at 30 Hz the runner’s jumps are lower than the fixed step’s', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const page = await games.lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
     const problems = watch(page);
-    await openGame(page, 'game=runner&seed=1&loop=variable');
+    await games.open(page, 'game=runner&seed=1&loop=variable');
     await page.getByTestId('control-hz-30').click();
     await page.getByTestId('control-bot').click();
     await skip(page, 2);
@@ -172,9 +163,9 @@ describe('chapter 9, games', () => {
   });
 
   it('slows time down and steps one tick at a time under the fixed step', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const page = await games.lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
     const problems = watch(page);
-    await openGame(page, 'game=ctf&seed=3');
+    await games.open(page, 'game=ctf&seed=3');
     await page.getByTestId('control-hz-60').click();
     await page.getByTestId('control-bot').click();
     await pause(page);
@@ -203,9 +194,9 @@ describe('chapter 9, games', () => {
   });
 
   it('plays the runner from the keyboard, with a visible focus ring', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const page = await games.lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
     const problems = watch(page);
-    await openGame(page, 'game=runner&seed=3');
+    await games.open(page, 'game=runner&seed=3');
     const canvas = page.getByTestId('canvas-game');
     await showGame(page);
     await page.screenshot({ path: path.join(shots, 'games-start.png') });
@@ -237,9 +228,9 @@ describe('chapter 9, games', () => {
   });
 
   it('starts the game with its first key', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const page = await games.lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
     const problems = watch(page);
-    await openGame(page, 'game=runner&seed=3');
+    await games.open(page, 'game=runner&seed=3');
     expect(await page.getByTestId('start-overlay').isVisible()).toBe(true);
     await page.getByTestId('canvas-game').focus();
     await page.keyboard.press('Space');
@@ -251,9 +242,9 @@ describe('chapter 9, games', () => {
   });
 
   it('submits the best run under the name typed after the game, refuses a faked score, and replays the same states', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
+    const page = await games.lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
     const problems = watch(page);
-    await openGame(page, 'game=runner&seed=11');
+    await games.open(page, 'game=runner&seed=11');
     await page.getByTestId('control-bot').click();
     await skip(page, 2);
     await pause(page);
@@ -316,9 +307,9 @@ describe('chapter 9, games', () => {
   });
 
   it('runs on the real clock too (the page’s own animation frames)', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const page = await games.lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
     const problems = watch(page);
-    await openGame(page, 'game=ctf&seed=2');
+    await games.open(page, 'game=ctf&seed=2');
     await page.getByTestId('control-real-clock').click();
     await page.getByTestId('control-bot').click();
     expect(await page.getByTestId('control-skip').isDisabled()).toBe(true);
@@ -334,10 +325,10 @@ describe('chapter 9, games', () => {
   });
 
   it('says so gracefully when the page has no highscore server', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const page = await games.lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
     const problems: string[] = [];
     page.on('pageerror', (e) => problems.push(e.message));
-    await page.goto(`${lab.server.url}#/games?game=runner&seed=1`);
+    await page.goto(`${games.lab.server.url}#/games?game=runner&seed=1`);
     await expect
       .poll(() => page.getByTestId('highscores-note').textContent())
       .toContain('no highscore server');
@@ -348,8 +339,8 @@ describe('chapter 9, games', () => {
   });
 
   it('fits a phone screen', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
-    await page.goto(`${api.url}#/games?game=survival&seed=7`);
+    const { context, page, problems } = await phonePage(games.lab.browser);
+    await page.goto(`${games.url}#/games?game=survival&seed=7`);
     await page.getByTestId('readout-tick').waitFor();
     await page.getByTestId('control-bot').click();
     await skip(page, 1);

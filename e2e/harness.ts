@@ -56,12 +56,21 @@ export function useLab(): Lab {
   return lab;
 }
 
+/** The lab and a second server of it with the highscore API (see {@link useHighscoreServer}). */
+export interface HighscoreLab {
+  /** The lab (its browser; its plain server, without the highscore API). */
+  readonly lab: Lab;
+  /** The second server's address, once the tests run. */
+  readonly url: string;
+}
+
 /**
- * A second server of the built lab, with the highscore API on a store in a temporary folder (named
- * after `name`), started before the file's tests and stopped (its folder removed) after: the game
- * and replay chapters read their tables from it. Its `url` is there once the tests run.
+ * The lab ({@link useLab}) and a second server of the built lab, with the highscore API on a
+ * store in a temporary folder (named after `name`), started before the file's tests and stopped
+ * (its folder removed) after: the game and replay chapters read their tables from it.
  */
-export function useHighscoreServer(name: string): { readonly url: string } {
+export function useHighscoreServer(name: string): HighscoreLab {
+  const lab = useLab();
   let server: RunningServer | undefined;
   let dataDir = '';
   beforeAll(async () => {
@@ -75,9 +84,36 @@ export function useHighscoreServer(name: string): { readonly url: string } {
     rmSync(dataDir, { recursive: true, force: true });
   });
   return {
+    lab,
     get url(): string {
       if (server === undefined) throw new Error('the highscore server is not started yet');
       return server.url;
+    },
+  };
+}
+
+/** Chapter 9, the games, as a test file opens it (see {@link useGames}). */
+export interface GamesChapter extends HighscoreLab {
+  /**
+   * Goes to the chapter at {@link url} with `query` (`game=ctf&seed=7`, …) on `page` and waits for
+   * the game's canvas and its first tick.
+   */
+  open(page: Page, query: string): Promise<void>;
+}
+
+/** A {@link useHighscoreServer} named `name`, for tests of the games chapter. */
+export function useGames(name: string): GamesChapter {
+  const api = useHighscoreServer(name);
+  return {
+    lab: api.lab,
+    get url(): string {
+      return api.url;
+    },
+    async open(page: Page, query: string): Promise<void> {
+      await page.goto(`${api.url}#/games?${query}`);
+      await expect.poll(() => page.title()).toBe('9. Games — fixedstep lab');
+      await page.getByTestId('canvas-game').waitFor();
+      await page.getByTestId('readout-tick').waitFor();
     },
   };
 }

@@ -17,12 +17,10 @@ import {
   readouts,
   shots,
   useHighscoreServer,
-  useLab,
   value,
   watch,
 } from './harness.js';
 
-const lab = useLab();
 /** The lab with the highscore API (the replay view shows the game's table). */
 const api = useHighscoreServer('replays');
 
@@ -80,7 +78,7 @@ async function ticking(page: Page): Promise<void> {
 
 describe('chapter 5, replays', () => {
   it('opens with a sample playing; a replay opened on purpose plays in view', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    const page = await api.lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
     const problems = watch(page);
     await page.goto(`${api.url}#/replays`);
     await page.getByTestId('replay-view').waitFor();
@@ -119,7 +117,7 @@ describe('chapter 5, replays', () => {
   });
 
   it('plays a replay identically at 30 Hz and at 144 Hz', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
+    const page = await api.lab.browser.newPage({ viewport: { width: 1440, height: 1000 } });
     const problems = watch(page);
     await openBotGame(page, 'ctf');
     const facts = await readouts(page);
@@ -189,7 +187,7 @@ describe('chapter 5, replays', () => {
   });
 
   it('downloads a file that reads back, and loads it again', async () => {
-    const context = await lab.browser.newContext({
+    const context = await api.lab.browser.newContext({
       viewport: { width: 1280, height: 900 },
       acceptDownloads: true,
     });
@@ -225,7 +223,7 @@ describe('chapter 5, replays', () => {
   });
 
   it('refuses garbage with a message that names the problem', async () => {
-    const page = await lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const page = await api.lab.browser.newPage({ viewport: { width: 1280, height: 900 } });
     const problems = watch(page);
     await page.goto(`${api.url}#/replays`);
     await page.getByTestId('control-load-file').waitFor();
@@ -265,7 +263,7 @@ describe('chapter 5, replays', () => {
   });
 
   it('fits a phone screen', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
+    const { context, page, problems } = await phonePage(api.lab.browser);
     await openBotGame(page, 'runner');
     await ticking(page);
     await expectFits(page, 'replays-phone');

@@ -9,17 +9,10 @@ import { describe, expect, it } from 'vitest';
 import type { CDPSession, Page } from 'playwright-core';
 import { isDown, readReplay, verifyReplay, wasPressed } from 'fixedstep';
 import { GAMES, RunnerButtons, RunnerGame, ShooterButtons, runnerBot } from '@fixedstep/games';
-import { num, phonePage, readouts, shots, skip, useHighscoreServer, useLab } from './harness.js';
+import { num, phonePage, readouts, shots, skip, useGames } from './harness.js';
 
-const lab = useLab();
 // The games chapter asks the highscore API for its table: serve the lab with it.
-const api = useHighscoreServer('touch');
-
-async function openGame(page: Page, query: string): Promise<void> {
-  await page.goto(`${api.url}#/games?${query}`);
-  await expect.poll(() => page.title()).toBe('9. Games — fixedstep lab');
-  await page.getByTestId('readout-tick').waitFor();
-}
+const games = useGames('touch');
 
 async function tick(page: Page): Promise<number> {
   return num(await readouts(page), 'tick');
@@ -54,8 +47,8 @@ async function touch(cdp: CDPSession, type: 'touchStart' | 'touchMove' | 'touchE
 
 describe('touch play on a phone', () => {
   it('shows thumb-sized controls on a touch screen and plays the runner past its first block', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
-    await openGame(page, 'game=runner&seed=3');
+    const { context, page, problems } = await phonePage(games.lab.browser);
+    await games.open(page, 'game=runner&seed=3');
     const jump = page.getByTestId('touch-jump');
     await expect.poll(() => jump.isVisible()).toBe(true);
     const box = (await jump.boundingBox())!;
@@ -84,9 +77,9 @@ describe('touch play on a phone', () => {
   });
 
   it('plays a CTF round with the stick and Fire; each tap is on exactly one tick of the replay, which verifies', async () => {
-    const { context, page, problems } = await phonePage(lab.browser);
+    const { context, page, problems } = await phonePage(games.lab.browser);
     const cdp = await context.newCDPSession(page);
-    await openGame(page, 'game=ctf&seed=5');
+    await games.open(page, 'game=ctf&seed=5');
     const stick = page.getByTestId('touch-stick');
     const fire = page.getByTestId('touch-fire');
     await expect.poll(() => stick.isVisible()).toBe(true);

@@ -3,10 +3,10 @@
  * with gcc at bench time, and drive the resulting program over a line protocol (see the comment
  * at the top of springs.c). The encoding and the parsing are pure; everything else does I/O.
  */
-import { spawn, spawnSync, type ChildProcessWithoutNullStreams } from 'node:child_process';
+import { spawn, spawnSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
-import { createInterface } from 'node:readline';
 import { Fnv1a64, type SpringModel } from 'fixedstep';
+import { LineProcess } from '../lib/line-process.js';
 
 /** Path of the C source. */
 export const SPRINGS_C = fileURLToPath(new URL('./springs.c', import.meta.url));
@@ -249,41 +249,7 @@ export function jsProgramArgs(sceneJson: string, tsx: string): string[] {
  * methods take the contestant's index for springs-js.ts and none for springs.c.
  */
 export class SpringsProcess {
-  private readonly waiting: {
-    resolve: (reply: Reply) => void;
-    reject: (error: Error) => void;
-  }[] = [];
-  private failure: Error | undefined;
-  private exited: Promise<void>;
-
-  private constructor(private readonly child: ChildProcessWithoutNullStreams) {
-    const fail = (error: Error) => {
-      this.failure ??= error;
-      for (const w of this.waiting.splice(0)) w.reject(this.failure);
-    };
-    createInterface({ input: child.stdout }).on('line', (line) => {
-      const w = this.waiting.shift();
-      if (w === undefined) return;
-      let reply: Reply;
-      try {
-        reply = parseReply(line);
-      } catch (e) {
-        w.reject(e as Error);
-        return;
-      }
-      if (reply.kind === 'error') w.reject(new Error(`springs.c: ${reply.message}`));
-      else w.resolve(reply);
-    });
-    let stderr = '';
-    child.stderr.setEncoding('utf8').on('data', (chunk: string) => (stderr += chunk));
-    child.on('error', fail);
-    this.exited = new Promise((resolve) => {
-      child.on('exit', (code, signal) => {
-        fail(new Error(`springs.c exited (${signal ?? code}) ${stderr}`.trim()));
-        resolve();
-      });
-    });
-  }
+  private constructor(private readonly proc: LineProcess<Reply>) {}
 
   /** Starts `command args…` (on CPU `cpu` if given) and waits for it to be ready. */
   static async start(command: string, args: string[], cpu?: number): Promise<SpringsProcess> {
@@ -291,28 +257,23 @@ export class SpringsProcess {
       cpu === undefined
         ? spawn(command, args, { stdio: 'pipe' })
         : spawn('taskset', ['-c', String(cpu), command, ...args], { stdio: 'pipe' });
-    const p = new SpringsProcess(child);
-    const ready = await p.next();
+    const p = new SpringsProcess(
+      new LineProcess<Reply>(child, 'springs.c', (line) => {
+        const reply = parseReply(line);
+        if (reply.kind === 'error') throw new Error(`springs.c: ${reply.message}`);
+        return reply;
+      }),
+    );
+    const ready = await p.proc.next();
     if (ready.kind !== 'ready') throw new Error(`springs.c: expected ready, got ${ready.kind}`);
     return p;
-  }
-
-  private next(): Promise<Reply> {
-    if (this.failure !== undefined) return Promise.reject(this.failure);
-    return new Promise((resolve, reject) => this.waiting.push({ resolve, reject }));
-  }
-
-  private command(text: string): Promise<Reply> {
-    const reply = this.next();
-    this.child.stdin.write(`${text}\n`);
-    return reply;
   }
 
   private async expect<K extends Reply['kind']>(
     text: string,
     kind: K,
   ): Promise<Extract<Reply, { kind: K }>> {
-    const reply = await this.command(text);
+    const reply = await this.proc.command(text);
     if (reply.kind !== kind) throw new Error(`springs.c: ${text} answered ${reply.kind}`);
     return reply as Extract<Reply, { kind: K }>;
   }
@@ -350,10 +311,8 @@ export class SpringsProcess {
 
   /** Asks it to quit and waits for it to exit. */
   async close(): Promise<void> {
-    if (this.child.exitCode === null && this.child.signalCode === null) {
-      this.child.stdin.end('quit\n');
-    }
-    await this.exited;
+    if (this.proc.running) this.proc.child.stdin.end('quit\n');
+    await this.proc.exited;
   }
 }
 

@@ -7,9 +7,9 @@
  *
  * Commands: `settle K` (K steps), `time K` (K steps, timed with hrtime), `sanity`, `gc`, `quit`.
  */
-import { spawn, spawnSync, type ChildProcessWithoutNullStreams } from 'node:child_process';
+import { spawn, spawnSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
-import { createInterface } from 'node:readline';
+import { LineProcess } from '../lib/line-process.js';
 import type { Sanity } from './checks.js';
 import type { Engine } from './registry.js';
 
@@ -61,61 +61,29 @@ export function peerProgramArgs(engine: Engine, n: number, seed: number, tsx: st
 }
 
 export class PeerProcess {
-  private readonly waiting: {
-    resolve: (reply: PeerReply & { ok: true }) => void;
-    reject: (error: Error) => void;
-  }[] = [];
-  private failure: Error | undefined;
-  private readonly exited: Promise<void>;
   /** Set once ready. */
   info: PeerInfo = { name: '?', settings: '', count: 0 };
 
-  private constructor(private readonly child: ChildProcessWithoutNullStreams) {
-    const fail = (error: Error) => {
-      this.failure ??= error;
-      for (const w of this.waiting.splice(0)) w.reject(this.failure);
-    };
-    createInterface({ input: child.stdout }).on('line', (line) => {
-      const w = this.waiting.shift();
-      if (w === undefined) return;
-      try {
-        const reply = parsePeerReply(line);
-        if (reply.ok) w.resolve(reply);
-        else w.reject(new Error(`peer program: ${reply.error}`));
-      } catch (e) {
-        w.reject(e as Error);
-      }
-    });
-    let stderr = '';
-    child.stderr.setEncoding('utf8').on('data', (chunk: string) => (stderr += chunk));
-    child.on('error', fail);
-    this.exited = new Promise((resolve) => {
-      child.on('exit', (code, signal) => {
-        fail(new Error(`peer program exited (${signal ?? code}) ${stderr}`.trim()));
-        resolve();
-      });
-    });
-  }
+  private constructor(private readonly proc: LineProcess<PeerReply & { ok: true }>) {}
 
   /** Starts one engine on `circlesInBoxScene(n, seed)` and waits until it is built. */
   static async start(engine: Engine, n: number, seed: number, tsx: string): Promise<PeerProcess> {
     const child = spawn(process.execPath, peerProgramArgs(engine, n, seed, tsx), { stdio: 'pipe' });
-    const p = new PeerProcess(child);
-    const ready = await p.next();
+    const p = new PeerProcess(
+      new LineProcess(child, 'peer program', (line) => {
+        const reply = parsePeerReply(line);
+        if (!reply.ok) throw new Error(`peer program: ${reply.error}`);
+        return reply;
+      }),
+    );
+    const ready = await p.proc.next();
     if (ready.info === undefined) throw new Error('peer program: no info when ready');
     p.info = ready.info;
     return p;
   }
 
-  private next(): Promise<PeerReply & { ok: true }> {
-    if (this.failure !== undefined) return Promise.reject(this.failure);
-    return new Promise((resolve, reject) => this.waiting.push({ resolve, reject }));
-  }
-
   private command(text: string): Promise<PeerReply & { ok: true }> {
-    const reply = this.next();
-    this.child.stdin.write(`${text}\n`);
-    return reply;
+    return this.proc.command(text);
   }
 
   /** Runs `steps` steps, untimed. */
@@ -144,7 +112,7 @@ export class PeerProcess {
 
   /** Pins the program's main thread to `cpu` (Linux, taskset); false if that failed. */
   pin(cpu: number): boolean {
-    const pid = this.child.pid;
+    const pid = this.proc.child.pid;
     if (pid === undefined) return false;
     const r = spawnSync('taskset', ['-p', '-c', String(cpu), String(pid)]);
     return r.error === undefined && r.status === 0;
@@ -152,7 +120,7 @@ export class PeerProcess {
 
   /** Ends the program (its world is disposable) and waits for it to exit. */
   async close(): Promise<void> {
-    if (this.child.exitCode === null && this.child.signalCode === null) this.child.kill();
-    await this.exited;
+    if (this.proc.running) this.proc.child.kill();
+    await this.proc.exited;
   }
 }

@@ -25,6 +25,7 @@ import { fileURLToPath } from 'node:url';
 import {
   BUTTON_WORD,
   BaseTransport,
+  EventScheduler,
   LockstepSession,
   ManualClock,
   Random,
@@ -230,65 +231,27 @@ interface Client {
   buttons: HeldButtons;
 }
 
+/** An event of the closed loop. */
 interface Ev {
   at: number;
-  seq: number;
   /** 0 client frame, 1 uplink arrival, 2 relay update, 3 downlink arrival. */
   kind: number;
   client: number;
   bytes: Uint8Array | undefined;
 }
 
-/** A binary min-heap of events by (at, seq). */
-class EventQueue {
-  private readonly heap: Ev[] = [];
-  private seq = 0;
-  get size(): number {
-    return this.heap.length;
-  }
-  push(at: number, kind: number, client: number, bytes?: Uint8Array): void {
-    const h = this.heap;
-    h.push({ at, seq: this.seq++, kind, client, bytes });
-    let i = h.length - 1;
-    while (i > 0) {
-      const p = (i - 1) >> 1;
-      if (!less(h[i]!, h[p]!)) break;
-      [h[i], h[p]] = [h[p]!, h[i]!];
-      i = p;
-    }
-  }
-  pop(): Ev {
-    const h = this.heap;
-    const top = h[0]!;
-    const last = h.pop()!;
-    if (h.length > 0) {
-      h[0] = last;
-      let i = 0;
-      for (;;) {
-        const l = 2 * i + 1;
-        const r = l + 1;
-        let m = i;
-        if (l < h.length && less(h[l]!, h[m]!)) m = l;
-        if (r < h.length && less(h[r]!, h[m]!)) m = r;
-        if (m === i) break;
-        [h[i], h[m]] = [h[m]!, h[i]!];
-        i = m;
-      }
-    }
-    return top;
-  }
-}
-
-function less(a: Ev, b: Ev): boolean {
-  return a.at < b.at || (a.at === b.at && a.seq < b.seq);
-}
-
 /** Runs the closed-loop match and records what the relay saw. */
 export function recordTrace(o: TraceOptions): Trace {
   const rng = new Random(o.seed);
-  const clock = new ManualClock(0);
+  // The closed loop's events, in time order (ties in the order they were scheduled).
+  const scheduler = new EventScheduler(0);
+  const clock = scheduler.clock;
   const relay = newRelay(clock, o.seed);
-  const q = new EventQueue();
+  const push = (at: number, kind: number, client: number, bytes?: Uint8Array): void => {
+    scheduler.at(at, () => {
+      handle({ at, kind, client, bytes });
+    });
+  };
   const inputDelay = inputDelayTicks(2 * (o.oneWayMs + o.jitterMs));
   const maxTicks = Math.ceil((o.seconds * 1000) / STEP_MS) + inputDelay + 2 * MAX_WINDOW + 64;
 
@@ -338,7 +301,7 @@ export function recordTrace(o: TraceOptions): Trace {
       };
       relayEnd.sink = (b) => {
         onRelaySend(c, b);
-        q.push(clock.now() + link(), 3, index, b);
+        push(clock.now() + link(), 3, index, b);
       };
       clients.push(c);
       relay.accept(relayEnd, { address: `client${index}` });
@@ -353,12 +316,12 @@ export function recordTrace(o: TraceOptions): Trace {
         seed: r + 1,
         name: `p${index}`,
       });
-      q.push(link(), 1, index, hello);
+      push(link(), 1, index, hello);
       // Each client's display frames have their own phase within the tick.
-      q.push(rng.next() * STEP_MS, 0, index);
+      push(rng.next() * STEP_MS, 0, index);
     }
   }
-  q.push(STEP_MS / 2, 2, -1);
+  push(STEP_MS / 2, 2, -1);
 
   function onRelaySend(c: Client, b: Uint8Array): void {
     const m = decodeMessage(b);
@@ -382,7 +345,7 @@ export function recordTrace(o: TraceOptions): Trace {
   }
 
   function clientSend(c: Client, now: number, m: NetMessage): void {
-    q.push(now + link(), 1, c.index, encodeMessage(m));
+    push(now + link(), 1, c.index, encodeMessage(m));
   }
 
   function onClientMessage(c: Client, m: NetMessage, now: number): void {
@@ -454,24 +417,24 @@ export function recordTrace(o: TraceOptions): Trace {
   }
 
   let base = { bytesIn: 0, bytesOut: 0, messagesIn: 0, messagesOut: 0 };
-  let end: typeof base;
   /** The timed part starts with the first relay event at or after tick 0's time. */
   const markSteady = (now: number) => {
     if (steadyFrom >= 0 || now < startAt) return;
     steadyFrom = at.length;
     base = { ...relay.stats };
   };
-  for (;;) {
-    const e = q.pop();
+  let end: typeof base | undefined;
+  /** One event; the first at or after the end of the measured window stops the loop. */
+  function handle(e: Ev): void {
+    if (end !== undefined) return;
     if (e.at >= endAt) {
       end = { ...relay.stats };
-      break;
+      return;
     }
-    clock.set(e.at);
     if (e.kind === 0) {
       const c = clients[e.client]!;
       clientFrame(c, e.at);
-      q.push(e.at + STEP_MS, 0, e.client);
+      push(e.at + STEP_MS, 0, e.client);
     } else if (e.kind === 1) {
       const c = clients[e.client]!;
       markSteady(e.at);
@@ -496,7 +459,7 @@ export function recordTrace(o: TraceOptions): Trace {
       conn.push(-1);
       bytes.push(undefined);
       relay.update(e.at);
-      q.push(e.at + STEP_MS / 2, 2, -1);
+      push(e.at + STEP_MS / 2, 2, -1);
     } else {
       const c = clients[e.client]!;
       onClientMessage(c, decodeMessage(e.bytes!), e.at);
@@ -506,6 +469,8 @@ export function recordTrace(o: TraceOptions): Trace {
       }
     }
   }
+  scheduler.runUntilDone(() => end !== undefined, Number.MAX_SAFE_INTEGER);
+  if (end === undefined) throw new Error('recordTrace: the match never reached its end');
   const rooms = relay.roomList();
   return {
     options: o,

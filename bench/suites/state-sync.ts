@@ -24,6 +24,7 @@ import {
   encodeStateSyncMessage,
   peekStateSyncType,
   type ButtonInput,
+  type Clock,
   type LinkConditions,
   type Transport,
 } from 'fixedstep';
@@ -90,6 +91,40 @@ function seededU32(seed: number): () => number {
   return () => r.nextU32();
 }
 
+/**
+ * The benches' room: {@link PLAYERS} capture-the-flag players, named `bench`, on `clock`, with the
+ * game's `seed` (and tokens drawn from `tokenSeed`, by default the same).
+ */
+function benchRoom(
+  clock: Clock,
+  seed: number,
+  options: { snapshotEvery?: number; delta?: boolean; tokenSeed?: number } = {},
+): StateSyncRoom<Game> {
+  return new StateSyncRoom<Game>({
+    game: ctfGame,
+    name: 'bench',
+    clock,
+    players: PLAYERS,
+    seed,
+    snapshotEvery: options.snapshotEvery,
+    delta: options.delta,
+    randomU32: seededU32(options.tokenSeed ?? seed),
+  });
+}
+
+/** A client of the bench room over `transport`, its controls held by a {@link heldBot}. */
+function benchClient(transport: Transport, clock: Clock): StateSyncSession<ButtonInput, Game> {
+  const bot = heldBot();
+  const session: StateSyncSession<ButtonInput, Game> = new StateSyncSession<ButtonInput, Game>({
+    transport,
+    clock,
+    room: 'bench',
+    game: ctfGame,
+    localInput: (tick, sim) => bot(tick, sim, session.welcome?.slot ?? 0),
+  });
+  return session;
+}
+
 /** The bot's input for `slot`, re-decided every {@link BOT_EVERY} ticks. */
 function heldBot(): (tick: number, sim: Game, slot: number) => ButtonInput {
   let held = 0;
@@ -132,16 +167,7 @@ export interface BandwidthResult {
 export function measureBandwidth(o: BandwidthOptions): BandwidthResult {
   const scheduler = new EventScheduler(0);
   const clock = scheduler.clock;
-  const room = new StateSyncRoom<Game>({
-    game: ctfGame,
-    name: 'bench',
-    clock,
-    players: PLAYERS,
-    seed: o.seed,
-    snapshotEvery: o.snapshotEvery,
-    delta: o.delta,
-    randomU32: seededU32(o.seed),
-  });
+  const room = benchRoom(clock, o.seed, { snapshotEvery: o.snapshotEvery, delta: o.delta });
   const history = new Map<number, Uint8Array>();
   scheduler.every(4, () => {
     room.update(clock.now());
@@ -154,14 +180,7 @@ export function measureBandwidth(o: BandwidthOptions): BandwidthResult {
     const counter = new Counter(link.b);
     counters.push(counter);
     room.accept(counter);
-    const bot = heldBot();
-    const session: StateSyncSession<ButtonInput, Game> = new StateSyncSession<ButtonInput, Game>({
-      transport: link.a,
-      clock,
-      room: 'bench',
-      game: ctfGame,
-      localInput: (tick, sim) => bot(tick, sim, session.welcome?.slot ?? 0),
-    });
+    const session = benchClient(link.a, clock);
     sessions.push(session);
     scheduler.every(STEP_MS, () => session.frame(clock.now()), 1 + i * 3.7);
   }
@@ -278,23 +297,18 @@ export function serverScript(load: ServerLoad, seed: number): ServerScript {
 
 interface ServerRig {
   clock: ManualClock;
-  rooms: StateSyncRoom[];
+  rooms: StateSyncRoom<Game>[];
   ends: ServerEnd[][];
 }
 
 function serverRig(s: ServerScript, seed: number): ServerRig {
   const clock = new ManualClock(0);
-  const rooms: StateSyncRoom[] = [];
+  const rooms: StateSyncRoom<Game>[] = [];
   const ends: ServerEnd[][] = [];
   for (let r = 0; r < s.load.rooms; r++) {
-    const room = new StateSyncRoom({
-      game: ctfGame,
-      name: 'bench',
-      clock,
-      players: PLAYERS,
-      seed,
+    const room = benchRoom(clock, seed, {
       snapshotEvery: s.load.snapshotEvery,
-      randomU32: seededU32(seed + r),
+      tokenSeed: seed + r,
     });
     const e: ServerEnd[] = [];
     for (let p = 0; p < PLAYERS; p++) {
@@ -383,14 +397,7 @@ function medianOf(v: number[]): number {
 export function measureClient(seconds: number, oneWayMs: number, seed: number): ClientCost {
   const scheduler = new EventScheduler(0);
   const clock = scheduler.clock;
-  const room = new StateSyncRoom<Game>({
-    game: ctfGame,
-    name: 'bench',
-    clock,
-    players: PLAYERS,
-    seed,
-    randomU32: seededU32(seed),
-  });
+  const room = benchRoom(clock, seed);
   scheduler.every(4, () => room.update(clock.now()));
   let depthFrom = { re: 0, n: 0 };
   let depthTo = { re: 0, n: 0 };
@@ -426,14 +433,7 @@ export function measureClient(seconds: number, oneWayMs: number, seed: number): 
           },
         }
       : link.a;
-    const bot = heldBot();
-    const session: StateSyncSession<ButtonInput, Game> = new StateSyncSession<ButtonInput, Game>({
-      transport,
-      clock,
-      room: 'bench',
-      game: ctfGame,
-      localInput: (tick, sim) => bot(tick, sim, session.welcome?.slot ?? 0),
-    });
+    const session = benchClient(transport, clock);
     scheduler.every(
       STEP_MS,
       () => {

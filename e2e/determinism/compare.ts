@@ -11,7 +11,7 @@ import {
   traceLength,
   type TraceScene,
 } from '@fixedstep/games';
-import type { EngineRun, SceneResult } from './run.js';
+import { runScenes, stateHex, type EngineRun, type SceneResult } from './run.js';
 import type { EngineId } from './engines/session.js';
 
 /** A trace that differs from the one it must equal. */
@@ -207,6 +207,26 @@ export async function compareEngine(options: {
     }
   }
   return out;
+}
+
+/**
+ * {@link compareEngine} of two sets of scenes run here in Node: `scenes` as if engine `engine` had
+ * run them, against `reference` as Node's — how the suite's tests stand in for an engine that
+ * differs.
+ */
+export function compareInNode(
+  engine: EngineId,
+  reference: readonly TraceScene[],
+  scenes: readonly TraceScene[],
+): Promise<EngineComparison> {
+  return compareEngine({
+    engine,
+    scenes: reference,
+    run: runScenes(scenes),
+    reference: runScenes(reference),
+    state: (id, tick) => Promise.resolve(stateHex(scenes, id, tick)),
+    referenceState: (id, tick) => Promise.resolve(stateHex(reference, id, tick)),
+  });
 }
 
 /** One line per mismatch, for test failures and the report. */

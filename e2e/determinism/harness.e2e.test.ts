@@ -17,9 +17,9 @@ import {
   traceScene,
   type TraceScene,
 } from '@fixedstep/games';
-import { compareEngine, formatMismatch } from './compare.js';
+import { compareEngine, compareInNode, formatMismatch } from './compare.js';
 import { reportMarkdown, catalogueSummary } from './report.js';
-import { runScenes, stateHex } from './run.js';
+import { runScenes } from './run.js';
 
 describe('determinism tools', () => {
   it('hexFloat prints every double exactly, C99 %a style', () => {
@@ -128,14 +128,7 @@ describe('determinism tools', () => {
     });
     const good = [counter(false)];
     const bad = [counter(true)];
-    const c = await compareEngine({
-      engine: 'firefox',
-      scenes: good,
-      run: runScenes(bad),
-      reference: runScenes(good),
-      state: (id, tick) => Promise.resolve(stateHex(bad, id, tick)),
-      referenceState: (id, tick) => Promise.resolve(stateHex(good, id, tick)),
-    });
+    const c = await compareInNode('firefox', good, bad);
     expect(c.mismatches).toHaveLength(1);
     const line = formatMismatch(c.mismatches[0]!);
     expect(line).toMatch(/^firefox · test\/counter: differs from Node first at tick 5 /);

@@ -5,9 +5,8 @@
 import { beforeAll, describe, expect, it } from 'vitest';
 import { hexFloat, traceHashAt, traceScene } from '@fixedstep/games';
 import { loadRapier } from '@fixedstep/rapier';
-import { compareEngine, formatMismatch } from './compare.js';
+import { compareInNode, formatMismatch } from './compare.js';
 import { rapierScenes, towerTraceScene } from './rapier.js';
-import { runScenes, stateHex } from './run.js';
 
 beforeAll(async () => {
   await loadRapier();
@@ -28,14 +27,7 @@ describe('Rapier scenes in the determinism suite', () => {
         changed = ball.angvel();
       }),
     ];
-    const c = await compareEngine({
-      engine: 'webkit',
-      scenes: good,
-      run: runScenes(bad),
-      reference: runScenes(good),
-      state: (id, tick) => Promise.resolve(stateHex(bad, id, tick)),
-      referenceState: (id, tick) => Promise.resolve(stateHex(good, id, tick)),
-    });
+    const c = await compareInNode('webkit', good, bad);
     expect(c.mismatches).toHaveLength(1);
     const line = formatMismatch(c.mismatches[0]!);
     expect(line).toMatch(/^webkit · rapier\/tower: differs from Node first at tick 50 /);

@@ -6,9 +6,11 @@
 import type { Random } from 'fixedstep';
 import {
   angleInput,
+  binaryProbe,
   functionProbeScene,
   randomDouble,
   traceCatalogue,
+  unaryProbe,
   type FunctionProbe,
   type TraceScene,
 } from '@fixedstep/games';
@@ -27,61 +29,35 @@ function moderate(rng: Random, k: number): number {
   return k % 2 === 0 ? rng.range(-20, 20) : randomDouble(rng, -30, 9);
 }
 
-const unary = (
-  name: string,
-  f: (x: number) => number,
-  input: (rng: Random, k: number) => number,
-): FunctionProbe => ({
-  name,
-  arity: 1,
-  inputs: (rng, k) => [input(rng, k)],
-  apply: (args, out) => {
-    out[0] = f(args[0]!);
-  },
-});
-const binary = (
-  name: string,
-  f: (a: number, b: number) => number,
-  a: (rng: Random, k: number) => number,
-  b: (rng: Random, k: number) => number,
-): FunctionProbe => ({
-  name,
-  arity: 2,
-  inputs: (rng, k) => [a(rng, k), b(rng, k)],
-  apply: (args, out) => {
-    out[0] = f(args[0]!, args[1]!);
-  },
-});
-
 /**
  * The engines' own `Math` functions — the ones a simulation must NOT use. Informational: they are
  * expected to differ between engines (the report counts on how many inputs).
  */
 export const ENGINE_MATH_PROBES: readonly FunctionProbe[] = [
-  unary('Math.sin', Math.sin, angleInput),
-  unary('Math.cos', Math.cos, angleInput),
-  unary('Math.tan', Math.tan, angleInput),
-  unary('Math.asin', Math.asin, unit),
-  unary('Math.acos', Math.acos, unit),
-  unary('Math.atan', Math.atan, moderate),
-  binary('Math.atan2', Math.atan2, moderate, moderate),
-  unary('Math.exp', Math.exp, moderate),
-  unary('Math.expm1', Math.expm1, moderate),
-  unary('Math.log', Math.log, positive),
-  unary('Math.log1p', Math.log1p, positive),
-  unary('Math.log2', Math.log2, positive),
-  unary('Math.log10', Math.log10, positive),
-  binary('Math.pow', Math.pow, positive, moderate),
-  binary('x ** y', (x, y) => x ** y, positive, moderate),
-  binary('Math.hypot', Math.hypot, moderate, moderate),
-  unary('Math.sinh', Math.sinh, moderate),
-  unary('Math.cosh', Math.cosh, moderate),
-  unary('Math.tanh', Math.tanh, moderate),
-  unary('Math.asinh', Math.asinh, moderate),
-  unary('Math.acosh', Math.acosh, (rng, k) => 1 + positive(rng, k)),
-  unary('Math.atanh', Math.atanh, unit),
-  unary('Math.cbrt', Math.cbrt, moderate),
-  unary('Math.sqrt', Math.sqrt, positive),
+  unaryProbe('Math.sin', Math.sin, angleInput),
+  unaryProbe('Math.cos', Math.cos, angleInput),
+  unaryProbe('Math.tan', Math.tan, angleInput),
+  unaryProbe('Math.asin', Math.asin, unit),
+  unaryProbe('Math.acos', Math.acos, unit),
+  unaryProbe('Math.atan', Math.atan, moderate),
+  binaryProbe('Math.atan2', Math.atan2, moderate, moderate),
+  unaryProbe('Math.exp', Math.exp, moderate),
+  unaryProbe('Math.expm1', Math.expm1, moderate),
+  unaryProbe('Math.log', Math.log, positive),
+  unaryProbe('Math.log1p', Math.log1p, positive),
+  unaryProbe('Math.log2', Math.log2, positive),
+  unaryProbe('Math.log10', Math.log10, positive),
+  binaryProbe('Math.pow', Math.pow, positive, moderate),
+  binaryProbe('x ** y', (x, y) => x ** y, positive, moderate),
+  binaryProbe('Math.hypot', Math.hypot, moderate, moderate),
+  unaryProbe('Math.sinh', Math.sinh, moderate),
+  unaryProbe('Math.cosh', Math.cosh, moderate),
+  unaryProbe('Math.tanh', Math.tanh, moderate),
+  unaryProbe('Math.asinh', Math.asinh, moderate),
+  unaryProbe('Math.acosh', Math.acosh, (rng, k) => 1 + positive(rng, k)),
+  unaryProbe('Math.atanh', Math.atanh, unit),
+  unaryProbe('Math.cbrt', Math.cbrt, moderate),
+  unaryProbe('Math.sqrt', Math.sqrt, positive),
 ];
 
 function engineMathScenes(): TraceScene[] {

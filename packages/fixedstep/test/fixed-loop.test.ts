@@ -1,5 +1,15 @@
 import { describe, expect, it } from 'vitest';
-import { FixedLoop, Timestep, type DropReason } from 'fixedstep';
+import { FixedLoop, Timestep, type DropReason, type OverloadPolicy } from 'fixedstep';
+
+/** A 10 ms loop that can take at most 4 steps a frame, overloaded as `overload` says. */
+function overloaded(overload: OverloadPolicy): FixedLoop {
+  return new FixedLoop({
+    step: Timestep.fromMs(10),
+    maxAccumulatorMs: 1000,
+    maxStepsPerFrame: 4,
+    overload,
+  });
+}
 
 describe('Timestep', () => {
   it('holds 1/60 s exactly as a rational number of nanoseconds', () => {
@@ -92,12 +102,7 @@ describe('FixedLoop', () => {
   });
 
   it("overload 'drop' drops whole steps beyond the cap and keeps the fraction", () => {
-    const loop = new FixedLoop({
-      step: Timestep.fromMs(10),
-      maxAccumulatorMs: 1000,
-      maxStepsPerFrame: 4,
-      overload: 'drop',
-    });
+    const loop = overloaded('drop');
     expect(loop.advance(95)).toBe(4);
     expect(loop.droppedMs('overload')).toBeCloseTo(50, 9);
     expect(loop.accumulatorMs).toBeCloseTo(5, 9);
@@ -105,12 +110,7 @@ describe('FixedLoop', () => {
   });
 
   it("overload 'reset' drops everything beyond the cap, fraction included", () => {
-    const loop = new FixedLoop({
-      step: Timestep.fromMs(10),
-      maxAccumulatorMs: 1000,
-      maxStepsPerFrame: 4,
-      overload: 'reset',
-    });
+    const loop = overloaded('reset');
     expect(loop.advance(95)).toBe(4);
     expect(loop.droppedMs('overload')).toBeCloseTo(55, 9);
     expect(loop.accumulatorMs).toBe(0);

@@ -18,14 +18,19 @@ import {
   wasPressed,
 } from 'fixedstep';
 
-const twinStick = defineInput({
-  buttons: ['left', 'right', 'up', 'down', 'fire'],
-  axes: {
-    aim: { angle: 10 },
-    moveX: { min: -1, max: 1, bits: 8 },
-    throttle: { min: 0, max: 1, bits: 16 },
-  },
-});
+/** A twin-stick schema's definition, new at every call. */
+function twinStickDefinition() {
+  return {
+    buttons: ['left', 'right', 'up', 'down', 'fire'] as const,
+    axes: {
+      aim: { angle: 10 },
+      moveX: { min: -1, max: 1, bits: 8 },
+      throttle: { min: 0, max: 1, bits: 16 },
+    },
+  };
+}
+
+const twinStick = defineInput(twinStickDefinition());
 
 describe('the button word', () => {
   it('has one layout: down bits 0–15, pressed bits 16–31', () => {
@@ -160,14 +165,7 @@ describe('input schemas', () => {
   });
 
   it('has a canonical descriptor and an id: equal schemas, equal ids; any change, another id', () => {
-    const again = defineInput({
-      buttons: ['left', 'right', 'up', 'down', 'fire'],
-      axes: {
-        aim: { angle: 10 },
-        moveX: { min: -1, max: 1, bits: 8 },
-        throttle: { min: 0, max: 1, bits: 16 },
-      },
-    });
+    const again = defineInput(twinStickDefinition());
     expect(again.id).toBe(twinStick.id);
     expect(defineInput({ buttons: ['left', 'right', 'up', 'down', 'fire'] }).id).not.toBe(
       twinStick.id,

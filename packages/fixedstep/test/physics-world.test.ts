@@ -26,6 +26,16 @@ function maxSpeed(w: PhysicsWorld): number {
   return m;
 }
 
+/** A world with a unit box `a` that has come to rest on the ground and fallen asleep. */
+function boxAsleepOnGround(): { w: PhysicsWorld; a: number } {
+  const w = new PhysicsWorld();
+  w.addStaticBox(0, -0.5, 10, 0.5);
+  const a = w.createBox({ x: 0, y: 0.5, halfWidth: 0.5, halfHeight: 0.5 });
+  for (let t = 0; t < 120; t++) w.step();
+  expect(w.isAsleep(a)).toBe(true);
+  return { w, a };
+}
+
 describe('WorldDef', () => {
   it('has documented defaults', () => {
     expect(defaultWorldDef()).toEqual({
@@ -211,11 +221,7 @@ describe('sleeping', () => {
   });
 
   it('lets a kinematic body push a sleeping one', () => {
-    const w = new PhysicsWorld();
-    w.addStaticBox(0, -0.5, 10, 0.5);
-    const a = w.createBox({ x: 0, y: 0.5, halfWidth: 0.5, halfHeight: 0.5 });
-    for (let t = 0; t < 120; t++) w.step();
-    expect(w.isAsleep(a)).toBe(true);
+    const { w, a } = boxAsleepOnGround();
     const k = w.createBox({
       x: -3,
       y: 0.5,
@@ -230,11 +236,7 @@ describe('sleeping', () => {
   });
 
   it('changes nothing while asleep, and wakes on setVelocity', () => {
-    const w = new PhysicsWorld();
-    w.addStaticBox(0, -0.5, 10, 0.5);
-    const a = w.createBox({ x: 0, y: 0.5, halfWidth: 0.5, halfHeight: 0.5 });
-    for (let t = 0; t < 120; t++) w.step();
-    expect(w.isAsleep(a)).toBe(true);
+    const { w, a } = boxAsleepOnGround();
     const y = w.y[a];
     for (let t = 0; t < 10; t++) w.step();
     expect(w.y[a]).toBe(y);

@@ -1,17 +1,16 @@
 /**
  * The bots' searches try their candidates cheapest first (and the nav grid remembers its nearest
  * nodes), so they make fewer line-of-sight tests — and must answer exactly as the scans they
- * replace, which keep the cheapest reachable candidate while going through all of them (copied
- * here as they were). Both arenas, random points and targets (repeated ones too, for the memo),
+ * replace, which keep the cheapest reachable candidate while going through all of them (nav.ts
+ * and seek.ts keep them, for points that are not finite). Both arenas, random points and targets (repeated ones too, for the memo),
  * equal distances for the ties, and points that are not finite.
  */
 import { describe, expect, it } from 'vitest';
 import { Random } from 'fixedstep';
-import { CTF_WALLS, SURVIVAL_WALLS, ctfNav, type NavGrid, type Walls } from '@fixedstep/games';
+import { CTF_WALLS, SURVIVAL_WALLS, ctfNav, type NavGrid } from '@fixedstep/games';
 import { survivalNav } from '../src/games/survival/layout.js';
-import { nearestVisible } from '../src/games/arena/seek.js';
-
-const ORTHO = 5;
+import { nearestVisible, scanVisible } from '../src/games/arena/seek.js';
+import { scanNearest, scanWaypoints } from '../src/games/arena/nav.js';
 
 /** `NavGrid`'s private candidate lists (see its `ringStart`). */
 interface NavCandidates {
@@ -19,101 +18,14 @@ interface NavCandidates {
   readonly ringNode: Int32Array;
   readonly ringSure: Uint8Array;
 }
-const UNREACHABLE = 0x7fffffff;
 
-/** `NavGrid.nearestNode` as it was: every candidate, keeping the nearest reachable. */
-function scanNearest(nav: NavGrid, x: number, y: number, out: Int32Array): boolean {
-  const col = Math.floor(x / nav.spacing);
-  const row = Math.floor(y / nav.spacing);
-  let best = Infinity;
-  let found = -1;
-  for (let rad = 1; rad <= 2 && found < 0; rad++) {
-    for (let dr = -rad; dr <= rad; dr++) {
-      for (let dc = -rad; dc <= rad; dc++) {
-        const r2 = row + dr;
-        const c2 = col + dc;
-        if (r2 < 0 || c2 < 0 || r2 >= nav.rows || c2 >= nav.cols) continue;
-        const nd = nav.cellNode[r2 * nav.cols + c2]!;
-        if (nd < 0) continue;
-        const ex = nav.nodeX[nd]! - x;
-        const ey = nav.nodeY[nd]! - y;
-        const d2 = ex * ex + ey * ey;
-        if (d2 >= best) continue;
-        if (!nav.walls.clear(x, y, nav.nodeX[nd]!, nav.nodeY[nd]!, nav.clearance)) continue;
-        best = d2;
-        found = nd;
-      }
-    }
-  }
-  out[0] = found;
-  return found >= 0;
-}
-
-/** `NavGrid.waypoint` as it was. */
+/** `NavGrid.waypoint` as it was: the goal's node by the scan, then the scan of the waypoints. */
 function scanWaypoint(nav: NavGrid, x: number, y: number, tx: number, ty: number): number[] {
   const out = Float64Array.of(tx, ty);
-  const walls = nav.walls;
-  const r = nav.clearance;
-  if (walls.clear(x, y, tx, ty, r)) return [...out];
+  if (nav.walls.clear(x, y, tx, ty, nav.clearance)) return [...out];
   const goal = new Int32Array(1);
-  if (!scanNearest(nav, tx, ty, goal)) return [...out];
-  const g = goal[0]!;
-  const col = Math.floor(x / nav.spacing);
-  const row = Math.floor(y / nav.spacing);
-  const scale = (ORTHO * 0.9) / nav.spacing;
-  let best = Infinity;
-  for (let rad = 1; rad <= 2 && best === Infinity; rad++) {
-    for (let dr = -rad; dr <= rad; dr++) {
-      for (let dc = -rad; dc <= rad; dc++) {
-        const r2 = row + dr;
-        const c2 = col + dc;
-        if (r2 < 0 || c2 < 0 || r2 >= nav.rows || c2 >= nav.cols) continue;
-        const nd = nav.cellNode[r2 * nav.cols + c2]!;
-        if (nd < 0) continue;
-        const rest = nav.dist[nd * nav.count + g]!;
-        if (rest === UNREACHABLE) continue;
-        const nx = nav.nodeX[nd]!;
-        const ny = nav.nodeY[nd]!;
-        const ex = nx - x;
-        const ey = ny - y;
-        const c = Math.sqrt(ex * ex + ey * ey) * scale + rest;
-        if (c >= best) continue;
-        if (!walls.clear(x, y, nx, ny, r)) continue;
-        best = c;
-        out[0] = nx;
-        out[1] = ny;
-      }
-    }
-  }
+  if (scanNearest(nav, tx, ty, goal)) scanWaypoints(nav, x, y, goal[0]!, out);
   return [...out];
-}
-
-/** The bots' `nearestVisible` as it was: [index, squared distance]. */
-function scanVisible(
-  walls: Walls,
-  x: number,
-  y: number,
-  range: number,
-  clearance: number,
-  alive: Uint8Array,
-  xs: Float64Array,
-  ys: Float64Array,
-  first: number,
-  stride: number,
-): number[] {
-  let found = -1;
-  let best = range * range;
-  for (let i = first; i < alive.length; i += stride) {
-    if (alive[i] === 0) continue;
-    const dx = xs[i]! - x;
-    const dy = ys[i]! - y;
-    const d2 = dx * dx + dy * dy;
-    if (d2 >= best) continue;
-    if (!walls.clear(x, y, xs[i]!, ys[i]!, clearance)) continue;
-    best = d2;
-    found = i;
-  }
-  return [found, best];
 }
 
 /** A point on or near the field: anywhere, on a whole or half unit, or a waypoint. */
@@ -262,9 +174,21 @@ describe.each(ARENAS)('the bots’ searches on %s', (_name, nav) => {
         first,
         stride,
       );
-      expect([found, out[0]]).toEqual(
-        scanVisible(walls, from[0], from[1], range, clearance, alive, xs, ys, first, stride),
+      const want = new Float64Array(1);
+      const wanted = scanVisible(
+        walls,
+        from[0],
+        from[1],
+        range * range,
+        clearance,
+        alive,
+        xs,
+        ys,
+        want,
+        first,
+        stride,
       );
+      expect([found, out[0]]).toEqual([wanted, want[0]]);
     }
   });
 });

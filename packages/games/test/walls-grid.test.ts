@@ -1,148 +1,55 @@
 /**
  * The walls' grid (the broad phase in front of every query) changes which walls a query looks at,
  * never its answer: every query of `Walls` against the all-walls loops as they were before the
- * grid (copied here, calling the library's swept test), bit for bit — on the two arenas and on
- * random layouts, at points and along moves built to land on faces, corners and cell edges, for
- * every radius the games use and beyond the grid's (and at coordinates that are not finite).
+ * grid (walls.ts keeps them for where the grid does not answer), bit for bit — on the two arenas
+ * and on random layouts, at points and along moves built to land on faces, corners and cell
+ * edges, for every radius the games use and beyond the grid's (and at coordinates that are not
+ * finite).
  */
 import { describe, expect, it } from 'vitest';
 import fc from 'fast-check';
-import { Random, dsincos, toiPointRoundedBox } from 'fixedstep';
+import { Random, dsincos } from 'fixedstep';
 import { CTF_WALLS, SURVIVAL_WALLS, Walls, type Rect } from '@fixedstep/games';
 import { GRID_MAX_RADIUS, WallGrid } from '../src/games/arena/wall-grid.js';
 
-const normal = new Float64Array(2);
+/**
+ * `Walls`' all-walls loops (private): its queries as they were before the grid. Like the register
+ * forms, some read their coordinates from `query`.
+ */
+interface AllWallsLoops {
+  overlapsAll(r: number): boolean;
+  pushOutAll(r: number, out: Float64Array): boolean;
+  sweepAll(x: number, y: number, dx: number, dy: number, r: number): number;
+  crossesAll(): boolean;
+}
 
 /** The walls' queries as they were before the grid: every wall, in index order. */
 class AllWalls {
-  readonly count: number;
-  readonly cx: Float64Array;
-  readonly cy: Float64Array;
-  readonly hw: Float64Array;
-  readonly hh: Float64Array;
+  private readonly walls: Walls;
+  private readonly loops: AllWallsLoops;
 
   constructor(rects: readonly Rect[]) {
-    this.count = rects.length;
-    this.cx = Float64Array.from(rects, (r) => (r.x0 + r.x1) / 2);
-    this.cy = Float64Array.from(rects, (r) => (r.y0 + r.y1) / 2);
-    this.hw = Float64Array.from(rects, (r) => (r.x1 - r.x0) / 2);
-    this.hh = Float64Array.from(rects, (r) => (r.y1 - r.y0) / 2);
+    this.walls = new Walls(rects);
+    this.loops = this.walls as unknown as AllWallsLoops;
   }
 
   overlaps(x: number, y: number, r: number): boolean {
-    for (let i = 0; i < this.count; i++) {
-      const dx = Math.abs(x - this.cx[i]!);
-      const dy = Math.abs(y - this.cy[i]!);
-      const hw = this.hw[i]!;
-      const hh = this.hh[i]!;
-      if (dx >= hw + r || dy >= hh + r) continue;
-      if (dx <= hw || dy <= hh) return true;
-      const ex = dx - hw;
-      const ey = dy - hh;
-      if (ex * ex + ey * ey < r * r) return true;
-    }
-    return false;
+    this.walls.query.set([x, y]);
+    return this.loops.overlapsAll(r);
   }
   pushOut(x: number, y: number, r: number, out: Float64Array): void {
-    for (let pass = 0; pass < 2; pass++) {
-      for (let i = 0; i < this.count; i++) {
-        const cx = this.cx[i]!;
-        const cy = this.cy[i]!;
-        const hw = this.hw[i]!;
-        const hh = this.hh[i]!;
-        const dx = x - cx;
-        const dy = y - cy;
-        const ax = dx < 0 ? -dx : dx;
-        const ay = dy < 0 ? -dy : dy;
-        if (ax >= hw + r || ay >= hh + r) continue;
-        const sx = dx < 0 ? -1 : 1;
-        const sy = dy < 0 ? -1 : 1;
-        if (ax <= hw && ay <= hh) {
-          // Centre inside: leave through the nearer face.
-          if (hw - ax <= hh - ay) x = cx + sx * (hw + r);
-          else y = cy + sy * (hh + r);
-        } else if (ax <= hw) {
-          y = cy + sy * (hh + r);
-        } else if (ay <= hh) {
-          x = cx + sx * (hw + r);
-        } else {
-          const qx = cx + sx * hw;
-          const qy = cy + sy * hh;
-          const ex = x - qx;
-          const ey = y - qy;
-          const d2 = ex * ex + ey * ey;
-          if (d2 >= r * r) continue;
-          const d = Math.sqrt(d2);
-          x = qx + (ex / d) * r;
-          y = qy + (ey / d) * r;
-        }
-      }
-    }
-    out[0] = x;
-    out[1] = y;
+    this.walls.query.set([x, y]);
+    this.loops.pushOutAll(r, out);
   }
   sweep(x: number, y: number, dx: number, dy: number, r: number): number {
-    let best = -1;
-    const minX = dx < 0 ? x + dx : x;
-    const maxX = dx < 0 ? x : x + dx;
-    const minY = dy < 0 ? y + dy : y;
-    const maxY = dy < 0 ? y : y + dy;
-    for (let i = 0; i < this.count; i++) {
-      const cx = this.cx[i]!;
-      const cy = this.cy[i]!;
-      const hw = this.hw[i]! + r;
-      const hh = this.hh[i]! + r;
-      // Cheap rejection: the move's bounding box against the grown wall.
-      if (maxX <= cx - hw || minX >= cx + hw || maxY <= cy - hh || minY >= cy + hh) continue;
-      const u = toiPointRoundedBox(x - cx, y - cy, dx, dy, this.hw[i]!, this.hh[i]!, r, normal);
-      if (u >= 0 && (best < 0 || u < best)) best = u;
-    }
-    return best;
+    return this.loops.sweepAll(x, y, dx, dy, r);
   }
   clear(x0: number, y0: number, x1: number, y1: number, r: number): boolean {
     return this.sweep(x0, y0, x1 - x0, y1 - y0, r) < 0;
   }
   crosses(x0: number, y0: number, x1: number, y1: number): boolean {
-    const dx = x1 - x0;
-    const dy = y1 - y0;
-    for (let i = 0; i < this.count; i++) {
-      const cx = this.cx[i]!;
-      const cy = this.cy[i]!;
-      const hw = this.hw[i]!;
-      const hh = this.hh[i]!;
-      let t0 = 0;
-      let t1 = 1;
-      if (dx === 0) {
-        if (x0 < cx - hw || x0 > cx + hw) continue;
-      } else {
-        let a = (cx - hw - x0) / dx;
-        let b = (cx + hw - x0) / dx;
-        if (a > b) {
-          const s = a;
-          a = b;
-          b = s;
-        }
-        if (a > t0) t0 = a;
-        if (b < t1) t1 = b;
-        if (t0 > t1) continue;
-      }
-      if (dy === 0) {
-        if (y0 < cy - hh || y0 > cy + hh) continue;
-      } else {
-        let a = (cy - hh - y0) / dy;
-        let b = (cy + hh - y0) / dy;
-        if (a > b) {
-          const s = a;
-          a = b;
-          b = s;
-        }
-        if (a > t0) t0 = a;
-        if (b < t1) t1 = b;
-        if (t0 > t1) continue;
-      }
-      return true;
-    }
-    return false;
+    this.walls.query.set([x0, y0, x1, y1]);
+    return this.loops.crossesAll();
   }
 }
 

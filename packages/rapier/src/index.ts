@@ -15,6 +15,7 @@ export {
   TowerButtons,
   JointsButtons,
   towerScene,
+  buildTower,
   jointsScene,
   physicsSceneDef,
   checkButtons,

@@ -64,6 +64,45 @@ function checkSize(name: string, value: number, min: number, max: number): numbe
 }
 
 /**
+ * Builds a tower of `rows` × `columns` dynamic boxes of side `side` standing on y = 0, the centre
+ * of its first column at x = `x0`: 2 % apart across and 0.1 % up (none starts in contact), each a
+ * little smaller than its cell, density 1, friction 0.6. Returns their handles, row by row from
+ * the bottom, each row from the left.
+ */
+export function buildTower(
+  world: World,
+  rapier: RapierModule,
+  tower: {
+    readonly x0: number;
+    readonly rows: number;
+    readonly columns: number;
+    readonly side: number;
+  },
+): number[] {
+  const { x0, rows, columns, side } = tower;
+  const half = side / 2;
+  const boxes: number[] = [];
+  for (let row = 0; row < rows; row++) {
+    for (let col = 0; col < columns; col++) {
+      const body = world.createRigidBody(
+        rapier.RigidBodyDesc.dynamic().setTranslation(
+          x0 + col * side * 1.02,
+          half + row * side * 1.001,
+        ),
+      );
+      world.createCollider(
+        rapier.ColliderDesc.cuboid(half * 0.98, half * 0.98)
+          .setDensity(1)
+          .setFriction(0.6),
+        body,
+      );
+      boxes.push(body.handle);
+    }
+  }
+  return boxes;
+}
+
+/**
  * A tower of rotating boxes on the ground and a ball that knocks it over: press FIRE
  * ({@link TowerButtons}) and the ball is launched at the tower (an impulse along +x and a little
  * up; each press fires again from wherever the ball is). What the own `PhysicsWorld` cannot do —
@@ -82,26 +121,7 @@ export function towerScene(options: TowerOptions = {}): RapierSceneDef<number, T
     build(world: World, rapier: RapierModule): Tower {
       const ground = world.createRigidBody(rapier.RigidBodyDesc.fixed().setTranslation(0, -0.5));
       world.createCollider(rapier.ColliderDesc.cuboid(30, 0.5).setFriction(0.8), ground);
-      const boxes: number[] = [];
-      const half = side / 2;
-      const x0 = 4;
-      for (let row = 0; row < rows; row++) {
-        for (let col = 0; col < columns; col++) {
-          const body = world.createRigidBody(
-            rapier.RigidBodyDesc.dynamic().setTranslation(
-              x0 + col * side * 1.02,
-              half + row * side * 1.001,
-            ),
-          );
-          world.createCollider(
-            rapier.ColliderDesc.cuboid(half * 0.98, half * 0.98)
-              .setDensity(1)
-              .setFriction(0.6),
-            body,
-          );
-          boxes.push(body.handle);
-        }
-      }
+      const boxes = buildTower(world, rapier, { x0: 4, rows, columns, side });
       const home = { x: -4, y: radius };
       const ball = world.createRigidBody(
         rapier.RigidBodyDesc.dynamic().setTranslation(home.x, home.y).setCcdEnabled(true),

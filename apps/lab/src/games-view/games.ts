@@ -4,7 +4,7 @@
  * file names. No DOM here.
  */
 import { hex64, type Simulation } from 'fixedstep';
-import type { DisplaySpec as ClockDisplaySpec } from '../shell/display-clock.js';
+import type { DisplaySpec as ClockDisplaySpec, DisplayRate } from '../shell/display-clock.js';
 import { GAMES, type Game, type GameDefinition, type GameInfo } from '@fixedstep/games';
 
 /** The games, in the order the chapters list them. */
@@ -12,8 +12,7 @@ export const GAME_IDS = ['runner', 'ctf', 'survival'] as const;
 export type GameId = (typeof GAME_IDS)[number];
 
 /** The simulated display rates the game chapters offer. */
-export const DISPLAY_RATES = [30, 60, 144, 240] as const;
-export type DisplayRate = (typeof DISPLAY_RATES)[number];
+export { DISPLAY_RATES, type DisplayRate } from '../shell/display-clock.js';
 
 /** A simulated display of one of those rates, with its jitter (see DisplayClock). */
 export interface DisplaySpec extends ClockDisplaySpec {

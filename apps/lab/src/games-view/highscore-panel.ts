@@ -57,7 +57,7 @@ export class HighscorePanel {
       min: 0,
       step: 1,
       id: 'claimed-score',
-      class: 'hs-claim',
+      class: 'text-field hs-claim',
       inputmode: 'numeric',
       'data-testid': 'control-claimed-score',
     });

@@ -8,6 +8,13 @@
  */
 import { SimulatedDisplay } from 'fixedstep';
 
+/**
+ * The simulated display rates the chapters compare and offer, Hz: a slow display, the common one,
+ * two fast ones.
+ */
+export const DISPLAY_RATES = [30, 60, 144, 240] as const;
+export type DisplayRate = (typeof DISPLAY_RATES)[number];
+
 /** A simulated display: its rate and its frame jitter (a fraction of the period, 0–0.3). */
 export interface DisplaySpec {
   hz: number;

@@ -1,5 +1,5 @@
 /** Draws the chapter 1 ball scene (a ball in a 12 × 7 m box) on a {@link SceneCanvas}. */
-import { SceneCanvas, View, clearScene } from './canvas.js';
+import { SceneCanvas, View, sceneView } from './canvas.js';
 
 export const BOX_W = 12;
 export const BOX_H = 7;
@@ -14,10 +14,9 @@ export function drawBall(
   color: string,
   trail: readonly number[] = [],
 ): View | undefined {
-  if (!sc.fit()) return undefined;
+  const view = sceneView(sc, { x0: 0, y0: 0, x1: BOX_W, y1: BOX_H });
+  if (!view) return undefined;
   const { ctx, dpr } = sc;
-  clearScene(sc);
-  const view = new View(sc.w, sc.h, 0, 0, BOX_W, BOX_H);
   view.grid(ctx, 1);
   ctx.strokeStyle = 'rgba(141, 160, 189, 0.45)';
   ctx.lineWidth = Math.max(1, dpr);

@@ -121,6 +121,19 @@ export class View {
   }
 }
 
+/**
+ * Fits `sc` to its box, clears it to the scene background and gives the view of the world's
+ * rectangle `box` (metres) on it: undefined while the canvas has no size (nothing to draw on).
+ */
+export function sceneView(
+  sc: SceneCanvas,
+  box: { readonly x0: number; readonly y0: number; readonly x1: number; readonly y1: number },
+): View | undefined {
+  if (!sc.fit()) return undefined;
+  clearScene(sc);
+  return new View(sc.w, sc.h, box.x0, box.y0, box.x1, box.y1);
+}
+
 /** Clear a canvas to the lab's scene background. */
 export function clearScene(sc: SceneCanvas, fill = '#0a1122'): void {
   const { ctx } = sc;

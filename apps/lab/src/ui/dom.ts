@@ -1,7 +1,7 @@
 /** Tiny DOM helpers: enough to build a page by hand, readably. */
 
 type Attrs = Record<string, string | number | boolean | undefined>;
-type Child = Node | string | null | undefined | false;
+export type Child = Node | string | null | undefined | false;
 
 /**
  * Creates an element. Attributes set to `false` or `undefined` are left out, `true` gives an

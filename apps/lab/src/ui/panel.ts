@@ -3,9 +3,7 @@
  * a header with a title and a tagline, then its scene and numbers), a table's head row, a legend
  * chip and a table row headed by a coloured dot. Styled by styles.css.
  */
-import { h } from './dom.js';
-
-type Child = Node | string | null | undefined | false;
+import { h, type Child } from './dom.js';
 
 /** What a panel says about itself. */
 export interface PanelOptions {

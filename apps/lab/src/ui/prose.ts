@@ -2,9 +2,7 @@
  * The chapters' running text: a section of prose under a heading ("How this page works", "Why …"),
  * the "why" cards, and the collapsible legend that says how to read a panel. Styled by styles.css.
  */
-import { code, h } from './dom.js';
-
-type Child = Node | string | null | undefined | false;
+import { code, h, type Child } from './dom.js';
 
 /**
  * A `<section class="className">` labelled by its heading `title` (id `id`), then `content`: a

@@ -27,6 +27,11 @@ export function tracePlayers(def: GameDefinition): number {
   return Math.min(def.info.maxPlayers, Math.max(def.info.minPlayers, 2));
 }
 
+/** The config of a traced game. */
+function traceConfig(def: GameDefinition): GameConfig {
+  return { seed: TRACE_GAME_SEED, players: tracePlayers(def) };
+}
+
 /** What a bot match leaves behind: per-player inputs per tick, and the replay file. */
 export interface BotRecording {
   readonly config: GameConfig;
@@ -57,7 +62,7 @@ function createGame(def: GameDefinition, config: GameConfig): Game {
  * The bot plays every seat for `ticks` ticks, recorded as it goes.
  */
 function botMatch(def: GameDefinition, ticks: number): BotRecording {
-  const config: GameConfig = { seed: TRACE_GAME_SEED, players: tracePlayers(def) };
+  const config = traceConfig(def);
   const game = createGame(def, config);
   const names = Array.from({ length: config.players }, (_, p) => `bot${String(p)}`);
   const recorder = new ReplayRecorder(
@@ -125,6 +130,29 @@ function steppedRun(game: Game, inputsAt: (tick: number, out: number[]) => void)
   };
 }
 
+/**
+ * A run in which the bot plays every seat of a new traced game. After each tick `afterTick` is
+ * given the game, its state and the ticks so far, and returns the game to go on with.
+ */
+function botRun(
+  def: GameDefinition,
+  afterTick: (game: Game, state: Uint8Array, tick: number) => Game,
+): TraceRun {
+  const config = traceConfig(def);
+  let game = createGame(def, config);
+  const frame: ButtonInput[] = Array.from({ length: config.players }, () => 0);
+  let tick = 0;
+  return {
+    next(): Uint8Array {
+      for (let p = 0; p < config.players; p++) frame[p] = def.bot(game, p) >>> 0;
+      game.step(frame);
+      const state = game.save();
+      game = afterTick(game, state, ++tick);
+      return state;
+    },
+  };
+}
+
 /** The trace scenes of one game; see the module comment. */
 export function gameScenes(
   def: GameDefinition,
@@ -139,7 +167,7 @@ export function gameScenes(
   };
   let fieldsGame: Game | undefined;
   const fields = (state: Uint8Array) => {
-    fieldsGame ??= createGame(def, { seed: TRACE_GAME_SEED, players: tracePlayers(def) });
+    fieldsGame ??= createGame(def, traceConfig(def));
     return gameFields(fieldsGame, state);
   };
 
@@ -147,21 +175,11 @@ export function gameScenes(
     id: `game/${id}/bot`,
     title: `${def.info.title}: a ${String(ticks)}-tick bot match, ${String(tracePlayers(def))} seat(s), step() per tick`,
     ticks,
-    start(): TraceRun {
-      const config: GameConfig = { seed: TRACE_GAME_SEED, players: tracePlayers(def) };
-      const game = createGame(def, config);
-      const frame: ButtonInput[] = Array.from({ length: config.players }, () => 0);
-      let tick = 0;
-      return {
-        next(): Uint8Array {
-          for (let p = 0; p < config.players; p++) frame[p] = def.bot(game, p) >>> 0;
-          game.step(frame);
-          const state = game.save();
-          if (++tick % CONTRACT_EVERY === 1) checkHashContract(game, state, tick);
-          return state;
-        },
-      };
-    },
+    start: () =>
+      botRun(def, (game, state, tick) => {
+        if (tick % CONTRACT_EVERY === 1) checkHashContract(game, state, tick);
+        return game;
+      }),
     fields,
   };
 
@@ -189,25 +207,13 @@ export function gameScenes(
     title: `${def.info.title}: the bot match, moved every ${String(RELOAD_EVERY)} ticks into a fresh game by save() → load()`,
     ticks,
     sameAs: bot.id,
-    start(): TraceRun {
-      const config: GameConfig = { seed: TRACE_GAME_SEED, players: tracePlayers(def) };
-      let game = createGame(def, config);
-      const frame: ButtonInput[] = Array.from({ length: config.players }, () => 0);
-      let tick = 0;
-      return {
-        next(): Uint8Array {
-          for (let p = 0; p < config.players; p++) frame[p] = def.bot(game, p) >>> 0;
-          game.step(frame);
-          const state = game.save();
-          if (++tick % RELOAD_EVERY === 0) {
-            const fresh = createGame(def, config);
-            fresh.load(state);
-            game = fresh;
-          }
-          return state;
-        },
-      };
-    },
+    start: () =>
+      botRun(def, (game, state, tick) => {
+        if (tick % RELOAD_EVERY !== 0) return game;
+        const fresh = createGame(def, traceConfig(def));
+        fresh.load(state);
+        return fresh;
+      }),
     fields,
   };
 

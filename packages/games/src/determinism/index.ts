@@ -46,6 +46,8 @@ export {
   functionProbeScene,
   randomDouble,
   angleInput,
+  unaryProbe,
+  binaryProbe,
   SPECIAL_DOUBLES,
   DET_MATH_PROBES,
   detMathScene,

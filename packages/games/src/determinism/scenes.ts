@@ -33,7 +33,7 @@ import { BallButtons } from '../scenes/ball.js';
 import { WallRange, type WallRangeOptions } from '../scenes/collisions.js';
 import { OscillatorRace } from '../scenes/physics.js';
 import { Rope, type RopePoke } from '../scenes/springs.js';
-import { LoopRig, type ScriptedInput } from '../scenes/loop-rig.js';
+import { LoopRig, defaultBallScript, type ScriptedInput } from '../scenes/loop-rig.js';
 import {
   displayRun,
   rateLabel,
@@ -242,37 +242,47 @@ function positiveInput(rng: Random, k: number): number {
   }
 }
 
-const unary = (
+/** A probe of a function of one number, its inputs drawn by `input` (sample k of a tick). */
+export function unaryProbe(
   name: string,
   f: (x: number) => number,
   input: (rng: Random, k: number) => number,
-): FunctionProbe => ({
-  name,
-  arity: 1,
-  inputs: (rng, k) => [input(rng, k)],
-  apply: (args, out) => {
-    out[0] = f(args[0]!);
-  },
-});
+): FunctionProbe {
+  return {
+    name,
+    arity: 1,
+    inputs: (rng, k) => [input(rng, k)],
+    apply: (args, out) => {
+      out[0] = f(args[0]!);
+    },
+  };
+}
 
-const binary = (
+/**
+ * A probe of a function of two numbers, drawn by `a` and `b` — by default `a` again, at half the
+ * sample index (so the pairs are not all on the diagonal).
+ */
+export function binaryProbe(
   name: string,
   f: (a: number, b: number) => number,
-  input: (rng: Random, k: number) => number,
-): FunctionProbe => ({
-  name,
-  arity: 2,
-  inputs: (rng, k) => [input(rng, k), input(rng, k >>> 1)],
-  apply: (args, out) => {
-    out[0] = f(args[0]!, args[1]!);
-  },
-});
+  a: (rng: Random, k: number) => number,
+  b: (rng: Random, k: number) => number = (rng, k) => a(rng, k >>> 1),
+): FunctionProbe {
+  return {
+    name,
+    arity: 2,
+    inputs: (rng, k) => [a(rng, k), b(rng, k)],
+    apply: (args, out) => {
+      out[0] = f(args[0]!, args[1]!);
+    },
+  };
+}
 
 /** The deterministic math helpers of `fixedstep` (and the exact `Math.sqrt` they build on). */
 export const DET_MATH_PROBES: readonly FunctionProbe[] = Object.freeze([
-  unary('dsin', dsin, angleInput),
-  unary('dcos', dcos, angleInput),
-  unary('dtan', dtan, angleInput),
+  unaryProbe('dsin', dsin, angleInput),
+  unaryProbe('dcos', dcos, angleInput),
+  unaryProbe('dtan', dtan, angleInput),
   {
     name: 'dsincos',
     arity: 1,
@@ -282,15 +292,15 @@ export const DET_MATH_PROBES: readonly FunctionProbe[] = Object.freeze([
       dsincos(args[0]!, out, 0);
     },
   },
-  unary('wrapAngle', wrapAngle, angleInput),
-  unary('datan', datan, generalInput),
-  binary('datan2', datan2, generalInput),
-  unary('dasin', dasin, unitInput),
-  unary('dacos', dacos, unitInput),
-  unary('dexp', dexp, expInput),
-  unary('dlog', dlog, positiveInput),
-  binary('dhypot', dhypot, generalInput),
-  unary('Math.sqrt', Math.sqrt, positiveInput),
+  unaryProbe('wrapAngle', wrapAngle, angleInput),
+  unaryProbe('datan', datan, generalInput),
+  binaryProbe('datan2', datan2, generalInput),
+  unaryProbe('dasin', dasin, unitInput),
+  unaryProbe('dacos', dacos, unitInput),
+  unaryProbe('dexp', dexp, expInput),
+  unaryProbe('dlog', dlog, positiveInput),
+  binaryProbe('dhypot', dhypot, generalInput),
+  unaryProbe('Math.sqrt', Math.sqrt, positiveInput),
 ]);
 
 /** `fixedstep`'s deterministic math over 32 samples of each function per tick. */
@@ -354,14 +364,7 @@ export function randomScene(ticks = 2000): TraceScene {
  */
 export function ballTraceScript(seconds: number): ScriptedInput[] {
   const rng = new Random(77);
-  const out: ScriptedInput[] = [
-    { timeMs: 400, button: BallButtons.throw, down: true },
-    { timeMs: 470, button: BallButtons.throw, down: false },
-    { timeMs: 1210, button: BallButtons.right, down: true },
-    { timeMs: 1710, button: BallButtons.right, down: false },
-    { timeMs: 2300, button: BallButtons.throw, down: true },
-    { timeMs: 2310, button: BallButtons.throw, down: false },
-  ];
+  const out = defaultBallScript();
   for (let t = 3000; t < seconds * 1000 - 700; t += rng.range(500, 1100)) {
     const pick = rng.int(3);
     const button =

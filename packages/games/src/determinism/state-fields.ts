@@ -211,16 +211,19 @@ export function diffStates(
       summary: `${lengths}; the shorter is a prefix of the longer (first extra byte at offset ${n})`,
     };
   }
+  const differ = {
+    equal: false,
+    offset: first,
+    lengthA: a.length,
+    lengthB: b.length,
+    differingBytes: count,
+  };
   const field = fields ? stateFieldAt(fields, first) : undefined;
   if (field) {
     const va = formatStateValue(field.type, readStateField(a, field));
     const vb = formatStateValue(field.type, readStateField(b, field));
     return {
-      equal: false,
-      offset: first,
-      lengthA: a.length,
-      lengthB: b.length,
-      differingBytes: count,
+      ...differ,
       field,
       a: va,
       b: vb,
@@ -238,11 +241,7 @@ export function diffStates(
   const va = formatStateValue('f64', readStateField(a, guess));
   const vb = formatStateValue('f64', readStateField(b, guess));
   return {
-    equal: false,
-    offset: first,
-    lengthA: a.length,
-    lengthB: b.length,
-    differingBytes: count,
+    ...differ,
     a: va,
     b: vb,
     fields: [],

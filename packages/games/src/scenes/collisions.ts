@@ -13,7 +13,7 @@ import {
   type Loop,
   type Simulation,
 } from 'fixedstep';
-import { makeLoop } from './loop-rig.js';
+import { makeLoop } from './loops.js';
 
 /**
  * The collisions chapter's scene: a firing range. Bodies are fired one after another at a single

@@ -1,5 +1,5 @@
 import { MAX_BUTTONS, downBit } from 'fixedstep';
-import type { ScriptedInput } from './loop-rig.js';
+import type { ScriptedInput } from './loops.js';
 import {
   JumperButtons,
   JumperScene,

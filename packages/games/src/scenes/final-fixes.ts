@@ -1,6 +1,7 @@
 import type { DisplayEvent, Loop, OverloadPolicy } from 'fixedstep';
 import { BallScene } from './ball.js';
-import { defaultBallScript, makeLoop, type LoopSpec, type ScriptedInput } from './loop-rig.js';
+import { defaultBallScript } from './loop-rig.js';
+import { makeLoop, type LoopSpec, type ScriptedInput } from './loops.js';
 import { SceneRig } from './movement-rig.js';
 
 /** The talk's TIME_STEP, ms. */

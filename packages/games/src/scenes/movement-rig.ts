@@ -7,7 +7,7 @@ import {
   type DisplayFrame,
   type Loop,
 } from 'fixedstep';
-import { makeLoop, type LoopSpec, type ScriptedInput } from './loop-rig.js';
+import { makeLoop, type LoopSpec, type ScriptedInput } from './loops.js';
 
 /** What a {@link SceneRig} drives: one update with a Δt in seconds and one tick's buttons. */
 export interface SteppedScene {
@@ -45,8 +45,8 @@ export interface SceneRigOptions<S extends SteppedScene> {
 /**
  * Any stepped scene, one loop and one simulated display, advanced a display frame at a time, with
  * scripted inputs sampled per update through a {@link ButtonSampler} — the generic form of
- * `LoopRig`. {@link frame} takes the simulated display's next frame; {@link frameAt} takes a frame
- * time from elsewhere (the page's real clock).
+ * `LoopRig` (which is one, over the ball scene). {@link frame} takes the simulated display's next
+ * frame; {@link frameAt} takes a frame time from elsewhere (the page's real clock).
  */
 export class SceneRig<S extends SteppedScene> {
   readonly loop: Loop;
@@ -55,7 +55,8 @@ export class SceneRig<S extends SteppedScene> {
   readonly sampler = new ButtonSampler();
   private readonly script: ScriptedInput[];
   private scriptAt = 0;
-  private readonly costMs: number;
+  /** What one update costs, ms of real time. */
+  protected readonly costMs: number;
   private readonly guard: number;
   private readonly clock: (displayMs: number) => number;
   private readonly onUpdate: ((scene: S, loop: Loop, j: number) => void) | undefined;

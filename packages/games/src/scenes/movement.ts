@@ -1,5 +1,5 @@
 import { Random, fnv1a64Hex, isDown, wasPressed, type ButtonInput, type LoopKind } from 'fixedstep';
-import type { ScriptedInput } from './loop-rig.js';
+import type { ScriptedInput } from './loops.js';
 import { SceneRig } from './movement-rig.js';
 
 /** Buttons of the jumper scene. */

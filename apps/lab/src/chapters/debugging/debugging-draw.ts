@@ -1,6 +1,7 @@
 /** Chapter 7's drawing: the level with each loop's four runs, and the recording's timeline. */
 import { JumperButtons, type ScriptedInput } from '@fixedstep/games';
-import { View, clearScene, type SceneCanvas } from '../../ui/canvas.js';
+import { clearScene, sceneView, type SceneCanvas } from '../../ui/canvas.js';
+import { drawRunnerDiscs } from '../movement/movement-draw.js';
 import { rateColor } from '../../ui/readout.js';
 import type { DebugLab, DebugTrack } from './debugging-lab.js';
 
@@ -18,10 +19,9 @@ export function drawLevel(
   atMs: number,
   interpolate: boolean,
 ): void {
-  if (!sc.fit()) return;
+  const view = sceneView(sc, LEVEL);
+  if (!view) return;
   const { ctx, dpr } = sc;
-  clearScene(sc);
-  const view = new View(sc.w, sc.h, LEVEL.x0, LEVEL.y0, LEVEL.x1, LEVEL.y1);
   view.grid(ctx, 1);
   const px = (x: number) => view.px(x);
   const py = (y: number) => view.py(y);
@@ -65,17 +65,15 @@ export function drawLevel(
     ctx.stroke();
   });
   ctx.globalAlpha = 1;
-  tracks.forEach((t, i) => {
-    const r = pos[i]!;
-    const radius = ((WIDTHS[String(t.source)] ?? 1) + 4) * dpr;
-    ctx.fillStyle = rateColor(t.source);
-    ctx.strokeStyle = '#0a1122';
-    ctx.lineWidth = Math.max(1, dpr);
-    ctx.beginPath();
-    ctx.arc(px(r.x), py(r.y + half / 2), radius, 0, 2 * Math.PI);
-    ctx.fill();
-    ctx.stroke();
-  });
+  drawRunnerDiscs(
+    sc,
+    tracks.map((t, i) => ({
+      color: rateColor(t.source),
+      x: px(pos[i]!.x),
+      y: py(pos[i]!.y + half / 2),
+      radius: (WIDTHS[String(t.source)] ?? 1) + 4,
+    })),
+  );
 }
 
 /** The recording as bars per button over time, with the play head. */

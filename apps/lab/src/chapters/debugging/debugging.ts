@@ -10,14 +10,13 @@ import {
   DebugLab,
   LOOPS,
   MAX_RECORDING_MS,
-  RATES,
   STEP_MS,
   type DebugReadouts,
   type LoopInfo,
-  type Source,
   sourceLabel,
 } from './debugging-lab.js';
 import { drawLevel, drawTimeline } from './debugging-draw.js';
+import { LOOP_COLORS, runsPanel, type RunsPanel } from '../movement/runs-panel.js';
 import {
   BENCH_INTRO,
   LEDE,
@@ -27,21 +26,16 @@ import {
   verdictText,
   why,
 } from './debugging-text.js';
-import { JumperButtons, demoRecording, type MovementLoop } from '@fixedstep/games';
+import { JumperButtons, demoRecording } from '@fixedstep/games';
 import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { Chart } from '../../ui/chart.js';
 import { button, group, jitterSlider } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
-import { dotRowHead, headRow, legendItem, panel } from '../../ui/panel.js';
+import { headRow } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
-import { Readout, rateColor } from '../../ui/readout.js';
+import { Readout } from '../../ui/readout.js';
 import './debugging.css';
-
-const LOOP_COLORS: Readonly<Record<MovementLoop, string>> = {
-  variable: '#f87171',
-  fixed: '#38bdf8',
-};
 
 /** Keys while recording: `KeyboardEvent.code` → button. */
 const KEYS: Readonly<Record<string, number>> = {
@@ -62,22 +56,10 @@ function centimetres(m: number): string {
   return `${(m * 100).toFixed(1)} cm`;
 }
 
-interface RowView {
-  readonly row: HTMLTableRowElement;
-  readonly label: HTMLElement;
-  readonly ticks: Readout;
-  readonly score: Readout;
-  readonly hash: Readout;
-}
-
-interface LoopView {
+interface LoopView extends RunsPanel<{ ticks: Readout; score: Readout; hash: Readout }> {
   readonly info: LoopInfo;
-  readonly scene: SceneCanvas;
-  readonly rows: Map<Source, RowView>;
   readonly equal: Readout;
   readonly tick: Readout | undefined;
-  readonly verdict: HTMLElement;
-  readonly legendReal: HTMLElement;
 }
 
 class DebuggingChapter {
@@ -270,78 +252,27 @@ class DebuggingChapter {
   }
 
   private buildPanel(info: LoopInfo): HTMLElement {
-    const scene = this.shell.canvas({
-      class: 'scene level-scene',
-      label: `The four runs of the recording under ${info.title}, drawn over each other`,
-      testId: `canvas-${info.id}`,
-    });
-    const rows = new Map<Source, RowView>();
-    const sources: Source[] = [...RATES, 'real'];
-    const body = h(
-      'tbody',
-      {},
-      sources.map((src) => {
-        const label = h('span', {}, sourceLabel(src));
-        const view: RowView = {
-          row: h('tr', { hidden: src === 'real' }),
-          label,
-          ticks: new Readout('td', `${info.id}-${src}-ticks`),
-          score: new Readout('td', `${info.id}-${src}-score`),
-          hash: new Readout('td', `${info.id}-${src}-hash`, { hash: true }),
-        };
-        view.row.append(
-          dotRowHead(rateColor(src), label),
-          view.ticks.el,
-          view.score.el,
-          view.hash.el,
-        );
-        rows.set(src, view);
-        return view.row;
-      }),
-    );
     const equal = new Readout('td', `${info.id}-hashes-equal`, { className: 'spread' });
     equal.el.setAttribute('colspan', '3');
     const tick = info.fixed ? new Readout('strong', 'fixed-common-tick') : undefined;
-    const view: LoopView = {
-      info,
-      scene,
-      rows,
-      equal,
-      tick,
-      verdict: h('p', { class: 'verdict', 'data-testid': `verdict-${info.id}` }),
-      legendReal: legendItem(rateColor('real'), 'yours', true),
-    };
-    this.views.push(view);
-    return panel(
-      {
-        ...info,
-        accent: LOOP_COLORS[info.id],
-        className: 'track-panel',
-        headingId: `debug-panel-${info.id}`,
-      },
-      h('div', { class: 'scene-wrap' }, scene.canvas),
-      h(
-        'div',
-        { class: 'chart-legend scene-legend', 'aria-hidden': 'true' },
-        RATES.map((hz) => legendItem(rateColor(hz), `${hz} Hz`)),
-        view.legendReal,
-      ),
-      h(
-        'table',
-        { class: 'jump-table hash-table' },
-        h(
-          'caption',
-          {},
-          tick
-            ? ['State hash after tick ', tick.el, ' — the latest every display has reached']
-            : 'State hash now, at each display’s last frame',
-        ),
-        headRow('Display', info.fixed ? 'Ticks' : 'Updates', 'Coins', 'Hash'),
-        body,
-        h('tfoot', {}, h('tr', {}, h('th', { scope: 'row' }, 'All equal'), equal.el)),
-      ),
-      view.verdict,
-    );
+    const built = runsPanel(this.shell, info, {
+      sceneClass: 'scene level-scene',
+      sceneLabel: `The four runs of the recording under ${info.title}, drawn over each other`,
+      cells: (src) => ({
+        ticks: new Readout('td', `${info.id}-${src}-ticks`),
+        score: new Readout('td', `${info.id}-${src}-score`),
+        hash: new Readout('td', `${info.id}-${src}-hash`, { hash: true }),
+      }),
+      tableClass: 'jump-table hash-table',
+      caption: tick
+        ? ['State hash after tick ', tick.el, ' — the latest every display has reached']
+        : 'State hash now, at each display’s last frame',
+      head: headRow('Display', info.fixed ? 'Ticks' : 'Updates', 'Coins', 'Hash'),
+      foot: h('tfoot', {}, h('tr', {}, h('th', { scope: 'row' }, 'All equal'), equal.el)),
+      headingId: `debug-panel-${info.id}`,
+    });
+    this.views.push({ ...built, info, equal, tick });
+    return built.element;
   }
 
   // ---------------------------------------------------------------- input

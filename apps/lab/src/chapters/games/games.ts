@@ -245,7 +245,7 @@ class GamesChapter {
     const name = h('input', {
       type: 'text',
       id: 'player-name',
-      class: 'name-input',
+      class: 'text-field name-input',
       maxlength: 32,
       autocomplete: 'nickname',
       placeholder: 'your name',

@@ -23,11 +23,11 @@ import {
   type Loop,
   type LoopKind,
 } from 'fixedstep';
+import { DISPLAY_RATES, type DisplayRate } from '../../shell/display-clock.js';
 import { VirtualLab } from '../../shell/virtual-lab.js';
 
 /** The display rates offered. */
-export const DISPLAY_RATES = [30, 60, 144, 240] as const;
-export type DisplayRate = (typeof DISPLAY_RATES)[number];
+export { DISPLAY_RATES, type DisplayRate };
 
 /** The talk's TIME_STEP, used by every fixed loop here so their ticks line up. */
 export const STEP_MS = 30;

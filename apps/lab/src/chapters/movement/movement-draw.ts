@@ -3,7 +3,7 @@
  * (widest for 30 Hz, thinnest for 240 Hz), the apex and landing marks of the jump in the table, and
  * the runners on top as nested discs.
  */
-import { View, clearScene, type SceneCanvas } from '../../ui/canvas.js';
+import { sceneView, type SceneCanvas } from '../../ui/canvas.js';
 import { rateColor } from '../../ui/readout.js';
 import type { Track } from './movement-lab.js';
 
@@ -26,10 +26,9 @@ export function drawJumps(
   atMs: number,
   interpolate: boolean,
 ): void {
-  if (!sc.fit()) return;
+  const view = sceneView(sc, VIEW);
+  if (!view) return;
   const { ctx, dpr } = sc;
-  clearScene(sc);
-  const view = new View(sc.w, sc.h, VIEW.x0, VIEW.y0, VIEW.x1, VIEW.y1);
   const px = (x: number) => view.px(x);
   const py = (y: number) => view.py(y);
   view.grid(ctx, 0.5);
@@ -94,16 +93,33 @@ export function drawJumps(
       ctx.lineCap = 'round';
     }
   });
-  // The runners on top, as nested discs: where they coincide they look like a target.
-  tracks.forEach((t, i) => {
-    const r = runners[i]!;
-    const radius = ((WIDTHS[String(t.source)] ?? 1) + 3.5) * dpr;
-    ctx.fillStyle = rateColor(t.source);
+  drawRunnerDiscs(
+    sc,
+    tracks.map((t, i) => ({
+      color: rateColor(t.source),
+      x: px(runners[i]!.x),
+      y: py(runners[i]!.y),
+      radius: (WIDTHS[String(t.source)] ?? 1) + 3.5,
+    })),
+  );
+}
+
+/**
+ * The runners on top, as nested discs (where they coincide they look like a target): each at
+ * (x, y) on the canvas, `radius` CSS px, in `color`.
+ */
+export function drawRunnerDiscs(
+  sc: SceneCanvas,
+  runners: readonly { color: string; x: number; y: number; radius: number }[],
+): void {
+  const { ctx, dpr } = sc;
+  for (const r of runners) {
+    ctx.fillStyle = r.color;
     ctx.strokeStyle = '#0a1122';
     ctx.lineWidth = Math.max(1, dpr);
     ctx.beginPath();
-    ctx.arc(px(r.x), py(r.y), radius, 0, 2 * Math.PI);
+    ctx.arc(r.x, r.y, r.radius * dpr, 0, 2 * Math.PI);
     ctx.fill();
     ctx.stroke();
-  });
+  }
 }

@@ -22,11 +22,12 @@ import {
   type MovementLoop,
   type ScriptedInput,
 } from '@fixedstep/games';
+import { DISPLAY_RATES, type DisplayRate } from '../../shell/display-clock.js';
 import { VirtualLab } from '../../shell/virtual-lab.js';
 
 /** The display rates compared. */
-export const RATES = [30, 60, 144, 240] as const;
-export type Rate = (typeof RATES)[number];
+export const RATES = DISPLAY_RATES;
+export type Rate = DisplayRate;
 /** A run's display: a simulated rate, or the page's own ("real"). */
 export type Source = Rate | 'real';
 

@@ -12,10 +12,10 @@ import {
   sweep,
   type LoopInfo,
   type LoopReadouts,
-  type Source,
   sourceLabel,
 } from './movement-lab.js';
 import { drawJumps } from './movement-draw.js';
+import { LOOP_COLORS, rateChip, runsPanel, type RunsPanel } from './runs-panel.js';
 import {
   BENCH_INTRO,
   LEDE,
@@ -26,19 +26,12 @@ import {
   verdictText,
   why,
 } from './movement-text.js';
-import type { MovementLoop } from '@fixedstep/games';
 import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
-import type { SceneCanvas } from '../../ui/canvas.js';
 import { Chart } from '../../ui/chart.js';
 import { button, group, jitterSlider } from '../../ui/controls.js';
 import { h, setText } from '../../ui/dom.js';
-import { dotRowHead, headRow, legendItem, panel } from '../../ui/panel.js';
-import { Readout, rateColor } from '../../ui/readout.js';
-
-const LOOP_COLORS: Readonly<Record<MovementLoop, string>> = {
-  variable: '#f87171',
-  fixed: '#38bdf8',
-};
+import { headRow } from '../../ui/panel.js';
+import { Readout } from '../../ui/readout.js';
 
 export const mount = mountChapter((root, head) => new MovementChapter(root, head));
 
@@ -54,22 +47,11 @@ export function spreadText(v: number): string {
   return cm < 0.1 ? `${(cm * 10).toFixed(3)} mm` : `${cm.toFixed(1)} cm`;
 }
 
-interface RowView {
-  readonly row: HTMLTableRowElement;
-  readonly label: HTMLElement;
-  readonly apex: Readout;
-  readonly landing: Readout;
-}
-
-interface LoopView {
+interface LoopView extends RunsPanel<{ apex: Readout; landing: Readout }> {
   readonly info: LoopInfo;
-  readonly scene: SceneCanvas;
-  readonly rows: Map<Source, RowView>;
   readonly apexSpread: Readout;
   readonly landingSpread: Readout;
   readonly jump: Readout;
-  readonly verdict: HTMLElement;
-  readonly legendReal: HTMLElement;
 }
 
 class MovementChapter {
@@ -136,7 +118,7 @@ class MovementChapter {
         h('p', { class: 'section-intro' }, BENCH_INTRO),
         shell.controls(
           'Displays and time',
-          group('Displays', h('span', { class: 'rate-chips' }, RATES.map(chip))),
+          group('Displays', h('span', { class: 'rate-chips' }, RATES.map(rateChip))),
           this.jitter.el,
           shell.drawGroup(),
           shell.timeGroup(jumpBtn),
@@ -206,71 +188,33 @@ class MovementChapter {
   }
 
   private buildPanel(info: LoopInfo): HTMLElement {
-    const scene = this.shell.canvas({
-      class: 'scene jump-scene',
-      label: `The four runs of the jump under ${info.title}, traced over each other`,
-      testId: `canvas-${info.id}`,
-    });
-    const rows = new Map<Source, RowView>();
-    const sources: Source[] = [...RATES, 'real'];
-    const body = h(
-      'tbody',
-      {},
-      sources.map((src) => {
-        const label = h('span', {}, sourceLabel(src));
-        const apex = new Readout('td', `${info.id}-${src}-apex`);
-        const landing = new Readout('td', `${info.id}-${src}-landing`);
-        const row = h(
-          'tr',
-          { hidden: src === 'real' },
-          dotRowHead(rateColor(src), label),
-          apex.el,
-          landing.el,
-        );
-        rows.set(src, { row, label, apex, landing });
-        return row;
+    const jump = new Readout('span', `${info.id}-jump`);
+    const apexSpread = new Readout('td', `${info.id}-apex-spread`, { className: 'spread' });
+    const landingSpread = new Readout('td', `${info.id}-landing-spread`, { className: 'spread' });
+    const built = runsPanel(this.shell, info, {
+      sceneClass: 'scene jump-scene',
+      sceneLabel: `The four runs of the jump under ${info.title}, traced over each other`,
+      cells: (src) => ({
+        apex: new Readout('td', `${info.id}-${src}-apex`),
+        landing: new Readout('td', `${info.id}-${src}-landing`),
       }),
-    );
-    const view: LoopView = {
-      info,
-      scene,
-      rows,
-      apexSpread: new Readout('td', `${info.id}-apex-spread`, { className: 'spread' }),
-      landingSpread: new Readout('td', `${info.id}-landing-spread`, { className: 'spread' }),
-      jump: new Readout('span', `${info.id}-jump`),
-      verdict: h('p', { class: 'verdict', 'data-testid': `verdict-${info.id}` }),
-      legendReal: legendItem(rateColor('real'), 'yours', true),
-    };
-    this.views.push(view);
-    return panel(
-      { ...info, accent: LOOP_COLORS[info.id], className: 'track-panel' },
-      h('div', { class: 'scene-wrap' }, scene.canvas),
-      h(
-        'div',
-        { class: 'chart-legend scene-legend', 'aria-hidden': 'true' },
-        RATES.map(chip),
-        view.legendReal,
-      ),
-      h(
-        'table',
-        { class: 'jump-table' },
-        h('caption', {}, 'Jump ', view.jump.el, ', as each display’s simulation computed it'),
-        headRow('Display', 'Apex', 'Landing distance'),
-        body,
+      tableClass: 'jump-table',
+      caption: ['Jump ', jump.el, ', as each display’s simulation computed it'],
+      head: headRow('Display', 'Apex', 'Landing distance'),
+      foot: h(
+        'tfoot',
+        {},
         h(
-          'tfoot',
+          'tr',
           {},
-          h(
-            'tr',
-            {},
-            h('th', { scope: 'row', title: 'max − min over the displays' }, 'Spread'),
-            view.apexSpread.el,
-            view.landingSpread.el,
-          ),
+          h('th', { scope: 'row', title: 'max − min over the displays' }, 'Spread'),
+          apexSpread.el,
+          landingSpread.el,
         ),
       ),
-      view.verdict,
-    );
+    });
+    this.views.push({ ...built, info, apexSpread, landingSpread, jump });
+    return built.element;
   }
 
   // ---------------------------------------------------------------- state
@@ -331,8 +275,4 @@ class MovementChapter {
     v.verdict.classList.toggle('good', same);
     v.verdict.classList.toggle('bad', ok && !same);
   }
-}
-
-function chip(hz: number): HTMLElement {
-  return legendItem(rateColor(hz), `${hz} Hz`);
 }

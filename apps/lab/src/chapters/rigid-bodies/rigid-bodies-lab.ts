@@ -53,6 +53,7 @@ import {
 import {
   RapierSimulation,
   TowerButtons,
+  buildTower,
   checkButtons,
   loadRapier,
   rapierGame,
@@ -285,26 +286,14 @@ export function duelScene(): RapierSceneDef<number, Duel> {
             .setFriction(0.8),
         );
       }
+      // Two columns of eight, centred on x = 0.
       const side = 0.5;
-      const half = side / 2;
-      const boxes: number[] = [];
-      for (let row = 0; row < 8; row++) {
-        for (let col = 0; col < 2; col++) {
-          const body = world.createRigidBody(
-            rapier.RigidBodyDesc.dynamic().setTranslation(
-              (col - 0.5) * side * 1.02,
-              half + row * side * 1.001,
-            ),
-          );
-          world.createCollider(
-            rapier.ColliderDesc.cuboid(half * 0.98, half * 0.98)
-              .setDensity(1)
-              .setFriction(0.6),
-            body,
-          );
-          boxes.push(body.handle);
-        }
-      }
+      const boxes = buildTower(world, rapier, {
+        x0: -0.5 * side * 1.02,
+        rows: 8,
+        columns: 2,
+        side,
+      });
       const radius = 0.3;
       const homes: Duel['homes'] = [
         { x: -6, y: radius },

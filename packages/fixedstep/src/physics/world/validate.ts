@@ -142,29 +142,12 @@ export function checkKeys(
   }
 }
 
+/** The options every body takes, whatever its shape. */
+const BODY_KEYS = ['x', 'y', 'vx', 'vy', 'density', 'bullet', 'kinematic'] as const;
 /** The options of {@link PhysicsWorld.createCircle}. */
-export const CIRCLE_KEYS: ReadonlySet<string> = new Set([
-  'x',
-  'y',
-  'vx',
-  'vy',
-  'density',
-  'bullet',
-  'kinematic',
-  'radius',
-]);
+export const CIRCLE_KEYS: ReadonlySet<string> = new Set([...BODY_KEYS, 'radius']);
 /** The options of {@link PhysicsWorld.createBox}. */
-export const BOX_KEYS: ReadonlySet<string> = new Set([
-  'x',
-  'y',
-  'vx',
-  'vy',
-  'density',
-  'bullet',
-  'kinematic',
-  'halfWidth',
-  'halfHeight',
-]);
+export const BOX_KEYS: ReadonlySet<string> = new Set([...BODY_KEYS, 'halfWidth', 'halfHeight']);
 /** The fields of a {@link WorldDef}. */
 export const DEF_KEYS: ReadonlySet<string> = new Set(Object.keys(defaultWorldDef()));
 

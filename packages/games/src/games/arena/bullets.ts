@@ -10,6 +10,8 @@ const pointCircle = pointCircle_;
 const U = SWEPT.u;
 /** The swept test's registers (see `swept.ts`); never part of any state. */
 const reg = sweptRegisters();
+/** Scratch: the targets a bullet's move can hit (grown on demand); never part of any state. */
+let near = new Int32Array(16);
 
 /**
  * What bullets can hit besides walls: circles in structure-of-arrays form (players in capture the
@@ -180,6 +182,8 @@ export class Bullets {
     const list = targets.targetList;
     const q = walls.query;
     const listed = list === undefined ? targets.targetCount : (targets.targetListCount ?? 0);
+    if (near.length < listed) near = new Int32Array(listed);
+    const candidates = near;
     for (let b = 0; b < this.end; b++) {
       if (this.alive[b] === 0) continue;
       const x = this.x[b]!;
@@ -192,6 +196,16 @@ export class Bullets {
       const maxX = (dx < 0 ? x : x + dx) + reach;
       const minY = (dy < 0 ? y + dy : y) - reach;
       const maxY = (dy < 0 ? y : y + dy) + reach;
+      // The targets it can hit whose centres are near its move, in index order: the only ones
+      // the tests below need to see.
+      let m = 0;
+      for (let k = 0; k < listed; k++) {
+        const t = list === undefined ? k : list[k]!;
+        const tx = targetX[t]!;
+        const ty = targetY[t]!;
+        if (tx < minX || tx > maxX || ty < minY || ty > maxY) continue;
+        if (targets.canHit(b, t)) candidates[m++] = t;
+      }
       let u = 1;
       let hitWall = false;
       let hitTarget = -1;
@@ -205,14 +219,10 @@ export class Bullets {
           u = q[4]!;
           hitWall = true;
         }
-        for (let k = 0; k < listed; k++) {
-          const t = list === undefined ? k : list[k]!;
-          const tx = targetX[t]!;
-          const ty = targetY[t]!;
-          if (tx < minX || tx > maxX || ty < minY || ty > maxY) continue;
-          if (!targets.canHit(b, t)) continue;
-          const px = x - tx;
-          const py = y - ty;
+        for (let j = 0; j < m; j++) {
+          const t = candidates[j]!;
+          const px = x - targetX[t]!;
+          const py = y - targetY[t]!;
           // A bullet that starts inside a target (fired point-blank) hits it at once, whichever
           // way it flies; otherwise the swept test.
           let ut = 0;
@@ -237,14 +247,10 @@ export class Bullets {
         q[1] = ny;
         if (walls.overlapsQuery(r)) hitWall = true;
         else {
-          for (let k = 0; k < listed; k++) {
-            const t = list === undefined ? k : list[k]!;
-            const tx = targetX[t]!;
-            const ty = targetY[t]!;
-            if (tx < minX || tx > maxX || ty < minY || ty > maxY) continue;
-            if (!targets.canHit(b, t)) continue;
-            const ex = nx - tx;
-            const ey = ny - ty;
+          for (let j = 0; j < m; j++) {
+            const t = candidates[j]!;
+            const ex = nx - targetX[t]!;
+            const ey = ny - targetY[t]!;
             if (ex * ex + ey * ey < tr * tr) {
               hitTarget = t;
               break;

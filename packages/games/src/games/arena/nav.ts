@@ -291,7 +291,7 @@ export class NavGrid {
     if (!this.nearestTo(q, 2, goal)) return;
     const g = goal[0]!;
     if (!(isFiniteNumber(x) && isFiniteNumber(y))) {
-      this.scanWaypoints(x, y, g, out);
+      scanWaypoints(this, x, y, g, out);
       return;
     }
     const col = Math.floor(x / this.spacing);
@@ -371,7 +371,7 @@ export class NavGrid {
   private nearestTo(from: Float64Array, at: number, out: Int32Array): boolean {
     const x = from[at]!;
     const y = from[at + 1]!;
-    if (!(isFiniteNumber(x) && isFiniteNumber(y))) return this.scanNearest(x, y, out);
+    if (!(isFiniteNumber(x) && isFiniteNumber(y))) return scanNearest(this, x, y, out);
     bits[0] = x;
     bits[1] = y;
     const h =
@@ -461,65 +461,79 @@ export class NavGrid {
       if (walls.clearQuery(this.clearance)) return nd;
     }
   }
+}
 
-  // --- the scans that the searches above shortcut, for coordinates that are not finite ---
+// --- The scans that NavGrid's searches shortcut: what they answer, found by going through every
+// candidate and keeping the cheapest reachable one. NavGrid uses them for coordinates that are not
+// finite; a test holds the searches to them everywhere else. ---
 
-  private scanWaypoints(x: number, y: number, g: number, out: Float64Array): void {
-    const col = Math.floor(x / this.spacing);
-    const row = Math.floor(y / this.spacing);
-    const scale = (ORTHO * 0.9) / this.spacing;
-    let best = Infinity;
-    for (let rad = 1; rad <= 2 && best === Infinity; rad++) {
-      for (let dr = -rad; dr <= rad; dr++) {
-        for (let dc = -rad; dc <= rad; dc++) {
-          const r2 = row + dr;
-          const c2 = col + dc;
-          if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
-          const nd = this.cellNode[r2 * this.cols + c2]!;
-          if (nd < 0) continue;
-          const rest = this.dist[nd * this.count + g]!;
-          if (rest === UNREACHABLE) continue;
-          const nx = this.nodeX[nd]!;
-          const ny = this.nodeY[nd]!;
-          const ex = nx - x;
-          const ey = ny - y;
-          const c = Math.sqrt(ex * ex + ey * ey) * scale + rest;
-          if (c >= best) continue;
-          if (!this.walls.clear(x, y, nx, ny, this.clearance)) continue;
-          best = c;
-          out[0] = nx;
-          out[1] = ny;
-        }
+/**
+ * The waypoint among the 3 × 3 (else 5 × 5) cells around (x, y) from which goal node `g` is
+ * cheapest to reach (straight there, then along the grid) that a body can go straight to from
+ * (x, y), in `out[0]`, `out[1]`; `out` unchanged if there is none.
+ */
+export function scanWaypoints(
+  nav: NavGrid,
+  x: number,
+  y: number,
+  g: number,
+  out: Float64Array,
+): void {
+  const col = Math.floor(x / nav.spacing);
+  const row = Math.floor(y / nav.spacing);
+  const scale = (ORTHO * 0.9) / nav.spacing;
+  let best = Infinity;
+  for (let rad = 1; rad <= 2 && best === Infinity; rad++) {
+    for (let dr = -rad; dr <= rad; dr++) {
+      for (let dc = -rad; dc <= rad; dc++) {
+        const r2 = row + dr;
+        const c2 = col + dc;
+        if (r2 < 0 || c2 < 0 || r2 >= nav.rows || c2 >= nav.cols) continue;
+        const nd = nav.cellNode[r2 * nav.cols + c2]!;
+        if (nd < 0) continue;
+        const rest = nav.dist[nd * nav.count + g]!;
+        if (rest === UNREACHABLE) continue;
+        const nx = nav.nodeX[nd]!;
+        const ny = nav.nodeY[nd]!;
+        const ex = nx - x;
+        const ey = ny - y;
+        const c = Math.sqrt(ex * ex + ey * ey) * scale + rest;
+        if (c >= best) continue;
+        if (!nav.walls.clear(x, y, nx, ny, nav.clearance)) continue;
+        best = c;
+        out[0] = nx;
+        out[1] = ny;
       }
     }
   }
+}
 
-  private scanNearest(x: number, y: number, out: Int32Array): boolean {
-    const col = Math.floor(x / this.spacing);
-    const row = Math.floor(y / this.spacing);
-    let best = Infinity;
-    let found = -1;
-    for (let rad = 1; rad <= 2 && found < 0; rad++) {
-      for (let dr = -rad; dr <= rad; dr++) {
-        for (let dc = -rad; dc <= rad; dc++) {
-          const r2 = row + dr;
-          const c2 = col + dc;
-          if (r2 < 0 || c2 < 0 || r2 >= this.rows || c2 >= this.cols) continue;
-          const nd = this.cellNode[r2 * this.cols + c2]!;
-          if (nd < 0) continue;
-          const ex = this.nodeX[nd]! - x;
-          const ey = this.nodeY[nd]! - y;
-          const d2 = ex * ex + ey * ey;
-          if (d2 >= best) continue;
-          if (!this.walls.clear(x, y, this.nodeX[nd]!, this.nodeY[nd]!, this.clearance)) continue;
-          best = d2;
-          found = nd;
-        }
+/** {@link NavGrid.nearestNode} by going through every candidate, keeping the nearest reachable. */
+export function scanNearest(nav: NavGrid, x: number, y: number, out: Int32Array): boolean {
+  const col = Math.floor(x / nav.spacing);
+  const row = Math.floor(y / nav.spacing);
+  let best = Infinity;
+  let found = -1;
+  for (let rad = 1; rad <= 2 && found < 0; rad++) {
+    for (let dr = -rad; dr <= rad; dr++) {
+      for (let dc = -rad; dc <= rad; dc++) {
+        const r2 = row + dr;
+        const c2 = col + dc;
+        if (r2 < 0 || c2 < 0 || r2 >= nav.rows || c2 >= nav.cols) continue;
+        const nd = nav.cellNode[r2 * nav.cols + c2]!;
+        if (nd < 0) continue;
+        const ex = nav.nodeX[nd]! - x;
+        const ey = nav.nodeY[nd]! - y;
+        const d2 = ex * ex + ey * ey;
+        if (d2 >= best) continue;
+        if (!nav.walls.clear(x, y, nav.nodeX[nd]!, nav.nodeY[nd]!, nav.clearance)) continue;
+        best = d2;
+        found = nd;
       }
     }
-    out[0] = found;
-    return found >= 0;
   }
+  out[0] = found;
+  return found >= 0;
 }
 
 /**

@@ -124,8 +124,12 @@ export function nearestVisible(
   return -1;
 }
 
-/** {@link nearestVisible} by going through them all, keeping the nearest in sight. */
-function scanVisible(
+/**
+ * {@link nearestVisible} by going through them all, keeping the nearest in sight (the search
+ * above must answer as it does; it takes over for positions that are not numbers): `limit` is the
+ * squared range.
+ */
+export function scanVisible(
   walls: Walls,
   x: number,
   y: number,

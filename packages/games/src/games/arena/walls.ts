@@ -1,10 +1,8 @@
-import { toiPointRoundedBox as toiPointRoundedBox_ } from 'fixedstep';
 import { SWEPT, pointRoundedBox as pointRoundedBox_, sweptRegisters } from './swept.js';
 import { GRID_MAX_RADIUS, GRID_MAX_WALLS, WallGrid } from './wall-grid.js';
 
 // Local copies of imported bindings: some loaders (vitest, tsx) read an import through a
 // getter on every use, which costs in hot loops.
-const toiPointRoundedBox = toiPointRoundedBox_;
 const pointRoundedBox = pointRoundedBox_;
 /** Where the swept test writes the fraction of a hit. */
 const U = SWEPT.u;
@@ -15,9 +13,6 @@ export interface Rect {
   readonly x1: number;
   readonly y1: number;
 }
-
-/** Scratch for the all-walls loops' swept-test normals; never part of any state. */
-const normal = new Float64Array(2);
 
 /** {@link Walls}' answer for "every wall, by the all-walls loops" (no wall mask is 0.5). */
 const ALL = 0.5;
@@ -106,23 +101,12 @@ export class Walls {
 
   /** {@link overlaps} of the point in `query[0]`, `query[1]`. */
   overlapsQuery(r: number): boolean {
-    const x = this.query[0]!;
-    const y = this.query[1]!;
     const grid = this.grid;
     const cell = grid === null || !(r <= GRID_MAX_RADIUS) ? -1 : grid.cellOf(this.query, 0);
-    if (grid === null || cell < 0) return this.overlapsAll(x, y, r);
+    if (grid === null || cell < 0) return this.overlapsAll(r);
     // The walls near the cell, in index order (see `WallGrid`); the test is the all-walls loop's.
     for (let m = grid.masks[cell]!; m !== 0; m &= m - 1) {
-      const i = 31 - Math.clz32(m & -m);
-      const dx = Math.abs(x - this.cx[i]!);
-      const dy = Math.abs(y - this.cy[i]!);
-      const hw = this.hw[i]!;
-      const hh = this.hh[i]!;
-      if (dx >= hw + r || dy >= hh + r) continue;
-      if (dx <= hw || dy <= hh) return true;
-      const ex = dx - hw;
-      const ey = dy - hh;
-      if (ex * ex + ey * ey < r * r) return true;
+      if (this.overlapsWall(31 - Math.clz32(m & -m), r)) return true;
     }
     return false;
   }
@@ -147,15 +131,16 @@ export class Walls {
 
   /** {@link pushOut} of the circle centred at `query[0]`, `query[1]`. */
   pushOutQuery(r: number, out: Float64Array): boolean {
-    let x = this.query[0]!;
-    let y = this.query[1]!;
     const grid = this.grid;
     let cell = grid === null || !(r <= GRID_MAX_RADIUS) ? -1 : grid.cellOf(this.query, 0);
-    if (grid === null || cell < 0) return this.pushOutAll(x, y, r, out);
+    if (grid === null || cell < 0) return this.pushOutAll(r, out);
     // The all-walls loop, visiting only the walls near the cell the centre is in now: the others
     // are too far to overlap it, and the loop would pass over them. A push moves the centre, so
     // the walls after it come from its new cell.
     const masks = grid.masks;
+    const at = this.move;
+    at[0] = this.query[0]!;
+    at[1] = this.query[1]!;
     // A pass that pushes nothing leaves nothing for the next one to push (the same walls, at the
     // same place): it is the last.
     let pushed = true;
@@ -166,50 +151,18 @@ export class Walls {
       while (m !== 0) {
         const i = 31 - Math.clz32(m & -m);
         m &= m - 1;
-        const cx = this.cx[i]!;
-        const cy = this.cy[i]!;
-        const hw = this.hw[i]!;
-        const hh = this.hh[i]!;
-        const dx = x - cx;
-        const dy = y - cy;
-        const ax = dx < 0 ? -dx : dx;
-        const ay = dy < 0 ? -dy : dy;
-        if (ax >= hw + r || ay >= hh + r) continue;
-        const sx = dx < 0 ? -1 : 1;
-        const sy = dy < 0 ? -1 : 1;
-        if (ax <= hw && ay <= hh) {
-          // Centre inside: leave through the nearer face.
-          if (hw - ax <= hh - ay) x = cx + sx * (hw + r);
-          else y = cy + sy * (hh + r);
-        } else if (ax <= hw) {
-          y = cy + sy * (hh + r);
-        } else if (ay <= hh) {
-          x = cx + sx * (hw + r);
-        } else {
-          const qx = cx + sx * hw;
-          const qy = cy + sy * hh;
-          const ex = x - qx;
-          const ey = y - qy;
-          const d2 = ex * ex + ey * ey;
-          if (d2 >= r * r) continue;
-          const d = Math.sqrt(d2);
-          x = qx + (ex / d) * r;
-          y = qy + (ey / d) * r;
-        }
+        if (!this.pushOutOfWall(i, at, r)) continue;
         pushed = true;
         any = true;
         // Moved: the walls after i come from the new cell (bits above i; none when i is 31). A
         // push ends within the wall's reach, so on the grid; were it ever off it, every other
         // wall would be too far to overlap.
-        const at = this.move;
-        at[0] = x;
-        at[1] = y;
         cell = grid.cellOf(at, 0);
         m = cell < 0 || i === 31 ? 0 : masks[cell]! & (-2 << i);
       }
     }
-    out[0] = x;
-    out[1] = y;
+    out[0] = at[0];
+    out[1] = at[1];
     return any;
   }
 
@@ -220,13 +173,9 @@ export class Walls {
    * wall, the earliest hit.
    */
   sweep(x: number, y: number, dx: number, dy: number, r: number): number {
-    const q = this.query;
-    q[0] = x;
-    q[1] = y;
-    q[2] = dx;
-    q[3] = dy;
+    this.setQuery(x, y, dx, dy);
     this.sweepQuery(r);
-    return q[4]!;
+    return this.query[4]!;
   }
 
   /**
@@ -265,11 +214,7 @@ export class Walls {
 
   /** Whether a circle of radius `r` can move in a straight line from (x0, y0) to (x1, y1) without touching a wall. */
   clear(x0: number, y0: number, x1: number, y1: number, r: number): boolean {
-    const q = this.query;
-    q[0] = x0;
-    q[1] = y0;
-    q[2] = x1;
-    q[3] = y1;
+    this.setQuery(x0, y0, x1, y1);
     return this.clearQuery(r);
   }
 
@@ -319,11 +264,7 @@ export class Walls {
    * of the collision code it checks.
    */
   crosses(x0: number, y0: number, x1: number, y1: number): boolean {
-    const q = this.query;
-    q[0] = x0;
-    q[1] = y0;
-    q[2] = x1;
-    q[3] = y1;
+    this.setQuery(x0, y0, x1, y1);
     return this.crossesQuery();
   }
 
@@ -335,9 +276,7 @@ export class Walls {
     const x1 = q[2]!;
     const y1 = q[3]!;
     const walls = this.segmentWalls(q, 0);
-    if (walls === ALL) return this.crossesAll(x0, y0, x1, y1);
-    const dx = x1 - x0;
-    const dy = y1 - y0;
+    if (walls === ALL) return this.crossesAll();
     // The segment's bounding box, widened by far more than the roundings of the clipping below:
     // a wall clear of it cannot be met.
     const minX = (x0 < x1 ? x0 : x1) - NEAR;
@@ -351,39 +290,18 @@ export class Walls {
       const hw = this.hw[i]!;
       const hh = this.hh[i]!;
       if (maxX < cx - hw || minX > cx + hw || maxY < cy - hh || minY > cy + hh) continue;
-      let t0 = 0;
-      let t1 = 1;
-      if (dx === 0) {
-        if (x0 < cx - hw || x0 > cx + hw) continue;
-      } else {
-        let a = (cx - hw - x0) / dx;
-        let b = (cx + hw - x0) / dx;
-        if (a > b) {
-          const s = a;
-          a = b;
-          b = s;
-        }
-        if (a > t0) t0 = a;
-        if (b < t1) t1 = b;
-        if (t0 > t1) continue;
-      }
-      if (dy === 0) {
-        if (y0 < cy - hh || y0 > cy + hh) continue;
-      } else {
-        let a = (cy - hh - y0) / dy;
-        let b = (cy + hh - y0) / dy;
-        if (a > b) {
-          const s = a;
-          a = b;
-          b = s;
-        }
-        if (a > t0) t0 = a;
-        if (b < t1) t1 = b;
-        if (t0 > t1) continue;
-      }
-      return true;
+      if (this.crossesWall(i)) return true;
     }
     return false;
+  }
+
+  /** Writes the registers `query[0…3]` for a register form (the plain forms' first step). */
+  private setQuery(a: number, b: number, c: number, d: number): void {
+    const q = this.query;
+    q[0] = a;
+    q[1] = b;
+    q[2] = c;
+    q[3] = d;
   }
 
   /**
@@ -431,122 +349,139 @@ export class Walls {
     return pointRoundedBox(reg);
   }
 
+  // --- The tests against one wall, which the grid's paths above and the all-walls loops below
+  // share: only which walls a query visits differs. ---
+
+  // (They take their coordinates from registers, like the register forms: see the class comment.)
+
+  /**
+   * Whether a circle of radius `r` at (`query[0]`, `query[1]`) overlaps wall `i` (touching does
+   * not count).
+   */
+  private overlapsWall(i: number, r: number): boolean {
+    const dx = Math.abs(this.query[0]! - this.cx[i]!);
+    const dy = Math.abs(this.query[1]! - this.cy[i]!);
+    const hw = this.hw[i]!;
+    const hh = this.hh[i]!;
+    if (dx >= hw + r || dy >= hh + r) return false;
+    if (dx <= hw || dy <= hh) return true;
+    const ex = dx - hw;
+    const ey = dy - hh;
+    return ex * ex + ey * ey < r * r;
+  }
+
+  /**
+   * Pushes a circle of radius `r` centred at (`at[0]`, `at[1]`) out of wall `i` by the minimum
+   * translation — out through the nearer face — writing its new centre back to `at`. Whether it
+   * was pushed (false: at least `r` from the wall, `at` unchanged).
+   */
+  private pushOutOfWall(i: number, at: Float64Array, r: number): boolean {
+    const x = at[0]!;
+    const y = at[1]!;
+    const cx = this.cx[i]!;
+    const cy = this.cy[i]!;
+    const hw = this.hw[i]!;
+    const hh = this.hh[i]!;
+    const dx = x - cx;
+    const dy = y - cy;
+    const ax = dx < 0 ? -dx : dx;
+    const ay = dy < 0 ? -dy : dy;
+    if (ax >= hw + r || ay >= hh + r) return false;
+    const sx = dx < 0 ? -1 : 1;
+    const sy = dy < 0 ? -1 : 1;
+    if (ax <= hw && ay <= hh) {
+      // Centre inside: leave through the nearer face.
+      if (hw - ax <= hh - ay) at[0] = cx + sx * (hw + r);
+      else at[1] = cy + sy * (hh + r);
+    } else if (ax <= hw) {
+      at[1] = cy + sy * (hh + r);
+    } else if (ay <= hh) {
+      at[0] = cx + sx * (hw + r);
+    } else {
+      const qx = cx + sx * hw;
+      const qy = cy + sy * hh;
+      const ex = x - qx;
+      const ey = y - qy;
+      const d2 = ex * ex + ey * ey;
+      if (d2 >= r * r) return false;
+      const d = Math.sqrt(d2);
+      at[0] = qx + (ex / d) * r;
+      at[1] = qy + (ey / d) * r;
+    }
+    return true;
+  }
+
+  /**
+   * Whether the segment from (`query[0]`, `query[1]`) to (`query[2]`, `query[3]`) meets wall `i`
+   * (closed box): Liang–Barsky, the segment's parameter range [0, 1] clipped to the box's x slab,
+   * then its y slab.
+   */
+  private crossesWall(i: number): boolean {
+    const q = this.query;
+    const x0 = q[0]!;
+    const y0 = q[1]!;
+    const dx = q[2]! - x0;
+    const dy = q[3]! - y0;
+    let t0 = 0;
+    let t1 = 1;
+    for (let axis = 0; axis < 2; axis++) {
+      const p = axis === 0 ? x0 : y0;
+      const d = axis === 0 ? dx : dy;
+      const c = axis === 0 ? this.cx[i]! : this.cy[i]!;
+      const h = axis === 0 ? this.hw[i]! : this.hh[i]!;
+      if (d === 0) {
+        if (p < c - h || p > c + h) return false;
+        continue;
+      }
+      let a = (c - h - p) / d;
+      let b = (c + h - p) / d;
+      if (a > b) {
+        const s = a;
+        a = b;
+        b = s;
+      }
+      if (a > t0) t0 = a;
+      if (b < t1) t1 = b;
+      if (t0 > t1) return false;
+    }
+    return true;
+  }
+
   // --- The all-walls loops: the queries as they were before the grid, and still are wherever it
   // does not answer. The grid's paths above must agree with them bit for bit (a test checks). ---
 
-  private overlapsAll(x: number, y: number, r: number): boolean {
-    for (let i = 0; i < this.count; i++) {
-      const dx = Math.abs(x - this.cx[i]!);
-      const dy = Math.abs(y - this.cy[i]!);
-      const hw = this.hw[i]!;
-      const hh = this.hh[i]!;
-      if (dx >= hw + r || dy >= hh + r) continue;
-      if (dx <= hw || dy <= hh) return true;
-      const ex = dx - hw;
-      const ey = dy - hh;
-      if (ex * ex + ey * ey < r * r) return true;
-    }
+  private overlapsAll(r: number): boolean {
+    for (let i = 0; i < this.count; i++) if (this.overlapsWall(i, r)) return true;
     return false;
   }
-  private pushOutAll(x: number, y: number, r: number, out: Float64Array): boolean {
+  private pushOutAll(r: number, out: Float64Array): boolean {
+    const at = this.move;
+    at[0] = this.query[0]!;
+    at[1] = this.query[1]!;
     let any = false;
     for (let pass = 0; pass < 2; pass++) {
-      for (let i = 0; i < this.count; i++) {
-        const cx = this.cx[i]!;
-        const cy = this.cy[i]!;
-        const hw = this.hw[i]!;
-        const hh = this.hh[i]!;
-        const dx = x - cx;
-        const dy = y - cy;
-        const ax = dx < 0 ? -dx : dx;
-        const ay = dy < 0 ? -dy : dy;
-        if (ax >= hw + r || ay >= hh + r) continue;
-        const sx = dx < 0 ? -1 : 1;
-        const sy = dy < 0 ? -1 : 1;
-        if (ax <= hw && ay <= hh) {
-          // Centre inside: leave through the nearer face.
-          if (hw - ax <= hh - ay) x = cx + sx * (hw + r);
-          else y = cy + sy * (hh + r);
-        } else if (ax <= hw) {
-          y = cy + sy * (hh + r);
-        } else if (ay <= hh) {
-          x = cx + sx * (hw + r);
-        } else {
-          const qx = cx + sx * hw;
-          const qy = cy + sy * hh;
-          const ex = x - qx;
-          const ey = y - qy;
-          const d2 = ex * ex + ey * ey;
-          if (d2 >= r * r) continue;
-          const d = Math.sqrt(d2);
-          x = qx + (ex / d) * r;
-          y = qy + (ey / d) * r;
-        }
-        any = true;
-      }
+      for (let i = 0; i < this.count; i++) if (this.pushOutOfWall(i, at, r)) any = true;
     }
-    out[0] = x;
-    out[1] = y;
+    out[0] = at[0];
+    out[1] = at[1];
     return any;
   }
   private sweepAll(x: number, y: number, dx: number, dy: number, r: number): number {
+    const move = this.move;
+    move[0] = x;
+    move[1] = y;
+    move[2] = dx;
+    move[3] = dy;
     let best = -1;
-    const minX = dx < 0 ? x + dx : x;
-    const maxX = dx < 0 ? x : x + dx;
-    const minY = dy < 0 ? y + dy : y;
-    const maxY = dy < 0 ? y : y + dy;
     for (let i = 0; i < this.count; i++) {
-      const cx = this.cx[i]!;
-      const cy = this.cy[i]!;
-      const hw = this.hw[i]! + r;
-      const hh = this.hh[i]! + r;
-      // Cheap rejection: the move's bounding box against the grown wall.
-      if (maxX <= cx - hw || minX >= cx + hw || maxY <= cy - hh || minY >= cy + hh) continue;
-      const u = toiPointRoundedBox(x - cx, y - cy, dx, dy, this.hw[i]!, this.hh[i]!, r, normal);
+      if (!this.touches(i, r)) continue;
+      const u = this.reg[U]!;
       if (u >= 0 && (best < 0 || u < best)) best = u;
     }
     return best;
   }
-  private crossesAll(x0: number, y0: number, x1: number, y1: number): boolean {
-    const dx = x1 - x0;
-    const dy = y1 - y0;
-    for (let i = 0; i < this.count; i++) {
-      const cx = this.cx[i]!;
-      const cy = this.cy[i]!;
-      const hw = this.hw[i]!;
-      const hh = this.hh[i]!;
-      let t0 = 0;
-      let t1 = 1;
-      if (dx === 0) {
-        if (x0 < cx - hw || x0 > cx + hw) continue;
-      } else {
-        let a = (cx - hw - x0) / dx;
-        let b = (cx + hw - x0) / dx;
-        if (a > b) {
-          const s = a;
-          a = b;
-          b = s;
-        }
-        if (a > t0) t0 = a;
-        if (b < t1) t1 = b;
-        if (t0 > t1) continue;
-      }
-      if (dy === 0) {
-        if (y0 < cy - hh || y0 > cy + hh) continue;
-      } else {
-        let a = (cy - hh - y0) / dy;
-        let b = (cy + hh - y0) / dy;
-        if (a > b) {
-          const s = a;
-          a = b;
-          b = s;
-        }
-        if (a > t0) t0 = a;
-        if (b < t1) t1 = b;
-        if (t0 > t1) continue;
-      }
-      return true;
-    }
+  private crossesAll(): boolean {
+    for (let i = 0; i < this.count; i++) if (this.crossesWall(i)) return true;
     return false;
   }
 }
