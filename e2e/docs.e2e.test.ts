@@ -1,5 +1,6 @@
 /**
- * The API reference (`npm run docs`, TypeDoc over `fixedstep` and `@fixedstep/games`): it builds
+ * The API reference (`npm run docs`, TypeDoc over `fixedstep`, `@fixedstep/games` and
+ * `@fixedstep/server`): it builds
  * with 0 warnings (warnings are errors, and an undocumented export is a warning), has a page for
  * every export, and `fixedstep serve` serves it at /docs/, where the lab's footer links.
  */
@@ -93,10 +94,10 @@ describe('npm run docs', () => {
     expect(built.output).toContain('html generated at');
   });
 
-  it('has a page for every export of fixedstep and @fixedstep/games', async () => {
+  it('has a page for every export of fixedstep, @fixedstep/games and @fixedstep/server', async () => {
     const model = JSON.parse(await readFile(path.join(scratch, 'api.json'), 'utf8')) as Reflection;
     const modules = (model.children ?? []).map((m) => m.name).sort();
-    expect(modules).toEqual(['@fixedstep/games', 'fixedstep']);
+    expect(modules).toEqual(['@fixedstep/games', '@fixedstep/server', 'fixedstep']);
     const declarations = pageReflections(model);
     const pages = await htmlPages(out);
     console.log(

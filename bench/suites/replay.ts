@@ -19,7 +19,7 @@ import {
   gameFromReplayHeader,
   replayOptionsFor,
   type GameConfig,
-  type GameDefinition,
+  type RegisteredGame,
 } from '@fixedstep/games';
 import { formatBytes, formatDuration } from '../lib/format.js';
 import { ALLOCATION_NOISE_BYTES } from '../lib/report.js';
@@ -35,14 +35,14 @@ export const KEYFRAME_EVERY = 3600;
 export const MATCH_MINUTES = 10;
 
 /** The players a game is measured with: two where it allows, else what it needs. */
-export function botConfig(def: GameDefinition, seed = SEED): GameConfig {
+export function botConfig(def: RegisteredGame, seed = SEED): GameConfig {
   const { minPlayers, maxPlayers } = def.info;
   return { seed, players: Math.min(maxPlayers, Math.max(minPlayers, 2)) };
 }
 
 /** A bot game taken down by a {@link ReplayRecorder}. */
 export interface BotRecording {
-  readonly def: GameDefinition;
+  readonly def: RegisteredGame;
   readonly config: GameConfig;
   readonly ticks: number;
   /** The replay file. */
@@ -55,7 +55,7 @@ export interface BotRecording {
 
 /** Every player is the game's bot, for `ticks` ticks, recorded with a checkpoint every second. */
 export function recordBotGame(
-  def: GameDefinition,
+  def: RegisteredGame,
   ticks: number,
   seed = SEED,
   options: { keyframeEvery?: number; checkpointEvery?: number; holdTicks?: number } = {},
@@ -159,7 +159,7 @@ export function verification(rec: BotRecording, fromBytes: boolean): Candidate {
  * cycled past their end would drive a course they were not made for: crashes and restarts all
  * the time.)
  */
-export function botAndStep(def: GameDefinition): Candidate {
+export function botAndStep(def: RegisteredGame): Candidate {
   const players = botConfig(def).players;
   const frame = new Array<number>(players).fill(0);
   let seed = SEED;

@@ -9,7 +9,7 @@ export { LoopRig, makeLoop, defaultBallScript } from './scenes/loop-rig.js';
 export type { LoopRigOptions, LoopSpec, ScriptedInput } from './scenes/loop-rig.js';
 export { measureTunnelling } from './scenes/tunnel.js';
 export type { TunnelSetting, TunnelResult } from './scenes/tunnel.js';
-export type { Game, GameInfo, GameConfig, GameDefinition, Bot } from './games/game.js';
+export type { Game, GameInfo, GameConfig, RegisteredGame, Bot } from './games/game.js';
 export { encodeGameConfig, decodeGameConfig } from './games/config.js';
 export { GAMES, findGame } from './games/registry.js';
 export { replayOptionsFor, gameFromReplayHeader } from './games/replay.js';

@@ -25,7 +25,7 @@ import {
   replayOptionsFor,
   type Game,
   type GameConfig,
-  type GameDefinition,
+  type RegisteredGame,
 } from '@fixedstep/games';
 
 /** What the tests need of an arena game. */
@@ -35,7 +35,7 @@ export type Arena = Game & { readonly players: number; readonly state: { readonl
 export interface Shooter<G extends Arena> {
   /** For log lines: `ctf`, `survival`. */
   readonly name: string;
-  readonly definition: GameDefinition;
+  readonly definition: RegisteredGame;
   readonly make: (config: GameConfig) => G;
   /** The registry's bot. */
   readonly bot: (game: G, player: number) => ButtonInput;

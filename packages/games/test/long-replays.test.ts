@@ -19,7 +19,7 @@ import {
   GAMES,
   gameFromReplayHeader,
   replayOptionsFor,
-  type GameDefinition,
+  type RegisteredGame,
 } from '@fixedstep/games';
 
 const SEED = 20261201;
@@ -39,7 +39,7 @@ const GOLDEN: Record<string, { final: string; digest: string; overAt: number }> 
 };
 
 /** A bot match of `ticks` ticks on two seats (or what the game allows), recorded. */
-function recordBotMatch(def: GameDefinition, ticks: number): Uint8Array {
+function recordBotMatch(def: RegisteredGame, ticks: number): Uint8Array {
   const players = Math.min(def.info.maxPlayers, Math.max(def.info.minPlayers, 2));
   const config = { seed: SEED, players };
   const names = Array.from({ length: players }, (_, p) => `bot ${String(p + 1)}`);

@@ -5,7 +5,7 @@
  */
 import { hex64, type Simulation } from 'fixedstep';
 import type { DisplaySpec as ClockDisplaySpec, DisplayRate } from '../shell/display-clock.js';
-import { GAMES, type Game, type GameDefinition, type GameInfo } from '@fixedstep/games';
+import { GAMES, type Game, type RegisteredGame, type GameInfo } from '@fixedstep/games';
 
 /** The games, in the order the chapters list them. */
 export const GAME_IDS = ['runner', 'ctf', 'survival'] as const;
@@ -20,7 +20,7 @@ export interface DisplaySpec extends ClockDisplaySpec {
 }
 
 /** The registry entry of a game id; a RangeError naming the id for an unknown one. */
-export function gameDef(id: string): GameDefinition {
+export function gameDef(id: string): RegisteredGame {
   const def = GAMES.find((g) => g.info.id === id);
   if (!def) throw new RangeError(`no game "${id}"`);
   return def;
@@ -52,17 +52,17 @@ export function keyLabel(code: string): string {
 }
 
 /** The game's own name for its score (`info.scoreKey`, default `score`). */
-export function scoreKeyOf(def: GameDefinition): string {
+export function scoreKeyOf(def: RegisteredGame): string {
   return def.info.scoreKey ?? 'score';
 }
 
 /** The game's score as the server will rank it, or undefined if its HUD has none. */
-export function scoreOf(def: GameDefinition, game: Game): number | undefined {
+export function scoreOf(def: RegisteredGame, game: Game): number | undefined {
   return game.hud()[scoreKeyOf(def)];
 }
 
 /** Whether the server can rank this game (its HUD has the score key). */
-export function isRanked(def: GameDefinition): boolean {
+export function isRanked(def: RegisteredGame): boolean {
   return scoreOf(def, def.create({ seed: 1, players: 1 })) !== undefined;
 }
 

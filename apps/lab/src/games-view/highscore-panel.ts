@@ -5,7 +5,7 @@
  * What that proves is that these inputs reach this score with this seed on this version of the
  * game — not that a person pressed them (a bot's replay verifies just as well).
  */
-import type { GameDefinition } from '@fixedstep/games';
+import type { RegisteredGame } from '@fixedstep/games';
 import { button } from '../ui/controls.js';
 import { h, setAttr, setText } from '../ui/dom.js';
 import * as fmt from '../ui/format.js';
@@ -34,7 +34,7 @@ export interface HighscorePanelOptions {
 
 export class HighscorePanel {
   readonly el: HTMLElement;
-  private def: GameDefinition | undefined;
+  private def: RegisteredGame | undefined;
   private submission: Submission | undefined;
   private readonly title: HTMLElement;
   private readonly table: HTMLTableSectionElement;
@@ -109,7 +109,7 @@ export class HighscorePanel {
   }
 
   /** Show the table of `def`'s game. */
-  setGame(def: GameDefinition): void {
+  setGame(def: RegisteredGame): void {
     const changed = this.def?.info.id !== def.info.id;
     this.def = def;
     setText(this.title, `Highscores — ${def.info.title}`);
@@ -128,7 +128,7 @@ export class HighscorePanel {
     this.refreshForm();
   }
 
-  private isRanked(def: GameDefinition): boolean {
+  private isRanked(def: RegisteredGame): boolean {
     let r = this.ranked.get(def.info.id);
     if (r === undefined) {
       r = isRanked(def);

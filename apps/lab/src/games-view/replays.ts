@@ -9,7 +9,7 @@ import {
   gameFromReplayHeader,
   replayOptionsFor,
   type GameConfig,
-  type GameDefinition,
+  type RegisteredGame,
 } from '@fixedstep/games';
 import { bytesPerMinute, cleanName } from './games.js';
 
@@ -19,7 +19,7 @@ import { bytesPerMinute, cleanName } from './games.js';
  * talk says a replay is just the inputs and the seeds.
  */
 export function labRecording(
-  def: GameDefinition,
+  def: RegisteredGame,
   config: GameConfig,
   player: string,
 ): ReplayRecorderOptions {
@@ -31,7 +31,7 @@ export function labRecording(
  * records a game. Deterministic: the same arguments give the same bytes.
  */
 export function recordBotGame(
-  def: GameDefinition,
+  def: RegisteredGame,
   seed: number,
   ticks: number,
   player = 'bot',

@@ -3,7 +3,7 @@
  * JavaScript engine and at every display rate. Node and the browsers run this very code (the
  * browser page bundles it), so their traces are comparable tick for tick.
  */
-import type { GameDefinition } from '../games/game.js';
+import type { RegisteredGame } from '../games/game.js';
 import { GAMES } from '../games/registry.js';
 import { TRACE_DISPLAY_RATES } from './display.js';
 import { gameScenes } from './games.js';
@@ -22,7 +22,7 @@ import type { TraceScene } from './trace.js';
 /** Options of {@link traceCatalogue}. */
 export interface TraceCatalogueOptions {
   /** The games to trace. Default: every game of the registry (`GAMES`). */
-  games?: readonly GameDefinition[];
+  games?: readonly RegisteredGame[];
   /** Ticks of each game's bot match. Default 3600 (a minute at 60 Hz). */
   gameTicks?: number;
   /** Display rates of the display-rate scenes, Hz. Default 30, 59.94, 60, 144, 240. */

@@ -5,7 +5,7 @@
  * `GAMES` is picked up with no change here.
  */
 import { ReplayRecorder, fnv1a64Hex, hex64, readReplay, type ButtonInput } from 'fixedstep';
-import type { Game, GameConfig, GameDefinition } from '../games/game.js';
+import type { Game, GameConfig, RegisteredGame } from '../games/game.js';
 import { replayOptionsFor } from '../games/replay.js';
 import {
   displayRun,
@@ -23,12 +23,12 @@ import type { TraceRun, TraceScene } from './trace.js';
 export const TRACE_GAME_SEED = 20261122;
 
 /** Players of a traced game: two where the game allows it (so multi-player paths run), else its minimum. */
-export function tracePlayers(def: GameDefinition): number {
+export function tracePlayers(def: RegisteredGame): number {
   return Math.min(def.info.maxPlayers, Math.max(def.info.minPlayers, 2));
 }
 
 /** The config of a traced game. */
-function traceConfig(def: GameDefinition): GameConfig {
+function traceConfig(def: RegisteredGame): GameConfig {
   return { seed: TRACE_GAME_SEED, players: tracePlayers(def) };
 }
 
@@ -50,18 +50,18 @@ export interface BotRecording {
   readonly resampledTicks: number;
 }
 
-function stepMsOf(def: GameDefinition): number {
+function stepMsOf(def: RegisteredGame): number {
   return def.info.stepSeconds * 1000;
 }
 
-function createGame(def: GameDefinition, config: GameConfig): Game {
+function createGame(def: RegisteredGame, config: GameConfig): Game {
   return def.create(config);
 }
 
 /**
  * The bot plays every seat for `ticks` ticks, recorded as it goes.
  */
-function botMatch(def: GameDefinition, ticks: number): BotRecording {
+function botMatch(def: RegisteredGame, ticks: number): BotRecording {
   const config = traceConfig(def);
   const game = createGame(def, config);
   const names = Array.from({ length: config.players }, (_, p) => `bot${String(p)}`);
@@ -135,7 +135,7 @@ function steppedRun(game: Game, inputsAt: (tick: number, out: number[]) => void)
  * given the game, its state and the ticks so far, and returns the game to go on with.
  */
 function botRun(
-  def: GameDefinition,
+  def: RegisteredGame,
   afterTick: (game: Game, state: Uint8Array, tick: number) => Game,
 ): TraceRun {
   const config = traceConfig(def);
@@ -155,7 +155,7 @@ function botRun(
 
 /** The trace scenes of one game; see the module comment. */
 export function gameScenes(
-  def: GameDefinition,
+  def: RegisteredGame,
   ticks: number,
   rates: readonly number[],
 ): TraceScene[] {
@@ -257,6 +257,6 @@ export function gameScenes(
 }
 
 /** The bot match of a game, recorded (for reports: how many ticks a sampler cannot reproduce). */
-export function recordBotMatch(def: GameDefinition, ticks: number): BotRecording {
+export function recordBotMatch(def: RegisteredGame, ticks: number): BotRecording {
   return botMatch(def, ticks);
 }

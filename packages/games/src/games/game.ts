@@ -63,7 +63,7 @@ export type Bot = (game: Game, player: number) => ButtonInput;
  * codec. Its option bytes are the canonical config (seed, players), as replay headers have
  * always stored them.
  */
-export interface GameDefinition extends LibraryGameDefinition<ButtonInput, Game> {
+export interface RegisteredGame extends LibraryGameDefinition<ButtonInput, Game> {
   readonly info: GameInfo;
   readonly input: InputSchema;
   create(config: GameConfig | GameSetup): Game;
@@ -84,7 +84,7 @@ export function talkGame(
   buttons: Readonly<Record<string, number>>,
   create: (config: GameConfig) => Game,
   bot: Bot,
-): GameDefinition {
+): RegisteredGame {
   const names = Object.entries(buttons)
     .sort((a, b) => a[1] - b[1])
     .map(([name, i], k) => {
@@ -94,7 +94,7 @@ export function talkGame(
   const scoreKey = info.scoreKey ?? 'score';
   const decodeConfig = (bytes: Uint8Array) =>
     decodeGameConfig(bytes, info.minPlayers, info.maxPlayers);
-  const definition: GameDefinition = {
+  const definition: RegisteredGame = {
     id: info.id,
     version: info.version,
     title: info.title,
@@ -122,5 +122,5 @@ export function talkGame(
     encodeConfig: encodeGameConfig,
     decodeConfig,
   };
-  return defineGame(definition) as GameDefinition;
+  return defineGame(definition) as RegisteredGame;
 }

@@ -1,10 +1,10 @@
 import { setupFromReplayHeader, type ReplayHeader, type ReplayRecorderOptions } from 'fixedstep';
-import type { Game, GameConfig, GameDefinition } from './game.js';
+import type { Game, GameConfig, RegisteredGame } from './game.js';
 import { findGame } from './registry.js';
 
 /** The recorder options of a game started with `config`: game id and version, step, seed, config bytes. */
 export function replayOptionsFor(
-  def: GameDefinition,
+  def: RegisteredGame,
   config: GameConfig,
   players: readonly string[],
   extra: Pick<ReplayRecorderOptions, 'checkpointEvery' | 'keyframeEvery' | 'tickHashes'> = {},

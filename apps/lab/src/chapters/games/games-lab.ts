@@ -20,7 +20,7 @@ import {
   RunnerGame,
   SurvivalGame,
   type Game,
-  type GameDefinition,
+  type RegisteredGame,
 } from '@fixedstep/games';
 import { DisplayClock, OnDisplayClock } from '../../shell/display-clock.js';
 import {
@@ -73,7 +73,7 @@ export interface JumpMeasure {
 }
 
 export interface GameSessionOptions {
-  def: GameDefinition;
+  def: RegisteredGame;
   seed: number;
   mode: LoopMode;
   /** The player's name, stored in the replay (trimmed to 32 characters). */
@@ -90,7 +90,7 @@ export interface GameSessionOptions {
  * input events are both placed on it.
  */
 export class GameSession extends OnDisplayClock {
-  readonly def: GameDefinition;
+  readonly def: RegisteredGame;
   readonly game: Game;
   readonly mode: LoopMode;
   readonly seed: number;

@@ -19,7 +19,7 @@ import {
   type NetSession,
   type Simulation,
 } from 'fixedstep';
-import type { Game, GameDefinition } from '@fixedstep/games';
+import type { Game, RegisteredGame } from '@fixedstep/games';
 import { gameDef } from '../../games-view/games.js';
 import {
   BOT_EVERY,
@@ -66,7 +66,7 @@ export class NetMatch implements ModelMatch {
   readonly relay: Relay;
   readonly sessions: [NetSession, NetSession];
   readonly links: [SimulatedLink, SimulatedLink];
-  readonly def: GameDefinition;
+  readonly def: RegisteredGame;
   /** Buttons held on the keyboard (player 0 when `settings.keyboard`). */
   keys = 0;
   /**

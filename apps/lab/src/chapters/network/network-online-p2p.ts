@@ -20,7 +20,7 @@ import {
   type PeerHosting,
   type Transport,
 } from 'fixedstep';
-import type { GameDefinition } from '@fixedstep/games';
+import type { RegisteredGame } from '@fixedstep/games';
 
 /** A page's way into a peer-to-peer room. */
 export interface P2pConnection {
@@ -46,7 +46,7 @@ const RELAY_EVERY_MS = 4;
 export async function connectPeerToPeer(
   signalUrl: string,
   room: string,
-  def: GameDefinition,
+  def: RegisteredGame,
   invite?: Uint8Array,
 ): Promise<P2pConnection> {
   if (typeof RTCPeerConnection !== 'function') throw new Error('this browser has no WebRTC');

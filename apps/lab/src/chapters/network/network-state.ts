@@ -21,7 +21,7 @@ import {
   SurvivalGame,
   type ArenaState,
   type Game,
-  type GameDefinition,
+  type RegisteredGame,
 } from '@fixedstep/games';
 import { gameDef } from '../../games-view/games.js';
 import {
@@ -54,7 +54,7 @@ function players(game: Game): PlayerState {
  * What a state-sync machine draws of an arena game as numbers: every player slot's (x, y). Its own
  * slot comes from its prediction; the rest between snapshots.
  */
-export function arenaRender(def: GameDefinition): StateSyncRender<Game> {
+export function arenaRender(def: RegisteredGame): StateSyncRender<Game> {
   const slots = players(def.create({ seed: 1, players: def.info.minPlayers })).x.length;
   return {
     fields: 2,
@@ -111,7 +111,7 @@ export class SnapshotDisplay {
   private display: Game | undefined;
   private older: Game | undefined;
 
-  constructor(private readonly def: GameDefinition) {}
+  constructor(private readonly def: RegisteredGame) {}
 
   view(
     s: StateSyncSession<ButtonInput, Game>,
@@ -163,7 +163,7 @@ export class StateSyncMatch implements ModelMatch {
   readonly scheduler = new EventScheduler(0);
   readonly room: StateSyncRoom<Game>;
   readonly machines: [Machine, Machine];
-  readonly def: GameDefinition;
+  readonly def: RegisteredGame;
   keys = 0;
   realFrames = false;
   private readonly probe = new LatencyProbe();

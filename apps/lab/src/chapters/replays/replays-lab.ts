@@ -17,7 +17,7 @@ import {
   type Simulation,
   type VerifyResult,
 } from 'fixedstep';
-import { findGame, gameFromReplayHeader, type Game, type GameDefinition } from '@fixedstep/games';
+import { findGame, gameFromReplayHeader, type Game, type RegisteredGame } from '@fixedstep/games';
 import { hashHex, scoreKeyOf, type DisplayRate, type DisplaySpec } from '../../games-view/games.js';
 import { replayContents, type ReplayContents } from '../../games-view/replays.js';
 import { DisplayClock, OnDisplayClock } from '../../shell/display-clock.js';
@@ -97,7 +97,7 @@ export class ReplayLab extends OnDisplayClock {
   readonly bytes: Uint8Array;
   readonly replay: Replay;
   readonly player: ReplayPlayer;
-  readonly def: GameDefinition | undefined;
+  readonly def: RegisteredGame | undefined;
   /** Where the file came from (“your last game”, a file name …). */
   readonly label: string;
   protected readonly clock: DisplayClock;

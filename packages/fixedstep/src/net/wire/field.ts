@@ -83,7 +83,8 @@ export interface Field<T> {
   readonly carried?: boolean;
   /**
    * For the common scalar kinds: which one, so a `Layout` reads, writes and checks it with a direct
-   * call (see {@link Fast}) instead of through this object's functions.
+   * call (see `Fast`) instead of through this object's functions.
+   * @internal
    */
   readonly fast?: Fast;
   /** Fewest bytes it takes (bounds what a count may allocate). */

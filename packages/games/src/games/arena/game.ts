@@ -11,7 +11,7 @@ import {
   type Bot,
   type Game,
   type GameConfig,
-  type GameDefinition,
+  type RegisteredGame,
   type GameInfo,
 } from '../game.js';
 import { Bullets } from './bullets.js';
@@ -407,6 +407,6 @@ export function arenaDefinition(
   info: GameInfo,
   create: (config: GameConfig) => Game,
   bot: Bot,
-): GameDefinition {
+): RegisteredGame {
   return talkGame(info, ShooterButtons, create, bot);
 }

@@ -1,4 +1,4 @@
-import type { Bot, GameDefinition } from '../game.js';
+import type { Bot, RegisteredGame } from '../game.js';
 import { arenaBot, arenaDefinition } from '../arena/game.js';
 import { CTF_INFO, CtfGame } from './game.js';
 import { ctfBotInput } from './bot.js';
@@ -12,7 +12,7 @@ export { CTF, CTF_VERSION, CTF_WALLS, FLAG_STAND_X, FLAG_STAND_Y, ctfNav } from 
 export const ctfBot: Bot = arenaBot('ctfBot', 'capture-the-flag', CtfGame, ctfBotInput);
 
 /** Capture the flag in the game registry. */
-export const ctfGame: GameDefinition = arenaDefinition(
+export const ctfGame: RegisteredGame = arenaDefinition(
   CTF_INFO,
   (config) => new CtfGame(config),
   ctfBot,

@@ -1,4 +1,4 @@
-import { talkGame, type GameDefinition } from '../game.js';
+import { talkGame, type RegisteredGame } from '../game.js';
 import { runnerBot } from './bot.js';
 import { RUNNER_INFO, RunnerButtons, RunnerGame } from './runner.js';
 
@@ -9,7 +9,7 @@ export { RunnerRig } from './rig.js';
 export type { RunnerRigOptions, TimedButton } from './rig.js';
 
 /** The runner's registry entry: one player, 60 Hz, config = seed + players (canonical bytes). */
-export const runnerGame: GameDefinition = talkGame(
+export const runnerGame: RegisteredGame = talkGame(
   RUNNER_INFO,
   RunnerButtons,
   (config) => new RunnerGame(config),

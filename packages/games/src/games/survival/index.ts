@@ -1,4 +1,4 @@
-import type { Bot, GameDefinition } from '../game.js';
+import type { Bot, RegisteredGame } from '../game.js';
 import { arenaBot, arenaDefinition } from '../arena/game.js';
 import { SURVIVAL_INFO, SurvivalGame } from './game.js';
 import { survivalBotInput } from './bot.js';
@@ -19,7 +19,7 @@ export {
 export const survivalBot: Bot = arenaBot('survivalBot', 'survival', SurvivalGame, survivalBotInput);
 
 /** Survival in the game registry. */
-export const survivalGame: GameDefinition = arenaDefinition(
+export const survivalGame: RegisteredGame = arenaDefinition(
   SURVIVAL_INFO,
   (config) => new SurvivalGame(config),
   survivalBot,
