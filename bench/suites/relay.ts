@@ -161,9 +161,9 @@ export interface TraceOptions {
   rooms: number;
   players: number;
   /**
-   * Over a stream (a WebSocket, protocol 3): each input and each confirmed tick is sent once.
+   * Over a stream (a WebSocket, protocol 3 on): each input and each confirmed tick is sent once.
    * False: every message repeats the unacknowledged ticks, as protocol 2 did over WebSockets
-   * (and protocol 3 still does over lossy links).
+   * (and the relay still does over lossy links).
    */
   stream: boolean;
   /** Simulated seconds of play after tick 0. */
@@ -622,9 +622,9 @@ export default defineSuite({
       `lockstep at ${TICK_HZ} Hz, ~${players} players per configuration, ${seconds} s simulated; ` +
         `one-way latency ${link.oneWayMs} ms + 0–${link.jitterMs} ms jitter, no loss; held ` +
         `buttons, one change per ~20 ticks; hash every ${HASH_EVERY} ticks, ping every ${PING_MS} ms; ` +
-        `update() every half step. Two ways to send over a WebSocket: "stream" (protocol 3: each ` +
+        `update() every half step. Two ways to send over a WebSocket: "stream" (protocol 3 on: each ` +
         `input and each confirmed tick once, XOR-coded against the tick before) and "redundant" ` +
-        `(every message repeats the unacknowledged ticks, as protocol 2 did; protocol 3 still ` +
+        `(every message repeats the unacknowledged ticks, as protocol 2 did; the relay still ` +
         `does it over lossy links). Timed: a fresh relay replaying the recorded trace (decode, ` +
         `update, encode, fan-out), ${rounds} interleaved rounds, median of the process's CPU time ` +
         `(user + system), so other jobs on the machine do not count.`,
@@ -1103,8 +1103,8 @@ async function balancerSection(ctx: SuiteContext): Promise<void> {
   const ratio = (perCore[1]! * 3) / perCore[0]!;
   ctx.note(
     `${players} players in rooms of 2 for ${seconds} s after every room started; the clients are ` +
-      `LockstepSessions with a trivial game in this process (the load generator), all from ` +
-      `127.0.0.1 (the per-address caps lifted). Players per relay ` +
+      `LockstepSessions with a trivial game in this process (the load generator), each from a ` +
+      `loopback address of its own (127.1.x.y), under the per-address caps as deployed. Players per relay ` +
       `core = players / relay CPU (all relays together); projected = that × relays, i.e. with a ` +
       `core per relay. 3 relays vs 1: ${fmt(ratio, 2)}× (goal ≥ 2.7× with a core per relay). This ` +
       `machine has ${cores} cores shared by the relays, HAProxy, the load generator and anything ` +
