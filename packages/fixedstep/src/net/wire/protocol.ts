@@ -158,7 +158,7 @@ export class WireProtocol<M extends { type: string }, L extends object> {
     const limits = this.limits as Limits;
     const w = this.scratch.reset();
     w.u8(this.header).u8(c.code);
-    const problem = c.layout.encode(w, fields, limits) ?? c.check?.(m as never, limits);
+    const problem = c.layout.encodeMessage(w, fields, limits) ?? c.check?.(m as never, limits);
     if (problem !== undefined) {
       throw new RangeError(`${this.name}: cannot encode ${m.type}.${problem[0]}: ${problem[1]}`);
     }
@@ -210,7 +210,7 @@ export class WireProtocol<M extends { type: string }, L extends object> {
       }
       const r = new WireReader(bytes, this.name, limits);
       r.messageType = c.type;
-      const m = c.layout.read(r, { type: c.type });
+      const m = c.layout.readMessage(r, c.type);
       r.fieldName = '';
       r.end();
       const problem = c.check?.(m as never, limits);
