@@ -6,7 +6,7 @@
 // again on busy cores, and a smoke run of the benchmarks. Runs every stage even when one fails,
 // then prints a summary.
 import { existsSync, mkdirSync, readFileSync } from 'node:fs';
-import { join } from 'node:path';
+import { join, relative } from 'node:path';
 import { findCoturn } from './coturn.mjs';
 import { missingEnginePackages } from './engines.mjs';
 import { findHaproxy } from './haproxy.mjs';
@@ -107,6 +107,17 @@ for (const f of ['unit.json', 'e2e.json']) {
   passed += r.numPassedTests ?? 0;
   failedTests += r.numFailedTests ?? 0;
   skipped += (r.numPendingTests ?? 0) + (r.numTodoTests ?? 0);
+  // CI keeps only the end of the output: name each failed test here, where it is read.
+  for (const file of r.testResults ?? []) {
+    const name = relative(root, file.name);
+    const failedHere = (file.assertionResults ?? []).filter((a) => a.status === 'failed');
+    if (failedHere.length === 0 && file.status === 'failed') {
+      console.log(`✗ ${name}: ${(file.message ?? 'the file failed to run').split('\n')[0]}`);
+    }
+    for (const a of failedHere) {
+      console.log(`✗ ${name} > ${a.fullName}: ${(a.failureMessages?.[0] ?? '').split('\n')[0]}`);
+    }
+  }
 }
 console.log(
   `\nstages: ${stages.length - failed.length} of ${stages.length} passed${failed.length ? ` (failed: ${failed.join(', ')})` : ''}`,
