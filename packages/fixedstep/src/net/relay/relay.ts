@@ -7,9 +7,8 @@ import type { Clock } from '../../time/drivers.js';
 import { gameJoinPlan, type GameCatalog, type TicketVerifier } from '../room/game-join.js';
 import { RoomHost } from '../room/host.js';
 import type { ConnectionInfo, HostEvent, HostStats } from '../room/host-types.js';
-import type { TokenBucket } from '../room/bucket.js';
 import type { RoomHostOptions } from '../room/options.js';
-import type { Transport } from '../transport.js';
+import type { MemberInit } from '../room/room.js';
 import type { LeaveReason } from '../wire/common.js';
 import type { DesyncRecord } from './forensics.js';
 import {
@@ -235,17 +234,8 @@ export class Relay extends RoomHost<RelayMember, RelayRoom, NetMessage, RelayEve
     return this.relay.limits;
   }
 
-  protected createMember(
-    id: number,
-    transport: Transport,
-    address: string,
-    info: ConnectionInfo,
-    bucket: TokenBucket,
-    now: number,
-    live: number,
-  ): RelayMember {
-    const reliable = info.reliable ?? transport.reliable === true;
-    return new RelayMember(id, transport, address, info.room, bucket, now, live, reliable);
+  protected createMember(init: MemberInit, info: ConnectionInfo): RelayMember {
+    return new RelayMember(init, info.reliable ?? init.transport.reliable === true);
   }
 
   protected onJoinMessage(m: RelayMember, message: NetMessage, now: number): boolean {

@@ -5,7 +5,6 @@
  */
 import type { AnyGameDefinition } from '../../sim/game.js';
 import type { Clock } from '../../time/drivers.js';
-import type { TokenBucket } from '../room/bucket.js';
 import {
   gameCatalog,
   gameJoinPlan,
@@ -14,9 +13,9 @@ import {
   type TicketVerifier,
 } from '../room/game-join.js';
 import { RoomHost } from '../room/host.js';
-import type { ConnectionInfo, HostEvent } from '../room/host-types.js';
+import type { HostEvent } from '../room/host-types.js';
 import type { RoomHostOptions } from '../room/options.js';
-import type { Transport } from '../transport.js';
+import type { MemberInit } from '../room/room.js';
 import {
   DEFAULT_STATE_SYNC_LIMITS,
   STATE_SYNC_PROTOCOL,
@@ -117,16 +116,8 @@ export class StateSyncServer extends RoomHost<
     return { ...DEFAULT_STATE_SYNC_LIMITS, ...this.options.room?.limits };
   }
 
-  protected createMember(
-    id: number,
-    transport: Transport,
-    address: string,
-    info: ConnectionInfo,
-    bucket: TokenBucket,
-    now: number,
-    live: number,
-  ): StateSyncMember {
-    return new StateSyncMember(id, transport, address, info.room, bucket, now, live);
+  protected createMember(init: MemberInit): StateSyncMember {
+    return new StateSyncMember(init);
   }
 
   protected onJoinMessage(m: StateSyncMember, message: StateSyncMessage, now: number): boolean {
