@@ -5,11 +5,7 @@
  */
 import type { AnyGameDefinition } from '../../sim/game.js';
 import type { Clock } from '../../time/drivers.js';
-import {
-  gameCatalog,
-  type GameCatalog,
-  type TicketVerifier,
-} from '../room/game-join.js';
+import { gameCatalog, type GameCatalog, type TicketVerifier } from '../room/game-join.js';
 import { GameRoomHost } from '../room/game-host.js';
 import type { HostEvent } from '../room/host-types.js';
 import type { RoomHostOptions } from '../room/options.js';
