@@ -36,6 +36,7 @@ export {
 export type {
   AdmissionOptions,
   EndpointAdmissionOptions,
+  SurfaceOptions,
   Admitted,
   Refused,
   OriginPolicy,
@@ -46,6 +47,8 @@ export {
   refuseUpgrade,
   CLOSE_UNSUPPORTED_DATA,
 } from './http/websocket-endpoint.js';
+export { RoomHostEndpoint, splitHostOptions } from './http/room-host-endpoint.js';
+export type { EndpointHost } from './http/room-host-endpoint.js';
 export type { WebSocketEndpointSetup, UpgradeInfo, RoomInPath } from './http/websocket-endpoint.js';
 export { highscoreApi, highscoreRoutes, readBody } from './highscores.js';
 export type { HighscoreApi, HighscoreApiOptions, ApiHandler, ApiAnswer } from './highscores.js';

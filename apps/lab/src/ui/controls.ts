@@ -193,6 +193,81 @@ export function jitterSlider(options: {
   });
 }
 
+/** A simulated link's conditions, as its sliders show them. */
+export interface LinkValues {
+  latencyMs: number;
+  jitterMs: number;
+  /** 0–1. */
+  loss: number;
+}
+
+/** The three sliders of a simulated link, and how to show new values on them. */
+export interface LinkSliders {
+  latency: Slider;
+  jitter: Slider;
+  loss: Slider;
+  /** Show `link` (after a change made elsewhere). */
+  set(link: LinkValues): void;
+}
+
+/**
+ * A simulated link's latency (0–250 ms), jitter (± 0–100 ms) and loss (0–20 %) sliders (ids
+ * `${idPrefix}-latency` …, test ids `control-latency`, `control-jitter`, `control-loss`), set to
+ * `link`; `onChange` gets the one value changed (loss as a fraction).
+ */
+export function linkSliders(options: {
+  idPrefix: string;
+  link: Readonly<LinkValues>;
+  onChange: (change: Partial<LinkValues>) => void;
+}): LinkSliders {
+  const { idPrefix, link, onChange } = options;
+  const delay = (
+    key: 'latencyMs' | 'jitterMs',
+    id: string,
+    label: string,
+    max: number,
+    text: (v: number) => string,
+  ) =>
+    slider({
+      id: `${idPrefix}-${id}`,
+      label,
+      testId: `control-${id}`,
+      min: 0,
+      max,
+      step: 5,
+      value: link[key],
+      text,
+      onChange: (v) => {
+        onChange({ [key]: v });
+      },
+    });
+  const latency = delay('latencyMs', 'latency', 'Latency', 250, (v) => `${v} ms`);
+  const jitter = delay('jitterMs', 'jitter', 'Jitter', 100, (v) => `± ${v} ms`);
+  const loss = slider({
+    id: `${idPrefix}-loss`,
+    label: 'Loss',
+    testId: 'control-loss',
+    min: 0,
+    max: 20,
+    step: 1,
+    value: Math.round(link.loss * 100),
+    text: (v) => `${v} %`,
+    onChange: (v) => {
+      onChange({ loss: v / 100 });
+    },
+  });
+  return {
+    latency,
+    jitter,
+    loss,
+    set(l) {
+      latency.set(l.latencyMs);
+      jitter.set(l.jitterMs);
+      loss.set(Math.round(l.loss * 100));
+    },
+  };
+}
+
 /** Pause / Skip / Restart and the clock readout (`readout-clock`, virtual ms in `data-value`). */
 export class TimeControls {
   readonly pauseBtn: HTMLButtonElement;

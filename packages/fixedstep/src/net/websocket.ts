@@ -18,19 +18,66 @@ function closeReason(reason: string): string {
   return bytes.length <= 120 ? reason : reason.slice(0, 40);
 }
 
-class BrowserWebSocketTransport extends BaseTransport {
+/** Default {@link WebSocketTransportOptions.maxBufferedBytes}: 4 MiB. */
+const DEFAULT_MAX_BUFFERED_BYTES = 4 << 20;
+
+/** The part of a WebSocket, browser or Node, that sending and closing use. */
+interface SocketLike {
+  readonly readyState: number;
+  readonly bufferedAmount: number;
+  close(code?: number, reason?: string): void;
+}
+
+/**
+ * What the browser and the Node adapter share: sends made while connecting are queued and go out
+ * on open, a peer that does not read is cut off at the buffer cap, and the close reason fits a
+ * close frame. Each adapter wires its socket's events and writes a frame its own way.
+ */
+abstract class WebSocketTransportCore<W extends SocketLike> extends BaseTransport {
   readonly reliable = true;
   private pending: Uint8Array[] = [];
   constructor(
-    private readonly ws: WebSocket,
+    protected readonly ws: W,
     private readonly maxBuffered: number,
   ) {
     super();
+  }
+  /** The socket opened: what was sent while it connected goes now. */
+  protected opened(): void {
+    const queued = this.pending;
+    this.pending = [];
+    for (const b of queued) this.send(b);
+  }
+  /** Writes one binary frame on the open socket. */
+  protected abstract write(bytes: Uint8Array): void;
+  send(bytes: Uint8Array): void {
+    if (!this.isOpen) return;
+    if (this.ws.readyState === CONNECTING) {
+      this.pending.push(bytes.slice());
+      return;
+    }
+    if (this.ws.readyState !== OPEN) return;
+    if (this.ws.bufferedAmount > this.maxBuffered) {
+      this.close('send buffer overflow');
+      return;
+    }
+    this.write(bytes);
+  }
+  protected doClose(reason: string): void {
+    try {
+      this.ws.close(1000, closeReason(reason));
+    } catch {
+      // already closing
+    }
+  }
+}
+
+class BrowserWebSocketTransport extends WebSocketTransportCore<WebSocket> {
+  constructor(ws: WebSocket, maxBuffered: number) {
+    super(ws, maxBuffered);
     ws.binaryType = 'arraybuffer';
     ws.addEventListener('open', () => {
-      const queued = this.pending;
-      this.pending = [];
-      for (const b of queued) this.send(b);
+      this.opened();
     });
     ws.addEventListener('message', (event: MessageEvent<unknown>) => {
       const data = event.data;
@@ -44,25 +91,8 @@ class BrowserWebSocketTransport extends BaseTransport {
       this.closedRemotely('connection error');
     });
   }
-  send(bytes: Uint8Array): void {
-    if (!this.isOpen) return;
-    if (this.ws.readyState === CONNECTING) {
-      this.pending.push(bytes.slice());
-      return;
-    }
-    if (this.ws.readyState !== OPEN) return;
-    if (this.ws.bufferedAmount > this.maxBuffered) {
-      this.close('send buffer overflow');
-      return;
-    }
+  protected write(bytes: Uint8Array): void {
     this.ws.send(bytes);
-  }
-  protected doClose(reason: string): void {
-    try {
-      this.ws.close(1000, closeReason(reason));
-    } catch {
-      // already closing
-    }
   }
 }
 
@@ -74,7 +104,7 @@ export function webSocketTransport(
   ws: WebSocket,
   options: WebSocketTransportOptions = {},
 ): Transport {
-  return new BrowserWebSocketTransport(ws, options.maxBufferedBytes ?? 4 << 20);
+  return new BrowserWebSocketTransport(ws, options.maxBufferedBytes ?? DEFAULT_MAX_BUFFERED_BYTES);
 }
 
 /**
@@ -147,18 +177,11 @@ function toBytes(data: unknown): Uint8Array | undefined {
   return undefined;
 }
 
-class NodeWebSocketTransport extends BaseTransport {
-  readonly reliable = true;
-  private pending: Uint8Array[] = [];
-  constructor(
-    private readonly ws: NodeWebSocketLike,
-    private readonly maxBuffered: number,
-  ) {
-    super();
+class NodeWebSocketTransport extends WebSocketTransportCore<NodeWebSocketLike> {
+  constructor(ws: NodeWebSocketLike, maxBuffered: number) {
+    super(ws, maxBuffered);
     ws.on('open', () => {
-      const queued = this.pending;
-      this.pending = [];
-      for (const b of queued) this.send(b);
+      this.opened();
     });
     ws.on('message', (data, isBinary) => {
       const bytes = isBinary ? toBytes(data) : undefined;
@@ -173,25 +196,8 @@ class NodeWebSocketTransport extends BaseTransport {
       this.closedRemotely(`connection error: ${error.message}`);
     });
   }
-  send(bytes: Uint8Array): void {
-    if (!this.isOpen) return;
-    if (this.ws.readyState === CONNECTING) {
-      this.pending.push(bytes.slice());
-      return;
-    }
-    if (this.ws.readyState !== OPEN) return;
-    if (this.ws.bufferedAmount > this.maxBuffered) {
-      this.close('send buffer overflow');
-      return;
-    }
+  protected write(bytes: Uint8Array): void {
     this.ws.send(bytes, { binary: true });
-  }
-  protected doClose(reason: string): void {
-    try {
-      this.ws.close(1000, closeReason(reason));
-    } catch {
-      // already closing
-    }
   }
 }
 
@@ -203,5 +209,5 @@ export function nodeWebSocketTransport(
   ws: NodeWebSocketLike,
   options: WebSocketTransportOptions = {},
 ): Transport {
-  return new NodeWebSocketTransport(ws, options.maxBufferedBytes ?? 4 << 20);
+  return new NodeWebSocketTransport(ws, options.maxBufferedBytes ?? DEFAULT_MAX_BUFFERED_BYTES);
 }

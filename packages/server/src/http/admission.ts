@@ -339,6 +339,16 @@ export interface EndpointAdmissionOptions {
   trustProxy?: TrustedProxy;
 }
 
+/** What every surface's options (`attachRelay`, `attachStateSync` …) share: who is let in. */
+export interface SurfaceOptions extends EndpointAdmissionOptions {
+  /**
+   * Where settings not given here are read from (`FIXEDSTEP_*`: origins, proxy, and for the room
+   * hosts the room core's caps), so a container is configured without code. Default
+   * `process.env`; pass `{}` to ignore it.
+   */
+  env?: Readonly<Record<string, string | undefined>>;
+}
+
 /**
  * The admission of an endpoint — the same rule on every surface: the server's when given, else one
  * of its own from `options`, then the environment (`FIXEDSTEP_ALLOWED_ORIGINS`,

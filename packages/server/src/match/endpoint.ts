@@ -22,12 +22,7 @@ import {
   type NetErrorCode,
 } from 'fixedstep';
 import { GAMES } from '@fixedstep/games';
-import {
-  endpointAdmission,
-  type Admission,
-  type OriginPolicy,
-  type TrustedProxy,
-} from '../http/admission.js';
+import { endpointAdmission, type SurfaceOptions } from '../http/admission.js';
 import { WebSocketEndpoint, type UpgradeInfo } from '../http/websocket-endpoint.js';
 import { MatchQueue, DEFAULT_MATCHMAKING_LIMITS, type MatchmakingLimits } from './queue.js';
 import { MatchTickets } from './tickets.js';
@@ -45,7 +40,7 @@ const MATCH_RATE = Object.freeze({
 });
 
 /** Options of {@link attachMatchmaking}. */
-export interface MatchmakingEndpointOptions {
+export interface MatchmakingEndpointOptions extends SurfaceOptions {
   /** URL path of the WebSocket endpoint. Default `/match`. */
   path?: string;
   /** The games that may be queued for. Default: the game registry (or `catalog`). */
@@ -68,12 +63,6 @@ export interface MatchmakingEndpointOptions {
    * `FIXEDSTEP_MATCH_SECRET` — give the relay the same (`createServer` does).
    */
   tickets?: MatchTickets;
-  /** The server's admission (shared by every surface). Default: one of its own. */
-  admission?: Admission;
-  /** Browser origins allowed to connect. Default `'same-origin'`. */
-  allowedOrigins?: OriginPolicy;
-  /** Read the client address from a proxy's header. Default: none. */
-  trustProxy?: TrustedProxy;
   /** How long a new connection may take to send its request, in ms. Default {@link MATCH_REQUEST_TIMEOUT_MS}. */
   requestTimeoutMs?: number;
   /** The clock waits are measured on. Default the process's monotonic clock. */
@@ -88,11 +77,6 @@ export interface MatchmakingEndpointOptions {
   stallToleranceMs?: number;
   /** Random bytes for room names. Default `crypto.randomBytes`. */
   randomBytes?: (n: number) => Uint8Array;
-  /**
-   * Where admission settings not given here are read from (`FIXEDSTEP_*`: origins, proxy), as for
-   * every surface. Default `process.env`.
-   */
-  env?: Readonly<Record<string, string | undefined>>;
 }
 
 /** One matchmaking connection, as the queue holds it. */

@@ -3,32 +3,25 @@
  * @module
  */
 import type http from 'node:http';
-import type { WebSocket } from 'ws';
 import {
   RELAY_PROTOCOL,
   Relay,
   gameCatalog,
-  nodeWebSocketTransport,
   performanceClock,
   type AnyGameDefinition,
   type GameCatalog,
   type RelayOptions,
 } from 'fixedstep';
 import { GAMES } from '@fixedstep/games';
-import {
-  endpointAdmission,
-  roomCapsFromEnv,
-  type Admission,
-  type OriginPolicy,
-  type TrustedProxy,
-} from '../http/admission.js';
-import { WebSocketEndpoint, type UpgradeInfo } from '../http/websocket-endpoint.js';
+import { endpointAdmission, type SurfaceOptions } from '../http/admission.js';
+import { RoomHostEndpoint, splitHostOptions } from '../http/room-host-endpoint.js';
 
 /** How often the relay's clock is advanced, in ms: about twice per 60 Hz tick. */
 export const RELAY_UPDATE_MS = 8;
 
 /** Options of {@link attachRelay}: the relay's, plus where, how often, and whom to let in. */
-export interface RelayEndpointOptions extends Partial<Omit<RelayOptions, 'catalog'>> {
+export interface RelayEndpointOptions
+  extends Partial<Omit<RelayOptions, 'catalog'>>, SurfaceOptions {
   /**
    * URL path of the WebSocket endpoint. Default `/ws`. A room is named in the URL — `/ws/<room>`
    * or `/ws?room=<room>` — so a load balancer can route by room without reading the protocol;
@@ -39,17 +32,6 @@ export interface RelayEndpointOptions extends Partial<Omit<RelayOptions, 'catalo
   catalog?: GameCatalog;
   /** How often the relay's clock is advanced, in ms. Default {@link RELAY_UPDATE_MS}. */
   updateIntervalMs?: number;
-  /** The server's admission (shared by every surface). Default: one of its own from the options below. */
-  admission?: Admission;
-  /** Browser origins allowed to connect (see {@link OriginPolicy}). Default `'same-origin'`. */
-  allowedOrigins?: OriginPolicy;
-  /** Read the client address from a proxy's header (see {@link TrustedProxy}). Default: none. */
-  trustProxy?: TrustedProxy;
-  /**
-   * Where options not given here are read from (`FIXEDSTEP_*`: origins, proxy, the room core's
-   * caps), so a container is configured without code. Default `process.env`; pass `{}` to ignore it.
-   */
-  env?: Readonly<Record<string, string | undefined>>;
 }
 
 /** The relay's catalog over the game registry (or `games`). */
@@ -65,62 +47,33 @@ export function createRelay(
 }
 
 /** The relay attached to an HTTP server (see {@link attachRelay}). */
-export class RelayEndpoint extends WebSocketEndpoint {
-  readonly relay: Relay;
-  private readonly timer: ReturnType<typeof setInterval>;
-
+export class RelayEndpoint extends RoomHostEndpoint<Relay> {
   constructor(server: http.Server, options: RelayEndpointOptions = {}) {
-    const { env = process.env, ...given } = options;
-    const {
-      path = '/ws',
-      updateIntervalMs = RELAY_UPDATE_MS,
-      admission,
-      allowedOrigins,
-      trustProxy,
-      ...relayOptions
-    } = { ...roomCapsFromEnv(env), ...given };
+    const { env, surface, host } = splitHostOptions(options);
+    const { path = '/ws', updateIntervalMs = RELAY_UPDATE_MS, ...relayOptions } = host;
     const clock = relayOptions.clock ?? performanceClock();
     const relay = createRelay({ ...relayOptions, clock });
-    super(server, {
-      path,
-      rooms: 'optional',
-      maxPayload: RELAY_PROTOCOL.largest('client', {
-        ...RELAY_PROTOCOL.limits,
-        ...relayOptions.limits,
-      }),
-      protocol: RELAY_PROTOCOL,
-      admission: endpointAdmission(
-        {
-          ...(admission !== undefined ? { admission } : {}),
-          ...(allowedOrigins !== undefined ? { allowedOrigins } : {}),
-          ...(trustProxy !== undefined ? { trustProxy } : {}),
-        },
-        env,
-      ),
-    });
-    this.relay = relay;
-    this.timer = setInterval(() => {
-      relay.update(clock.now());
-    }, updateIntervalMs);
-    this.timer.unref();
+    super(
+      server,
+      {
+        path,
+        rooms: 'optional',
+        maxPayload: RELAY_PROTOCOL.largest('client', {
+          ...RELAY_PROTOCOL.limits,
+          ...relayOptions.limits,
+        }),
+        protocol: RELAY_PROTOCOL,
+        admission: endpointAdmission(surface, env),
+      },
+      relay,
+      clock,
+      updateIntervalMs,
+    );
   }
 
-  protected connected(ws: WebSocket, info: UpgradeInfo): void {
-    this.relay.accept(nodeWebSocketTransport(ws), info);
-  }
-
-  /**
-   * Graceful shutdown (the HTTP server calls it on SIGTERM, before {@link close}): no new rooms,
-   * waiting rooms closed, running matches go on for up to `timeoutMs` (default 25 000), then
-   * `SHUTDOWN`. Resolves when no room is left.
-   */
-  drain(timeoutMs?: number): Promise<void> {
-    return this.relay.drain(timeoutMs === undefined ? {} : { timeoutMs });
-  }
-
-  protected stop(): void {
-    clearInterval(this.timer);
-    this.relay.close();
+  /** The relay its connections play through. */
+  get relay(): Relay {
+    return this.host;
   }
 }
 

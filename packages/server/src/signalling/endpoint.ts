@@ -4,42 +4,23 @@
  * @module
  */
 import type http from 'node:http';
-import type { WebSocket } from 'ws';
 import {
   SIGNAL_PROTOCOL,
   SignallingHub,
-  nodeWebSocketTransport,
   performanceClock,
   type IceServerConfig,
   type SignallingHubOptions,
 } from 'fixedstep';
-import {
-  endpointAdmission,
-  roomCapsFromEnv,
-  type Admission,
-  type OriginPolicy,
-  type TrustedProxy,
-} from '../http/admission.js';
-import { WebSocketEndpoint, type UpgradeInfo } from '../http/websocket-endpoint.js';
+import { endpointAdmission, type SurfaceOptions } from '../http/admission.js';
+import { RoomHostEndpoint, splitHostOptions } from '../http/room-host-endpoint.js';
 
 /** How often the hub's liveness and time-outs are checked, ms. */
 export const SIGNALLING_UPDATE_MS = 250;
 
 /** Options of {@link attachSignalling}: the hub's, plus where and whom to let in. */
-export interface SignallingEndpointOptions extends Partial<SignallingHubOptions> {
+export interface SignallingEndpointOptions extends Partial<SignallingHubOptions>, SurfaceOptions {
   /** URL path of the WebSocket endpoint: a room is at `<path>/<room>`. Default `/signal`. */
   path?: string;
-  /** The server's admission (shared by every surface). Default: one of its own. */
-  admission?: Admission;
-  /** Browser origins allowed to connect. Default `'same-origin'`. */
-  allowedOrigins?: OriginPolicy;
-  /** Read the client address from a proxy's header. Default: none. */
-  trustProxy?: TrustedProxy;
-  /**
-   * Where options not given here are read from (`FIXEDSTEP_*`: origins, proxy, the room core's
-   * caps), as for every surface. Default `process.env`; pass `{}` to ignore it.
-   */
-  env?: Readonly<Record<string, string | undefined>>;
 }
 
 /**
@@ -86,61 +67,34 @@ export function iceServersFromEnv(env: Readonly<Record<string, string | undefine
 }
 
 /** Signalling attached to an HTTP server (see {@link attachSignalling}). */
-export class SignallingEndpoint extends WebSocketEndpoint {
-  readonly hub: SignallingHub;
-  private readonly timer: ReturnType<typeof setInterval>;
-
+export class SignallingEndpoint extends RoomHostEndpoint<SignallingHub> {
   constructor(server: http.Server, options: SignallingEndpointOptions = {}) {
-    const { env = process.env, ...given } = options;
-    const {
-      path = '/signal',
-      admission,
-      allowedOrigins,
-      trustProxy,
-      ...hubOptions
-    } = { ...roomCapsFromEnv(env), ...iceServersFromEnv(env), ...given };
+    const { env, surface, host } = splitHostOptions(options);
+    const { path = '/signal', ...hubOptions } = { ...iceServersFromEnv(env), ...host };
     const clock = hubOptions.clock ?? performanceClock();
     const hub = new SignallingHub({ ...hubOptions, clock });
-    super(server, {
-      path,
-      // The room in the URL lets a balancer send a room's host and joiners to one process.
-      rooms: 'required',
-      maxPayload: SIGNAL_PROTOCOL.largest('client', {
-        ...SIGNAL_PROTOCOL.limits,
-        ...hubOptions.limits,
-      }),
-      protocol: SIGNAL_PROTOCOL,
-      admission: endpointAdmission(
-        {
-          ...(admission !== undefined ? { admission } : {}),
-          ...(allowedOrigins !== undefined ? { allowedOrigins } : {}),
-          ...(trustProxy !== undefined ? { trustProxy } : {}),
-        },
-        env,
-      ),
-    });
-    this.hub = hub;
-    this.timer = setInterval(() => {
-      hub.update(clock.now());
-    }, SIGNALLING_UPDATE_MS);
-    this.timer.unref();
+    super(
+      server,
+      {
+        path,
+        // The room in the URL lets a balancer send a room's host and joiners to one process.
+        rooms: 'required',
+        maxPayload: SIGNAL_PROTOCOL.largest('client', {
+          ...SIGNAL_PROTOCOL.limits,
+          ...hubOptions.limits,
+        }),
+        protocol: SIGNAL_PROTOCOL,
+        admission: endpointAdmission(surface, env),
+      },
+      hub,
+      clock,
+      SIGNALLING_UPDATE_MS,
+    );
   }
 
-  /**
-   * Drain before a shutdown: no new rooms, waiting hosts closed, rooms with peers kept until they
-   * have left or `timeoutMs` has passed (then `SHUTDOWN`). Resolves when no room is left.
-   */
-  drain(timeoutMs?: number): Promise<void> {
-    return this.hub.drain(timeoutMs === undefined ? {} : { timeoutMs });
-  }
-
-  protected connected(ws: WebSocket, info: UpgradeInfo): void {
-    this.hub.accept(nodeWebSocketTransport(ws), info);
-  }
-
-  protected stop(): void {
-    clearInterval(this.timer);
-    this.hub.close();
+  /** The hub its connections go to. */
+  get hub(): SignallingHub {
+    return this.host;
   }
 }
 

@@ -11,13 +11,7 @@ import { Worker } from 'node:worker_threads';
 import type { WebSocket } from 'ws';
 import { STATE_SYNC_PROTOCOL, type RoomHostOptions, type StateSyncRoomDefaults } from 'fixedstep';
 import type { FromWorker, ToWorker, WorkerSetup } from './messages.js';
-import {
-  endpointAdmission,
-  roomCapsFromEnv,
-  type Admission,
-  type OriginPolicy,
-  type TrustedProxy,
-} from '../http/admission.js';
+import { endpointAdmission, roomCapsFromEnv, type SurfaceOptions } from '../http/admission.js';
 import { WebSocketEndpoint, type UpgradeInfo } from '../http/websocket-endpoint.js';
 
 /** How often each worker advances its rooms, ms: a 60 Hz tick is stepped within 4 ms of its time. */
@@ -32,7 +26,7 @@ export const STATE_SYNC_HEARTBEAT_MS = 100;
 const MAX_BUFFERED = 4 << 20;
 
 /** Options of {@link attachStateSync}. */
-export interface StateSyncEndpointOptions {
+export interface StateSyncEndpointOptions extends SurfaceOptions {
   /** URL path prefix: a room is at `<path>/<room>`. Default `/state`. */
   path?: string;
   /**
@@ -53,16 +47,8 @@ export interface StateSyncEndpointOptions {
    * plain data. Default: the core's defaults, and the caps of `FIXEDSTEP_*` variables.
    */
   host?: Omit<RoomHostOptions, 'randomU32'>;
-  /** The server's admission (shared by every surface). Default: one of its own. */
-  admission?: Admission;
-  /** Browser origins allowed to connect. Default `'same-origin'`. */
-  allowedOrigins?: OriginPolicy;
-  /** Read the client address from a proxy's header. Default: none. */
-  trustProxy?: TrustedProxy;
   /** Where problems are reported (a worker that failed, a room whose game threw). Default: console.error. */
   log?: (message: string) => void;
-  /** Where `FIXEDSTEP_*` settings (caps, origins, proxy) are read from. Default `process.env`. */
-  env?: Readonly<Record<string, string | undefined>>;
 }
 
 interface Slot {

@@ -6,38 +6,32 @@
  * players' machines of each and reads the numbers from here.
  */
 import {
-  EventScheduler,
   LockstepSession,
   Relay,
   Random,
   RollbackSession,
-  SimulatedLink,
-  hex64,
   relayGameOf,
   type Correction,
   type LinkConditions,
   type NetSession,
-  type Simulation,
+  type SimulatedLink,
 } from 'fixedstep';
 import type { Game, RegisteredGame } from '@fixedstep/games';
 import { gameDef } from '../../games-view/games.js';
+import { confirmedCheckpoint, lossOf } from '../../shell/simulated-machines.js';
 import {
-  BOT_EVERY,
   CHECKPOINT_TICKS,
   DEFAULT_NET_SETTINGS,
-  LatencyProbe,
   NET_MODES,
+  TwoPlayerMatch,
   linkOf,
-  lossOf,
   playerShift,
-  traffic,
   type MachineView,
   type MatchReadouts,
   type ModelMatch,
   type ModelNumbers,
   type NetMode,
   type NetSettings,
-  visibleCorrection,
 } from './network-model.js';
 import { StateSyncMatch } from './network-state.js';
 
@@ -61,29 +55,19 @@ export type {
  * One input-sync match: the relay and two sessions of one kind (lockstep or rollback), over two
  * simulated links, on its own event scheduler (virtual ms).
  */
-export class NetMatch implements ModelMatch {
-  readonly scheduler = new EventScheduler(0);
+export class NetMatch extends TwoPlayerMatch {
   readonly relay: Relay;
   readonly sessions: [NetSession, NetSession];
   readonly links: [SimulatedLink, SimulatedLink];
   readonly def: RegisteredGame;
-  /** Buttons held on the keyboard (player 0 when `settings.keyboard`). */
-  keys = 0;
-  /**
-   * Real display frames: both machines draw when the page does ({@link realFrame}) instead of
-   * on their simulated 60 Hz displays.
-   */
-  realFrames = false;
-  private readonly probe = new LatencyProbe();
-  private corrections = 0;
-  private largestCorrection = 0;
   private readonly before: Game;
   private readonly after: Game;
 
   constructor(
     readonly mode: 'lockstep' | 'rollback',
-    readonly settings: NetSettings,
+    settings: NetSettings,
   ) {
+    super(settings);
     const def = gameDef(settings.game);
     this.def = def;
     this.before = def.create({ seed: settings.seed, players: 2 });
@@ -108,14 +92,8 @@ export class NetMatch implements ModelMatch {
       tickMs / 2,
     );
     const make = (slot: 0 | 1): [NetSession, SimulatedLink] => {
-      const link = new SimulatedLink({
-        scheduler: this.scheduler,
-        seed: settings.seed * 7919 + slot,
-        ...linkOf(settings),
-      });
+      const link = this.newLink(slot);
       this.relay.accept(link.b);
-      let held = 0;
-      let prevKeys = 0;
       const options = {
         transport: link.a,
         clock,
@@ -127,35 +105,17 @@ export class NetMatch implements ModelMatch {
         seed: settings.seed,
         name: `player${slot + 1}`,
         createSimulation: (w: { config: Uint8Array }) => def.create(def.decodeConfig(w.config)),
-        localInput: (tick: number, sim: Simulation) => {
-          const me = session.welcome?.slot ?? slot;
-          let input: number;
-          if (settings.keyboard && me === 0) {
-            // Held buttons in the low half, this tick's new presses in the high half.
-            const down = this.keys;
-            input = (down | ((down & ~prevKeys) << 16)) >>> 0;
-            prevKeys = down;
-          } else {
-            if (tick % BOT_EVERY === 0) held = def.bot(sim as Game, me);
-            input = held;
-          }
-          if (me === 0) this.probe.sample(tick, clock.now());
-          return input;
-        },
+        localInput: this.playerInput(def, () => session.welcome?.slot ?? slot),
         onCorrection: (c: Correction) => {
-          this.noteCorrection(c);
+          this.correction(c);
         },
       };
       const session: NetSession =
         mode === 'lockstep' ? new LockstepSession(options) : new RollbackSession(options);
       // Display frames at 60 Hz, the two machines out of phase (unless real frames drive them).
-      this.scheduler.every(
-        1000 / 60,
-        () => {
-          if (!this.realFrames) this.frame(session);
-        },
-        slot * 7.3,
-      );
+      this.display(slot * 7.3, () => {
+        this.frame(session);
+      });
       return [session, link];
     };
     const [s0, l0] = make(0);
@@ -164,22 +124,8 @@ export class NetMatch implements ModelMatch {
     this.links = [l0, l1];
   }
 
-  get nowMs(): number {
-    return this.scheduler.now;
-  }
-
-  advanceTo(ms: number): void {
-    if (ms > this.scheduler.now) this.scheduler.runUntil(ms);
-  }
-
-  /** A real display frame at virtual `ms`: the links and the relay run to then, both machines draw. */
-  realFrame(ms: number): void {
-    this.advanceTo(ms);
+  protected drawAll(): void {
     for (const s of this.sessions) this.frame(s);
-  }
-
-  setLink(c: LinkConditions): void {
-    for (const l of this.links) l.setConditions(c);
   }
 
   private frame(session: NetSession): void {
@@ -196,17 +142,14 @@ export class NetMatch implements ModelMatch {
   }
 
   /** A rollback's correction: how far it moved a drawn player. */
-  private noteCorrection(c: Correction): void {
+  private correction(c: Correction): void {
     try {
       this.before.load(c.before);
       this.after.load(c.after);
     } catch {
       return;
     }
-    const shift = playerShift(this.before, this.after);
-    if (!visibleCorrection(shift)) return;
-    this.corrections++;
-    this.largestCorrection = Math.max(this.largestCorrection, shift);
+    this.noteCorrection(playerShift(this.before, this.after));
   }
 
   /** The game a machine shows (undefined before its welcome). */
@@ -222,17 +165,7 @@ export class NetMatch implements ModelMatch {
 
   readouts(): MatchReadouts {
     const [a, b] = this.sessions;
-    const confirmed = Math.min(a.confirmedStateTick(), b.confirmedStateTick());
-    const checkpoint =
-      confirmed >= CHECKPOINT_TICKS
-        ? Math.floor(confirmed / CHECKPOINT_TICKS) * CHECKPOINT_TICKS
-        : -1;
-    const hashOf = (s: NetSession): string => {
-      if (checkpoint < 0) return '';
-      const h = s.hashAt(checkpoint);
-      return h === undefined ? '' : hex64(h);
-    };
-    const hashes: [string, string] = [hashOf(a), hashOf(b)];
+    const { checkpoint, hashes } = confirmedCheckpoint(a, b, CHECKPOINT_TICKS);
     const desyncs = this.relay.room('lab')?.desyncs.length ?? 0;
     const { lost, sent } = lossOf(this.links);
     return {
@@ -252,20 +185,6 @@ export class NetMatch implements ModelMatch {
       renderDelayMs: 0,
       lead: Math.max(a.stats.lead, b.stats.lead),
       snapshots: 0,
-    };
-  }
-
-  numbers(): ModelNumbers {
-    const { up, down } = traffic(this.links, this.scheduler.now);
-    return {
-      mode: this.mode,
-      upBytesPerSecond: up,
-      downBytesPerSecond: down,
-      ownLatencyMs: this.probe.ownMs,
-      otherLatencyMs: this.probe.otherMs,
-      corrections: this.corrections,
-      largestCorrection: this.largestCorrection,
-      smoothed: false,
     };
   }
 }

@@ -3,8 +3,9 @@
  * probes that measure, the same way for every model, the bytes each sends, the time from an input
  * to the screens, and the corrections each shows. No DOM.
  */
-import type { LinkConditions, SimulatedLink } from 'fixedstep';
-import type { Game } from '@fixedstep/games';
+import { SimulatedLink, type LinkConditions } from 'fixedstep';
+import type { Game, RegisteredGame } from '@fixedstep/games';
+import { SimulatedMachines } from '../../shell/simulated-machines.js';
 
 /** The three network models, side by side. */
 export type NetMode = 'statesync' | 'lockstep' | 'rollback';
@@ -183,19 +184,6 @@ export function traffic(links: readonly SimulatedLink[], ms: number): { up: numb
   return { up: up / links.length / s, down: down / links.length / s };
 }
 
-/** Messages lost and sent on the links, both directions. */
-export function lossOf(links: readonly SimulatedLink[]): { lost: number; sent: number } {
-  let lost = 0;
-  let sent = 0;
-  for (const l of links) {
-    for (const d of l.stats) {
-      lost += d.lost;
-      sent += d.sent;
-    }
-  }
-  return { lost, sent };
-}
-
 /** How far the players moved between two states of one game (the largest, game units). */
 export function playerShift(before: Game, after: Game): number {
   const a = (before as unknown as { state: PlayerState }).state;
@@ -217,4 +205,84 @@ export interface PlayerState {
   readonly prevX: Float64Array;
   readonly prevY: Float64Array;
   readonly alive: Uint8Array;
+}
+
+/**
+ * What the three models' matches share: two machines on simulated links seeded from the settings,
+ * each player's input (the keyboard or its bot), the latency probe, the corrections counted and
+ * the links' traffic.
+ */
+export abstract class TwoPlayerMatch extends SimulatedMachines implements ModelMatch {
+  abstract readonly mode: NetMode;
+  /** Buttons held on the keyboard (player 0 when `settings.keyboard`). */
+  keys = 0;
+  protected readonly probe = new LatencyProbe();
+  private corrections = 0;
+  private largestCorrection = 0;
+
+  constructor(readonly settings: NetSettings) {
+    super();
+  }
+
+  abstract readouts(): MatchReadouts;
+  abstract view(i: 0 | 1): MachineView | undefined;
+
+  /** The link of the machine that connects `slot`-th (seeded by the settings' seed). */
+  protected newLink(slot: 0 | 1): SimulatedLink {
+    return new SimulatedLink({
+      scheduler: this.scheduler,
+      seed: this.settings.seed * 7919 + slot,
+      ...linkOf(this.settings),
+    });
+  }
+
+  /**
+   * A machine's `localInput`: player 0 on the keyboard (with `settings.keyboard`), otherwise the
+   * player's bot; `me` says which player the machine plays (its welcome's slot). Player 0's inputs
+   * are timed by the latency probe.
+   */
+  protected playerInput(
+    def: RegisteredGame,
+    me: () => number,
+  ): (tick: number, sim: object) => number {
+    let held = 0;
+    let prevKeys = 0;
+    return (tick, sim) => {
+      const slot = me();
+      let input: number;
+      if (this.settings.keyboard && slot === 0) {
+        // Held buttons in the low half, this tick's new presses in the high half.
+        const down = this.keys;
+        input = (down | ((down & ~prevKeys) << 16)) >>> 0;
+        prevKeys = down;
+      } else {
+        if (tick % BOT_EVERY === 0) held = def.bot(sim as Game, slot);
+        input = held;
+      }
+      if (slot === 0) this.probe.sample(tick, this.scheduler.now);
+      return input;
+    };
+  }
+
+  /** A prediction was corrected by `units`: counted when visible ({@link visibleCorrection}). */
+  protected noteCorrection(units: number): void {
+    if (!visibleCorrection(units)) return;
+    this.corrections++;
+    this.largestCorrection = Math.max(this.largestCorrection, units);
+  }
+
+  numbers(): ModelNumbers {
+    const { up, down } = traffic(this.links, this.scheduler.now);
+    return {
+      mode: this.mode,
+      upBytesPerSecond: up,
+      downBytesPerSecond: down,
+      ownLatencyMs: this.probe.ownMs,
+      otherLatencyMs: this.probe.otherMs,
+      corrections: this.corrections,
+      largestCorrection: this.largestCorrection,
+      // State sync glides its corrections; a rollback's jump.
+      smoothed: this.mode === 'statesync',
+    };
+  }
 }

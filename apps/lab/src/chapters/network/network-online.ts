@@ -23,21 +23,17 @@ import {
   type Simulation,
 } from 'fixedstep';
 import { CtfGame, type Game } from '@fixedstep/games';
-import { SceneCanvas } from '../../ui/canvas.js';
-import { button, toggle } from '../../ui/controls.js';
-import { h, setAttr, setText } from '../../ui/dom.js';
+import { toggle } from '../../ui/controls.js';
+import { h, setAttr } from '../../ui/dom.js';
 import * as fmt from '../../ui/format.js';
-import { Readout } from '../../ui/readout.js';
 import { gameDef, keyLabel, keyMap } from '../../games-view/games.js';
-import { ASPECT, drawGame, drawMessage } from '../../games-view/render.js';
+import { drawGame, drawMessage } from '../../games-view/render.js';
 import { attachTouchPad } from '../../games-view/touch-pad.js';
 import { BOT_EVERY, CHECKPOINT_TICKS } from './network-lab.js';
 import { QuickMatchControl } from './network-quick-match.js';
 import { watchEnd, type MatchEnd } from './network-online-end.js';
 import { connectPeerToPeer, type P2pConnection } from './network-online-p2p.js';
-
-/** A room name the relay accepts. */
-const ROOM_NAME = /^[A-Za-z0-9_.-]{1,32}$/;
+import { OnlineRoomPanel, ROOM_NAME, serverSocketUrl } from './network-online-room.js';
 
 /**
  * Room, a shorter match and whether to join at once, from the address:
@@ -136,16 +132,8 @@ function panelKeys(el: HTMLElement): KeyboardHost {
   };
 }
 
-export class OnlinePanel {
+export class OnlinePanel extends OnlineRoomPanel<NetSession> {
   readonly el: HTMLElement;
-  private readonly roomInput: HTMLInputElement;
-  private readonly joinBtn: HTMLButtonElement;
-  private readonly tabLink: HTMLAnchorElement;
-  private readonly canvas: SceneCanvas;
-  private readonly out: Record<string, Readout> = {};
-  private session: NetSession | undefined;
-  private raf = 0;
-  private state = 'offline';
   private readonly stopAt: number | undefined;
   private readonly def = gameDef('ctf');
   /** This player's buttons, from the keyboard and the on-screen controls, stamped with their time. */
@@ -176,33 +164,22 @@ export class OnlinePanel {
 
   constructor() {
     const opts = onlineOptions(location.hash);
+    super({
+      kind: '',
+      room: opts.room ?? `room-${Math.floor(Math.random() * 1e6).toString(36)}`,
+      canvasLabel: 'Your machine in the online room',
+      waiting: ['Waiting for the other player…', 'Open this room in a second tab.'],
+      // Short lines: they fit the canvas of a 390 px phone.
+      idle: [
+        'Not in a room.',
+        'Press “Join room”, then open',
+        'the room in a second tab: the',
+        'match starts when both are in.',
+      ],
+    });
     this.stopAt = opts.ticks;
     this.p2p = opts.p2p;
     this.invite = opts.invite;
-    this.roomInput = h('input', {
-      type: 'text',
-      id: 'net-room',
-      'data-testid': 'control-room',
-      value: opts.room ?? `room-${Math.floor(Math.random() * 1e6).toString(36)}`,
-      maxlength: 32,
-      pattern: '[A-Za-z0-9_.\\-]{1,32}',
-      spellcheck: 'false',
-    });
-    this.joinBtn = button('Join room', 'control-join', () => {
-      if (this.session) this.leave();
-      else this.join();
-    });
-    this.tabLink = h(
-      'a',
-      {
-        class: 'net-tab-link',
-        target: '_blank',
-        rel: 'noopener',
-        'data-testid': 'link-room-tab',
-        title: 'The second player: this page in a new tab, joining the same room',
-      },
-      'Open this room in a new tab ↗',
-    );
     const bot = toggle('A bot plays my side', 'control-online-bot', false, (on) => {
       this.bot = on;
     });
@@ -211,9 +188,6 @@ export class OnlinePanel {
       this.updateLink();
     });
     p2p.title = 'Data channels between the two browsers; this server only introduces them';
-    this.roomInput.addEventListener('input', () => {
-      this.updateLink();
-    });
     this.updateLink();
     // On-screen controls: shown on touch screens (and with `?touch=1`), through the same sampler.
     this.touch = h('div', {
@@ -229,102 +203,62 @@ export class OnlinePanel {
       this.sampler,
       (e) => e.timeStamp,
     );
-    this.canvas = new SceneCanvas({
-      class: 'scene net-online-scene',
-      label: 'Your machine in the online room',
-      testId: 'canvas-online',
-      // Joined, the panel draws on every animation frame; before that, when it changes or resizes.
-      onResize: () => {
-        if (!this.session) this.render();
-      },
-    });
-    this.canvas.canvas.style.setProperty('--aspect', String(ASPECT.ctf ?? 1.5));
     // Focusable: the keys work while the focus is in this panel (click the game).
     this.canvas.canvas.tabIndex = 0;
-    const row = (label: string, id: string, hash = false) => {
-      const r = new Readout('dd', `online-${id}`, { hash });
-      this.out[id] = r;
-      return [h('dt', {}, label), r.el];
-    };
-    this.el = h(
-      'section',
-      { class: 'bench net-online', 'aria-labelledby': 'net-online-title' },
-      h('h2', { id: 'net-online-title' }, 'Play online: two tabs, one server'),
-      h(
-        'p',
-        { class: 'section-intro' },
+    this.el = this.section({
+      id: 'net-online',
+      title: 'Play online: two tabs, one server',
+      intro:
         'The same lockstep session over a real WebSocket to this server’s relay (or, with “Peer to peer”, over WebRTC data channels between the two browsers), played by two people. Join a room here, then open this page with the same room in another tab or on another computer: the match starts when both players are in and ends when the game does (the clock runs out or a team captures 5 flags). Each screen marks its own player YOU; the hashes at each checkpoint and at the end must be the same in both tabs.',
-      ),
-      h(
-        'div',
-        { class: 'controls', role: 'group', 'aria-label': 'Online room' },
-        h(
-          'div',
-          { class: 'control-group' },
-          h('label', { class: 'control-label', for: 'net-room' }, 'Room'),
-          this.roomInput,
-          this.joinBtn,
-          this.tabLink,
-          this.quick.el,
-        ),
+      controlsLabel: 'Online room',
+      controls: [
+        this.roomGroup(this.tabLink, this.quick.el),
         h('div', { class: 'control-group' }, bot, p2p),
-      ),
-      h(
-        'ul',
-        { class: 'net-keys', 'data-testid': 'online-keys', 'aria-label': 'Keys' },
+      ],
+      body: [
         h(
-          'li',
-          {},
-          'Click the game, then play with the keys (or the controls under it on a phone):',
+          'ul',
+          { class: 'net-keys', 'data-testid': 'online-keys', 'aria-label': 'Keys' },
+          h(
+            'li',
+            {},
+            'Click the game, then play with the keys (or the controls under it on a phone):',
+          ),
+          ...keysText(this.def).map((t) => h('li', {}, t)),
         ),
-        ...keysText(this.def).map((t) => h('li', {}, t)),
-      ),
-      h(
-        'div',
-        { class: 'net-online-body' },
-        h('figure', { class: 'net-machine' }, this.canvas.canvas, this.touch),
-        h(
-          'dl',
-          { class: 'readouts' },
-          ...row('Connection', 'state'),
-          ...row('Transport', 'via'),
-          ...row('You are', 'slot'),
-          ...row('Your kills, flags', 'you'),
-          ...row('Round trip', 'rtt'),
-          ...row('Tick', 'tick'),
-          ...row('Checkpoint tick', 'checkpoint'),
-          ...row('Hash there', 'hash', true),
-          ...row('The end', 'end'),
-          ...row('Hash at the end', 'final-hash', true),
-          ...row('Desyncs reported', 'desyncs'),
+        this.machine(
+          [this.touch],
+          [
+            this.row('Connection', 'state'),
+            this.row('Transport', 'via'),
+            this.row('You are', 'slot'),
+            this.row('Your kills, flags', 'you'),
+            this.row('Round trip', 'rtt'),
+            this.row('Tick', 'tick'),
+            this.row('Checkpoint tick', 'checkpoint'),
+            this.row('Hash there', 'hash', true),
+            this.row('The end', 'end'),
+            this.row('Hash at the end', 'final-hash', true),
+            this.row('Desyncs reported', 'desyncs'),
+          ],
         ),
-      ),
-    );
+      ],
+    });
     this.render();
     if (opts.join) this.join();
   }
 
-  private updateLink(): void {
-    const room = this.roomInput.value.trim();
-    const ok = ROOM_NAME.test(room);
-    this.tabLink.hidden = !ok;
-    if (ok) this.tabLink.href = roomLink(room, this.stopAt, this.p2p, this.invite);
+  protected link(room: string): string {
+    return roomLink(room, this.stopAt, this.p2p, this.invite);
   }
 
-  private join(): void {
-    const room = this.roomInput.value.trim();
-    if (!ROOM_NAME.test(room)) {
-      this.state = 'bad room name';
-      this.render();
-      return;
-    }
-    const def = this.def;
-    const ws = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}`;
-    this.state = 'connecting';
-    setText(this.joinBtn, 'Leave');
-    this.roomInput.disabled = true;
+  protected override joining(): void {
     this.end = undefined;
-    this.render();
+  }
+
+  protected open(room: string): Promise<NetSession> {
+    const def = this.def;
+    const ws = serverSocketUrl(location, '');
     const connect: Promise<Transport> = this.p2p
       ? connectPeerToPeer(`${ws}/signal`, room, def, this.invite).then((c) => {
           this.p2pConn = c;
@@ -345,82 +279,68 @@ export class OnlinePanel {
         });
     const ticket = this.p2p ? undefined : this.ticket;
     this.ticket = undefined;
-    connect
-      .then((transport) => {
-        let held = 0;
-        // Every event stamped up to now belongs to the tick being issued now.
-        const now = { isBeforeUpdateEnd: (t: number) => t <= performance.now() };
-        this.sampler.clear();
-        this.detachKeys = attachKeyboard(panelKeys(this.el), this.sampler, keyMap(def.info));
-        const session: NetSession = new LockstepSession({
-          transport,
-          clock: performanceClock(),
-          room,
-          game: def.info.id,
-          gameVersion: def.info.version,
-          input: def.input,
-          players: 2,
-          ...(ticket === undefined ? {} : { ticket }),
-          ...(this.stopAt === undefined ? {} : { stopAt: this.stopAt }),
-          createSimulation: (w) => {
-            const config = def.decodeConfig(w.config);
-            return watchEnd(def.create(config), this.stopAt ?? Infinity, (end) => {
-              const game = def.create(config);
-              game.load(end.bytes);
-              this.end = { end, game };
-            });
-          },
-          localInput: (tick: number, sim: Simulation) => {
-            const input = this.sampler.sample(now, 0);
-            if (!this.bot) return input;
-            if (tick % BOT_EVERY === 0) held = def.bot(sim as Game, session.welcome?.slot ?? 0);
-            return held;
-          },
-          onEvent: (e) => {
-            // A fatal error (a refusal, a welcome it cannot build, the connection lost: what
-            // `finished` rejects with) says more than the close that follows it.
-            if (e.type === 'error') this.state = `error: ${e.error.message}`;
-            if (e.type === 'closed' && this.session?.failure === undefined) {
-              this.state = `closed (${e.reason})`;
-            }
-          },
-        });
-        this.session = session;
-        this.canvas.canvas.focus({ preventScroll: true });
-        const frame = () => {
-          this.raf = requestAnimationFrame(frame);
-          session.frame();
-          // Over: the relay already has every input up to the end, so the other player reaches
-          // the same end without us. Leave the room; the final screen stays.
-          if (this.end) this.finish();
-          this.render();
-        };
-        this.raf = requestAnimationFrame(frame);
-      })
-      .catch((e: unknown) => {
-        this.state = `could not connect (${e instanceof Error ? e.message : String(e)})`;
-        setText(this.joinBtn, 'Join room');
-        this.roomInput.disabled = false;
-        this.render();
+    return connect.then((transport) => {
+      let held = 0;
+      // Every event stamped up to now belongs to the tick being issued now.
+      const now = { isBeforeUpdateEnd: (t: number) => t <= performance.now() };
+      this.sampler.clear();
+      this.detachKeys = attachKeyboard(panelKeys(this.el), this.sampler, keyMap(def.info));
+      const session: NetSession = new LockstepSession({
+        transport,
+        clock: performanceClock(),
+        room,
+        game: def.info.id,
+        gameVersion: def.info.version,
+        input: def.input,
+        players: 2,
+        ...(ticket === undefined ? {} : { ticket }),
+        ...(this.stopAt === undefined ? {} : { stopAt: this.stopAt }),
+        createSimulation: (w) => {
+          const config = def.decodeConfig(w.config);
+          return watchEnd(def.create(config), this.stopAt ?? Infinity, (end) => {
+            const game = def.create(config);
+            game.load(end.bytes);
+            this.end = { end, game };
+          });
+        },
+        localInput: (tick: number, sim: Simulation) => {
+          const input = this.sampler.sample(now, 0);
+          if (!this.bot) return input;
+          if (tick % BOT_EVERY === 0) held = def.bot(sim as Game, session.welcome?.slot ?? 0);
+          return held;
+        },
+        onEvent: (e) => {
+          this.noteEvent(e);
+        },
       });
+      return session;
+    });
+  }
+
+  protected override started(): void {
+    this.canvas.canvas.focus({ preventScroll: true });
+  }
+
+  protected frame(session: NetSession): void {
+    session.frame();
+    // Over: the relay already has every input up to the end, so the other player reaches the
+    // same end without us. Leave the room; the final screen stays.
+    if (this.end) this.finish();
   }
 
   /** The game is over: stop playing and leave the room, keeping the numbers and the final screen. */
   private finish(): void {
-    cancelAnimationFrame(this.raf);
+    this.stopFrames();
     this.detachKeys?.();
     this.detachKeys = undefined;
     this.session?.leave();
     this.state = 'finished';
   }
 
-  private leave(): void {
-    cancelAnimationFrame(this.raf);
+  protected override left(): void {
     this.detachKeys?.();
     this.detachKeys = undefined;
     this.sampler.clear();
-    this.session?.leave();
-    this.session = undefined;
     // Hosting peer to peer, the relay ran here until now (not at the end: the other player may
     // still be receiving the last ticks from it).
     if (this.p2pConn?.via === 'host') this.invite = undefined; // the room it hosted is gone
@@ -428,14 +348,10 @@ export class OnlinePanel {
     this.p2pConn = undefined;
     this.via = '';
     this.end = undefined;
-    this.state = 'offline';
-    setText(this.joinBtn, 'Join room');
-    this.roomInput.disabled = false;
-    this.render();
   }
 
   /** Show the connection's numbers and draw the machine (or what it is waiting for). */
-  private render(): void {
+  protected render(): void {
     const s = this.session;
     const o = this.out;
     const end = this.end;
@@ -500,28 +416,9 @@ export class OnlinePanel {
     }
   }
 
-  /** What the canvas says while there is no game to draw. */
-  private message(): string[] {
-    const s = this.session;
-    if (s?.phase === 'closed') return ['The connection closed.', 'Join the room again to play.'];
-    if (s) return ['Waiting for the other player…', 'Open this room in a second tab.'];
-    if (this.state === 'connecting') return ['Connecting to the server…'];
-    if (this.state !== 'offline') {
-      return [`Could not join: ${this.state}.`, 'Check the room name and the server.'];
-    }
-    // Short lines: they fit the canvas of a 390 px phone.
-    return [
-      'Not in a room.',
-      'Press “Join room”, then open',
-      'the room in a second tab: the',
-      'match starts when both are in.',
-    ];
-  }
-
-  destroy(): void {
+  override destroy(): void {
     this.quick.cancel();
-    this.leave();
+    super.destroy();
     this.detachTouch();
-    this.canvas.destroy();
   }
 }

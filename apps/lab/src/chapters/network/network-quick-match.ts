@@ -7,13 +7,14 @@ import { MatchmakingError, quickMatch, type QuickMatchResult } from 'fixedstep';
 import { button } from '../../ui/controls.js';
 import { h, setText } from '../../ui/dom.js';
 import { gameDef } from '../../games-view/games.js';
+import { serverSocketUrl } from './network-online-room.js';
 
 /** How long one press waits for another player, in ms. */
 export const QUICK_MATCH_WAIT_MS = 60_000;
 
 /** The matchmaking endpoint of the server that served the page. */
 export function matchUrl(loc: Pick<Location, 'protocol' | 'host'>): string {
-  return `${loc.protocol === 'https:' ? 'wss' : 'ws'}://${loc.host}/match`;
+  return serverSocketUrl(loc, '/match');
 }
 
 /** What the status line says when a wait ends without a match. */

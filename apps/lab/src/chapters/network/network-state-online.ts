@@ -13,18 +13,15 @@ import {
   type ButtonInput,
 } from 'fixedstep';
 import type { Game } from '@fixedstep/games';
-import { SceneCanvas } from '../../ui/canvas.js';
-import { button, toggle } from '../../ui/controls.js';
-import { h, setAttr, setText } from '../../ui/dom.js';
+import { toggle } from '../../ui/controls.js';
+import { setAttr } from '../../ui/dom.js';
 import * as fmt from '../../ui/format.js';
-import { Readout } from '../../ui/readout.js';
 import { gameDef, keyMap } from '../../games-view/games.js';
-import { ASPECT, drawGame, drawMessage } from '../../games-view/render.js';
+import { drawGame, drawMessage } from '../../games-view/render.js';
 import { BOT_EVERY, CHECKPOINT_TICKS } from './network-model.js';
 import { SnapshotDisplay, arenaRender } from './network-state.js';
+import { OnlineRoomPanel, ROOM_NAME, serverSocketUrl } from './network-online-room.js';
 
-/** A room name the server accepts. */
-const ROOM_NAME = /^[A-Za-z0-9_.-]{1,32}$/;
 /** The tick whose server world both tabs report by default (10 s at 60 Hz). */
 const DEFAULT_AT = 600;
 
@@ -49,18 +46,10 @@ export function stateRoomLink(room: string, at: number): string {
   return `#/network?${q.toString()}`;
 }
 
-export class StateOnlinePanel {
+export class StateOnlinePanel extends OnlineRoomPanel<StateSyncSession<ButtonInput, Game>> {
   readonly el: HTMLElement;
-  private readonly roomInput: HTMLInputElement;
-  private readonly joinBtn: HTMLButtonElement;
-  private readonly tabLink: HTMLAnchorElement;
-  private readonly canvas: SceneCanvas;
-  private readonly out: Record<string, Readout> = {};
   private readonly def = gameDef('ctf');
   private readonly display = new SnapshotDisplay(this.def);
-  private session: StateSyncSession<ButtonInput, Game> | undefined;
-  private raf = 0;
-  private state = 'offline';
   private readonly at: number;
   private hashAt: string | undefined;
   private keyboard = false;
@@ -69,54 +58,24 @@ export class StateOnlinePanel {
 
   constructor() {
     const opts = stateOnlineOptions(location.hash);
+    super({
+      kind: 'state-',
+      room: opts.room ?? `state-${Math.floor(Math.random() * 1e6).toString(36)}`,
+      canvasLabel: 'Your machine in the state-sync room',
+      waiting: ['Waiting for the server’s world…'],
+      idle: [
+        'Not in a room.',
+        'Press “Join room”: the server starts the game at once;',
+        'open the room in a second tab to play against it.',
+      ],
+    });
     this.at = opts.at;
-    this.roomInput = h('input', {
-      type: 'text',
-      id: 'net-state-room',
-      'data-testid': 'control-state-room',
-      value: opts.room ?? `state-${Math.floor(Math.random() * 1e6).toString(36)}`,
-      maxlength: 32,
-      pattern: '[A-Za-z0-9_.\\-]{1,32}',
-      spellcheck: 'false',
-    });
-    this.joinBtn = button('Join room', 'control-state-join', () => {
-      if (this.session) this.leave();
-      else this.join();
-    });
     const keys = toggle('Play with the keyboard', 'control-state-keyboard', false, (on) => {
       this.keyboard = on;
       this.keys = 0;
     });
     keys.title = 'WASD or arrows to move, Space to shoot; off: a bot plays your side';
-    this.tabLink = h(
-      'a',
-      {
-        class: 'net-tab-link',
-        target: '_blank',
-        rel: 'noopener',
-        'data-testid': 'link-state-room-tab',
-        title: 'The second player: this page in a new tab, joining the same room',
-      },
-      'Open this room in a new tab ↗',
-    );
-    this.roomInput.addEventListener('input', () => {
-      this.updateLink();
-    });
     this.updateLink();
-    this.canvas = new SceneCanvas({
-      class: 'scene net-online-scene',
-      label: 'Your machine in the state-sync room',
-      testId: 'canvas-state-online',
-      onResize: () => {
-        if (!this.session) this.render();
-      },
-    });
-    this.canvas.canvas.style.setProperty('--aspect', String(ASPECT.ctf ?? 1.5));
-    const row = (label: string, id: string, hash = false) => {
-      const r = new Readout('dd', `state-online-${id}`, { hash });
-      this.out[id] = r;
-      return [h('dt', {}, label), r.el];
-    };
     const map = keyMap(this.def.info);
     this.onKey = (e: KeyboardEvent) => {
       if (!this.keyboard || !this.session) return;
@@ -129,133 +88,78 @@ export class StateOnlinePanel {
     };
     window.addEventListener('keydown', this.onKey);
     window.addEventListener('keyup', this.onKey);
-    this.el = h(
-      'section',
-      { class: 'bench net-online', 'aria-labelledby': 'net-state-online-title' },
-      h('h2', { id: 'net-state-online-title' }, 'Play online: state sync, two tabs, one server'),
-      h(
-        'p',
-        { class: 'section-intro' },
+    this.el = this.section({
+      id: 'net-state-online',
+      title: 'Play online: state sync, two tabs, one server',
+      intro:
         'The server runs capture the flag in this room; each tab sends only its buttons and draws the world the server sends back. Join a room here, then open it in another tab or on another computer. Your player answers at once; the other one is drawn a little in the past, between two of the server’s snapshots.',
-      ),
-      h(
-        'div',
-        { class: 'controls', role: 'group', 'aria-label': 'State-sync room' },
-        h(
-          'div',
-          { class: 'control-group' },
-          h('label', { class: 'control-label', for: 'net-state-room' }, 'Room'),
-          this.roomInput,
-          this.joinBtn,
-          keys,
-          this.tabLink,
+      controlsLabel: 'State-sync room',
+      controls: [this.roomGroup(keys, this.tabLink)],
+      body: [
+        this.machine(
+          [],
+          [
+            this.row('Connection', 'state'),
+            this.row('Player', 'slot'),
+            this.row('Round trip', 'rtt'),
+            this.row('Predicted tick', 'tick'),
+            this.row('Server snapshot tick', 'snapshot'),
+            this.row('Render delay', 'render-delay'),
+            this.row('Received', 'down'),
+            this.row('Corrections', 'corrections'),
+            this.row(`Server world at tick ${this.at}`, 'hash-at', true),
+          ],
         ),
-      ),
-      h(
-        'div',
-        { class: 'net-online-body' },
-        h('figure', { class: 'net-machine' }, this.canvas.canvas),
-        h(
-          'dl',
-          { class: 'readouts' },
-          ...row('Connection', 'state'),
-          ...row('Player', 'slot'),
-          ...row('Round trip', 'rtt'),
-          ...row('Predicted tick', 'tick'),
-          ...row('Server snapshot tick', 'snapshot'),
-          ...row('Render delay', 'render-delay'),
-          ...row('Received', 'down'),
-          ...row('Corrections', 'corrections'),
-          ...row(`Server world at tick ${this.at}`, 'hash-at', true),
-        ),
-      ),
-    );
+      ],
+    });
     this.render();
     if (opts.room !== undefined) this.join();
   }
 
-  private updateLink(): void {
-    const room = this.roomInput.value.trim();
-    const ok = ROOM_NAME.test(room);
-    this.tabLink.hidden = !ok;
-    if (ok) this.tabLink.href = stateRoomLink(room, this.at);
+  protected link(room: string): string {
+    return stateRoomLink(room, this.at);
   }
 
-  private join(): void {
-    const room = this.roomInput.value.trim();
-    if (!ROOM_NAME.test(room)) {
-      this.state = 'bad room name';
-      this.render();
-      return;
-    }
+  protected open(room: string): Promise<StateSyncSession<ButtonInput, Game>> {
     const def = this.def;
-    const url = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/state/${room}`;
-    this.state = 'connecting';
-    setText(this.joinBtn, 'Leave');
-    this.roomInput.disabled = true;
-    this.render();
-    connectWebSocket(url)
-      .then((transport) => {
-        let held = 0;
-        let prev = 0;
-        const session: StateSyncSession<ButtonInput, Game> = new StateSyncSession<
-          ButtonInput,
-          Game
-        >({
-          transport,
-          clock: performanceClock(),
-          room,
-          game: def,
-          players: 2,
-          render: arenaRender(def),
-          localInput: (tick, sim) => {
-            if (this.keyboard) {
-              const down = this.keys;
-              const input = (down | ((down & ~prev) << 16)) >>> 0;
-              prev = down;
-              return input;
-            }
-            if (tick % BOT_EVERY === 0) held = def.bot(sim, session.welcome?.slot ?? 0);
-            return held;
-          },
-          onEvent: (e) => {
-            // A fatal error (a refusal, a welcome it cannot build, the connection lost: what
-            // `finished` rejects with) says more than the close that follows it.
-            if (e.type === 'error') this.state = `error: ${e.error.message}`;
-            if (e.type === 'closed' && this.session?.failure === undefined) {
-              this.state = `closed (${e.reason})`;
-            }
-          },
-        });
-        this.session = session;
-        const frame = () => {
-          this.raf = requestAnimationFrame(frame);
-          session.frame();
-          session.render();
-          this.render();
-        };
-        this.raf = requestAnimationFrame(frame);
-      })
-      .catch((e: unknown) => {
-        this.state = `could not connect (${e instanceof Error ? e.message : String(e)})`;
-        setText(this.joinBtn, 'Join room');
-        this.roomInput.disabled = false;
-        this.render();
+    return connectWebSocket(serverSocketUrl(location, `/state/${room}`)).then((transport) => {
+      let held = 0;
+      let prev = 0;
+      const session: StateSyncSession<ButtonInput, Game> = new StateSyncSession<ButtonInput, Game>({
+        transport,
+        clock: performanceClock(),
+        room,
+        game: def,
+        players: 2,
+        render: arenaRender(def),
+        localInput: (tick, sim) => {
+          if (this.keyboard) {
+            const down = this.keys;
+            const input = (down | ((down & ~prev) << 16)) >>> 0;
+            prev = down;
+            return input;
+          }
+          if (tick % BOT_EVERY === 0) held = def.bot(sim, session.welcome?.slot ?? 0);
+          return held;
+        },
+        onEvent: (e) => {
+          this.noteEvent(e);
+        },
       });
+      return session;
+    });
   }
 
-  private leave(): void {
-    cancelAnimationFrame(this.raf);
-    this.session?.leave();
-    this.session = undefined;
+  protected frame(session: StateSyncSession<ButtonInput, Game>): void {
+    session.frame();
+    session.render();
+  }
+
+  protected override left(): void {
     this.hashAt = undefined;
-    this.state = 'offline';
-    setText(this.joinBtn, 'Join room');
-    this.roomInput.disabled = false;
-    this.render();
   }
 
-  private render(): void {
+  protected render(): void {
     const s = this.session;
     const o = this.out;
     const state = s ? (s.phase === 'closed' ? this.state : s.phase) : this.state;
@@ -290,25 +194,9 @@ export class StateOnlinePanel {
     }
   }
 
-  private message(): string[] {
-    const s = this.session;
-    if (s?.phase === 'closed') return ['The connection closed.', 'Join the room again to play.'];
-    if (s) return ['Waiting for the server’s world…'];
-    if (this.state === 'connecting') return ['Connecting to the server…'];
-    if (this.state !== 'offline') {
-      return [`Could not join: ${this.state}.`, 'Check the room name and the server.'];
-    }
-    return [
-      'Not in a room.',
-      'Press “Join room”: the server starts the game at once;',
-      'open the room in a second tab to play against it.',
-    ];
-  }
-
-  destroy(): void {
+  override destroy(): void {
     window.removeEventListener('keydown', this.onKey);
     window.removeEventListener('keyup', this.onKey);
-    this.leave();
-    this.canvas.destroy();
+    super.destroy();
   }
 }

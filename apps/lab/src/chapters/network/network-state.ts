@@ -5,15 +5,13 @@
  * between two snapshots, a render delay behind. No DOM.
  */
 import {
-  EventScheduler,
   Random,
-  SimulatedLink,
   StateSyncRoom,
   StateSyncSession,
   fnv1a64,
   hex64,
   type ButtonInput,
-  type LinkConditions,
+  type SimulatedLink,
   type StateSyncRender,
 } from 'fixedstep';
 import {
@@ -24,21 +22,15 @@ import {
   type RegisteredGame,
 } from '@fixedstep/games';
 import { gameDef } from '../../games-view/games.js';
+import { lossOf } from '../../shell/simulated-machines.js';
 import {
-  BOT_EVERY,
   CHECKPOINT_TICKS,
-  LatencyProbe,
   TELEPORT_UNITS,
-  linkOf,
-  lossOf,
-  traffic,
+  TwoPlayerMatch,
   type MachineView,
   type MatchReadouts,
-  type ModelMatch,
-  type ModelNumbers,
   type NetSettings,
   type PlayerState,
-  visibleCorrection,
 } from './network-model.js';
 
 function arenaState(game: Game): ArenaState {
@@ -158,23 +150,19 @@ interface Machine {
  * One state-sync match: the room and two machines, over two simulated links, on its own event
  * scheduler (virtual ms).
  */
-export class StateSyncMatch implements ModelMatch {
+export class StateSyncMatch extends TwoPlayerMatch {
   readonly mode = 'statesync' as const;
-  readonly scheduler = new EventScheduler(0);
   readonly room: StateSyncRoom<Game>;
   readonly machines: [Machine, Machine];
+  readonly links: [SimulatedLink, SimulatedLink];
   readonly def: RegisteredGame;
-  keys = 0;
-  realFrames = false;
-  private readonly probe = new LatencyProbe();
   /** The server's hash at every checkpoint tick. */
   private readonly serverHashes = new Map<number, string>();
   private checkpoint = -1;
   private hashes: [string, string] = ['', ''];
-  private corrections = 0;
-  private largestCorrection = 0;
 
-  constructor(readonly settings: NetSettings) {
+  constructor(settings: NetSettings) {
+    super(settings);
     const def = gameDef(settings.game);
     this.def = def;
     const clock = this.scheduler.clock;
@@ -196,14 +184,8 @@ export class StateSyncMatch implements ModelMatch {
     });
     const render = arenaRender(def);
     const make = (slot: 0 | 1): Machine => {
-      const link = new SimulatedLink({
-        scheduler: this.scheduler,
-        seed: settings.seed * 7919 + slot,
-        ...linkOf(settings),
-      });
+      const link = this.newLink(slot);
       this.room.accept(link.b);
-      let held = 0;
-      let prevKeys = 0;
       const session: StateSyncSession<ButtonInput, Game> = new StateSyncSession<ButtonInput, Game>({
         transport: link.a,
         clock,
@@ -214,56 +196,25 @@ export class StateSyncMatch implements ModelMatch {
         name: `player${slot + 1}`,
         render,
         onCorrection: (c) => {
-          if (!visibleCorrection(c.size)) return;
-          this.corrections++;
-          this.largestCorrection = Math.max(this.largestCorrection, c.size);
+          this.noteCorrection(c.size);
         },
-        localInput: (tick, sim) => {
-          const me = session.welcome?.slot ?? slot;
-          let input: number;
-          if (settings.keyboard && me === 0) {
-            const down = this.keys;
-            input = (down | ((down & ~prevKeys) << 16)) >>> 0;
-            prevKeys = down;
-          } else {
-            if (tick % BOT_EVERY === 0) held = def.bot(sim, me);
-            input = held;
-          }
-          if (me === 0) this.probe.sample(tick, clock.now());
-          return input;
-        },
+        localInput: this.playerInput(def, () => session.welcome?.slot ?? slot),
       });
-      this.scheduler.every(
-        1000 / 60,
-        () => {
-          if (!this.realFrames) this.frame(slot);
-        },
-        // The two machines out of phase, and after the server's first join (slot 0 joins first).
-        slot * 7.3 + 1,
-      );
+      // The two machines out of phase, and after the server's first join (slot 0 joins first).
+      this.display(slot * 7.3 + 1, () => {
+        this.frame(slot);
+      });
       return { session, link, display: new SnapshotDisplay(def) };
     };
     const m0 = make(0);
     const m1 = make(1);
     this.machines = [m0, m1];
+    this.links = [m0.link, m1.link];
   }
 
-  get nowMs(): number {
-    return this.scheduler.now;
-  }
-
-  advanceTo(ms: number): void {
-    if (ms > this.scheduler.now) this.scheduler.runUntil(ms);
-  }
-
-  realFrame(ms: number): void {
-    this.advanceTo(ms);
+  protected drawAll(): void {
     this.frame(0);
     this.frame(1);
-  }
-
-  setLink(c: LinkConditions): void {
-    for (const m of this.machines) m.link.setConditions(c);
   }
 
   private frame(i: 0 | 1): void {
@@ -300,7 +251,7 @@ export class StateSyncMatch implements ModelMatch {
       StateSyncSession<ButtonInput, Game>,
     ];
     const server = this.serverHashes.get(this.checkpoint);
-    const { lost, sent } = lossOf(this.machines.map((m) => m.link));
+    const { lost, sent } = lossOf(this.links);
     return {
       mode: this.mode,
       ticks: [a.tick, b.tick],
@@ -323,23 +274,6 @@ export class StateSyncMatch implements ModelMatch {
         a.stats.deltaSnapshots +
         b.stats.fullSnapshots +
         b.stats.deltaSnapshots,
-    };
-  }
-
-  numbers(): ModelNumbers {
-    const { up, down } = traffic(
-      this.machines.map((m) => m.link),
-      this.scheduler.now,
-    );
-    return {
-      mode: this.mode,
-      upBytesPerSecond: up,
-      downBytesPerSecond: down,
-      ownLatencyMs: this.probe.ownMs,
-      otherLatencyMs: this.probe.otherMs,
-      corrections: this.corrections,
-      largestCorrection: this.largestCorrection,
-      smoothed: true,
     };
   }
 

@@ -35,7 +35,7 @@ import {
 import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { clearScene } from '../../ui/canvas.js';
-import { group, segmented, slider, toggle } from '../../ui/controls.js';
+import { group, linkSliders, segmented, toggle } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -127,37 +127,11 @@ class NetworkChapter {
 
   private controls(): HTMLElement {
     const s = this.lab.settings;
-    const link = (
-      key: 'latencyMs' | 'jitterMs',
-      id: string,
-      label: string,
-      max: number,
-      text: (v: number) => string,
-    ) =>
-      slider({
-        id: `net-${id}`,
-        label,
-        testId: `control-${id}`,
-        min: 0,
-        max,
-        step: 5,
-        value: s[key],
-        text,
-        onChange: (v) => {
-          this.lab.setLink({ [key]: v });
-        },
-      });
-    const loss = slider({
-      id: 'net-loss',
-      label: 'Loss',
-      testId: 'control-loss',
-      min: 0,
-      max: 20,
-      step: 1,
-      value: Math.round(s.loss * 100),
-      text: (v) => `${v} %`,
-      onChange: (v) => {
-        this.lab.setLink({ loss: v / 100 });
+    const link = linkSliders({
+      idPrefix: 'net',
+      link: s,
+      onChange: (c) => {
+        this.lab.setLink(c);
       },
     });
     const game = segmented<NetGameId>({
@@ -178,9 +152,9 @@ class NetworkChapter {
     keyboard.title = 'Drive player 1 with the keyboard (WASD or arrows, Space to shoot)';
     return this.shell.controls(
       'Link, game and time',
-      link('latencyMs', 'latency', 'Latency', 250, (v) => `${v} ms`).el,
-      link('jitterMs', 'jitter', 'Jitter', 100, (v) => `± ${v} ms`).el,
-      loss.el,
+      link.latency.el,
+      link.jitter.el,
+      link.loss.el,
       group('Game', game.el, keyboard),
       this.shell.timeGroup(this.shell.clockBtn!),
       this.shell.status(),

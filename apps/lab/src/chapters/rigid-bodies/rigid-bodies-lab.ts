@@ -22,7 +22,6 @@
 import {
   ByteReader,
   ByteWriter,
-  EventScheduler,
   FixedLoop,
   InputSampler,
   InterpolationBuffer,
@@ -64,6 +63,7 @@ import {
   type World,
 } from '@fixedstep/rapier';
 import { DisplayClock, OnDisplayClock, type DisplaySpec } from '../../shell/display-clock.js';
+import { SimulatedMachines, confirmedCheckpoint, lossOf } from '../../shell/simulated-machines.js';
 
 /** Ticks per second of every simulation on this page. */
 export const TICK_RATE = 60;
@@ -726,8 +726,7 @@ export interface NetReadouts {
  * from an `InputSampler` of its slot (the page's buttons) and, with {@link bots}, on the bots'
  * script. A remote press is predicted as "not pressed", so it arrives as a rollback.
  */
-export class TowerNet {
-  readonly scheduler = new EventScheduler(0);
+export class TowerNet extends SimulatedMachines {
   readonly relay: Relay;
   /** The machines, in the order they connected (their slots are in their welcomes). */
   readonly sessions: [RollbackSession, RollbackSession];
@@ -739,11 +738,10 @@ export class TowerNet {
   ];
   /** The bots fire on their script ({@link botFires}). */
   bots = true;
-  /** Real display frames: the machines draw when the page does ({@link realFrame}). */
-  realFrames = false;
   private readonly drawn: (DrawnDuel | undefined)[] = [undefined, undefined];
 
   constructor(rapier: RapierModule, link: LinkSettings) {
+    super();
     const clock = this.scheduler.clock;
     const random = new Random(SEED ^ 0x9e3779b9);
     this.relay = new Relay({
@@ -785,13 +783,9 @@ export class TowerNet {
         },
       });
       // Display frames at 60 Hz, the two machines out of phase (unless real frames drive them).
-      this.scheduler.every(
-        1000 / 60,
-        () => {
-          if (!this.realFrames) session.frame(this.scheduler.now);
-        },
-        i * 7.3,
-      );
+      this.display(i * 7.3, () => {
+        session.frame(this.scheduler.now);
+      });
       return [session, simulated];
     };
     const [s0, l0] = make(0);
@@ -800,22 +794,8 @@ export class TowerNet {
     this.links = [l0, l1];
   }
 
-  get nowMs(): number {
-    return this.scheduler.now;
-  }
-
-  advanceTo(ms: number): void {
-    if (ms > this.scheduler.now) this.scheduler.runUntil(ms);
-  }
-
-  /** A real display frame at virtual `ms`: the links and the relay run to then, both machines draw. */
-  realFrame(ms: number): void {
-    this.advanceTo(ms);
+  protected drawAll(): void {
     for (const s of this.sessions) s.frame(this.scheduler.now);
-  }
-
-  setLink(c: LinkSettings): void {
-    for (const l of this.links) l.setConditions(c);
   }
 
   /** Player `slot` pressed (or let go of) FIRE at virtual `timeMs`. */
@@ -843,26 +823,9 @@ export class TowerNet {
   readouts(): NetReadouts {
     const a = this.sessionOf(0);
     const b = this.sessionOf(1);
-    const confirmed = Math.min(a.confirmedStateTick(), b.confirmedStateTick());
-    const checkpoint =
-      confirmed >= CHECKPOINT_TICKS
-        ? Math.floor(confirmed / CHECKPOINT_TICKS) * CHECKPOINT_TICKS
-        : -1;
-    const hashOf = (s: RollbackSession): string => {
-      if (checkpoint < 0) return '';
-      const h = s.hashAt(checkpoint);
-      return h === undefined ? '' : hex64(h);
-    };
-    const hashes: [string, string] = [hashOf(a), hashOf(b)];
+    const { checkpoint, hashes } = confirmedCheckpoint(a, b, CHECKPOINT_TICKS);
     const desyncs = this.relay.room(NET_ROOM)?.desyncs.length ?? 0;
-    let lost = 0;
-    let sent = 0;
-    for (const l of this.links) {
-      for (const d of l.stats) {
-        lost += d.lost;
-        sent += d.sent;
-      }
-    }
+    const { lost, sent } = lossOf(this.links);
     const machine = (slot: 0 | 1): MachineReadouts => {
       const s = this.sessionOf(slot);
       const d = this.machine(slot);

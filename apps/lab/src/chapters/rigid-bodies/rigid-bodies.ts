@@ -17,11 +17,11 @@ import { tryCards } from '../../ui/cards.js';
 import {
   button,
   group,
+  linkSliders,
   segmented,
-  slider,
   toggle,
+  type LinkSliders,
   type Segmented,
-  type Slider,
 } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
 import * as fmt from '../../ui/format.js';
@@ -78,7 +78,7 @@ class RigidBodiesChapter {
   private readonly worlds: [PanelView, PanelView];
   private readonly worldsIntro = h('p', { class: 'section-intro' });
   private readonly cost = h('p', { class: 'rigid-cost', 'data-testid': 'cost' });
-  private readonly sliders: Slider[] = [];
+  private linkSliders: LinkSliders | undefined;
   private readonly botsBtn: HTMLButtonElement;
   private readonly sceneSeg: Segmented<WorldsScene>;
   private shownScene: WorldsScene | undefined;
@@ -306,9 +306,7 @@ class RigidBodiesChapter {
     this.lab?.setLink(c);
     const s = this.lab?.linkSettings;
     if (!s) return;
-    this.sliders[0]?.set(s.latencyMs);
-    this.sliders[1]?.set(s.jitterMs);
-    this.sliders[2]?.set(Math.round(s.loss * 100));
+    this.linkSliders?.set(s);
   }
 
   /** A panel's canvas (labelled `label`), the line under it, and room for its readouts. */
@@ -400,42 +398,14 @@ class RigidBodiesChapter {
 
   private netSection(): HTMLElement {
     const s = this.lab?.linkSettings ?? { latencyMs: 80, jitterMs: 20, loss: 0.02 };
-    const link = (
-      key: 'latencyMs' | 'jitterMs',
-      id: string,
-      label: string,
-      max: number,
-      text: (v: number) => string,
-    ) =>
-      slider({
-        id: `rigid-${id}`,
-        label,
-        testId: `control-${id}`,
-        min: 0,
-        max,
-        step: 5,
-        value: s[key],
-        text,
-        onChange: (v) => {
-          this.lab?.setLink({ [key]: v });
-        },
-      });
-    const latency = link('latencyMs', 'latency', 'Latency', 250, (v) => `${v} ms`);
-    const jitter = link('jitterMs', 'jitter', 'Jitter', 100, (v) => `± ${v} ms`);
-    const loss = slider({
-      id: 'rigid-loss',
-      label: 'Loss',
-      testId: 'control-loss',
-      min: 0,
-      max: 20,
-      step: 1,
-      value: Math.round(s.loss * 100),
-      text: (v) => `${v} %`,
-      onChange: (v) => {
-        this.lab?.setLink({ loss: v / 100 });
+    this.linkSliders = linkSliders({
+      idPrefix: 'rigid',
+      link: s,
+      onChange: (c) => {
+        this.lab?.setLink(c);
       },
     });
-    this.sliders.push(latency, jitter, loss);
+    const { latency, jitter, loss } = this.linkSliders;
     const controls = this.shell.controls(
       'The link',
       latency.el,

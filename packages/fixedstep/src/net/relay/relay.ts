@@ -4,12 +4,11 @@
  * @module
  */
 import type { Clock } from '../../time/drivers.js';
-import { gameJoinPlan, type GameCatalog, type TicketVerifier } from '../room/game-join.js';
-import { RoomHost } from '../room/host.js';
+import { type GameCatalog, type TicketVerifier } from '../room/game-join.js';
+import { GameRoomHost } from '../room/game-host.js';
 import type { ConnectionInfo, HostEvent, HostStats } from '../room/host-types.js';
-import type { TokenBucket } from '../room/bucket.js';
 import type { RoomHostOptions } from '../room/options.js';
-import type { Transport } from '../transport.js';
+import type { MemberInit } from '../room/room.js';
 import type { LeaveReason } from '../wire/common.js';
 import type { DesyncRecord } from './forensics.js';
 import {
@@ -151,7 +150,7 @@ export interface RoomInfo {
  *
  * Call {@link update} at least twice per tick (the server does it every half step).
  */
-export class Relay extends RoomHost<RelayMember, RelayRoom, NetMessage, RelayEvent> {
+export class Relay extends GameRoomHost<RelayMember, RelayRoom, NetMessage, RelayEvent> {
   declare readonly stats: RelayStats;
   private readonly catalog: GameCatalog;
   private readonly tickets: TicketVerifier | undefined;
@@ -235,59 +234,38 @@ export class Relay extends RoomHost<RelayMember, RelayRoom, NetMessage, RelayEve
     return this.relay.limits;
   }
 
-  protected createMember(
-    id: number,
-    transport: Transport,
-    address: string,
-    info: ConnectionInfo,
-    bucket: TokenBucket,
-    now: number,
-    live: number,
-  ): RelayMember {
-    const reliable = info.reliable ?? transport.reliable === true;
-    return new RelayMember(id, transport, address, info.room, bucket, now, live, reliable);
+  protected createMember(init: MemberInit, info: ConnectionInfo): RelayMember {
+    return new RelayMember(init, info.reliable ?? init.transport.reliable === true);
   }
 
   protected onJoinMessage(m: RelayMember, message: NetMessage, now: number): boolean {
     if (message.type !== 'hello') return false;
-    if (m.state !== 'new') return true;
-    m.name = message.name;
-    const plan = gameJoinPlan(message, {
-      catalog: this.catalog,
-      tickets: this.tickets,
-      randomU32: this.context.randomU32,
-      make: (setup, number, tokens) =>
-        new RelayRoom(
-          message.room,
-          number,
-          setup.game,
-          setup.players,
-          setup.seed,
-          setup.game.options ? setup.game.options(setup.players, setup.seed) : new Uint8Array(0),
-          m.address,
-          now,
-          tokens(),
-          tokens,
-          setup.ticketed,
-          this.context,
-          this.relay,
-          this.roomEvents,
-        ),
-    });
-    if (Array.isArray(plan)) {
-      this.drop(m, plan[0], plan[1]);
-      return true;
-    }
-    plan.created = (room) => {
-      this.emit({
-        type: 'room-created',
-        room: room.name,
-        game: room.game.id,
-        players: room.players,
-      });
-    };
-    this.join(m, plan, now);
-    return true;
+    return this.joinGame(
+      m,
+      message,
+      {
+        catalog: this.catalog,
+        tickets: this.tickets,
+        make: (setup, number, tokens) =>
+          new RelayRoom(
+            message.room,
+            number,
+            setup.game,
+            setup.players,
+            setup.seed,
+            setup.game.options ? setup.game.options(setup.players, setup.seed) : new Uint8Array(0),
+            m.address,
+            now,
+            tokens(),
+            tokens,
+            setup.ticketed,
+            this.context,
+            this.relay,
+            this.roomEvents,
+          ),
+      },
+      now,
+    );
   }
 }
 

@@ -6,9 +6,7 @@
 import { InputRing } from '../history.js';
 import type { RoomContext } from '../room/host-types.js';
 import type { HostedGame } from '../room/game-join.js';
-import { Member, Room } from '../room/room.js';
-import type { TokenBucket } from '../room/bucket.js';
-import type { Transport } from '../transport.js';
+import { Member, Room, type MemberInit } from '../room/room.js';
 import type { LeaveReason } from '../wire/common.js';
 import { DesyncDetector, type DesyncRecord } from './forensics.js';
 import { encodeMessage, type NetMessage, type ProtocolLimits } from './messages.js';
@@ -56,18 +54,12 @@ export class RelayMember extends Member {
   started = false;
 
   constructor(
-    id: number,
-    transport: Transport,
-    address: string,
-    urlRoom: string | undefined,
-    bucket: TokenBucket,
-    openedAt: number,
-    heardAt: number,
+    init: MemberInit,
     /** Its transport delivers in order or closes: each confirmed tick goes once. */
     readonly reliable: boolean,
   ) {
-    super(id, transport, address, urlRoom, bucket, openedAt, heardAt);
-    this.ackMovedAt = openedAt;
+    super(init);
+    this.ackMovedAt = init.openedAt;
   }
 
   /** Remember that it owes an answer to request `id`. */

@@ -17,7 +17,7 @@ import {
   type RoomHostOptions,
   type RoomHostSettings,
 } from './options.js';
-import type { Member, Room } from './room.js';
+import type { Member, MemberInit, Room } from './room.js';
 import {
   ADOPTED,
   type ConnectionInfo,
@@ -159,7 +159,18 @@ export abstract class RoomHost<
     }
     const live = this.liveness.at(now);
     const bucket = new TokenBucket(this.settings.rate, now);
-    const m = this.createMember(this.nextMemberId++, transport, address, info, bucket, now, live);
+    const m = this.createMember(
+      {
+        id: this.nextMemberId++,
+        transport,
+        address,
+        urlRoom: info.room,
+        bucket,
+        openedAt: now,
+        heardAt: live,
+      },
+      info,
+    );
     this.members.set(m.id, m);
     this.connectionTally.add(address);
     this.countConnections();
@@ -289,16 +300,8 @@ export abstract class RoomHost<
 
   // ------------------------------------------------------------------------------ for subclasses
 
-  /** Makes the member object of a new connection. */
-  protected abstract createMember(
-    id: number,
-    transport: Transport,
-    address: string,
-    info: ConnectionInfo,
-    bucket: TokenBucket,
-    now: number,
-    live: number,
-  ): M;
+  /** Makes the member object of a new connection (`info`: what its server said of it). */
+  protected abstract createMember(init: MemberInit, info: ConnectionInfo): M;
 
   /**
    * A message from a connection that has no room yet: a join is handled (typically through

@@ -5,9 +5,10 @@
  * @module
  */
 export { RoomHost } from './host.js';
+export { GameRoomHost } from './game-host.js';
 export type { ConnectionInfo, HostStats, HostEvent, RoomContext, JoinPlan } from './host-types.js';
 export { Room, Member, FIRST_SPECTATOR_PEER } from './room.js';
-export type { Seat, SeatRequest, MemberState } from './room.js';
+export type { Seat, SeatRequest, MemberState, MemberInit } from './room.js';
 export { TokenBucket } from './bucket.js';
 export type { RateLimits } from './bucket.js';
 export { LivenessClock } from './liveness.js';

@@ -15,6 +15,23 @@ import { sameToken } from './tokens.js';
  */
 export type MemberState = 'new' | 'claiming' | 'joining' | 'member' | 'closed';
 
+/** What the host knows of a new connection when it makes its {@link Member}. */
+export interface MemberInit {
+  /** The host's id for it (in drop events). */
+  id: number;
+  transport: Transport;
+  /** Its client address: the key of the per-address caps. */
+  address: string;
+  /** The room its URL names, if any: its join must be for it. */
+  urlRoom: string | undefined;
+  /** Its message-rate bucket. */
+  bucket: TokenBucket;
+  /** Server time it connected (ms). */
+  openedAt: number;
+  /** When it connected, on the host's responsive clock (liveness and its join deadline). */
+  heardAt: number;
+}
+
 /** One connection to a host, and its place in a room once it has one. */
 export class Member {
   state: MemberState = 'new';
@@ -36,23 +53,27 @@ export class Member {
   room: Room<Member> | undefined;
   /** When it connected, on the host's responsive clock (its join deadline counts from here). */
   readonly acceptedAt: number;
+  /** The host's id for it (in drop events). */
+  readonly id: number;
+  readonly transport: Transport;
+  /** Its client address: the key of the per-address caps. */
+  readonly address: string;
+  /** The room its URL names, if any: its join must be for it. */
+  readonly urlRoom: string | undefined;
+  readonly bucket: TokenBucket;
+  /** Server time it connected (ms). */
+  readonly openedAt: number;
 
-  constructor(
-    /** The host's id for it (in drop events). */
-    readonly id: number,
-    readonly transport: Transport,
-    /** Its client address: the key of the per-address caps. */
-    readonly address: string,
-    /** The room its URL names, if any: its join must be for it. */
-    readonly urlRoom: string | undefined,
-    readonly bucket: TokenBucket,
-    /** Server time it connected (ms). */
-    readonly openedAt: number,
-    heardAt: number,
-  ) {
-    this.heardAt = heardAt;
-    this.probedAt = heardAt;
-    this.acceptedAt = heardAt;
+  constructor(init: MemberInit) {
+    this.id = init.id;
+    this.transport = init.transport;
+    this.address = init.address;
+    this.urlRoom = init.urlRoom;
+    this.bucket = init.bucket;
+    this.openedAt = init.openedAt;
+    this.heardAt = init.heardAt;
+    this.probedAt = init.heardAt;
+    this.acceptedAt = init.heardAt;
   }
 }
 

@@ -5,18 +5,11 @@
  */
 import type { AnyGameDefinition } from '../../sim/game.js';
 import type { Clock } from '../../time/drivers.js';
-import type { TokenBucket } from '../room/bucket.js';
-import {
-  gameCatalog,
-  gameJoinPlan,
-  type GameCatalog,
-  type HostedGame,
-  type TicketVerifier,
-} from '../room/game-join.js';
-import { RoomHost } from '../room/host.js';
-import type { ConnectionInfo, HostEvent } from '../room/host-types.js';
+import { gameCatalog, type GameCatalog, type TicketVerifier } from '../room/game-join.js';
+import { GameRoomHost } from '../room/game-host.js';
+import type { HostEvent } from '../room/host-types.js';
 import type { RoomHostOptions } from '../room/options.js';
-import type { Transport } from '../transport.js';
+import type { MemberInit } from '../room/room.js';
 import {
   DEFAULT_STATE_SYNC_LIMITS,
   STATE_SYNC_PROTOCOL,
@@ -70,7 +63,7 @@ export type StateSyncServerEvent = HostEvent;
  * (`WRONG_ROOM`). Every protection is the room core's: caps per address and in total, rates,
  * liveness, seats held for their players, an invite for spectators. Drive it with {@link update}.
  */
-export class StateSyncServer extends RoomHost<
+export class StateSyncServer extends GameRoomHost<
   StateSyncMember,
   StateSyncRoom,
   StateSyncMessage,
@@ -117,63 +110,43 @@ export class StateSyncServer extends RoomHost<
     return { ...DEFAULT_STATE_SYNC_LIMITS, ...this.options.room?.limits };
   }
 
-  protected createMember(
-    id: number,
-    transport: Transport,
-    address: string,
-    info: ConnectionInfo,
-    bucket: TokenBucket,
-    now: number,
-    live: number,
-  ): StateSyncMember {
-    return new StateSyncMember(id, transport, address, info.room, bucket, now, live);
+  protected createMember(init: MemberInit): StateSyncMember {
+    return new StateSyncMember(init);
   }
 
   protected onJoinMessage(m: StateSyncMember, message: StateSyncMessage, now: number): boolean {
     if (message.type !== 'join') return false;
-    if (m.state !== 'new') return true;
-    m.name = message.name;
-    const plan = gameJoinPlan<HostedGame, StateSyncRoom>(message, {
-      catalog: this.catalog,
-      tickets: this.options.tickets,
-      randomU32: this.context.randomU32,
-      make: (setup, number, tokens) => {
-        const game = setup.game as unknown as StateSyncGame;
-        const view = this.options.room?.view ?? game.stateView;
-        try {
-          const room = new StateSyncRoom(
-            {
-              ...this.options.room,
-              game,
-              name: message.room,
-              clock: this.clock,
-              players: setup.players,
-              seed: setup.seed,
-              ...(view ? { view } : {}),
-            },
-            { number, creator: m.address, tokens, ticketed: setup.ticketed },
-          );
-          room.attach(this.context);
-          return room;
-        } catch (e) {
-          // The game could not be built for this setup: refuse the join, keep serving the rest.
-          return ['BAD_HELLO', `${game.id}: ${e instanceof Error ? e.message : String(e)}`];
-        }
+    return this.joinGame(
+      m,
+      message,
+      {
+        catalog: this.catalog,
+        tickets: this.options.tickets,
+        make: (setup, number, tokens) => {
+          const game = setup.game as unknown as StateSyncGame;
+          const view = this.options.room?.view ?? game.stateView;
+          try {
+            const room = new StateSyncRoom(
+              {
+                ...this.options.room,
+                game,
+                name: message.room,
+                clock: this.clock,
+                players: setup.players,
+                seed: setup.seed,
+                ...(view ? { view } : {}),
+              },
+              { number, creator: m.address, tokens, ticketed: setup.ticketed },
+            );
+            room.attach(this.context);
+            return room;
+          } catch (e) {
+            // The game could not be built for this setup: refuse the join, keep serving the rest.
+            return ['BAD_HELLO', `${game.id}: ${e instanceof Error ? e.message : String(e)}`];
+          }
+        },
       },
-    });
-    if (Array.isArray(plan)) {
-      this.drop(m, plan[0], plan[1]);
-      return true;
-    }
-    plan.created = (room) => {
-      this.emit({
-        type: 'room-created',
-        room: room.name,
-        game: room.game.id,
-        players: room.players,
-      });
-    };
-    this.join(m, plan, now);
-    return true;
+      now,
+    );
   }
 }

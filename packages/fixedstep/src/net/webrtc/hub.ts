@@ -7,13 +7,11 @@
  * @module
  */
 import type { Clock } from '../../time/drivers.js';
-import type { TokenBucket } from '../room/bucket.js';
 import { RoomHost } from '../room/host.js';
-import type { ConnectionInfo, HostEvent, HostStats, RoomContext } from '../room/host-types.js';
+import type { HostEvent, HostStats, RoomContext } from '../room/host-types.js';
 import type { RoomHostOptions } from '../room/options.js';
-import { Member, Room, type SeatRequest } from '../room/room.js';
+import { Member, Room, type MemberInit, type SeatRequest } from '../room/room.js';
 import { sameToken } from '../room/tokens.js';
-import type { Transport } from '../transport.js';
 import type { LeaveReason, NetErrorCode } from '../wire/common.js';
 import {
   DEFAULT_SIGNAL_LIMITS,
@@ -214,16 +212,8 @@ export class SignallingHub extends RoomHost<Member, SignalRoom, SignalMessage> {
     return this.limits;
   }
 
-  protected createMember(
-    id: number,
-    transport: Transport,
-    address: string,
-    info: ConnectionInfo,
-    bucket: TokenBucket,
-    now: number,
-    live: number,
-  ): Member {
-    return new Member(id, transport, address, info.room, bucket, now, live);
+  protected createMember(init: MemberInit): Member {
+    return new Member(init);
   }
 
   protected onJoinMessage(m: Member, message: SignalMessage, now: number): boolean {
