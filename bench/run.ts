@@ -235,6 +235,30 @@ async function child(name: string, file: string): Promise<void> {
     });
   });
   process.disconnect();
+  // A suite must close what it opened. If something still holds the process (a peer library's
+  // timer, a socket), name it and exit, so `npm run bench` and `npm test` never wait on it.
+  setTimeout(() => {
+    const held = lingering();
+    console.error(
+      `bench: suite ${name} still alive ${LINGER_MS / 1000} s after its report (holding: ${held || 'nothing Node names'}); ending it`,
+    );
+    process.exit(0);
+  }, LINGER_MS).unref();
+}
+
+/** How long a suite's process may live after its report before it is ended. */
+const LINGER_MS = 3000;
+
+/** What keeps this process alive: resource kinds and counts, e.g. "TCPSocketWrap × 2". */
+function lingering(): string {
+  const counts = new Map<string, number>();
+  for (const kind of process.getActiveResourcesInfo()) {
+    counts.set(kind, (counts.get(kind) ?? 0) + 1);
+  }
+  const timers = (counts.get('Timeout') ?? 1) - 1; // our own timer is one of them
+  if (timers > 0) counts.set('Timeout', timers);
+  else counts.delete('Timeout');
+  return [...counts].map(([kind, n]) => `${kind} × ${n}`).join(', ');
 }
 
 const childSuite = process.env[CHILD_ENV];
