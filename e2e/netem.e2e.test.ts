@@ -25,7 +25,7 @@ import { findTurnServer, startTurnServer, type TurnServer } from './netem/turn.j
 import { startUdpProxy, type UdpProxy } from './netem/udp-proxy.js';
 
 const LINK: Impairment = { latencyMs: 100, jitterMs: 30, loss: 0.05 };
-const TICKS = Number(process.env.NETEM_TICKS ?? 1800);
+const TICKS = Number(process.env.NETEM_TICKS ?? 900);
 const SEED = 7;
 const found = await findTurnServer();
 

@@ -2,9 +2,9 @@
 // packages that are missing, in one apt-get run when we are root: chromium for the browser tests,
 // firefox-esr, webkit2gtk-driver, xvfb and xauth for the determinism suite, postgresql for the store
 // tests, haproxy for the balancer tests, coturn for the loss harness. Then: format, lint, typecheck,
-// unit tests, build, the e2e tests (browser, packed packages, API reference), the tests that play
-// again on busy cores, and a smoke run of the benchmarks. Runs every stage even when one fails,
-// then prints a summary.
+// unit tests, build, the e2e tests (browser, packed packages, API reference), the tests that start
+// servers or play again on busy cores, and a smoke run of the benchmarks. Runs every stage even
+// when one fails, then prints a summary naming each failed test.
 import { existsSync, mkdirSync, readFileSync } from 'node:fs';
 import { join, relative } from 'node:path';
 import { findCoturn } from './coturn.mjs';
@@ -73,7 +73,7 @@ const stages = [
       `--outputFile.json=${join(results, 'e2e.json')}`,
     ],
   ],
-  ['browser tests, busy cores', 'node', ['scripts/busy-check.mjs']],
+  ['server and browser tests, busy cores', 'node', ['scripts/busy-check.mjs']],
   ['benchmarks (smoke)', 'npm', ['run', 'bench', '--', '--quick']],
 ];
 
