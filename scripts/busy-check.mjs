@@ -3,31 +3,17 @@
 // clone's `npm test` on a loaded two-core machine. Those tests drive a simulated clock or wait on
 // state, never on real-time sleeps, so they must still pass: the browser tests that play games and
 // take keyboard input, and the unit tests that start servers (several processes behind HAProxy,
-// idle-socket caps, state-sync rooms, the CLI's `serve`).
+// idle-socket caps, state-sync rooms, the CLI's `serve`). `npm test` runs these files here only,
+// not again in its quiet stages (scripts/busy-tests.mjs). With FIXEDSTEP_TEST_RESULTS set to a
+// folder, each run's JSON report goes there (busy-unit.json, busy-e2e.json) for npm test's summary.
 // Needs a built lab (`npm run build`) and Chromium ($CHROMIUM_PATH or /usr/bin/chromium).
 //
 //   node scripts/busy-check.mjs            # exit code: the first failing run's, else 0
 import { spawn } from 'node:child_process';
 import { availableParallelism } from 'node:os';
+import { join } from 'node:path';
+import { BUSY_BROWSER_TESTS, BUSY_UNIT_TESTS } from './busy-tests.mjs';
 import { run } from './setup.mjs';
-
-/** The browser tests that play: games by keyboard and bot, replays, recording, network play. */
-const BROWSER = [
-  'e2e/games.e2e.test.ts',
-  'e2e/replays.e2e.test.ts',
-  'e2e/debugging.e2e.test.ts',
-  'e2e/network.e2e.test.ts',
-];
-
-/** The unit tests that start servers and talk to them over real sockets. */
-const SERVERS = [
-  'packages/server/test/net-balancer.test.ts',
-  'packages/server/test/serve.test.ts',
-  'packages/server/test/state-sync-server.test.ts',
-  'packages/server/test/net-endpoint.test.ts',
-  'packages/server/test/net-websocket.test.ts',
-  'packages/cli/test/cli.test.ts',
-];
 
 const cores = Math.max(2, availableParallelism());
 const spinners = Array.from({ length: cores }, () =>
@@ -48,7 +34,21 @@ for (const signal of ['SIGINT', 'SIGTERM']) {
 }
 
 console.log(`busy-check: ${cores} spinning processes keep every core busy`);
-const servers = run('npx', ['vitest', 'run', ...SERVERS]);
-const browsers = run('npx', ['vitest', 'run', '--config', 'e2e/vitest.config.ts', ...BROWSER]);
+/** vitest's reporters: the default, and a JSON report named `name` when results are kept. */
+function reporters(name) {
+  const dir = process.env.FIXEDSTEP_TEST_RESULTS;
+  return dir
+    ? ['--reporter=default', '--reporter=json', `--outputFile.json=${join(dir, name)}`]
+    : [];
+}
+const servers = run('npx', ['vitest', 'run', ...reporters('busy-unit.json'), ...BUSY_UNIT_TESTS]);
+const browsers = run('npx', [
+  'vitest',
+  'run',
+  '--config',
+  'e2e/vitest.config.ts',
+  ...reporters('busy-e2e.json'),
+  ...BUSY_BROWSER_TESTS,
+]);
 stop();
 process.exit(servers || browsers);

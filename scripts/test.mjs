@@ -5,8 +5,9 @@
 // unit tests, build, the e2e tests (browser, packed packages, API reference), the tests that start
 // servers or play again on busy cores, and a smoke run of the benchmarks. Runs every stage even
 // when one fails, then prints a summary naming each failed test.
-import { existsSync, mkdirSync, readFileSync } from 'node:fs';
+import { existsSync, mkdirSync, readFileSync, rmSync } from 'node:fs';
 import { join, relative } from 'node:path';
+import { BUSY_BROWSER_TESTS, BUSY_UNIT_TESTS } from './busy-tests.mjs';
 import { findCoturn } from './coturn.mjs';
 import { missingEnginePackages } from './engines.mjs';
 import { findHaproxy } from './haproxy.mjs';
@@ -42,6 +43,7 @@ if (wanted.length > 0) {
 const chromium = ensureChromium();
 const postgres = findPostgres();
 const results = join(root, 'artifacts', 'test-results');
+rmSync(results, { recursive: true, force: true }); // no report of an earlier run counts
 mkdirSync(results, { recursive: true });
 
 const stages = [
@@ -57,6 +59,7 @@ const stages = [
       '--reporter=default',
       '--reporter=json',
       `--outputFile.json=${join(results, 'unit.json')}`,
+      ...BUSY_UNIT_TESTS.flatMap((f) => ['--exclude', f]),
     ],
   ],
   ['build', 'npm', ['run', 'build']],
@@ -71,6 +74,7 @@ const stages = [
       '--reporter=default',
       '--reporter=json',
       `--outputFile.json=${join(results, 'e2e.json')}`,
+      ...BUSY_BROWSER_TESTS.flatMap((f) => ['--exclude', f]),
     ],
   ],
   ['server and browser tests, busy cores', 'node', ['scripts/busy-check.mjs']],
@@ -80,12 +84,17 @@ const stages = [
 const env = {
   ...process.env,
   CHROMIUM_PATH: chromium,
+  FIXEDSTEP_TEST_RESULTS: results,
   ...(postgres.bin ? { FIXEDSTEP_PG_BIN: postgres.bin } : { FIXEDSTEP_PG_SKIP: postgres.reason }),
 };
 const failed = [];
 for (const [i, [name, cmd, args]] of stages.entries()) {
   const n = `${i + 1}/${stages.length}`;
-  if (name === 'browser, package and API reference tests' && failed.includes('build')) {
+  if (
+    name !== 'benchmarks (smoke)' &&
+    i > stages.findIndex(([s]) => s === 'build') &&
+    failed.includes('build')
+  ) {
     console.log(`\n✗ ${n} ${name}: not run (the build failed)`);
     failed.push(name);
     continue;
@@ -100,7 +109,7 @@ for (const [i, [name, cmd, args]] of stages.entries()) {
 let passed = 0;
 let failedTests = 0;
 let skipped = 0;
-for (const f of ['unit.json', 'e2e.json']) {
+for (const f of ['unit.json', 'e2e.json', 'busy-unit.json', 'busy-e2e.json']) {
   const p = join(results, f);
   if (!existsSync(p)) continue;
   const r = JSON.parse(readFileSync(p, 'utf8'));
