@@ -380,10 +380,10 @@ describe('small helpers', () => {
 });
 
 describe('the highscore client', () => {
-  const json = (status: number, body: unknown) =>
+  const json = (status: number, body: unknown, headers: Record<string, string> = {}) =>
     new Response(JSON.stringify(body), {
       status,
-      headers: { 'Content-Type': 'application/json; charset=utf-8' },
+      headers: { 'Content-Type': 'application/json; charset=utf-8', ...headers },
     });
 
   it('submits the replay with its score and reads the answer', async () => {
@@ -407,6 +407,32 @@ describe('the highscore client', () => {
       code: 'SCORE_MISMATCH',
       error: 'claimed 999, the replay scores 120',
     });
+  });
+
+  it('a busy server (503 BUSY): the score is queued, sent again after Retry-After, and ranked', async () => {
+    const entry = { game: 'runner', name: 'ann', score: 120, ticks: 600 };
+    const answers = [
+      () => json(503, { error: 'busy', code: 'BUSY' }, { 'Retry-After': '5' }),
+      () => json(201, { rank: 1, entry }),
+    ];
+    const queued: number[] = [];
+    const waited: number[] = [];
+    const res = await submitScore(
+      new Uint8Array([1, 2, 3]),
+      120,
+      () => Promise.resolve(answers.shift()!()),
+      {
+        random: () => 0,
+        sleep: (ms) => {
+          waited.push(ms);
+          return Promise.resolve();
+        },
+        onRetry: (r) => queued.push(r.status),
+      },
+    );
+    expect(res).toMatchObject({ kind: 'accepted', rank: 1 });
+    expect(queued).toEqual([503]);
+    expect(waited).toEqual([5000]);
   });
 
   it('says so when there is no server: a static host, or no network', async () => {

@@ -207,7 +207,20 @@ export class HighscorePanel {
     setText(this.result, 'Sending the replay; the server is re-simulating it…');
     const name = this.options.name?.();
     const bytes = name === undefined ? sub.bytes : withPlayerName(sub.bytes, name);
-    const res = await submitScore(bytes, Number.isFinite(claimed) ? Math.round(claimed) : 0);
+    const res = await submitScore(
+      bytes,
+      Number.isFinite(claimed) ? Math.round(claimed) : 0,
+      undefined,
+      {
+        onRetry: ({ delayMs, status }) => {
+          setAttr(this.result, 'data-value', 'queued');
+          setText(
+            this.result,
+            `${status === 0 ? 'The server cannot be reached' : 'The server is busy'}: your score is queued and is sent again in ${Math.ceil(delayMs / 1000)} s…`,
+          );
+        },
+      },
+    );
     this.showResult(res);
     this.submitBtn.disabled = false;
     if (res.kind === 'accepted') await this.load();

@@ -3,6 +3,8 @@
  * (`POST api/highscores?score=N`) and read a game's table (`GET api/highscores?game=…`). The server
  * re-simulates the replay and ranks only a score the replay reaches. No DOM here.
  */
+import { fetchWithRetry, type FetchRetryOptions } from 'fixedstep';
+
 /** A highscore entry as the server sends it. */
 export interface HighscoreRow {
   game: string;
@@ -57,20 +59,28 @@ function refusal(status: number, body: Record<string, unknown>) {
 
 /**
  * Submit a replay with the score it claims: `POST api/highscores?score=N`, the replay as the
- * body. The server re-simulates the replay and accepts the score only if the replay reaches it.
+ * body. The server re-simulates the replay and accepts the score only if the replay reaches it;
+ * while it is busy, the submission waits and is sent again ({@link fetchWithRetry}).
  */
 export async function submitScore(
   bytes: Uint8Array,
   score: number,
   fetchFn: FetchLike = (u, i) => fetch(u, i),
+  retry: Omit<FetchRetryOptions, 'fetch'> = {},
 ): Promise<SubmitResult> {
   let res: Response;
   try {
-    res = await fetchFn(`${HIGHSCORE_PATH}?score=${encodeURIComponent(String(score))}`, {
-      method: 'POST',
-      headers: { 'Content-Type': 'application/octet-stream' },
-      body: bytes as Uint8Array<ArrayBuffer>,
-    });
+    // A busy server (503 BUSY: its verification queue is full) or a rate limit (429) asks again
+    // after its Retry-After, with jitter; `retry.onRetry` tells the player the score is queued.
+    res = await fetchWithRetry(
+      `${HIGHSCORE_PATH}?score=${encodeURIComponent(String(score))}`,
+      {
+        method: 'POST',
+        headers: { 'Content-Type': 'application/octet-stream' },
+        body: bytes as Uint8Array<ArrayBuffer>,
+      },
+      { ...retry, fetch: fetchFn },
+    );
   } catch (e) {
     return { kind: 'unavailable', reason: `The highscore server cannot be reached: ${String(e)}` };
   }

@@ -33,6 +33,8 @@ export type {
   HashesRequestMessage,
   HashesMessage,
 } from './relay/messages.js';
+export { fetchWithRetry, parseRetryAfter } from './http-retry.js';
+export type { FetchRetry, FetchRetryOptions } from './http-retry.js';
 export { EventScheduler } from './scheduler.js';
 export type { ScheduledEvent } from './scheduler.js';
 export { BaseTransport, memoryPair, SimulatedLink } from './transport.js';

@@ -1,0 +1,128 @@
+/**
+ * Honest bursts (issue: "136 of 200 parallel honest submissions got 503 BUSY; the lab never
+ * retries"): clients that submit through `fetchWithRetry` — as the lab does — all get their scores
+ * ranked when the verification queue was full at first. The `gate` game holds the one verifier
+ * until the test opens it; each client's wait lasts until the gate is open and the queue is empty
+ * (state, not time), so the burst is the same on any machine.
+ */
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import {
+  BUTTON_WORD,
+  ReplayRecorder,
+  fetchWithRetry,
+  gameSetup,
+  type AnyGameDefinition,
+  type FetchRetry,
+  type Simulation,
+} from 'fixedstep';
+import { createServer, type FixedstepServer } from '../src/app.js';
+import { loadGames } from '../src/games/load.js';
+import { memoryStore } from './helpers.js';
+
+const gamesModule = fileURLToPath(new URL('./verify-games.ts', import.meta.url));
+const dir = mkdtempSync(path.join(os.tmpdir(), 'fixedstep-retry-'));
+const gateFile = path.join(dir, 'open');
+const CLIENTS = 12;
+
+let server: FixedstepServer;
+let games: readonly AnyGameDefinition[];
+beforeAll(async () => {
+  process.env.FIXEDSTEP_TEST_GATE = gateFile; // read by the workers' `gate` game
+  writeFileSync(path.join(dir, 'index.html'), '<!doctype html><title>lab</title>');
+  const loaded = await loadGames([gamesModule]);
+  games = loaded.games;
+  server = await createServer({
+    port: 0,
+    root: dir,
+    games: loaded,
+    store: await memoryStore(),
+    verification: { workers: 1, maxQueue: 1 },
+    // Each client is a player of its own address (X-Forwarded-For), as a real burst is.
+    trustProxy: 'x-forwarded-for',
+  });
+  await server.storeReady;
+}, 120_000);
+afterAll(async () => {
+  writeFileSync(gateFile, '');
+  await server.close();
+  delete process.env.FIXEDSTEP_TEST_GATE;
+  rmSync(dir, { recursive: true, force: true });
+});
+
+/** A 120-tick run of the `gate` game for player `name` (the seed makes it distinct), and its score. */
+function run(seed: number): { bytes: Uint8Array; score: number } {
+  const game = games.find((g) => g.id === 'gate')!;
+  const setup = gameSetup(game, 1, seed);
+  const sim = game.create(setup) as Simulation;
+  const recorder = ReplayRecorder.forGame(
+    game as AnyGameDefinition & { input: typeof BUTTON_WORD },
+    setup,
+    [`p${seed}`],
+    { checkpointEvery: 30 },
+  );
+  recorder.start(sim);
+  for (let t = 0; t < 120; t++) {
+    const inputs = [(t + seed) % 3 === 0 ? 1 : 0];
+    sim.step(inputs);
+    recorder.record(inputs, sim);
+  }
+  return { bytes: recorder.finish(), score: game.score!(sim) };
+}
+
+const url = (p: string) => `http://127.0.0.1:${server.port}${p}`;
+
+/** A gauge's value from /metrics. */
+async function gauge(name: string): Promise<number> {
+  const text = await (await fetch(url('/metrics'))).text();
+  const line = text.split('\n').find((l) => l.startsWith(`${name} `));
+  return Number(line?.split(' ')[1]);
+}
+
+describe('a burst of honest submissions while the verifier is busy', () => {
+  it(`${CLIENTS} clients that retry BUSY all get ranked; each was told its score is queued`, async () => {
+    let open!: () => void;
+    const opened = new Promise<void>((resolve) => (open = resolve));
+    // A client's wait: until the gate is open and nothing waits in the queue.
+    const sleep = async () => {
+      await opened;
+      await expect
+        .poll(() => gauge('fixedstep_verification_queue_length'), { interval: 5 })
+        .toBe(0);
+    };
+    const retries: FetchRetry[][] = Array.from({ length: CLIENTS }, () => []);
+    const answers = Array.from({ length: CLIENTS }, (_, i) => {
+      const { bytes, score } = run(i + 1);
+      return fetchWithRetry(
+        url(`/api/highscores?score=${score}`),
+        {
+          method: 'POST',
+          body: Buffer.from(bytes),
+          headers: { 'X-Forwarded-For': `203.0.113.${i + 1}` },
+        },
+        { retries: 2 * CLIENTS, sleep, onRetry: (r) => retries[i]!.push(r) },
+      );
+    });
+    // One verifies (held at the gate), one waits in the queue, the rest were told BUSY.
+    await expect
+      .poll(() => retries.filter((r) => r.length > 0).length, { timeout: 30_000 })
+      .toBe(CLIENTS - 2);
+    for (const r of retries.flat()) {
+      expect(r.status).toBe(503);
+      expect(r.retryAfterMs).toBeGreaterThan(0);
+    }
+    writeFileSync(gateFile, '');
+    open();
+    const statuses = await Promise.all(answers.map(async (a) => (await a).status));
+    expect(statuses).toEqual(Array.from({ length: CLIENTS }, () => 201));
+    const table = (await (
+      await fetch(url(`/api/highscores?game=gate&limit=${CLIENTS}`))
+    ).json()) as {
+      entries: unknown[];
+    };
+    expect(table.entries).toHaveLength(CLIENTS);
+  });
+});
