@@ -171,6 +171,21 @@ describe('fixedstep replay on hostile files', () => {
     expect(bad.stderr).toContain(`games module "${notGames}": not a valid game definition`);
     const none = await cli(['replay', 'verify', p, '--games', path.join(dir, 'missing.mjs')]);
     expect(none.stderr).toContain('no such file');
+    // A top-level await that never settles: refused with a message after the import timeout,
+    // not Node's silent exit code 13.
+    const stuck = await file(
+      'stuck.mjs',
+      new TextEncoder().encode('await new Promise(() => {});\nexport default [];'),
+    );
+    process.env.FIXEDSTEP_GAMES_IMPORT_TIMEOUT_MS = '300';
+    try {
+      const hung = await cli(['replay', 'verify', p, '--games', stuck]);
+      expect(hung.code).toBe(1);
+      expect(hung.stderr).toContain(`games module "${stuck}": still loading after 0.3 s`);
+      expect(hung.stderr).toContain('top level await');
+    } finally {
+      delete process.env.FIXEDSTEP_GAMES_IMPORT_TIMEOUT_MS;
+    }
   });
 });
 

@@ -105,15 +105,42 @@ export function gamesFromModule(
   return games;
 }
 
-/** Imports a games module by URL and returns its checked definitions (see {@link gamesFromModule}). */
-export async function importGames(url: string, label = url): Promise<AnyGameDefinition[]> {
+/** How long a games module may take to load before {@link importGames} gives up (ms). */
+export const GAMES_IMPORT_TIMEOUT_MS = 30_000;
+
+/**
+ * Imports a games module by URL and returns its checked definitions (see {@link gamesFromModule}).
+ * A module that has not finished loading after `timeoutMs` — a top-level `await` that never
+ * settles, a database it waits for — is refused with a message saying so, instead of Node's bare
+ * exit code 13 ("unsettled top-level await") or a start-up that never ends.
+ */
+export async function importGames(
+  url: string,
+  label = url,
+  timeoutMs = GAMES_IMPORT_TIMEOUT_MS,
+): Promise<AnyGameDefinition[]> {
   let namespace: Record<string, unknown>;
+  let timer: ReturnType<typeof setTimeout> | undefined;
   try {
-    namespace = (await import(url)) as Record<string, unknown>;
+    namespace = await Promise.race([
+      import(url) as Promise<Record<string, unknown>>,
+      new Promise<never>((_, reject) => {
+        timer = setTimeout(() => {
+          reject(
+            new GamesModuleError(
+              `games module ${label}: still loading after ${timeoutMs / 1000} s — does its top level await something that never settles? (the limit: FIXEDSTEP_GAMES_IMPORT_TIMEOUT_MS)`,
+            ),
+          );
+        }, timeoutMs);
+      }),
+    ]);
   } catch (error) {
+    if (error instanceof GamesModuleError) throw error;
     throw new GamesModuleError(
       `games module ${label}: cannot be imported: ${error instanceof Error ? error.message : String(error)}`,
     );
+  } finally {
+    clearTimeout(timer);
   }
   return gamesFromModule(namespace, label);
 }
@@ -135,8 +162,15 @@ export interface LoadedGames {
  */
 export async function loadGames(
   specs: readonly string[] = [],
-  options: { cwd?: string; withBuiltins?: boolean } = {},
+  options: {
+    cwd?: string;
+    withBuiltins?: boolean;
+    /** How long each module may take to load (default FIXEDSTEP_GAMES_IMPORT_TIMEOUT_MS, else 30 s). */
+    timeoutMs?: number;
+    env?: Readonly<Record<string, string | undefined>>;
+  } = {},
 ): Promise<LoadedGames> {
+  const timeoutMs = options.timeoutMs ?? importTimeoutFromEnv(options.env ?? process.env);
   const modules: string[] = [];
   if (specs.length === 0 || options.withBuiltins === true) modules.push(builtinGamesUrl());
   for (const spec of specs) modules.push(await resolveGamesModule(spec, options.cwd));
@@ -146,7 +180,20 @@ export async function loadGames(
       i === 0 && url === builtinGamesUrl()
         ? 'the built-in games'
         : `"${specs[i - (modules.length - specs.length)] ?? url}"`;
-    for (const g of await importGames(url, label)) byId.set(g.id, g);
+    for (const g of await importGames(url, label, timeoutMs)) byId.set(g.id, g);
   }
   return { modules, games: [...byId.values()] };
+}
+
+/** FIXEDSTEP_GAMES_IMPORT_TIMEOUT_MS, a whole number of ms ≥ 1, or the default; else an error. */
+function importTimeoutFromEnv(env: Readonly<Record<string, string | undefined>>): number {
+  const text = env.FIXEDSTEP_GAMES_IMPORT_TIMEOUT_MS;
+  if (text === undefined || text === '') return GAMES_IMPORT_TIMEOUT_MS;
+  const ms = Number(text);
+  if (!Number.isInteger(ms) || ms < 1) {
+    throw new GamesModuleError(
+      `FIXEDSTEP_GAMES_IMPORT_TIMEOUT_MS must be a whole number of milliseconds ≥ 1, got "${text}"`,
+    );
+  }
+  return ms;
 }
