@@ -12,6 +12,8 @@ export default defineConfig({
     environment: 'node',
     testTimeout: 120_000,
     hookTimeout: 120_000,
-    fileParallelism: false,
+    // Two files at a time: each test waits on state, never on time, and holds its own ports,
+    // folders and browser (scripts/busy-check.mjs runs the playing ones with every core busy).
+    maxWorkers: 2,
   },
 });
