@@ -527,6 +527,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
       stateSync.ready.catch((error: unknown) => {
         log('state sync: the workers could not load their games', error);
       });
+      metrics.watchStateSync(stateSync);
     }
   }
 

@@ -8,6 +8,7 @@ import os from 'node:os';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import { ServerMetrics } from '../src/http/metrics.js';
 import WebSocket from 'ws';
 import {
   StateSyncSession,
@@ -121,6 +122,32 @@ describe('state-sync rooms of the talk’s games', () => {
         expect(s.tick).toBeGreaterThan(s.snapshotTick);
       }
       expect(endpoint.rooms()).toEqual([{ room: 'duel', worker: 0 }]);
+
+      // What /metrics reads: the worker's report (every second) of its rooms and counters.
+      const metrics = new ServerMetrics({ defaultMetrics: false });
+      metrics.watchStateSync(endpoint);
+      await expect
+        .poll(() => endpoint.stats.ticks, { timeout: 30_000, interval: 50 })
+        .toBeGreaterThanOrEqual(180);
+      const stats = endpoint.stats;
+      expect(stats).toMatchObject({ rooms: 1, players: 2 });
+      expect(stats.snapshotBytes).toBeGreaterThan(30 * 20);
+      const text = await metrics.registry.metrics();
+      const value = (name: string) =>
+        Number(
+          text
+            .split('\n')
+            .find((l) => l.startsWith(`${name} `))
+            ?.split(' ')[1],
+        );
+      expect(value('fixedstep_state_sync_rooms')).toBe(1);
+      expect(value('fixedstep_state_sync_players')).toBe(2);
+      expect(value('fixedstep_state_sync_ticks_total')).toBeGreaterThanOrEqual(stats.ticks);
+      expect(value('fixedstep_state_sync_snapshot_bytes_total')).toBeGreaterThanOrEqual(
+        stats.snapshotBytes,
+      );
+      expect(text).toContain('fixedstep_state_sync_late_inputs_total');
+      expect(text).toContain('fixedstep_state_sync_filled_inputs_total');
     } finally {
       a.stop();
       b.stop();

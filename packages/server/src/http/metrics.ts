@@ -1,5 +1,6 @@
 import { Counter, Gauge, Histogram, Registry, collectDefaultMetrics } from 'prom-client';
 import type { Relay } from 'fixedstep';
+import type { StateSyncWorkerStats } from '../state-sync/messages.js';
 
 /**
  * The server's Prometheus metrics (`GET /metrics`), in a registry of its own (never prom-client's
@@ -51,6 +52,57 @@ export class ServerMetrics {
   constructor(options: { defaultMetrics?: boolean } = {}) {
     if (options.defaultMetrics !== false)
       collectDefaultMetrics({ register: this.registry, prefix: 'fixedstep_' });
+  }
+
+  /**
+   * Adds state sync's rooms and players (gauges) and its ticks, snapshot bytes, late and filled
+   * inputs (counters), read from what its workers last reported (each does every second).
+   */
+  watchStateSync(stateSync: { readonly stats: StateSyncWorkerStats }): void {
+    const registers = [this.registry];
+    new Gauge({
+      name: 'fixedstep_state_sync_rooms',
+      help: 'State-sync rooms open',
+      registers,
+      collect() {
+        this.set(stateSync.stats.rooms);
+      },
+    });
+    new Gauge({
+      name: 'fixedstep_state_sync_players',
+      help: 'Player seats with a connected member in state-sync rooms',
+      registers,
+      collect() {
+        this.set(stateSync.stats.players);
+      },
+    });
+    const counter = (name: string, help: string, key: keyof StateSyncWorkerStats) =>
+      new Counter({
+        name,
+        help,
+        registers,
+        collect() {
+          // The workers keep the running totals; a counter here only mirrors them.
+          this.reset();
+          this.inc(stateSync.stats[key]);
+        },
+      });
+    counter('fixedstep_state_sync_ticks_total', 'Ticks stepped by state-sync rooms', 'ticks');
+    counter(
+      'fixedstep_state_sync_snapshot_bytes_total',
+      'Bytes of snapshot messages sent by state-sync rooms (headers included)',
+      'snapshotBytes',
+    );
+    counter(
+      'fixedstep_state_sync_late_inputs_total',
+      "Inputs that arrived after their tick was stepped (dropped: the server's stand-in stood)",
+      'lateInputs',
+    );
+    counter(
+      'fixedstep_state_sync_filled_inputs_total',
+      "Player-ticks stepped without that player's input (the server's stand-in)",
+      'filledInputs',
+    );
   }
 
   /** Adds the relay's gauges, read from `relay.stats` and `relay.roomList()` at each scrape. */

@@ -10,7 +10,7 @@ import type http from 'node:http';
 import { Worker } from 'node:worker_threads';
 import type { WebSocket } from 'ws';
 import { STATE_SYNC_PROTOCOL, type RoomHostOptions, type StateSyncRoomDefaults } from 'fixedstep';
-import type { FromWorker, ToWorker, WorkerSetup } from './messages.js';
+import type { FromWorker, StateSyncWorkerStats, ToWorker, WorkerSetup } from './messages.js';
 import { endpointAdmission, roomCapsFromEnv, type SurfaceOptions } from '../http/admission.js';
 import { WebSocketEndpoint, type UpgradeInfo } from '../http/websocket-endpoint.js';
 
@@ -54,6 +54,8 @@ export interface StateSyncEndpointOptions extends SurfaceOptions {
 interface Slot {
   worker: Worker;
   ready: Promise<void>;
+  /** What the worker last reported. */
+  stats?: StateSyncWorkerStats;
 }
 
 interface Conn {
@@ -135,6 +137,27 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
       for (let i = 0; i < this.slots.length; i++) this.post(i, { t: 'beat' });
     }, STATE_SYNC_HEARTBEAT_MS);
     this.heartbeat.unref();
+  }
+
+  /**
+   * Rooms, players and counters over every worker, as the workers last reported them (each does
+   * every second); a worker that was replaced counts from its start.
+   */
+  get stats(): StateSyncWorkerStats {
+    const total: StateSyncWorkerStats = {
+      rooms: 0,
+      players: 0,
+      ticks: 0,
+      snapshotBytes: 0,
+      lateInputs: 0,
+      filledInputs: 0,
+    };
+    for (const slot of this.slots) {
+      for (const key of Object.keys(total) as (keyof StateSyncWorkerStats)[]) {
+        total[key] += slot.stats?.[key] ?? 0;
+      }
+    }
+    return total;
   }
 
   /** Room names now, with the worker each runs on. */
@@ -320,6 +343,9 @@ export class StateSyncEndpoint extends WebSocketEndpoint {
       }
       case 'room-failed':
         this.log(`room ${m.room} stopped: ${m.message}`);
+        break;
+      case 'stats':
+        this.slots[index]!.stats = m.stats;
         break;
       case 'fatal':
         this.log(`worker ${index} could not start: ${m.message}`);

@@ -30,6 +30,22 @@ export type ToWorker =
   | { t: 'drain'; timeoutMs: number }
   | { t: 'stop' };
 
+/** A worker's rooms now, and its counters since it started (rooms that ended included). */
+export interface StateSyncWorkerStats {
+  /** Rooms open. */
+  rooms: number;
+  /** Player seats with a connected member, over every room. */
+  players: number;
+  /** Ticks stepped. */
+  ticks: number;
+  /** Bytes of every snapshot message sent (headers included). */
+  snapshotBytes: number;
+  /** Inputs that came after their tick was stepped: dropped, the server's stand-in value kept. */
+  lateInputs: number;
+  /** Player-ticks stepped without that player's input (the stand-in value). */
+  filledInputs: number;
+}
+
 /** Worker → main thread. */
 export type FromWorker =
   | { t: 'ready'; games: string[] }
@@ -39,6 +55,11 @@ export type FromWorker =
   | { t: 'room-created'; room: string; game: string; players: number }
   | { t: 'room-removed'; room: string }
   | { t: 'room-failed'; room: string; message: string }
+  /** Sent every second (STATS_INTERVAL_MS), for `/metrics`. */
+  | { t: 'stats'; stats: StateSyncWorkerStats }
   /** The drain is done: no room left. */
   | { t: 'drained' }
   | { t: 'stopped' };
+
+/** How often a worker sends its {@link StateSyncWorkerStats}. */
+export const STATS_INTERVAL_MS = 1000;

@@ -5,8 +5,20 @@
  * @internal
  */
 import { parentPort, workerData } from 'node:worker_threads';
-import { BaseTransport, StateSyncServer, performanceClock, type StateSyncGame } from 'fixedstep';
-import type { FromWorker, ToWorker, WorkerSetup } from './messages.js';
+import {
+  BaseTransport,
+  StateSyncServer,
+  performanceClock,
+  type StateSyncGame,
+  type StateSyncRoom,
+} from 'fixedstep';
+import {
+  STATS_INTERVAL_MS,
+  type FromWorker,
+  type StateSyncWorkerStats,
+  type ToWorker,
+  type WorkerSetup,
+} from './messages.js';
 
 const port = parentPort;
 if (port === null) throw new Error('state-sync worker: not started as a worker thread');
@@ -61,8 +73,25 @@ async function loadGames(specifier: string): Promise<StateSyncGame[]> {
 }
 
 const connections = new Map<number, PortTransport>();
+/** Open rooms by name (their counters are read at each report), and what ended rooms counted. */
+const live = new Map<string, StateSyncRoom>();
+const ended = { ticks: 0, snapshotBytes: 0, lateInputs: 0, filledInputs: 0 };
+
+/** This worker's rooms and counters, for the main thread's `/metrics`. */
+function stats(): StateSyncWorkerStats {
+  const total = { rooms: live.size, players: 0, ...ended };
+  for (const room of live.values()) {
+    total.players += room.occupied().filter(Boolean).length;
+    total.ticks += room.stats.ticks;
+    total.snapshotBytes += room.stats.snapshotBytes;
+    total.lateInputs += room.stats.lateInputs;
+    total.filledInputs += room.stats.filledInputs;
+  }
+  return total;
+}
 let server: StateSyncServer | undefined;
 let timer: ReturnType<typeof setInterval> | undefined;
+let reporter: ReturnType<typeof setInterval> | undefined;
 const early: ToWorker[] = [];
 
 function handle(m: ToWorker): void {
@@ -96,6 +125,7 @@ function handle(m: ToWorker): void {
       break;
     case 'stop':
       if (timer !== undefined) clearInterval(timer);
+      if (reporter !== undefined) clearInterval(reporter);
       server.close();
       post({ t: 'stopped' });
       break;
@@ -123,10 +153,21 @@ try {
     games,
     room: setup.room,
     onEvent: (e) => {
-      if (e.type === 'room-created')
+      if (e.type === 'room-created') {
+        const room = server?.room(e.room);
+        if (room) live.set(e.room, room);
         post({ t: 'room-created', room: e.room, game: e.game, players: e.players });
-      else if (e.type === 'room-removed') post({ t: 'room-removed', room: e.room });
-      else if (e.type === 'room-closed' && e.code === 'INTERNAL')
+      } else if (e.type === 'room-removed') {
+        const room = live.get(e.room);
+        if (room) {
+          live.delete(e.room);
+          ended.ticks += room.stats.ticks;
+          ended.snapshotBytes += room.stats.snapshotBytes;
+          ended.lateInputs += room.stats.lateInputs;
+          ended.filledInputs += room.stats.filledInputs;
+        }
+        post({ t: 'room-removed', room: e.room });
+      } else if (e.type === 'room-closed' && e.code === 'INTERNAL')
         post({ t: 'room-failed', room: e.room, message: e.message });
     },
   });
@@ -134,6 +175,9 @@ try {
   timer = setInterval(() => {
     s.update();
   }, setup.updateIntervalMs);
+  reporter = setInterval(() => {
+    post({ t: 'stats', stats: stats() });
+  }, STATS_INTERVAL_MS);
   post({ t: 'ready', games: games.map((g) => g.id) });
   for (const m of early.splice(0)) handle(m);
 } catch (e) {
