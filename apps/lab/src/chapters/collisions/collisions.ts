@@ -111,14 +111,9 @@ class CollisionsChapter {
   private resultsKey = '';
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'collisions-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => (this.clock ? this.realLine : this.lab),
-      render: () => {
-        this.render();
-      },
       restart: () => {
         if (this.clock) this.clock = new ClockRanges(this.lab.settings);
         else this.lab.restart();
@@ -128,9 +123,6 @@ class CollisionsChapter {
         return this.shell.display(
           `simulated display · ${s.hz} Hz ±${Math.round(s.jitter * 100)} %`,
         );
-      },
-      refresh: () => {
-        this.refreshControls();
       },
       realClock: {
         title: 'Feed both loops this page’s own requestAnimationFrame times',
@@ -432,7 +424,8 @@ class CollisionsChapter {
     }
   }
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const sim = this.clock === undefined;
     this.ctl.rates.setDisabled(!sim);
     this.ctl.jitter.input.disabled = !sim;
@@ -455,7 +448,8 @@ class CollisionsChapter {
 
   // ---------------------------------------------------------------- the frame
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const source = this.clock ?? this.lab;
     const hitch = this.clock ? false : this.lab.activeEvent() !== undefined;
     const runs = source.runs;

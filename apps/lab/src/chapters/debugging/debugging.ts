@@ -79,21 +79,13 @@ class DebuggingChapter {
   private readonly timeline: SceneCanvas;
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'debugging-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.lab,
-      render: () => {
-        this.render();
-      },
       restart: () => {
         this.lab.restart();
       },
       mode: () => this.modeLine(),
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Add a fifth run per loop, fed this page’s own animation frames',
         onChange: (on) => {
@@ -315,7 +307,8 @@ class DebuggingChapter {
     if (this.lab.realClock) this.shell.driver.restartReal();
   }
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const lab = this.lab;
     const recording = lab.mode === 'recording';
     if (this.shell.time) this.shell.time.skipBtn.disabled = lab.realClock || recording;
@@ -348,7 +341,8 @@ class DebuggingChapter {
     return `${display} · ${what}`;
   }
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const lab = this.lab;
     const recording = lab.mode === 'recording';
     this.inputsOut.set(fmt.count(lab.recordedInputs), lab.recordedInputs);

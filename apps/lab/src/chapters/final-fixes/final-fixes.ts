@@ -77,22 +77,14 @@ class FinalFixesChapter {
   private textKey = '';
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'final-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.lab,
-      render: () => {
-        this.render();
-      },
       restart: () => {
         if (this.lab.realClock) this.lab = new FinalLab({ ...this.lab.settings }, true);
         else this.lab.restart();
       },
       mode: () => this.shell.display('simulated 60 Hz display'),
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Feed both benches this page’s own animation frames',
         onChange: (on) => {
@@ -291,7 +283,8 @@ class FinalFixesChapter {
 
   // ---------------------------------------------------------------- state
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const s = this.lab.settings;
     // (The segmented controls are not re-selected here: this runs during their own clicks.)
     this.eventsOut.replaceChildren(
@@ -314,7 +307,8 @@ class FinalFixesChapter {
 
   // ---------------------------------------------------------------- drawing
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const lab = this.lab;
     const hitch = lab.activeHitch();
     lab.spiral.forEach((run, i) => {

@@ -94,22 +94,14 @@ class LoopChapter {
   private readonly realLine = realTimeLine(() => this.clock);
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'loop-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => (this.clock ? this.realLine : this.lab),
-      render: () => {
-        this.render();
-      },
       restart: () => {
         if (this.clock) this.clock = new ClockLab();
         else this.lab.restart();
       },
       mode: () => this.shell.display(`simulated display · ${this.lab.settings.hz} Hz`),
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Feed the loops this page’s own requestAnimationFrame times',
         onChange: (on) => {
@@ -329,7 +321,8 @@ class LoopChapter {
     this.shell.setInterpolation(true);
   }
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const sim = this.clock === undefined;
     this.rates.setDisabled(!sim);
     this.jitter.input.disabled = !sim;
@@ -362,7 +355,8 @@ class LoopChapter {
 
   // ---------------------------------------------------------------- drawing
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const runs = this.clock ? this.clock.runs : this.lab.runs;
     const t = this.clock ? this.clock.timeMs : this.lab.timeMs;
     const event = this.clock ? undefined : this.lab.activeEvent()?.kind;

@@ -64,14 +64,9 @@ class MovementChapter {
   private sweepJitter = NaN;
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'movement-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.lab,
-      render: () => {
-        this.render();
-      },
       restart: () => {
         if (this.lab.realClock) this.lab = this.fresh(true);
         else this.lab.restart();
@@ -80,9 +75,6 @@ class MovementChapter {
         this.shell.display(
           `simulated displays · jitter ±${Math.round(this.lab.settings.jitter * 100)} %`,
         ),
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Add a fifth run per loop, fed this page’s own animation frames',
         onChange: (on) => {
@@ -219,7 +211,8 @@ class MovementChapter {
 
   // ---------------------------------------------------------------- state
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const real = this.lab.realClock;
     this.jitter.input.disabled = real;
     this.jitter.set(Math.round(this.lab.settings.jitter * 100));
@@ -238,7 +231,8 @@ class MovementChapter {
 
   // ---------------------------------------------------------------- drawing
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const lab = this.lab;
     const hz = this.shell.measuredHz;
     for (const v of this.views) {

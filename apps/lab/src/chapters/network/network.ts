@@ -60,14 +60,9 @@ class NetworkChapter {
   private keys = 0;
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'network-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.lab,
-      render: () => {
-        this.render();
-      },
       restart: () => {
         this.lab.restart();
       },
@@ -289,7 +284,8 @@ class NetworkChapter {
     }
   }
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const all = this.lab.readouts();
     for (const mode of NET_MODES) this.renderPanel(mode, all[mode]);
     for (const n of this.lab.compare()) this.renderCompare(n);

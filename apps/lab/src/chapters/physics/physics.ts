@@ -95,14 +95,9 @@ class PhysicsChapter {
   private readonly rope: RopeSection;
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'physics-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => (this.clock ? this.realLine : this.lab),
-      render: () => {
-        this.render();
-      },
       restart: () => {
         this.hitch.restart();
         if (this.clock) this.clock = new ClockPhysics(this.lab.settings);
@@ -110,9 +105,6 @@ class PhysicsChapter {
         this.rope.forgetPoke();
       },
       mode: () => this.shell.display('simulated display · 60 Hz'),
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Drive the fixed-step loop with this page’s own requestAnimationFrame times',
         onChange: (on) => {
@@ -395,7 +387,8 @@ class PhysicsChapter {
     this.shell.refresh();
   }
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const s = this.lab.settings;
     this.step.set(s.stepMs);
     this.stiffness.set(s.stiffness);
@@ -409,7 +402,8 @@ class PhysicsChapter {
     return this.clock ? this.clock.run : this.lab.run;
   }
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const run = this.run();
     const t = this.clock ? this.clock.timeMs : this.lab.timeMs;
     this.hitch.render(t);

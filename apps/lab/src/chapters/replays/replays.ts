@@ -100,17 +100,9 @@ class ReplaysChapter {
   private readonly how = h('div', {});
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'replays-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.lab,
-      render: () => {
-        this.render();
-      },
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Play the replay on this page’s own animation frames',
         onChange: (on) => {
@@ -596,7 +588,8 @@ class ReplaysChapter {
 
   // ---------------------------------------------------------------- drawing
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const lab = this.lab;
     const real = this.shell.real;
     const playing = lab?.player.isPlaying ?? false;
@@ -608,7 +601,8 @@ class ReplaysChapter {
     for (const b of this.transport) b.disabled = lab === undefined;
   }
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const lab = this.lab;
     if (!lab) return;
     const p = lab.player;

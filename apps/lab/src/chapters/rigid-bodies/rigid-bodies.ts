@@ -84,14 +84,9 @@ class RigidBodiesChapter {
   private shownScene: WorldsScene | undefined;
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'rigid-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.lab,
-      render: () => {
-        this.render();
-      },
       restart: () => {
         this.lab?.restart();
         this.wire();
@@ -499,7 +494,8 @@ class RigidBodiesChapter {
 
   // ------------------------------------------------------------------------------ drawing
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const lab = this.lab;
     const mod = this.mod;
     const all = [this.live, this.replay, ...this.machines, ...this.worlds];
