@@ -59,6 +59,7 @@ import {
   type Slider,
 } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -149,21 +150,21 @@ class CollisionsChapter {
     });
     shell.append(
       ideas(),
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'range-title' },
-        h('h2', { id: 'range-title' }, 'The firing range'),
-        h('p', { class: 'section-intro' }, RANGE_INTRO),
+      introSection(
+        'bench',
+        'range-title',
+        'The firing range',
+        RANGE_INTRO,
         this.ctl.box,
         this.panelGrid,
         this.totalsList(),
         legend(),
       ),
-      h(
-        'section',
-        { class: 'wall-chart-section', 'aria-labelledby': 'chart-title' },
-        h('h2', { id: 'chart-title' }, 'Speed × thickness'),
-        h('p', { class: 'section-intro' }, CHART_INTRO),
+      introSection(
+        'wall-chart-section',
+        'chart-title',
+        'Speed × thickness',
+        CHART_INTRO,
         h('div', { class: 'wall-chart-wrap' }, this.chartHost, this.ruleReadouts()),
         chartLegend(),
         this.resultsTable(),

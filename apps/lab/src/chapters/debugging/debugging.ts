@@ -32,6 +32,7 @@ import type { SceneCanvas } from '../../ui/canvas.js';
 import { Chart } from '../../ui/chart.js';
 import { button, group, jitterSlider } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import { headRow } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -131,11 +132,11 @@ class DebuggingChapter {
         h('strong', {}, 'What is guaranteed: '),
         guarantee(catalogueSize()),
       ),
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'debug-bench-title' },
-        h('h2', { id: 'debug-bench-title' }, 'One recording, four displays'),
-        h('p', { class: 'section-intro' }, BENCH_INTRO),
+      introSection(
+        'bench',
+        'debug-bench-title',
+        'One recording, four displays',
+        BENCH_INTRO,
         this.controls(),
         h(
           'div',
@@ -143,19 +144,17 @@ class DebuggingChapter {
           LOOPS.map((info) => this.buildPanel(info)),
         ),
       ),
-      h(
-        'section',
-        { class: 'divergence', 'aria-labelledby': 'divergence-title' },
-        h('h2', { id: 'divergence-title' }, 'How far apart the runs drift'),
-        h(
-          'p',
-          { class: 'section-intro' },
+      introSection(
+        'divergence',
+        'divergence-title',
+        'How far apart the runs drift',
+        [
           'The largest distance between any two displays’ runners at the same moment (the fixed-step runs compared at the same tick). Now: variable Δt ',
           this.divVariable.el,
           ', fixed step ',
           this.divFixed.el,
           '.',
-        ),
+        ],
         h('div', { class: 'chart-card' }, this.divergence.el),
       ),
       why(),

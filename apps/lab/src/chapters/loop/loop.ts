@@ -41,6 +41,7 @@ import type { SceneCanvas } from '../../ui/canvas.js';
 import { ideaCards, tryCards } from '../../ui/cards.js';
 import { button, group, jitterSlider, segmented, toggle, setPressed } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -163,11 +164,11 @@ class LoopChapter {
     );
     shell.append(
       ideaCards({ id: 'evolution-title', title: 'How the loop evolved', cards: EVOLUTION }),
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'bench-title' },
-        h('h2', { id: 'bench-title' }, 'Five loops, one ball, one display'),
-        h('p', { class: 'section-intro' }, BENCH_INTRO),
+      introSection(
+        'bench',
+        'bench-title',
+        'Five loops, one ball, one display',
+        BENCH_INTRO,
         controls,
         this.compareTable(),
         this.panelGrid,

@@ -30,6 +30,7 @@ import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapte
 import { Chart } from '../../ui/chart.js';
 import { button, group, jitterSlider } from '../../ui/controls.js';
 import { h, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import { headRow } from '../../ui/panel.js';
 import { Readout } from '../../ui/readout.js';
 
@@ -103,11 +104,11 @@ class MovementChapter {
     this.apexChart = charts[0];
     this.landingChart = charts[1];
     shell.append(
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'movement-bench-title' },
-        h('h2', { id: 'movement-bench-title' }, 'One jump, four displays'),
-        h('p', { class: 'section-intro' }, BENCH_INTRO),
+      introSection(
+        'bench',
+        'movement-bench-title',
+        'One jump, four displays',
+        BENCH_INTRO,
         shell.controls(
           'Displays and time',
           group('Displays', h('span', { class: 'rate-chips' }, RATES.map(rateChip))),
@@ -123,11 +124,11 @@ class MovementChapter {
         ),
         legend(),
       ),
-      h(
-        'section',
-        { class: 'sweep', 'aria-labelledby': 'sweep-title' },
-        h('h2', { id: 'sweep-title' }, SWEEP_TITLE),
-        h('p', { class: 'section-intro' }, SWEEP_INTRO),
+      introSection(
+        'sweep',
+        'sweep-title',
+        SWEEP_TITLE,
+        SWEEP_INTRO,
         h('div', { class: 'chart-pair' }, this.apexChart.el, this.landingChart.el),
       ),
       why(),

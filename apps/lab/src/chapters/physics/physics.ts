@@ -47,6 +47,7 @@ import type { SceneCanvas } from '../../ui/canvas.js';
 import { tryCards } from '../../ui/cards.js';
 import { ladderSlider, slider } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
 import './physics.css';
@@ -172,11 +173,11 @@ class PhysicsChapter {
     });
     shell.append(
       methodsIntro(),
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'spring-title' },
-        h('h2', { id: 'spring-title' }, 'One spring, six integrators'),
-        h('p', { class: 'section-intro' }, SPRING_INTRO),
+      introSection(
+        'bench',
+        'spring-title',
+        'One spring, six integrators',
+        SPRING_INTRO,
         shell.controls(
           'The spring',
           this.step.el,
