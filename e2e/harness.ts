@@ -28,6 +28,14 @@ export const CHROMIUM_ARGS = [
   '--no-first-run',
 ];
 
+/** Starts the headless Chromium the tests drive: `CHROMIUM_PATH` (or /usr/bin/chromium) with {@link CHROMIUM_ARGS}. */
+export function launchChromium(): Promise<Browser> {
+  return chromium.launch({
+    executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
+    args: CHROMIUM_ARGS,
+  });
+}
+
 export interface Lab {
   server: RunningServer;
   browser: Browser;
@@ -44,10 +52,7 @@ export function useLab(): Lab {
     }
     mkdirSync(shots, { recursive: true });
     lab.server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
-    lab.browser = await chromium.launch({
-      executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
-      args: CHROMIUM_ARGS,
-    });
+    lab.browser = await launchChromium();
   });
   afterAll(async () => {
     await lab.browser.close();

@@ -6,7 +6,7 @@
  */
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { chromium, type Browser, type Page } from 'playwright-core';
+import type { Browser, Page } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/server';
 import { attachRelay, type RelayEndpoint } from '../packages/server/src/relay/endpoint.js';
 import {
@@ -14,9 +14,9 @@ import {
   type SignallingEndpoint,
 } from '../packages/server/src/signalling/endpoint.js';
 import {
-  CHROMIUM_ARGS,
   dist,
   horizontalOverflow,
+  launchChromium,
   phonePage,
   readouts,
   shots,
@@ -55,10 +55,7 @@ describe('chapter 6, people play people online', () => {
     server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
     relay = attachRelay(server.server);
     signalling = attachSignalling(server.server);
-    browser = await chromium.launch({
-      executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
-      args: CHROMIUM_ARGS,
-    });
+    browser = await launchChromium();
   });
   afterAll(async () => {
     await browser.close();

@@ -6,7 +6,7 @@
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { chromium, type Browser, type Page } from 'playwright-core';
+import type { Browser, Page } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/server';
 import { attachRelay, type RelayEndpoint } from '../packages/server/src/relay/endpoint.js';
 import {
@@ -14,9 +14,9 @@ import {
   type StateSyncEndpoint,
 } from '../packages/server/src/state-sync/index.js';
 import {
-  CHROMIUM_ARGS,
   dist,
   horizontalOverflow,
+  launchChromium,
   num,
   phonePage,
   readouts,
@@ -175,10 +175,7 @@ describe('chapter 6, play online', () => {
     relay = attachRelay(server.server);
     stateSync = attachStateSync(server.server, { workers: 1 });
     await stateSync.ready;
-    browser = await chromium.launch({
-      executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
-      args: CHROMIUM_ARGS,
-    });
+    browser = await launchChromium();
   });
   afterAll(async () => {
     await browser.close();

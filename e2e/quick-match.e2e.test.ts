@@ -3,9 +3,9 @@
  * both one fresh room, both join it through the relay and agree on the final hash.
  */
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { chromium, type Browser } from 'playwright-core';
+import type { Browser } from 'playwright-core';
 import { createServer, type FixedstepServer } from '@fixedstep/server';
-import { CHROMIUM_ARGS, dist, num, readouts, watch } from './harness.js';
+import { dist, launchChromium, num, readouts, watch } from './harness.js';
 
 describe('chapter 6, quick match', () => {
   let server: FixedstepServer;
@@ -22,10 +22,7 @@ describe('chapter 6, quick match', () => {
       signalling: false,
       trustProxy: 'x-forwarded-for',
     });
-    browser = await chromium.launch({
-      executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
-      args: CHROMIUM_ARGS,
-    });
+    browser = await launchChromium();
   });
   afterAll(async () => {
     await browser.close();
