@@ -205,6 +205,25 @@ export async function readouts(page: Page): Promise<Record<string, string>> {
   });
 }
 
+/**
+ * Waits until readout `testId` on every page holds a state hash (16 hex digits: the match, the
+ * replay or the snapshot got there), up to `timeoutMs`, and returns each page's readouts then.
+ */
+export async function readoutsOnceHashed(
+  pages: readonly Page[],
+  testId: string,
+  timeoutMs: number,
+): Promise<Record<string, string>[]> {
+  return Promise.all(
+    pages.map(async (p) => {
+      await expect
+        .poll(() => p.getByTestId(testId).getAttribute('data-value'), { timeout: timeoutMs })
+        .toMatch(/^[0-9a-f]{16}$/);
+      return readouts(p);
+    }),
+  );
+}
+
 /** A readout's value as a number; throws naming the readout when it is missing. */
 export function num(r: Record<string, string>, id: string): number {
   const v = r[`readout-${id}`];

@@ -18,7 +18,7 @@ import {
   horizontalOverflow,
   launchChromium,
   phonePage,
-  readouts,
+  readoutsOnceHashed,
   shots,
   watch,
 } from './harness.js';
@@ -33,17 +33,8 @@ async function state(page: Page): Promise<string | null> {
 }
 
 /** Wait for both pages' final hash and return their readouts. */
-async function finals(pages: Page[]): Promise<Record<string, string>[]> {
-  return Promise.all(
-    pages.map(async (p) => {
-      await expect
-        .poll(() => p.getByTestId('readout-online-final-hash').getAttribute('data-value'), {
-          timeout: 90_000,
-        })
-        .toMatch(/^[0-9a-f]{16}$/);
-      return readouts(p);
-    }),
-  );
+function finals(pages: Page[]): Promise<Record<string, string>[]> {
+  return readoutsOnceHashed(pages, 'readout-online-final-hash', 90_000);
 }
 
 describe('chapter 6, people play people online', () => {

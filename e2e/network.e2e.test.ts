@@ -20,6 +20,7 @@ import {
   num,
   phonePage,
   readouts,
+  readoutsOnceHashed,
   realClockRuns,
   shots,
   skip,
@@ -192,16 +193,7 @@ describe('chapter 6, play online', () => {
     const link = await pages[0]!.getByTestId('link-state-room-tab').getAttribute('href');
     expect(link).toBe('#/network?state=e2e-state&at=300');
     await pages[1]!.goto(`${server.url}${link}`);
-    const got = await Promise.all(
-      pages.map(async (p) => {
-        await expect
-          .poll(() => p.getByTestId('readout-state-online-hash-at').getAttribute('data-value'), {
-            timeout: 60_000,
-          })
-          .toMatch(/^[0-9a-f]{16}$/);
-        return readouts(p);
-      }),
-    );
+    const got = await readoutsOnceHashed(pages, 'readout-state-online-hash-at', 60_000);
     // Both received the server's world of tick 300, byte for byte.
     expect(got[0]!['readout-state-online-hash-at']).toBe(got[1]!['readout-state-online-hash-at']);
     expect(new Set(got.map((r) => r['readout-state-online-slot']))).toEqual(new Set(['1', '2']));
@@ -229,16 +221,7 @@ describe('chapter 6, play online', () => {
     const link = await pages[0]!.getByTestId('link-room-tab').getAttribute('href');
     expect(link).toBe(`#/network?room=e2e-room&ticks=${ticks}&join=1`);
     await pages[1]!.goto(`${server.url}${link}`);
-    const finals = await Promise.all(
-      pages.map(async (p) => {
-        await expect
-          .poll(() => p.getByTestId('readout-online-final-hash').getAttribute('data-value'), {
-            timeout: 60_000,
-          })
-          .toMatch(/^[0-9a-f]{16}$/);
-        return readouts(p);
-      }),
-    );
+    const finals = await readoutsOnceHashed(pages, 'readout-online-final-hash', 60_000);
     expect(finals[0]!['readout-online-final-hash']).toBe(finals[1]!['readout-online-final-hash']);
     expect(new Set(finals.map((r) => r['readout-online-slot']))).toEqual(new Set(['1', '2']));
     for (const r of finals) expect(num(r, 'online-desyncs')).toBe(0);
