@@ -1,50 +1,15 @@
 import { describe, expect, it } from 'vitest';
 import {
   BUTTON_WORD,
-  ByteReader,
-  ByteWriter,
   CorrectionSmoother,
   EventScheduler,
   Random,
   Relay,
   RollbackSession,
   SimulatedLink,
-  fnv1a64,
   gameCatalog,
-  type Simulation,
 } from 'fixedstep';
-
-/** Each player's counter moves by its input and a seeded draw. */
-class Toy implements Simulation {
-  tick = 0;
-  readonly x: Int32Array;
-  readonly rng: Random;
-  constructor(players: number, seed: number) {
-    this.x = new Int32Array(players);
-    this.rng = new Random(seed);
-  }
-  step(inputs: readonly number[]): void {
-    for (let p = 0; p < this.x.length; p++) {
-      this.x[p] = (this.x[p]! * 3 + (inputs[p]! & 0xffff) + this.rng.int(1000)) | 0;
-    }
-    this.tick++;
-  }
-  save(): Uint8Array {
-    return new ByteWriter(64).u32(this.tick).ints(this.rng.getState()).ints(this.x).finish();
-  }
-  load(bytes: Uint8Array): void {
-    const r = new ByteReader(bytes);
-    this.tick = r.u32();
-    const s = new Uint32Array(4);
-    r.ints(s);
-    this.rng.setState(s);
-    r.ints(this.x);
-    r.end();
-  }
-  hash(): bigint {
-    return fnv1a64(this.save());
-  }
-}
+import { Toy } from './toy-game.js';
 
 const catalog = gameCatalog([
   { id: 'toy', version: 1, tickRate: 60, minPlayers: 1, maxPlayers: 4, input: BUTTON_WORD },
