@@ -5,59 +5,15 @@
  * Every test runs on simulated time (SimulatedMatch): the numbers are exact and repeat.
  */
 import { describe, expect, it } from 'vitest';
-import {
-  LockstepSession,
-  SimulatedMatch,
-  decodeMessage,
-  encodeMessage,
-  type DesyncMessage,
-  type ErrorMessage,
-  type NetMessage,
-  type Transport,
-  type WelcomeMessage,
-} from 'fixedstep';
+import { LockstepSession, SimulatedMatch, type DesyncMessage, type Transport } from 'fixedstep';
 import { ctfGame, type Game } from '@fixedstep/games';
 import { registryCatalog } from '../src/relay/index.js';
+import { RawClient } from './raw-client.js';
 
-/** A client that speaks the protocol by hand. */
-class Raw {
-  readonly got: NetMessage[] = [];
-  closed: string | undefined;
-  constructor(
-    readonly t: Transport,
-    /** Answer the relay's liveness pings (an idle but live squatter); default: stay silent. */
-    answerPings = false,
-  ) {
-    t.onMessage((b) => {
-      const m = decodeMessage(b);
-      this.got.push(m);
-      if (answerPings && m.type === 'ping') {
-        this.send({ type: 'pong', id: m.id, time: m.time, serverTime: 0 });
-      }
-    });
-    t.onClose((r) => (this.closed = r));
-  }
-  send(m: NetMessage): void {
-    this.t.send(encodeMessage(m));
-  }
-  hello(room: string, role: 'player' | 'spectator', extra: Partial<NetMessage> = {}): void {
-    this.send({
-      type: 'hello',
-      room,
-      role,
-      game: 'ctf',
-      gameVersion: ctfGame.info.version,
-      input: ctfGame.input.id,
-      players: 2,
-      name: 'stranger',
-      ...extra,
-    } as NetMessage);
-  }
-  get welcome(): WelcomeMessage | undefined {
-    return this.got.find((m): m is WelcomeMessage => m.type === 'welcome');
-  }
-  get error(): ErrorMessage | undefined {
-    return this.got.find((m): m is ErrorMessage => m.type === 'error' && m.fatal);
+/** A client that speaks the protocol by hand: a "stranger" asking for two players. */
+class Raw extends RawClient {
+  constructor(t: Transport, answerPings = false) {
+    super(t, { name: 'stranger', players: 2, answerPings });
   }
 }
 
