@@ -19,6 +19,7 @@ import {
 import { h, setAttr, setText } from '../../ui/dom.js';
 import { download } from '../../ui/download.js';
 import * as fmt from '../../ui/format.js';
+import { headRow } from '../../ui/panel.js';
 import { Readout, rateColor } from '../../ui/readout.js';
 import {
   DISPLAY_RATES,
@@ -397,16 +398,7 @@ class ReplaysChapter {
       h(
         'table',
         { class: 'data-table compare-table' },
-        h(
-          'thead',
-          {},
-          h(
-            'tr',
-            {},
-            h('th', { scope: 'col' }, 'Source'),
-            h('th', { scope: 'col' }, 'Hash at that tick'),
-          ),
-        ),
+        headRow('Source', 'Hash at that tick'),
         this.compareBody,
       ),
       this.compareNote,
