@@ -61,6 +61,34 @@ export function useLab(): Lab {
   return lab;
 }
 
+/** An endpoint a test's server runs beside the lab (the relay, signalling, state sync). */
+export interface Closable {
+  close(): Promise<unknown>;
+}
+
+/**
+ * The lab served with the endpoints `attach` adds to its HTTP server, and a browser: started
+ * before the file's (or the describe block's) tests; after them the browser, the endpoints
+ * (the last attached first) and the server are closed.
+ */
+export function useLabWith(
+  attach: (server: RunningServer) => Promise<Closable[]> | Closable[],
+): Lab {
+  const lab = {} as Lab;
+  let endpoints: Closable[] = [];
+  beforeAll(async () => {
+    lab.server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
+    endpoints = await attach(lab.server);
+    lab.browser = await launchChromium();
+  });
+  afterAll(async () => {
+    await lab.browser.close();
+    for (const e of [...endpoints].reverse()) await e.close();
+    await lab.server.close();
+  });
+  return lab;
+}
+
 /** The lab and a second server of it with the highscore API (see {@link useHighscoreServer}). */
 export interface HighscoreLab {
   /** The lab (its browser; its plain server, without the highscore API). */
