@@ -1,6 +1,7 @@
 /**
- * The net tests' toy game: each player's counter moves by its input and a seeded draw. Small and
- * deterministic; save() writes its whole state (the tick, the Random's state, the counters).
+ * The net tests' toy game (the library's, and the server's peer-to-peer test): each player's
+ * counter moves by its input and a seeded draw. Small and deterministic; save() writes its whole
+ * state (the tick, the Random's state, the counters).
  */
 import { ByteReader, ByteWriter, Random, fnv1a64, type Simulation } from 'fixedstep';
 
