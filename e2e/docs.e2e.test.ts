@@ -9,10 +9,9 @@ import { mkdtemp, readdir, readFile, rm, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { startServer } from '@fixedstep/server';
-import { CHROMIUM_ARGS, dist } from './harness.js';
+import { dist, launchChromium } from './harness.js';
 
 const repo = fileURLToPath(new URL('..', import.meta.url));
 const typedocJs = path.join(repo, 'node_modules/typedoc/bin/typedoc');
@@ -144,10 +143,7 @@ describe('npm run docs', () => {
 describe('the reference in the lab', () => {
   it('fixedstep serve serves it at /docs/, and the lab footer links to it', async () => {
     const server = await startServer({ port: 0, host: '127.0.0.1', root: dist, docs: out });
-    const browser = await chromium.launch({
-      executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
-      args: CHROMIUM_ARGS,
-    });
+    const browser = await launchChromium();
     try {
       const page = await browser.newPage();
       // What went wrong on the way: errors, 4xx/5xx answers, requests that failed (a favicon

@@ -17,10 +17,10 @@
 import { cp, mkdir, mkdtemp, readFile, rm, stat, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
-import { chromium, type Browser, type Page } from 'playwright-core';
+import type { Browser, Page } from 'playwright-core';
 import { startServer } from '@fixedstep/server';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { CHROMIUM_ARGS } from './harness.js';
+import { launchChromium } from './harness.js';
 import { packWorkspaces, repo, run, type Ran } from './pack-helpers.js';
 
 /** How the test reaches into one example's page. */
@@ -164,10 +164,7 @@ beforeAll(async () => {
     p.catch(() => undefined); // reported by the example's own test
     prepared.set(e.name, p);
   }
-  browser = await chromium.launch({
-    executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
-    args: CHROMIUM_ARGS,
-  });
+  browser = await launchChromium();
 }, 180_000);
 
 afterAll(async () => {

@@ -28,6 +28,14 @@ export const CHROMIUM_ARGS = [
   '--no-first-run',
 ];
 
+/** Starts the headless Chromium the tests drive: `CHROMIUM_PATH` (or /usr/bin/chromium) with {@link CHROMIUM_ARGS}. */
+export function launchChromium(): Promise<Browser> {
+  return chromium.launch({
+    executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
+    args: CHROMIUM_ARGS,
+  });
+}
+
 export interface Lab {
   server: RunningServer;
   browser: Browser;
@@ -44,13 +52,38 @@ export function useLab(): Lab {
     }
     mkdirSync(shots, { recursive: true });
     lab.server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
-    lab.browser = await chromium.launch({
-      executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
-      args: CHROMIUM_ARGS,
-    });
+    lab.browser = await launchChromium();
   });
   afterAll(async () => {
     await lab.browser.close();
+    await lab.server.close();
+  });
+  return lab;
+}
+
+/** An endpoint a test's server runs beside the lab (the relay, signalling, state sync). */
+export interface Closable {
+  close(): Promise<unknown>;
+}
+
+/**
+ * The lab served with the endpoints `attach` adds to its HTTP server, and a browser: started
+ * before the file's (or the describe block's) tests; after them the browser, the endpoints
+ * (the last attached first) and the server are closed.
+ */
+export function useLabWith(
+  attach: (server: RunningServer) => Promise<Closable[]> | Closable[],
+): Lab {
+  const lab = {} as Lab;
+  let endpoints: Closable[] = [];
+  beforeAll(async () => {
+    lab.server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
+    endpoints = await attach(lab.server);
+    lab.browser = await launchChromium();
+  });
+  afterAll(async () => {
+    await lab.browser.close();
+    for (const e of [...endpoints].reverse()) await e.close();
     await lab.server.close();
   });
   return lab;
@@ -198,6 +231,25 @@ export async function readouts(page: Page): Promise<Record<string, string>> {
     }
     return out;
   });
+}
+
+/**
+ * Waits until readout `testId` on every page holds a state hash (16 hex digits: the match, the
+ * replay or the snapshot got there), up to `timeoutMs`, and returns each page's readouts then.
+ */
+export async function readoutsOnceHashed(
+  pages: readonly Page[],
+  testId: string,
+  timeoutMs: number,
+): Promise<Record<string, string>[]> {
+  return Promise.all(
+    pages.map(async (p) => {
+      await expect
+        .poll(() => p.getByTestId(testId).getAttribute('data-value'), { timeout: timeoutMs })
+        .toMatch(/^[0-9a-f]{16}$/);
+      return readouts(p);
+    }),
+  );
 }
 
 /** A readout's value as a number; throws naming the readout when it is missing. */

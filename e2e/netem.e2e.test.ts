@@ -8,14 +8,14 @@
  * `artifacts/netem/browser.{md,json}` and the console. Skipped, saying why, without coturn.
  */
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { chromium, type Browser, type Page } from 'playwright-core';
+import type { Browser, Page } from 'playwright-core';
 import { startServer, type RunningServer } from '@fixedstep/server';
 import { attachRelay, type RelayEndpoint } from '../packages/server/src/relay/endpoint.js';
 import {
   attachSignalling,
   type SignallingEndpoint,
 } from '../packages/server/src/signalling/endpoint.js';
-import { CHROMIUM_ARGS, watch } from './harness.js';
+import { launchChromium, watch } from './harness.js';
 import { buildNetemPage } from './netem/build.js';
 import { CLEAN, type Impairment } from './netem/impair.js';
 import { summarize, type ProbeReport, type TransportSummary } from './netem/probe.js';
@@ -48,10 +48,7 @@ describe.runIf(found.ok)('loss harness: WebRTC vs WebSocket between two Chromium
     turn = await startTurnServer((found as { path: string }).path);
     udp = await startUdpProxy({ targetPort: turn.port, seed: SEED });
     tcp = await startTcpProxy({ targetPort: server.port, seed: SEED });
-    browser = await chromium.launch({
-      executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
-      args: CHROMIUM_ARGS,
-    });
+    browser = await launchChromium();
   });
   afterAll(async () => {
     await browser.close();

@@ -5,21 +5,16 @@
  * Every wait is on the pages' state, never on a fixed time.
  */
 import path from 'node:path';
-import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { chromium, type Browser, type Page } from 'playwright-core';
-import { startServer, type RunningServer } from '@fixedstep/server';
-import { attachRelay, type RelayEndpoint } from '../packages/server/src/relay/endpoint.js';
+import { describe, expect, it } from 'vitest';
+import type { Page } from 'playwright-core';
+import { attachRelay } from '../packages/server/src/relay/endpoint.js';
+import { attachSignalling } from '../packages/server/src/signalling/endpoint.js';
 import {
-  attachSignalling,
-  type SignallingEndpoint,
-} from '../packages/server/src/signalling/endpoint.js';
-import {
-  CHROMIUM_ARGS,
-  dist,
   horizontalOverflow,
   phonePage,
-  readouts,
+  readoutsOnceHashed,
   shots,
+  useLabWith,
   watch,
 } from './harness.js';
 
@@ -33,46 +28,19 @@ async function state(page: Page): Promise<string | null> {
 }
 
 /** Wait for both pages' final hash and return their readouts. */
-async function finals(pages: Page[]): Promise<Record<string, string>[]> {
-  return Promise.all(
-    pages.map(async (p) => {
-      await expect
-        .poll(() => p.getByTestId('readout-online-final-hash').getAttribute('data-value'), {
-          timeout: 90_000,
-        })
-        .toMatch(/^[0-9a-f]{16}$/);
-      return readouts(p);
-    }),
-  );
+function finals(pages: Page[]): Promise<Record<string, string>[]> {
+  return readoutsOnceHashed(pages, 'readout-online-final-hash', 90_000);
 }
 
 describe('chapter 6, people play people online', () => {
-  let server: RunningServer;
-  let relay: RelayEndpoint;
-  let signalling: SignallingEndpoint;
-  let browser: Browser;
-  beforeAll(async () => {
-    server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
-    relay = attachRelay(server.server);
-    signalling = attachSignalling(server.server);
-    browser = await chromium.launch({
-      executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
-      args: CHROMIUM_ARGS,
-    });
-  });
-  afterAll(async () => {
-    await browser.close();
-    await signalling.close();
-    await relay.close();
-    await server.close();
-  });
+  const online = useLabWith((s) => [attachRelay(s.server), attachSignalling(s.server)]);
 
   it('two people play by keyboard; each screen is its own player’s; the end is the same on both', async () => {
     const ticks = 600;
-    const pages = await Promise.all([0, 1].map(() => browser.newPage()));
+    const pages = await Promise.all([0, 1].map(() => online.browser.newPage()));
     const problems = pages.map((p) => watch(p));
     const [one, two] = pages as [Page, Page];
-    await one.goto(`${server.url}#/network?room=people-keys&ticks=${ticks}`);
+    await one.goto(`${online.server.url}#/network?room=people-keys&ticks=${ticks}`);
     // The keys are on the page, not in a tooltip; no bot unless asked.
     await expect
       .poll(() => one.getByTestId('online-keys').innerText())
@@ -81,7 +49,7 @@ describe('chapter 6, people play people online', () => {
     await one.getByTestId('control-join').click();
     await expect.poll(() => state(one)).toBe('waiting for the other player');
     const link = await one.getByTestId('link-room-tab').getAttribute('href');
-    await two.goto(`${server.url}${link}`);
+    await two.goto(`${online.server.url}${link}`);
     for (const p of pages) await expect.poll(() => state(p), { timeout: 30_000 }).toBe('running');
     // Page 1 is player 1 (red, left base), page 2 player 2 (blue, right base); each screen marks
     // its own player YOU.
@@ -128,10 +96,10 @@ describe('chapter 6, people play people online', () => {
 
   it('on a phone (390 × 844, touch) the panel fits and the on-screen stick plays', async () => {
     const ticks = 600;
-    const { context, page: phone, problems } = await phonePage(browser);
-    const desk = await browser.newPage();
+    const { context, page: phone, problems } = await phonePage(online.browser);
+    const desk = await online.browser.newPage();
     const deskProblems = watch(desk);
-    await phone.goto(`${server.url}#/network?room=people-touch&ticks=${ticks}`);
+    await phone.goto(`${online.server.url}#/network?room=people-touch&ticks=${ticks}`);
     const stick = phone.getByTestId('touch-stick');
     await stick.waitFor();
     expect(await phone.getByTestId('touch-fire').isVisible()).toBe(true);
@@ -151,7 +119,7 @@ describe('chapter 6, people play people online', () => {
     await phone.getByTestId('control-join').tap();
     await expect.poll(() => state(phone)).toBe('waiting for the other player');
     await desk.goto(
-      `${server.url}${await phone.getByTestId('link-room-tab').getAttribute('href')}`,
+      `${online.server.url}${await phone.getByTestId('link-room-tab').getAttribute('href')}`,
     );
     for (const p of [phone, desk]) {
       await expect.poll(() => state(p), { timeout: 30_000 }).toBe('running');
@@ -183,10 +151,10 @@ describe('chapter 6, people play people online', () => {
 
   it('peer to peer (WebRTC): page 1 hosts the relay, page 2 joins it; the same end on both', async () => {
     const ticks = 600;
-    const pages = await Promise.all([0, 1].map(() => browser.newPage()));
+    const pages = await Promise.all([0, 1].map(() => online.browser.newPage()));
     const problems = pages.map((p) => watch(p));
     const [one, two] = pages as [Page, Page];
-    await one.goto(`${server.url}#/network?room=people-p2p&ticks=${ticks}&p2p=1`);
+    await one.goto(`${online.server.url}#/network?room=people-p2p&ticks=${ticks}&p2p=1`);
     expect(await one.getByTestId('control-online-p2p').getAttribute('aria-pressed')).toBe('true');
     await one.getByTestId('control-join').click();
     await expect.poll(() => state(one)).toBe('waiting for the other player');
@@ -198,7 +166,7 @@ describe('chapter 6, people play people online', () => {
     expect(link).toMatch(
       new RegExp(`^#/network\\?room=people-p2p&ticks=${ticks}&p2p=1&invite=[0-9a-f]{32}&join=1$`),
     );
-    await two.goto(`${server.url}${link}`);
+    await two.goto(`${online.server.url}${link}`);
     for (const p of pages) await expect.poll(() => state(p), { timeout: 40_000 }).toBe('running');
     const via = await two.getByTestId('readout-online-via').getAttribute('data-value');
     for (const [i, p] of pages.entries()) {

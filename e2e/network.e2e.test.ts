@@ -5,25 +5,21 @@
  */
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
-import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { chromium, type Browser, type Page } from 'playwright-core';
-import { startServer, type RunningServer } from '@fixedstep/server';
-import { attachRelay, type RelayEndpoint } from '../packages/server/src/relay/endpoint.js';
+import { describe, expect, it } from 'vitest';
+import type { Page } from 'playwright-core';
+import { attachRelay } from '../packages/server/src/relay/endpoint.js';
+import { attachStateSync } from '../packages/server/src/state-sync/index.js';
 import {
-  attachStateSync,
-  type StateSyncEndpoint,
-} from '../packages/server/src/state-sync/index.js';
-import {
-  CHROMIUM_ARGS,
-  dist,
   horizontalOverflow,
   num,
   phonePage,
   readouts,
+  readoutsOnceHashed,
   realClockRuns,
   shots,
   skip,
   useLab,
+  useLabWith,
   watch,
 } from './harness.js';
 
@@ -166,45 +162,22 @@ describe('chapter 6, network', () => {
 });
 
 describe('chapter 6, play online', () => {
-  let server: RunningServer;
-  let relay: RelayEndpoint;
-  let stateSync: StateSyncEndpoint;
-  let browser: Browser;
-  beforeAll(async () => {
-    server = await startServer({ port: 0, host: '127.0.0.1', root: dist });
-    relay = attachRelay(server.server);
-    stateSync = attachStateSync(server.server, { workers: 1 });
+  const online = useLabWith(async (s) => {
+    const relay = attachRelay(s.server);
+    const stateSync = attachStateSync(s.server, { workers: 1 });
     await stateSync.ready;
-    browser = await chromium.launch({
-      executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
-      args: CHROMIUM_ARGS,
-    });
-  });
-  afterAll(async () => {
-    await browser.close();
-    await stateSync.close();
-    await relay.close();
-    await server.close();
+    return [relay, stateSync];
   });
 
   it('two pages play state sync through the server’s worker rooms and get the same world', async () => {
-    const pages = await Promise.all([0, 1].map(() => browser.newPage()));
+    const pages = await Promise.all([0, 1].map(() => online.browser.newPage()));
     const problems = pages.map((p) => watch(p));
     // The first joins with the button; the second opens the first's "new tab" link, which joins.
-    await pages[0]!.goto(`${server.url}#/network?state=e2e-state&at=300`);
+    await pages[0]!.goto(`${online.server.url}#/network?state=e2e-state&at=300`);
     const link = await pages[0]!.getByTestId('link-state-room-tab').getAttribute('href');
     expect(link).toBe('#/network?state=e2e-state&at=300');
-    await pages[1]!.goto(`${server.url}${link}`);
-    const got = await Promise.all(
-      pages.map(async (p) => {
-        await expect
-          .poll(() => p.getByTestId('readout-state-online-hash-at').getAttribute('data-value'), {
-            timeout: 60_000,
-          })
-          .toMatch(/^[0-9a-f]{16}$/);
-        return readouts(p);
-      }),
-    );
+    await pages[1]!.goto(`${online.server.url}${link}`);
+    const got = await readoutsOnceHashed(pages, 'readout-state-online-hash-at', 60_000);
     // Both received the server's world of tick 300, byte for byte.
     expect(got[0]!['readout-state-online-hash-at']).toBe(got[1]!['readout-state-online-hash-at']);
     expect(new Set(got.map((r) => r['readout-state-online-slot']))).toEqual(new Set(['1', '2']));
@@ -224,24 +197,15 @@ describe('chapter 6, play online', () => {
 
   it('two pages play one room through the relay and agree on the final hash', async () => {
     const ticks = 360;
-    const pages = await Promise.all([0, 1].map(() => browser.newPage()));
+    const pages = await Promise.all([0, 1].map(() => online.browser.newPage()));
     const problems = pages.map((p) => watch(p));
     // The first joins with the button; the second opens the first's "new tab" link, which joins.
-    await pages[0]!.goto(`${server.url}#/network?room=e2e-room&ticks=${ticks}`);
+    await pages[0]!.goto(`${online.server.url}#/network?room=e2e-room&ticks=${ticks}`);
     await pages[0]!.getByTestId('control-join').click();
     const link = await pages[0]!.getByTestId('link-room-tab').getAttribute('href');
     expect(link).toBe(`#/network?room=e2e-room&ticks=${ticks}&join=1`);
-    await pages[1]!.goto(`${server.url}${link}`);
-    const finals = await Promise.all(
-      pages.map(async (p) => {
-        await expect
-          .poll(() => p.getByTestId('readout-online-final-hash').getAttribute('data-value'), {
-            timeout: 60_000,
-          })
-          .toMatch(/^[0-9a-f]{16}$/);
-        return readouts(p);
-      }),
-    );
+    await pages[1]!.goto(`${online.server.url}${link}`);
+    const finals = await readoutsOnceHashed(pages, 'readout-online-final-hash', 60_000);
     expect(finals[0]!['readout-online-final-hash']).toBe(finals[1]!['readout-online-final-hash']);
     expect(new Set(finals.map((r) => r['readout-online-slot']))).toEqual(new Set(['1', '2']));
     for (const r of finals) expect(num(r, 'online-desyncs')).toBe(0);

@@ -3,9 +3,9 @@
  * both one fresh room, both join it through the relay and agree on the final hash.
  */
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { chromium, type Browser } from 'playwright-core';
+import type { Browser } from 'playwright-core';
 import { createServer, type FixedstepServer } from '@fixedstep/server';
-import { CHROMIUM_ARGS, dist, num, readouts, watch } from './harness.js';
+import { dist, launchChromium, num, readoutsOnceHashed, watch } from './harness.js';
 
 describe('chapter 6, quick match', () => {
   let server: FixedstepServer;
@@ -22,10 +22,7 @@ describe('chapter 6, quick match', () => {
       signalling: false,
       trustProxy: 'x-forwarded-for',
     });
-    browser = await chromium.launch({
-      executablePath: process.env.CHROMIUM_PATH ?? '/usr/bin/chromium',
-      args: CHROMIUM_ARGS,
-    });
+    browser = await launchChromium();
   });
   afterAll(async () => {
     await browser.close();
@@ -44,19 +41,13 @@ describe('chapter 6, quick match', () => {
       await p.goto(`${server.url}#/network?ticks=${ticks}`);
       await p.getByTestId('control-quick-match').click();
     }
+    const hashed = await readoutsOnceHashed(pages, 'readout-online-final-hash', 60_000);
     const finals = await Promise.all(
-      pages.map(async (p) => {
-        await expect
-          .poll(() => p.getByTestId('readout-online-final-hash').getAttribute('data-value'), {
-            timeout: 60_000,
-          })
-          .toMatch(/^[0-9a-f]{16}$/);
-        return {
-          r: await readouts(p),
-          room: await p.getByTestId('control-room').inputValue(),
-          status: await p.getByTestId('quick-match-status').textContent(),
-        };
-      }),
+      pages.map(async (p, i) => ({
+        r: hashed[i]!,
+        room: await p.getByTestId('control-room').inputValue(),
+        status: await p.getByTestId('quick-match-status').textContent(),
+      })),
     );
     expect(finals[0]!.room).toMatch(/^qm-[A-Za-z0-9_-]{24}$/);
     expect(finals[1]!.room).toBe(finals[0]!.room);

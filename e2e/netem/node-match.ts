@@ -25,7 +25,13 @@ import {
 } from 'fixedstep';
 import { ctfGame } from '@fixedstep/games';
 import { CLEAN, type Impairment } from './impair.js';
-import { Probe, summarize, type ProbeReport, type TransportSummary } from './probe.js';
+import {
+  Probe,
+  summarize,
+  type ProbeReport,
+  type TransportSummary,
+  type WireCounts,
+} from './probe.js';
 import { startTcpProxy } from './tcp-proxy.js';
 import type { TurnServer } from './turn.js';
 import { startUdpProxy } from './udp-proxy.js';
@@ -73,14 +79,7 @@ export async function runNodeMatch(o: NodeMatchOptions): Promise<NodeMatchResult
     clearInterval(timer);
     relay.close();
   });
-  let wire: () => {
-    up: number;
-    down: number;
-    lostUp: number;
-    lostDown: number;
-    packetsUp: number;
-    packetsDown: number;
-  };
+  let wire: () => WireCounts;
   let joinerTransport: Transport;
   let impair: () => void;
   try {

@@ -147,6 +147,19 @@ export function latencies(from: ProbeReport, to: ProbeReport): number[] {
   return out;
 }
 
+/**
+ * What an impairing proxy counted on the wire of one link, each way (up: from the joiner): bytes,
+ * packets or segments, and how many of them it dropped.
+ */
+export interface WireCounts {
+  up: number;
+  down: number;
+  lostUp: number;
+  lostDown: number;
+  packetsUp: number;
+  packetsDown: number;
+}
+
 /** One transport's row of the comparison. */
 export interface TransportSummary {
   transport: string;
@@ -176,14 +189,7 @@ export function summarize(
   where: string,
   ticks: number,
   reports: readonly ProbeReport[],
-  wire?: {
-    up: number;
-    down: number;
-    lostUp: number;
-    lostDown: number;
-    packetsUp: number;
-    packetsDown: number;
-  },
+  wire?: WireCounts,
 ): TransportSummary {
   const lat: number[] = [];
   for (const a of reports) for (const b of reports) if (a !== b) lat.push(...latencies(a, b));

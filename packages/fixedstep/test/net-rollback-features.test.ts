@@ -1,98 +1,80 @@
 import { describe, expect, it } from 'vitest';
 import {
   BUTTON_WORD,
-  ByteReader,
-  ByteWriter,
   CorrectionSmoother,
   EventScheduler,
   Random,
   Relay,
   RollbackSession,
   SimulatedLink,
-  fnv1a64,
   gameCatalog,
-  type Simulation,
 } from 'fixedstep';
-
-/** Each player's counter moves by its input and a seeded draw. */
-class Toy implements Simulation {
-  tick = 0;
-  readonly x: Int32Array;
-  readonly rng: Random;
-  constructor(players: number, seed: number) {
-    this.x = new Int32Array(players);
-    this.rng = new Random(seed);
-  }
-  step(inputs: readonly number[]): void {
-    for (let p = 0; p < this.x.length; p++) {
-      this.x[p] = (this.x[p]! * 3 + (inputs[p]! & 0xffff) + this.rng.int(1000)) | 0;
-    }
-    this.tick++;
-  }
-  save(): Uint8Array {
-    return new ByteWriter(64).u32(this.tick).ints(this.rng.getState()).ints(this.x).finish();
-  }
-  load(bytes: Uint8Array): void {
-    const r = new ByteReader(bytes);
-    this.tick = r.u32();
-    const s = new Uint32Array(4);
-    r.ints(s);
-    this.rng.setState(s);
-    r.ints(this.x);
-    r.end();
-  }
-  hash(): bigint {
-    return fnv1a64(this.save());
-  }
-}
+import { Toy } from './toy-game.js';
 
 const catalog = gameCatalog([
   { id: 'toy', version: 1, tickRate: 60, minPlayers: 1, maxPlayers: 4, input: BUTTON_WORD },
 ]);
 
+/**
+ * A match of the toy on one simulated clock: a relay (updated at 120 Hz, its randomness seeded
+ * with `relaySeed`) and a rollback session on each of `links`, framed at 60 Hz, all players of
+ * the toy seeded `seed`, to `ticks`. `input` is what player `i` (in slot `slot`) presses at `tick`.
+ */
+function toyMatch(o: {
+  relaySeed: number;
+  links: { seed: number; latencyMs: number; jitterMs: number; loss?: number }[];
+  seed: number;
+  ticks: number;
+  input: (i: number, slot: number, tick: number, sim: { readonly tick: number }) => number;
+}): { scheduler: EventScheduler; relay: Relay; sessions: RollbackSession[] } {
+  const scheduler = new EventScheduler();
+  const rng = new Random(o.relaySeed);
+  const relay = new Relay({ clock: scheduler.clock, catalog, randomU32: () => rng.nextU32() });
+  scheduler.every(1000 / 120, () => {
+    relay.update();
+  });
+  const players = o.links.length;
+  const sessions = o.links.map((conditions, i) => {
+    const link = new SimulatedLink({ scheduler, ...conditions });
+    relay.accept(link.b);
+    let slot = -1;
+    const s: RollbackSession = new RollbackSession({
+      transport: link.a,
+      clock: scheduler.clock,
+      room: 'r',
+      game: 'toy',
+      gameVersion: 1,
+      players,
+      seed: o.seed,
+      stopAt: o.ticks,
+      createSimulation: (w) => {
+        slot = w.slot;
+        return new Toy(players, o.seed);
+      },
+      localInput: (tick, sim) => o.input(i, slot, tick, sim),
+    });
+    scheduler.every(1000 / 60, () => {
+      s.frame();
+    });
+    return s;
+  });
+  return { scheduler, relay, sessions };
+}
+
 describe('input delay changed during a match', () => {
   it('takes effect at the agreed tick on both players, and both end on the same hash', () => {
-    const scheduler = new EventScheduler();
-    const rng = new Random(3);
-    const relay = new Relay({ clock: scheduler.clock, catalog, randomU32: () => rng.nextU32() });
-    scheduler.every(1000 / 120, () => {
-      relay.update();
-    });
     const ticks = 900;
     // For each player: the tick on which each issued input was asked for, against the sim's tick.
     const issuedAt: Map<number, number>[] = [new Map<number, number>(), new Map<number, number>()];
-    const sessions = [0, 1].map((i) => {
-      const link = new SimulatedLink({
-        scheduler,
-        seed: 10 + i,
-        latencyMs: 40,
-        jitterMs: 10,
-        loss: 0.05,
-      });
-      relay.accept(link.b);
-      let slot = -1;
-      const s: RollbackSession = new RollbackSession({
-        transport: link.a,
-        clock: scheduler.clock,
-        room: 'r',
-        game: 'toy',
-        gameVersion: 1,
-        players: 2,
-        seed: 5,
-        stopAt: ticks,
-        createSimulation: (w) => {
-          slot = w.slot;
-          return new Toy(2, 5);
-        },
-        localInput: (tick, sim) => {
-          issuedAt[i]!.set(tick, sim.tick);
-          return ((tick >> 4) + slot) & 3;
-        },
-      });
-      scheduler.every(1000 / 60, () => {
-        s.frame();
-      });
-      return s;
+    const { scheduler, relay, sessions } = toyMatch({
+      relaySeed: 3,
+      links: [0, 1].map((i) => ({ seed: 10 + i, latencyMs: 40, jitterMs: 10, loss: 0.05 })),
+      seed: 5,
+      ticks,
+      input: (i, slot, tick, sim) => {
+        issuedAt[i]!.set(tick, sim.tick);
+        return ((tick >> 4) + slot) & 3;
+      },
     });
     // Both players agree: from tick 300 on, 4 ticks of input delay (from the default 1).
     for (const s of sessions) s.setInputDelay(4, 300);
@@ -144,36 +126,13 @@ describe('several local players on one machine', () => {
    * and hash at the end.
    */
   function play(link: boolean) {
-    const scheduler = new EventScheduler();
-    const rng = new Random(4);
-    const relay = new Relay({ clock: scheduler.clock, catalog, randomU32: () => rng.nextU32() });
-    scheduler.every(1000 / 120, () => {
-      relay.update();
-    });
     const ticks = 600;
-    const sessions = [0, 1, 2].map((i) => {
-      const l = new SimulatedLink({ scheduler, seed: 20 + i, latencyMs: 30, jitterMs: 5 });
-      relay.accept(l.b);
-      let slot = -1;
-      const s: RollbackSession = new RollbackSession({
-        transport: l.a,
-        clock: scheduler.clock,
-        room: 'r',
-        game: 'toy',
-        gameVersion: 1,
-        players: 3,
-        seed: 9,
-        stopAt: ticks,
-        createSimulation: (w) => {
-          slot = w.slot;
-          return new Toy(3, 9);
-        },
-        localInput: (tick) => (i === 2 ? 0 : ((tick >> 3) + slot) & 3),
-      });
-      scheduler.every(1000 / 60, () => {
-        s.frame();
-      });
-      return s;
+    const { scheduler, relay, sessions } = toyMatch({
+      relaySeed: 4,
+      links: [0, 1, 2].map((i) => ({ seed: 20 + i, latencyMs: 30, jitterMs: 5 })),
+      seed: 9,
+      ticks,
+      input: (i, slot, tick) => (i === 2 ? 0 : ((tick >> 3) + slot) & 3),
     });
     if (link) RollbackSession.linkLocalPlayers([sessions[0]!, sessions[1]!]);
     expect(scheduler.runUntilDone(() => sessions.every((s) => s.isFinished), 60_000)).toBe(true);

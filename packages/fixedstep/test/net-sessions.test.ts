@@ -1,8 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import {
   BUTTON_WORD,
-  ByteReader,
-  ByteWriter,
   EventScheduler,
   LockstepSession,
   Random,
@@ -19,48 +17,8 @@ import {
   type NetSessionOptions,
   type GameCatalog,
   type RelayOptions,
-  type Simulation,
 } from 'fixedstep';
-
-/** A small deterministic game: each player's counter moves by its input and a seeded draw. */
-class Toy implements Simulation {
-  tick = 0;
-  readonly x: Int32Array;
-  readonly rng: Random;
-  /** A hook for a deliberately broken client: extra added to player 0's counter from a tick on. */
-  constructor(
-    players: number,
-    seed: number,
-    private readonly glitch?: { from: number; extra: () => number },
-  ) {
-    this.x = new Int32Array(players);
-    this.rng = new Random(seed);
-  }
-  step(inputs: readonly number[]): void {
-    for (let p = 0; p < this.x.length; p++) {
-      this.x[p] = (this.x[p]! * 3 + (inputs[p]! & 0xffff) + this.rng.int(1000)) | 0;
-    }
-    if (this.glitch && this.tick >= this.glitch.from)
-      this.x[0] = (this.x[0]! + this.glitch.extra()) | 0;
-    this.tick++;
-  }
-  save(): Uint8Array {
-    const w = new ByteWriter(64).u32(this.tick).ints(this.rng.getState());
-    return w.ints(this.x).finish();
-  }
-  load(bytes: Uint8Array): void {
-    const r = new ByteReader(bytes);
-    this.tick = r.u32();
-    const s = new Uint32Array(4);
-    r.ints(s);
-    this.rng.setState(s);
-    r.ints(this.x);
-    r.end();
-  }
-  hash(): bigint {
-    return fnv1a64(this.save());
-  }
-}
+import { Toy } from './toy-game.js';
 
 /** The toy with `snapshotSize` and `saveInto`: a RollbackSession writes into buffers it keeps. */
 class KeptToy extends Toy {

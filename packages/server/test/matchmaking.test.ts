@@ -35,6 +35,7 @@ import {
 } from '../src/match/index.js';
 import { addressKey } from '../src/http/admission.js';
 import { connectNodeWebSocket } from '../src/relay/index.js';
+import { frameUntilFinished } from './session-frames.js';
 
 const INPUT = '0123456789abcdef';
 const duel = (version: number): HostedGame =>
@@ -463,16 +464,7 @@ describe('quick match over real sockets through createServer', () => {
         }),
       );
     }
-    const timer = setInterval(() => {
-      for (const s of sessions) s.frame();
-    }, 8);
-    try {
-      await expect
-        .poll(() => sessions.every((s) => s.isFinished), { timeout: 30_000, interval: 50 })
-        .toBe(true);
-    } finally {
-      clearInterval(timer);
-    }
+    await frameUntilFinished(sessions);
     // The matchmaker's setup: two players, its seed, each in the seat its ticket names.
     expect(sessions.map((s) => [s.welcome!.players, s.welcome!.seed, s.welcome!.slot])).toEqual([
       [2, results[0]!.seed, 0],

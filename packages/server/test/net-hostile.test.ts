@@ -1,60 +1,13 @@
 import { describe, expect, it } from 'vitest';
-import {
-  RELAY_PROTOCOL,
-  SimulatedMatch,
-  decodeMessage,
-  encodeMessage,
-  type ErrorMessage,
-  type NetErrorCode,
-  type NetMessage,
-  type Transport,
-  type WelcomeMessage,
-} from 'fixedstep';
+import { RELAY_PROTOCOL, SimulatedMatch, type NetErrorCode, type Transport } from 'fixedstep';
 import { ctfGame } from '@fixedstep/games';
 import { registryCatalog } from '../src/relay/index.js';
+import { RawClient } from './raw-client.js';
 
-/** A client that speaks the protocol by hand, to misbehave. */
-class Raw {
-  readonly got: NetMessage[] = [];
-  closed: string | undefined;
-  constructor(
-    readonly t: Transport,
-    /** A room's invite token, which a spectator's hello carries unless told otherwise. */
-    private readonly inviteOf: (room: string) => Uint8Array | undefined = () => undefined,
-  ) {
-    t.onMessage((b) => this.got.push(decodeMessage(b)));
-    t.onClose((r) => (this.closed = r));
-  }
-  send(m: NetMessage): void {
-    this.t.send(encodeMessage(m));
-  }
-  bytes(b: Uint8Array): void {
-    this.t.send(b);
-  }
-  hello(
-    room: string,
-    role: 'player' | 'spectator' = 'spectator',
-    extra: Partial<NetMessage> = {},
-  ): void {
-    const invite = role === 'spectator' ? this.inviteOf(room) : undefined;
-    this.send({
-      type: 'hello',
-      room,
-      role,
-      ...(invite ? { token: invite } : {}),
-      game: 'ctf',
-      gameVersion: ctfGame.info.version,
-      input: ctfGame.input.id,
-      players: 0,
-      name: 'mallory',
-      ...extra,
-    } as NetMessage);
-  }
-  get welcome(): WelcomeMessage | undefined {
-    return this.got.find((m): m is WelcomeMessage => m.type === 'welcome');
-  }
-  get error(): ErrorMessage | undefined {
-    return this.got.find((m): m is ErrorMessage => m.type === 'error' && m.fatal);
+/** A client that speaks the protocol by hand, to misbehave: "mallory", asking for no set number of players. */
+class Raw extends RawClient {
+  constructor(t: Transport, inviteOf?: (room: string) => Uint8Array | undefined) {
+    super(t, { name: 'mallory', players: 0, inviteOf });
   }
 }
 

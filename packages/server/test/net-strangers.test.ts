@@ -5,59 +5,15 @@
  * Every test runs on simulated time (SimulatedMatch): the numbers are exact and repeat.
  */
 import { describe, expect, it } from 'vitest';
-import {
-  LockstepSession,
-  SimulatedMatch,
-  decodeMessage,
-  encodeMessage,
-  type DesyncMessage,
-  type ErrorMessage,
-  type NetMessage,
-  type Transport,
-  type WelcomeMessage,
-} from 'fixedstep';
+import { LockstepSession, SimulatedMatch, type DesyncMessage, type Transport } from 'fixedstep';
 import { ctfGame, type Game } from '@fixedstep/games';
 import { registryCatalog } from '../src/relay/index.js';
+import { RawClient } from './raw-client.js';
 
-/** A client that speaks the protocol by hand. */
-class Raw {
-  readonly got: NetMessage[] = [];
-  closed: string | undefined;
-  constructor(
-    readonly t: Transport,
-    /** Answer the relay's liveness pings (an idle but live squatter); default: stay silent. */
-    answerPings = false,
-  ) {
-    t.onMessage((b) => {
-      const m = decodeMessage(b);
-      this.got.push(m);
-      if (answerPings && m.type === 'ping') {
-        this.send({ type: 'pong', id: m.id, time: m.time, serverTime: 0 });
-      }
-    });
-    t.onClose((r) => (this.closed = r));
-  }
-  send(m: NetMessage): void {
-    this.t.send(encodeMessage(m));
-  }
-  hello(room: string, role: 'player' | 'spectator', extra: Partial<NetMessage> = {}): void {
-    this.send({
-      type: 'hello',
-      room,
-      role,
-      game: 'ctf',
-      gameVersion: ctfGame.info.version,
-      input: ctfGame.input.id,
-      players: 2,
-      name: 'stranger',
-      ...extra,
-    } as NetMessage);
-  }
-  get welcome(): WelcomeMessage | undefined {
-    return this.got.find((m): m is WelcomeMessage => m.type === 'welcome');
-  }
-  get error(): ErrorMessage | undefined {
-    return this.got.find((m): m is ErrorMessage => m.type === 'error' && m.fatal);
+/** A client that speaks the protocol by hand: a "stranger" asking for two players. */
+class Raw extends RawClient {
+  constructor(t: Transport, answerPings = false) {
+    super(t, { name: 'stranger', players: 2, answerPings });
   }
 }
 
@@ -84,6 +40,14 @@ function match(
   });
 }
 
+/** Runs `m` for up to `ms` of simulated time: the honest room finishes and its hashes agree. */
+function finishHonestly(m: SimulatedMatch, ms: number): ReturnType<SimulatedMatch['run']> {
+  const r = m.run(ms);
+  expect(r.finished).toBe(true);
+  expect(r.hashesAgree).toBe(true);
+  return r;
+}
+
 describe('idle sockets and squatters no longer block every new game', () => {
   it('500 idle sockets from one address get 32 connections and 8 rooms; a new game starts beside them', () => {
     const m = match(600, [honest('198.51.100.1', 1000), honest('198.51.100.2', 1000)]);
@@ -101,9 +65,7 @@ describe('idle sockets and squatters no longer block every new game', () => {
     expect(m.relay.stats.rooms).toBe(8);
     expect(idle[8]!.error!.message).toMatch(/at most 8 rooms from one address/);
     expect(idle[499]!.error!.message).toMatch(/at most 32 connections from one address/);
-    const r = m.run(60_000);
-    expect(r.finished).toBe(true);
-    expect(r.hashesAgree).toBe(true);
+    finishHonestly(m, 60_000);
   });
 
   it('500 idle sockets from 500 addresses fill the server for 10 s, then are dropped as silent', () => {
@@ -126,9 +88,7 @@ describe('idle sockets and squatters no longer block every new game', () => {
     expect(m.relay.stats.probes).toBeGreaterThanOrEqual(500 * 9);
     expect(m.relay.stats.rooms).toBe(0);
     expect(idle.every((r) => r.error?.code === 'TIMEOUT' && r.closed !== undefined)).toBe(true);
-    const r = m.run(60_000);
-    expect(r.finished).toBe(true);
-    expect(r.hashesAgree).toBe(true);
+    finishHonestly(m, 60_000);
   });
 
   it('squatters that answer every ping lose their waiting rooms after 120 s', () => {
@@ -148,9 +108,7 @@ describe('idle sockets and squatters no longer block every new game', () => {
     expect(m.relay.stats.rooms).toBe(0);
     expect(squatters.every((r) => r.error?.code === 'TIMEOUT')).toBe(true);
     expect(squatters[0]!.error!.message).toMatch(/waited 120 s/);
-    const r = m.run(200_000);
-    expect(r.finished).toBe(true);
-    expect(r.hashesAgree).toBe(true);
+    finishHonestly(m, 200_000);
   });
 
   it('4 000 connections from one address do not lock everyone out', () => {
@@ -163,9 +121,7 @@ describe('idle sockets and squatters no longer block every new game', () => {
     expect(m.relay.stats.connections).toBe(32);
     expect(flood.filter((r) => r.error?.code === 'ADDRESS_LIMIT')).toHaveLength(3968);
     expect(m.relay.stats.dropped.ADDRESS_LIMIT).toBe(3968);
-    const r = m.run(60_000);
-    expect(r.finished).toBe(true);
-    expect(r.hashesAgree).toBe(true);
+    finishHonestly(m, 60_000);
     // The 32 that got in never said hello: gone after 5 s.
     expect(m.relay.stats.dropped.TIMEOUT).toBe(32);
   });
@@ -187,9 +143,7 @@ describe('a frozen peer', () => {
     expect(frozen.error?.message).toMatch(/silent for 10 s/);
     expect(m.relay.room('honest')!.members).toHaveLength(1);
     // The second honest player takes the freed slot and the match is played.
-    const r = m.run(60_000);
-    expect(r.finished).toBe(true);
-    expect(r.hashesAgree).toBe(true);
+    const r = finishHonestly(m, 60_000);
     expect(r.room!.startAt).toBeGreaterThan(12_000);
   });
 
@@ -302,9 +256,7 @@ describe('spectators', () => {
       },
       1500,
     );
-    const r = m.run(120_000);
-    expect(r.finished).toBe(true);
-    expect(r.hashesAgree).toBe(true);
+    const r = finishHonestly(m, 120_000);
     expect(r.room!.desyncs).toHaveLength(0);
     expect(r.relay.desyncs).toBe(0);
     for (const s of m.sessions) expect(s!.desyncs).toEqual([]);
@@ -338,9 +290,7 @@ describe('drain: graceful shutdown', () => {
     expect(late.error?.message).toMatch(/no new rooms here/);
     expect(m.relay.roomList().map((r) => r.name)).toEqual(['honest']);
     // The match plays to its end; then its players leave.
-    const r = m.run(60_000);
-    expect(r.finished).toBe(true);
-    expect(r.hashesAgree).toBe(true);
+    finishHonestly(m, 60_000);
     await Promise.resolve();
     expect(resolved).toBe(false);
     for (const s of m.sessions) s!.leave();

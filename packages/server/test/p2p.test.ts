@@ -10,14 +10,10 @@ import { afterEach, describe, expect, it } from 'vitest';
 import { RTCPeerConnection } from 'werift';
 import {
   BUTTON_WORD,
-  ByteReader,
-  ByteWriter,
   PeerHost,
-  Random,
   Relay,
   RollbackSession,
   SignalClient,
-  fnv1a64,
   joinPeer,
   memoryPair,
   performanceClock,
@@ -26,47 +22,10 @@ import {
   type DataChannelInitLike,
   type PeerConnectionConstructor,
   type PeerLink,
-  type Simulation,
 } from 'fixedstep';
+// The net tests' toy game: each player's counter moves by its input and a seeded draw.
+import { Toy } from '../../fixedstep/test/toy-game.js';
 import { UnreachablePeerConnection } from './unreachable-peer.js';
-
-/** Each player's counter moves by its input and a seeded draw; `glitchFrom` breaks determinism. */
-class Toy implements Simulation {
-  tick = 0;
-  readonly x: Int32Array;
-  readonly rng: Random;
-  constructor(
-    players: number,
-    seed: number,
-    private readonly glitchFrom = Infinity,
-  ) {
-    this.x = new Int32Array(players);
-    this.rng = new Random(seed);
-  }
-  step(inputs: readonly number[]): void {
-    for (let p = 0; p < this.x.length; p++) {
-      this.x[p] = (this.x[p]! * 3 + (inputs[p]! & 0xffff) + this.rng.int(1000)) | 0;
-    }
-    // Something only this machine does, from `glitchFrom` on (player 0's counter, one more).
-    if (this.tick >= this.glitchFrom) this.x[0] = (this.x[0]! + 1) | 0;
-    this.tick++;
-  }
-  save(): Uint8Array {
-    return new ByteWriter(64).u32(this.tick).ints(this.rng.getState()).ints(this.x).finish();
-  }
-  load(bytes: Uint8Array): void {
-    const r = new ByteReader(bytes);
-    this.tick = r.u32();
-    const s = new Uint32Array(4);
-    r.ints(s);
-    this.rng.setState(s);
-    r.ints(this.x);
-    r.end();
-  }
-  hash(): bigint {
-    return fnv1a64(this.save());
-  }
-}
 
 const clock = performanceClock();
 const catalog = gameCatalog([
@@ -153,7 +112,8 @@ async function peerToPeer(o: {
       players: 2,
       seed: 11,
       stopAt: o.ticks,
-      createSimulation: () => new Toy(2, 11, glitchFrom),
+      // From `glitchFrom` on, something only this machine does: player 0's counter, one more.
+      createSimulation: () => new Toy(2, 11, { from: glitchFrom ?? Infinity, extra: () => 1 }),
       localInput: (tick) => (tick >> 3) & 3,
     });
   const sessions = [session(hostEnd), session(link.transport, o.joinerGlitchFrom)];

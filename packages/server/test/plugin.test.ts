@@ -18,6 +18,7 @@ import { createServer, type FixedstepServer } from '../src/app.js';
 import { loadGames } from '../src/games/load.js';
 import { connectNodeWebSocket } from '../src/relay/index.js';
 import { memoryStore } from './helpers.js';
+import { frameUntilFinished } from './session-frames.js';
 import type { CoinDash } from '../../../examples/coin-dash/src/game.js';
 
 /**
@@ -98,16 +99,7 @@ describe('a user game as a plug-in', () => {
       });
       sessions.push(session);
     }
-    const timer = setInterval(() => {
-      for (const s of sessions) s.frame();
-    }, 8);
-    try {
-      await expect
-        .poll(() => sessions.every((s) => s.isFinished), { timeout: 30_000, interval: 50 })
-        .toBe(true);
-    } finally {
-      clearInterval(timer);
-    }
+    await frameUntilFinished(sessions);
     expect(new Set(sessions.map((s) => hex64(s.hashAt(ticks)!))).size).toBe(1);
     expect(server.relay!.relay.room('coin-room')!.desyncs).toHaveLength(0);
 

@@ -38,10 +38,18 @@ export interface Disposable {
   destroy(): void;
 }
 
+/**
+ * What the shell calls on the chapter it frames: its drawing on every animation frame, and the
+ * bringing up to date of its own controls (if it has any) after every change the shell sees.
+ */
+export interface ShellChapter {
+  /** Draw the current state and write the readouts. Called on every animation frame. */
+  render(): void;
+  /** Bring the chapter's controls up to date; called after any control of a {@link ChapterShell.controls} box. */
+  refreshControls?(): void;
+}
+
 export interface ChapterShellOptions {
-  head: ChapterHead;
-  /** The chapter's class on its `<article>` (`loop-chapter`), for its own styles. */
-  className: string;
   /** The lede under the title. */
   lede: string;
   /**
@@ -49,8 +57,6 @@ export interface ChapterShellOptions {
    * swap models (a new run for the real clock, another replay).
    */
   timeline(): TimeLine | undefined;
-  /** Draw the current state and write the readouts. Called on every animation frame. */
-  render(): void;
   /**
    * Restart: back to time zero. With it the shell shows Pause / Skip / Restart and the clock
    * readout (`readout-clock`); without it (a chapter with its own transport) it shows none.
@@ -60,8 +66,6 @@ export interface ChapterShellOptions {
   mode?(): string;
   /** What the mode line ends with while paused. Default ` · paused`. */
   pausedText?(): string;
-  /** Bring the chapter's controls up to date; called after any control of a {@link controls} box. */
-  refresh?(): void;
   /** Offer "Real clock": `onChange` rebuilds what runs on it (the driver has switched already). */
   realClock?: { title: string; onChange(on: boolean): void };
   /** Offer "Interpolation" (on at the start): {@link ChapterShell.interpolate} follows it. */
@@ -88,8 +92,14 @@ export class ChapterShell {
   private readonly resizers = new Map<Element, () => void>();
   private readonly observer: ResizeObserver;
 
+  /**
+   * Frames `chapter` in an `<article>` appended to `root`, classed `<route>-chapter` (for the
+   * chapter's own styles), headed by the chapter's number, title and `options.lede`.
+   */
   constructor(
     private readonly root: HTMLElement,
+    head: ChapterHead,
+    private readonly chapter: ShellChapter,
     private readonly options: ChapterShellOptions,
   ) {
     const o = options;
@@ -141,12 +151,12 @@ export class ChapterShell {
     });
     this.article = h(
       'article',
-      { class: `chapter ${o.className}` },
+      { class: `chapter ${head.id}-chapter` },
       h(
         'header',
         { class: 'chapter-head' },
-        h('p', { class: 'eyebrow' }, `Chapter ${o.head.number}`),
-        h('h1', {}, o.head.title),
+        h('p', { class: 'eyebrow' }, `Chapter ${head.number}`),
+        h('h1', {}, head.title),
         h('p', { class: 'lede' }, o.lede),
       ),
     );
@@ -263,7 +273,7 @@ export class ChapterShell {
   /** Bring the controls up to date (Pause/Play, Skip only on the simulated display, the chapter's). */
   refresh(): void {
     this.time?.refresh(this.paused, !this.real);
-    this.options.refresh?.();
+    this.chapter.refreshControls?.();
   }
 
   /** Bring the controls up to date and draw now, not on the next animation frame. */
@@ -297,7 +307,7 @@ export class ChapterShell {
       const paused = this.paused ? (o.pausedText?.() ?? ' · paused') : '';
       this.time.show(o.timeline()?.timeMs ?? 0, `${o.mode?.() ?? this.display('')}${paused}`);
     }
-    o.render();
+    this.chapter.render();
   }
 }
 

@@ -83,7 +83,7 @@ interface ConfirmingSession {
  * The last checkpoint (a multiple of `every`, at least one) both machines have a confirmed state
  * of, or -1; and each one's hash there (16 hex digits, or '' when it no longer keeps it).
  */
-export function confirmedCheckpoint(
+function confirmedCheckpoint(
   a: ConfirmingSession,
   b: ConfirmingSession,
   every: number,
@@ -96,4 +96,37 @@ export function confirmedCheckpoint(
     return h === undefined ? '' : hex64(h);
   };
   return { checkpoint, hashes: [hashOf(a), hashOf(b)] };
+}
+
+/**
+ * Whether two machines agree, as a page shows it: the last checkpoint both have confirmed, each
+ * one's hash there, whether those are equal with no desync seen, and the messages lost and sent.
+ */
+export interface Agreement {
+  /** The last checkpoint both machines have a confirmed state of (-1: none yet). */
+  checkpoint: number;
+  /** Each machine's hash (FNV-1a 64 of `save()`) of its confirmed state there (16 hex, or ''). */
+  hashes: [string, string];
+  /** Both machines have a hash at the checkpoint, equal, and no desync was seen. */
+  equal: boolean;
+  desyncs: number;
+  /** Messages lost and sent on all links so far, both directions. */
+  lost: number;
+  sent: number;
+}
+
+/**
+ * The {@link Agreement} of sessions `a` and `b` at their last confirmed checkpoint (a multiple
+ * of `every`), with the `desyncs` their server saw, over `links`.
+ */
+export function agreementOf(
+  a: ConfirmingSession,
+  b: ConfirmingSession,
+  every: number,
+  desyncs: number,
+  links: readonly SimulatedLink[],
+): Agreement {
+  const { checkpoint, hashes } = confirmedCheckpoint(a, b, every);
+  const equal = hashes[0] !== '' && hashes[0] === hashes[1] && desyncs === 0;
+  return { checkpoint, hashes, equal, desyncs, ...lossOf(links) };
 }

@@ -22,6 +22,27 @@ export function textSection(
   );
 }
 
+/**
+ * A chapter's bench or chart: a `<section class="className">` labelled by its heading `title`
+ * (id `id`), the paragraph `intro` (`.section-intro`: what the section shows and what to try)
+ * under it, then `children` (its controls, panels, charts).
+ */
+export function introSection(
+  className: string,
+  id: string,
+  title: string,
+  intro: Child | Child[],
+  ...children: (Child | Child[])[]
+): HTMLElement {
+  return h(
+    'section',
+    { class: className, 'aria-labelledby': id },
+    h('h2', { id }, title),
+    h('p', { class: 'section-intro' }, intro),
+    ...children,
+  );
+}
+
 /** One "why" card: a title, a paragraph, and optionally a code snippet under it. */
 export interface WhyCard {
   readonly title: string;

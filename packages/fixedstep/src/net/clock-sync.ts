@@ -90,3 +90,29 @@ export class ClockSync {
     return this.lastEstimate;
   }
 }
+
+/**
+ * How many ticks ahead of the server's clock a predicting session runs (rollback, state sync):
+ * the first lead it wants is taken at once; after that the lead follows the wanted one a tick at
+ * a time, at most once every 250 ms, so a noisy round trip does not jerk the simulation.
+ * Negative while unset.
+ */
+export class LeadTicks {
+  private lastMove = -Infinity;
+
+  constructor(
+    /** The lead now, ticks (negative: not set yet). */
+    public ticks = -1,
+  ) {}
+
+  /** Moves the lead towards `want` ticks at `now` (ms on the session's clock). */
+  follow(want: number, now: number): void {
+    if (this.ticks < 0) {
+      this.ticks = want;
+      this.lastMove = now;
+    } else if (want !== this.ticks && now - this.lastMove >= 250) {
+      this.ticks += want > this.ticks ? 1 : -1;
+      this.lastMove = now;
+    }
+  }
+}

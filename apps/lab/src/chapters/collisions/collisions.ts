@@ -59,6 +59,7 @@ import {
   type Slider,
 } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -111,14 +112,9 @@ class CollisionsChapter {
   private resultsKey = '';
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'collisions-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => (this.clock ? this.realLine : this.lab),
-      render: () => {
-        this.render();
-      },
       restart: () => {
         if (this.clock) this.clock = new ClockRanges(this.lab.settings);
         else this.lab.restart();
@@ -128,9 +124,6 @@ class CollisionsChapter {
         return this.shell.display(
           `simulated display · ${s.hz} Hz ±${Math.round(s.jitter * 100)} %`,
         );
-      },
-      refresh: () => {
-        this.refreshControls();
       },
       realClock: {
         title: 'Feed both loops this page’s own requestAnimationFrame times',
@@ -157,21 +150,21 @@ class CollisionsChapter {
     });
     shell.append(
       ideas(),
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'range-title' },
-        h('h2', { id: 'range-title' }, 'The firing range'),
-        h('p', { class: 'section-intro' }, RANGE_INTRO),
+      introSection(
+        'bench',
+        'range-title',
+        'The firing range',
+        RANGE_INTRO,
         this.ctl.box,
         this.panelGrid,
         this.totalsList(),
         legend(),
       ),
-      h(
-        'section',
-        { class: 'wall-chart-section', 'aria-labelledby': 'chart-title' },
-        h('h2', { id: 'chart-title' }, 'Speed × thickness'),
-        h('p', { class: 'section-intro' }, CHART_INTRO),
+      introSection(
+        'wall-chart-section',
+        'chart-title',
+        'Speed × thickness',
+        CHART_INTRO,
         h('div', { class: 'wall-chart-wrap' }, this.chartHost, this.ruleReadouts()),
         chartLegend(),
         this.resultsTable(),
@@ -432,7 +425,8 @@ class CollisionsChapter {
     }
   }
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const sim = this.clock === undefined;
     this.ctl.rates.setDisabled(!sim);
     this.ctl.jitter.input.disabled = !sim;
@@ -455,7 +449,8 @@ class CollisionsChapter {
 
   // ---------------------------------------------------------------- the frame
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const source = this.clock ?? this.lab;
     const hitch = this.clock ? false : this.lab.activeEvent() !== undefined;
     const runs = source.runs;

@@ -32,6 +32,7 @@ import type { SceneCanvas } from '../../ui/canvas.js';
 import { Chart } from '../../ui/chart.js';
 import { button, group, jitterSlider } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import { headRow } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -79,21 +80,13 @@ class DebuggingChapter {
   private readonly timeline: SceneCanvas;
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'debugging-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.lab,
-      render: () => {
-        this.render();
-      },
       restart: () => {
         this.lab.restart();
       },
       mode: () => this.modeLine(),
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Add a fifth run per loop, fed this page’s own animation frames',
         onChange: (on) => {
@@ -139,11 +132,11 @@ class DebuggingChapter {
         h('strong', {}, 'What is guaranteed: '),
         guarantee(catalogueSize()),
       ),
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'debug-bench-title' },
-        h('h2', { id: 'debug-bench-title' }, 'One recording, four displays'),
-        h('p', { class: 'section-intro' }, BENCH_INTRO),
+      introSection(
+        'bench',
+        'debug-bench-title',
+        'One recording, four displays',
+        BENCH_INTRO,
         this.controls(),
         h(
           'div',
@@ -151,19 +144,17 @@ class DebuggingChapter {
           LOOPS.map((info) => this.buildPanel(info)),
         ),
       ),
-      h(
-        'section',
-        { class: 'divergence', 'aria-labelledby': 'divergence-title' },
-        h('h2', { id: 'divergence-title' }, 'How far apart the runs drift'),
-        h(
-          'p',
-          { class: 'section-intro' },
+      introSection(
+        'divergence',
+        'divergence-title',
+        'How far apart the runs drift',
+        [
           'The largest distance between any two displays’ runners at the same moment (the fixed-step runs compared at the same tick). Now: variable Δt ',
           this.divVariable.el,
           ', fixed step ',
           this.divFixed.el,
           '.',
-        ),
+        ],
         h('div', { class: 'chart-card' }, this.divergence.el),
       ),
       why(),
@@ -315,7 +306,8 @@ class DebuggingChapter {
     if (this.lab.realClock) this.shell.driver.restartReal();
   }
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const lab = this.lab;
     const recording = lab.mode === 'recording';
     if (this.shell.time) this.shell.time.skipBtn.disabled = lab.realClock || recording;
@@ -348,7 +340,8 @@ class DebuggingChapter {
     return `${display} · ${what}`;
   }
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const lab = this.lab;
     const recording = lab.mode === 'recording';
     this.inputsOut.set(fmt.count(lab.recordedInputs), lab.recordedInputs);

@@ -42,6 +42,7 @@ import type { SceneCanvas } from '../../ui/canvas.js';
 import type { Chart } from '../../ui/chart.js';
 import { button, group, segmented } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -61,6 +62,25 @@ interface PanelView {
   readonly stall: HTMLElement | undefined;
 }
 
+/** One of the chapter's two benches: its intro and controls, a panel per loop, its chart. */
+function bench(
+  id: string,
+  title: string,
+  intro: HTMLElement,
+  controls: HTMLElement,
+  o: { panels: HTMLElement[]; chartTitle: string; chart: HTMLElement },
+): HTMLElement {
+  return introSection(
+    'bench',
+    id,
+    title,
+    intro,
+    controls,
+    h('div', { class: `panels panels-${o.panels.length}` }, o.panels),
+    h('div', { class: 'chart-card' }, h('h3', {}, o.chartTitle), o.chart),
+  );
+}
+
 class FinalFixesChapter {
   readonly shell: ChapterShell;
   private lab = new FinalLab();
@@ -71,28 +91,21 @@ class FinalFixesChapter {
   private readonly eventsOut = h('ul', { class: 'event-list', 'aria-label': 'Hitches so far' });
   private readonly clockReading = new Readout('span', 'backwards-clock', { className: 'clock' });
   private readonly clockNote = h('span', { class: 'status-item' });
-  private readonly spiralText = h('p', { class: 'section-intro', 'data-testid': 'spiral-intro' });
-  private readonly backText = h('p', { class: 'section-intro', 'data-testid': 'backwards-intro' });
+  /** The sections' intros: what the current settings will show (rewritten as they change). */
+  private readonly spiralText = h('span', { 'data-testid': 'spiral-intro' });
+  private readonly backText = h('span', { 'data-testid': 'backwards-intro' });
   private readonly scratch: number[] = [];
   private textKey = '';
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'final-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.lab,
-      render: () => {
-        this.render();
-      },
       restart: () => {
         if (this.lab.realClock) this.lab = new FinalLab({ ...this.lab.settings }, true);
         else this.lab.restart();
       },
       mode: () => this.shell.display('simulated 60 Hz display'),
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Feed both benches this page’s own animation frames',
         onChange: (on) => {
@@ -119,41 +132,20 @@ class FinalFixesChapter {
     shell.append(
       codePair(),
       timebar,
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'spiral-title' },
-        h('h2', { id: 'spiral-title' }, 'A hitch on a slow machine'),
-        this.spiralText,
-        this.spiralControls(),
-        h(
-          'div',
-          { class: 'panels panels-3' },
-          SPIRAL_LOOPS.map((spec) =>
-            this.buildPanel(spec, SPIRAL_ROWS, '', this.spiralPanels, true),
-          ),
+      bench('spiral-title', 'A hitch on a slow machine', this.spiralText, this.spiralControls(), {
+        panels: SPIRAL_LOOPS.map((spec) =>
+          this.buildPanel(spec, SPIRAL_ROWS, '', this.spiralPanels, true),
         ),
-        h('div', { class: 'chart-card' }, h('h3', {}, 'Steps per frame'), this.stepsChart.el),
-      ),
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'backwards-title' },
-        h('h2', { id: 'backwards-title' }, 'A clock that jumps backwards'),
-        this.backText,
-        this.backControls(),
-        h(
-          'div',
-          { class: 'panels panels-4' },
-          BACKWARDS_LOOPS.map((spec) =>
-            this.buildPanel(spec, BACKWARDS_ROWS, 'backwards-', this.backPanels, false),
-          ),
+        chartTitle: 'Steps per frame',
+        chart: this.stepsChart.el,
+      }),
+      bench('backwards-title', 'A clock that jumps backwards', this.backText, this.backControls(), {
+        panels: BACKWARDS_LOOPS.map((spec) =>
+          this.buildPanel(spec, BACKWARDS_ROWS, 'backwards-', this.backPanels, false),
         ),
-        h(
-          'div',
-          { class: 'chart-card' },
-          h('h3', {}, 'How far behind the display each loop’s time is'),
-          this.simChart.el,
-        ),
-      ),
+        chartTitle: 'How far behind the display each loop’s time is',
+        chart: this.simChart.el,
+      }),
       how(),
     );
     shell.start();
@@ -291,7 +283,8 @@ class FinalFixesChapter {
 
   // ---------------------------------------------------------------- state
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const s = this.lab.settings;
     // (The segmented controls are not re-selected here: this runs during their own clicks.)
     this.eventsOut.replaceChildren(
@@ -314,7 +307,8 @@ class FinalFixesChapter {
 
   // ---------------------------------------------------------------- drawing
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const lab = this.lab;
     const hitch = lab.activeHitch();
     lab.spiral.forEach((run, i) => {

@@ -109,22 +109,14 @@ class GamesChapter {
     const opts = routeOptions(location.hash);
     this.gameId = opts.game ?? 'runner';
     this.mode = opts.mode ?? 'fixed';
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'games-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.session,
-      render: () => {
-        this.render();
-      },
       restart: () => {
         this.newSession(this.session.seed);
       },
       mode: () => this.modeLine(),
       pausedText: () => (this.started ? ' · paused' : ' · press Play'),
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Drive the game with this page’s own animation frames',
         onChange: (on) => {
@@ -527,7 +519,8 @@ class GamesChapter {
     return `${display} · ${loop}`;
   }
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const shell = this.shell;
     if (!shell.paused && !this.started) this.markStarted();
     this.ctl.rate.setDisabled(shell.real);
@@ -541,7 +534,8 @@ class GamesChapter {
       !this.started || this.session.bot || document.activeElement === this.scene.canvas;
   }
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const s = this.session;
     setText(this.seedOut, `seed ${s.seed}`);
     setAttr(this.seedOut, 'data-value', String(s.seed));

@@ -41,6 +41,7 @@ import type { SceneCanvas } from '../../ui/canvas.js';
 import { ideaCards, tryCards } from '../../ui/cards.js';
 import { button, group, jitterSlider, segmented, toggle, setPressed } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -94,22 +95,14 @@ class LoopChapter {
   private readonly realLine = realTimeLine(() => this.clock);
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'loop-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => (this.clock ? this.realLine : this.lab),
-      render: () => {
-        this.render();
-      },
       restart: () => {
         if (this.clock) this.clock = new ClockLab();
         else this.lab.restart();
       },
       mode: () => this.shell.display(`simulated display · ${this.lab.settings.hz} Hz`),
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Feed the loops this page’s own requestAnimationFrame times',
         onChange: (on) => {
@@ -171,11 +164,11 @@ class LoopChapter {
     );
     shell.append(
       ideaCards({ id: 'evolution-title', title: 'How the loop evolved', cards: EVOLUTION }),
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'bench-title' },
-        h('h2', { id: 'bench-title' }, 'Five loops, one ball, one display'),
-        h('p', { class: 'section-intro' }, BENCH_INTRO),
+      introSection(
+        'bench',
+        'bench-title',
+        'Five loops, one ball, one display',
+        BENCH_INTRO,
         controls,
         this.compareTable(),
         this.panelGrid,
@@ -329,7 +322,8 @@ class LoopChapter {
     this.shell.setInterpolation(true);
   }
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const sim = this.clock === undefined;
     this.rates.setDisabled(!sim);
     this.jitter.input.disabled = !sim;
@@ -362,7 +356,8 @@ class LoopChapter {
 
   // ---------------------------------------------------------------- drawing
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const runs = this.clock ? this.clock.runs : this.lab.runs;
     const t = this.clock ? this.clock.timeMs : this.lab.timeMs;
     const event = this.clock ? undefined : this.lab.activeEvent()?.kind;

@@ -30,6 +30,7 @@ import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapte
 import { Chart } from '../../ui/chart.js';
 import { button, group, jitterSlider } from '../../ui/controls.js';
 import { h, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import { headRow } from '../../ui/panel.js';
 import { Readout } from '../../ui/readout.js';
 
@@ -64,14 +65,9 @@ class MovementChapter {
   private sweepJitter = NaN;
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'movement-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.lab,
-      render: () => {
-        this.render();
-      },
       restart: () => {
         if (this.lab.realClock) this.lab = this.fresh(true);
         else this.lab.restart();
@@ -80,9 +76,6 @@ class MovementChapter {
         this.shell.display(
           `simulated displays · jitter ±${Math.round(this.lab.settings.jitter * 100)} %`,
         ),
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Add a fifth run per loop, fed this page’s own animation frames',
         onChange: (on) => {
@@ -111,11 +104,11 @@ class MovementChapter {
     this.apexChart = charts[0];
     this.landingChart = charts[1];
     shell.append(
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'movement-bench-title' },
-        h('h2', { id: 'movement-bench-title' }, 'One jump, four displays'),
-        h('p', { class: 'section-intro' }, BENCH_INTRO),
+      introSection(
+        'bench',
+        'movement-bench-title',
+        'One jump, four displays',
+        BENCH_INTRO,
         shell.controls(
           'Displays and time',
           group('Displays', h('span', { class: 'rate-chips' }, RATES.map(rateChip))),
@@ -131,11 +124,11 @@ class MovementChapter {
         ),
         legend(),
       ),
-      h(
-        'section',
-        { class: 'sweep', 'aria-labelledby': 'sweep-title' },
-        h('h2', { id: 'sweep-title' }, SWEEP_TITLE),
-        h('p', { class: 'section-intro' }, SWEEP_INTRO),
+      introSection(
+        'sweep',
+        'sweep-title',
+        SWEEP_TITLE,
+        SWEEP_INTRO,
         h('div', { class: 'chart-pair' }, this.apexChart.el, this.landingChart.el),
       ),
       why(),
@@ -219,7 +212,8 @@ class MovementChapter {
 
   // ---------------------------------------------------------------- state
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const real = this.lab.realClock;
     this.jitter.input.disabled = real;
     this.jitter.set(Math.round(this.lab.settings.jitter * 100));
@@ -238,7 +232,8 @@ class MovementChapter {
 
   // ---------------------------------------------------------------- drawing
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const lab = this.lab;
     const hz = this.shell.measuredHz;
     for (const v of this.views) {

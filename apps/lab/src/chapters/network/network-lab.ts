@@ -18,7 +18,7 @@ import {
 } from 'fixedstep';
 import type { Game, RegisteredGame } from '@fixedstep/games';
 import { gameDef } from '../../games-view/games.js';
-import { confirmedCheckpoint, lossOf } from '../../shell/simulated-machines.js';
+import { agreementOf } from '../../shell/simulated-machines.js';
 import {
   CHECKPOINT_TICKS,
   DEFAULT_NET_SETTINGS,
@@ -165,10 +165,9 @@ export class NetMatch extends TwoPlayerMatch {
 
   readouts(): MatchReadouts {
     const [a, b] = this.sessions;
-    const { checkpoint, hashes } = confirmedCheckpoint(a, b, CHECKPOINT_TICKS);
     const desyncs = this.relay.room('lab')?.desyncs.length ?? 0;
-    const { lost, sent } = lossOf(this.links);
     return {
+      ...agreementOf(a, b, CHECKPOINT_TICKS, desyncs, this.links),
       mode: this.mode,
       ticks: [a.tick, b.tick],
       inputDelay: Math.max(a.stats.inputDelay, b.stats.inputDelay),
@@ -176,12 +175,6 @@ export class NetMatch extends TwoPlayerMatch {
       maxDepth: Math.max(a.stats.maxRollbackDepth, b.stats.maxRollbackDepth),
       stalls: a.stats.stalls + b.stats.stalls,
       rttMs: Math.max(a.stats.rtt, b.stats.rtt),
-      checkpoint,
-      hashes,
-      equal: hashes[0] !== '' && hashes[0] === hashes[1] && desyncs === 0,
-      desyncs,
-      lost,
-      sent,
       renderDelayMs: 0,
       lead: Math.max(a.stats.lead, b.stats.lead),
       snapshots: 0,

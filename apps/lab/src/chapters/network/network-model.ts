@@ -5,7 +5,7 @@
  */
 import { SimulatedLink, type LinkConditions } from 'fixedstep';
 import type { Game, RegisteredGame } from '@fixedstep/games';
-import { SimulatedMachines } from '../../shell/simulated-machines.js';
+import { SimulatedMachines, type Agreement } from '../../shell/simulated-machines.js';
 
 /** The three network models, side by side. */
 export type NetMode = 'statesync' | 'lockstep' | 'rollback';
@@ -51,8 +51,11 @@ export function linkOf(s: NetSettings): LinkConditions {
   return { latencyMs: s.latencyMs, jitterMs: s.jitterMs, loss: s.loss };
 }
 
-/** What the page shows of one match. */
-export interface MatchReadouts {
+/**
+ * What the page shows of one match: its numbers, and whether the machines agree (lockstep and
+ * rollback: the relay's desyncs; state sync: bad snapshots, and the server's hash too).
+ */
+export interface MatchReadouts extends Agreement {
   mode: NetMode;
   ticks: [number, number];
   /** Lockstep: input delay now, ticks (the larger of the two players'). */
@@ -62,15 +65,6 @@ export interface MatchReadouts {
   maxDepth: number;
   stalls: number;
   rttMs: number;
-  /** The last checkpoint both machines have a confirmed state of (-1: none yet). */
-  checkpoint: number;
-  hashes: [string, string];
-  /** Both machines have a hash at the checkpoint, equal, and no desync was seen. */
-  equal: boolean;
-  desyncs: number;
-  /** Messages lost on all links so far. */
-  lost: number;
-  sent: number;
   /** State sync: render delay (ms), prediction lead (ticks), snapshots received (both machines). */
   renderDelayMs: number;
   lead: number;

@@ -9,6 +9,7 @@ import type { NetEvent, SessionError, SessionPhase, StateSyncEvent } from 'fixed
 import { SceneCanvas } from '../../ui/canvas.js';
 import { button } from '../../ui/controls.js';
 import { h, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import { Readout } from '../../ui/readout.js';
 import { ASPECT } from '../../games-view/render.js';
 
@@ -146,11 +147,11 @@ export abstract class OnlineRoomPanel<S extends PanelSession> {
     controls: HTMLElement[];
     body: HTMLElement[];
   }): HTMLElement {
-    return h(
-      'section',
-      { class: 'bench net-online', 'aria-labelledby': `${o.id}-title` },
-      h('h2', { id: `${o.id}-title` }, o.title),
-      h('p', { class: 'section-intro' }, o.intro),
+    return introSection(
+      'bench net-online',
+      `${o.id}-title`,
+      o.title,
+      o.intro,
       h('div', { class: 'controls', role: 'group', 'aria-label': o.controlsLabel }, ...o.controls),
       ...o.body,
     );

@@ -37,6 +37,7 @@ import type { SceneCanvas } from '../../ui/canvas.js';
 import { clearScene } from '../../ui/canvas.js';
 import { group, linkSliders, segmented, toggle } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
 import { keyMap } from '../../games-view/games.js';
@@ -60,14 +61,9 @@ class NetworkChapter {
   private keys = 0;
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'network-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.lab,
-      render: () => {
-        this.render();
-      },
       restart: () => {
         this.lab.restart();
       },
@@ -92,11 +88,11 @@ class NetworkChapter {
         h('strong', {}, 'Two ways to agree: '),
         GUARANTEE,
       ),
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'net-bench-title' },
-        h('h2', { id: 'net-bench-title' }, 'Two players, one page, a bad network'),
-        h('p', { class: 'section-intro' }, BENCH_INTRO),
+      introSection(
+        'bench',
+        'net-bench-title',
+        'Two players, one page, a bad network',
+        BENCH_INTRO,
         this.controls(),
         h(
           'div',
@@ -289,7 +285,8 @@ class NetworkChapter {
     }
   }
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const all = this.lab.readouts();
     for (const mode of NET_MODES) this.renderPanel(mode, all[mode]);
     for (const n of this.lab.compare()) this.renderCompare(n);

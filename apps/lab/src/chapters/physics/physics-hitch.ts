@@ -4,6 +4,7 @@
  * that makes the display hitch. The model is {@link HitchLab} (physics-lab.ts).
  */
 import { h } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import { button } from '../../ui/controls.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -71,15 +72,11 @@ export class HitchSection {
       onChange();
     });
     hitchBtn.title = `The display shows no frame for ${HITCH_MS} ms, from now`;
-    this.el = h(
-      'section',
-      { class: 'hitch-section', 'aria-labelledby': 'hitch-title' },
-      h('h2', { id: 'hitch-title' }, 'A hitch under a variable Δt'),
-      h(
-        'p',
-        { class: 'section-intro' },
-        `Everything above runs at a fixed step. Here is the talk’s own spring code — v += a·dt; x += v·dt — with a stiffer spring (k = ${HITCH_OMEGA * HITCH_OMEGA} N/m on 1 kg, ω = ${HITCH_OMEGA} rad/s) on a ${HITCH_DISPLAY.hz} Hz display with ±${HITCH_DISPLAY.jitter * 100} % jitter, twice: handed each frame’s Δt, and through the fixed step. Frames of up to 43 ms keep ω·dt under the method’s limit of 2 either way. Then make the display hitch: the variable loop takes one update of ω·dt ≈ 2.8, past the limit, and the spring’s energy jumps — by how much depends on where in its swing it is. The fixed step takes ordinary 30 ms steps and does not notice.`,
-      ),
+    this.el = introSection(
+      'hitch-section',
+      'hitch-title',
+      'A hitch under a variable Δt',
+      `Everything above runs at a fixed step. Here is the talk’s own spring code — v += a·dt; x += v·dt — with a stiffer spring (k = ${HITCH_OMEGA * HITCH_OMEGA} N/m on 1 kg, ω = ${HITCH_OMEGA} rad/s) on a ${HITCH_DISPLAY.hz} Hz display with ±${HITCH_DISPLAY.jitter * 100} % jitter, twice: handed each frame’s Δt, and through the fixed step. Frames of up to 43 ms keep ω·dt under the method’s limit of 2 either way. Then make the display hitch: the variable loop takes one update of ω·dt ≈ 2.8, past the limit, and the spring’s energy jumps — by how much depends on where in its swing it is. The fixed step takes ordinary 30 ms steps and does not notice.`,
       h(
         'div',
         { class: 'controls hitch-controls' },

@@ -9,6 +9,7 @@ import type { ChapterShell } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { button, group, ladderSlider } from '../../ui/controls.js';
 import { h, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
 import {
@@ -103,11 +104,11 @@ export class RopeSection {
     );
     const o = this.out;
     const row = (r: Readout, label: string, title: string) => [h('dt', { title }, label), r.el];
-    this.el = h(
-      'section',
-      { class: 'rope-section', 'aria-labelledby': 'rope-title' },
-      h('h2', { id: 'rope-title' }, 'A rope'),
-      h('p', { class: 'section-intro' }, ROPE_INTRO),
+    this.el = introSection(
+      'rope-section',
+      'rope-title',
+      'A rope',
+      ROPE_INTRO,
       controls,
       h(
         'div',

@@ -47,6 +47,7 @@ import type { SceneCanvas } from '../../ui/canvas.js';
 import { tryCards } from '../../ui/cards.js';
 import { ladderSlider, slider } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
 import './physics.css';
@@ -95,14 +96,9 @@ class PhysicsChapter {
   private readonly rope: RopeSection;
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'physics-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => (this.clock ? this.realLine : this.lab),
-      render: () => {
-        this.render();
-      },
       restart: () => {
         this.hitch.restart();
         if (this.clock) this.clock = new ClockPhysics(this.lab.settings);
@@ -110,9 +106,6 @@ class PhysicsChapter {
         this.rope.forgetPoke();
       },
       mode: () => this.shell.display('simulated display · 60 Hz'),
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Drive the fixed-step loop with this page’s own requestAnimationFrame times',
         onChange: (on) => {
@@ -180,11 +173,11 @@ class PhysicsChapter {
     });
     shell.append(
       methodsIntro(),
-      h(
-        'section',
-        { class: 'bench', 'aria-labelledby': 'spring-title' },
-        h('h2', { id: 'spring-title' }, 'One spring, six integrators'),
-        h('p', { class: 'section-intro' }, SPRING_INTRO),
+      introSection(
+        'bench',
+        'spring-title',
+        'One spring, six integrators',
+        SPRING_INTRO,
         shell.controls(
           'The spring',
           this.step.el,
@@ -395,7 +388,8 @@ class PhysicsChapter {
     this.shell.refresh();
   }
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const s = this.lab.settings;
     this.step.set(s.stepMs);
     this.stiffness.set(s.stiffness);
@@ -409,7 +403,8 @@ class PhysicsChapter {
     return this.clock ? this.clock.run : this.lab.run;
   }
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const run = this.run();
     const t = this.clock ? this.clock.timeMs : this.lab.timeMs;
     this.hitch.render(t);

@@ -19,6 +19,7 @@ import {
 import { h, setAttr, setText } from '../../ui/dom.js';
 import { download } from '../../ui/download.js';
 import * as fmt from '../../ui/format.js';
+import { headRow } from '../../ui/panel.js';
 import { Readout, rateColor } from '../../ui/readout.js';
 import {
   DISPLAY_RATES,
@@ -100,17 +101,9 @@ class ReplaysChapter {
   private readonly how = h('div', {});
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'replays-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.lab,
-      render: () => {
-        this.render();
-      },
-      refresh: () => {
-        this.refreshControls();
-      },
       realClock: {
         title: 'Play the replay on this page’s own animation frames',
         onChange: (on) => {
@@ -405,16 +398,7 @@ class ReplaysChapter {
       h(
         'table',
         { class: 'data-table compare-table' },
-        h(
-          'thead',
-          {},
-          h(
-            'tr',
-            {},
-            h('th', { scope: 'col' }, 'Source'),
-            h('th', { scope: 'col' }, 'Hash at that tick'),
-          ),
-        ),
+        headRow('Source', 'Hash at that tick'),
         this.compareBody,
       ),
       this.compareNote,
@@ -596,7 +580,8 @@ class ReplaysChapter {
 
   // ---------------------------------------------------------------- drawing
 
-  private refreshControls(): void {
+  /** Bring the controls up to date (the shell calls it after every change). */
+  refreshControls(): void {
     const lab = this.lab;
     const real = this.shell.real;
     const playing = lab?.player.isPlaying ?? false;
@@ -608,7 +593,8 @@ class ReplaysChapter {
     for (const b of this.transport) b.disabled = lab === undefined;
   }
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const lab = this.lab;
     if (!lab) return;
     const p = lab.player;

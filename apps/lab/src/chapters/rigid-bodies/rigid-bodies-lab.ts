@@ -63,7 +63,7 @@ import {
   type World,
 } from '@fixedstep/rapier';
 import { DisplayClock, OnDisplayClock, type DisplaySpec } from '../../shell/display-clock.js';
-import { SimulatedMachines, confirmedCheckpoint, lossOf } from '../../shell/simulated-machines.js';
+import { SimulatedMachines, agreementOf, type Agreement } from '../../shell/simulated-machines.js';
 
 /** Ticks per second of every simulation on this page. */
 export const TICK_RATE = 60;
@@ -703,20 +703,10 @@ export interface MachineReadouts {
   shots: [number, number];
 }
 
-/** What the network section shows. */
-export interface NetReadouts {
+/** What the network section shows: the machines, and whether they agree (the relay's desyncs). */
+export interface NetReadouts extends Agreement {
   /** The machine of player 0 (left ball), then of player 1 (right ball). */
   machines: [MachineReadouts, MachineReadouts];
-  /** The last checkpoint both machines have a confirmed state of (-1: none yet). */
-  checkpoint: number;
-  /** Each machine's hash (FNV-1a 64 of `save()`) of its confirmed state there (16 hex, or ''). */
-  hashes: [string, string];
-  /** Both hashes there, equal, and the relay saw no desync. */
-  equal: boolean;
-  desyncs: number;
-  /** Messages lost and sent on all links. */
-  lost: number;
-  sent: number;
 }
 
 /**
@@ -823,9 +813,7 @@ export class TowerNet extends SimulatedMachines {
   readouts(): NetReadouts {
     const a = this.sessionOf(0);
     const b = this.sessionOf(1);
-    const { checkpoint, hashes } = confirmedCheckpoint(a, b, CHECKPOINT_TICKS);
     const desyncs = this.relay.room(NET_ROOM)?.desyncs.length ?? 0;
-    const { lost, sent } = lossOf(this.links);
     const machine = (slot: 0 | 1): MachineReadouts => {
       const s = this.sessionOf(slot);
       const d = this.machine(slot);
@@ -841,12 +829,7 @@ export class TowerNet extends SimulatedMachines {
     };
     return {
       machines: [machine(0), machine(1)],
-      checkpoint,
-      hashes,
-      equal: hashes[0] !== '' && hashes[0] === hashes[1] && desyncs === 0,
-      desyncs,
-      lost,
-      sent,
+      ...agreementOf(a, b, CHECKPOINT_TICKS, desyncs, this.links),
     };
   }
 

@@ -24,6 +24,7 @@ import {
   type Segmented,
 } from '../../ui/controls.js';
 import { h, setAttr, setText } from '../../ui/dom.js';
+import { introSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
 import { aspectOf, drawWorld } from './rigid-bodies-draw.js';
@@ -84,14 +85,9 @@ class RigidBodiesChapter {
   private shownScene: WorldsScene | undefined;
 
   constructor(root: HTMLElement, head: ChapterHead) {
-    this.shell = new ChapterShell(root, {
-      head,
-      className: 'rigid-chapter',
+    this.shell = new ChapterShell(root, head, this, {
       lede: LEDE,
       timeline: () => this.lab,
-      render: () => {
-        this.render();
-      },
       restart: () => {
         this.lab?.restart();
         this.wire();
@@ -349,11 +345,11 @@ class RigidBodiesChapter {
   private knockSection(): HTMLElement {
     const live = this.live;
     const rp = this.replay;
-    return h(
-      'section',
-      { class: 'bench', 'aria-labelledby': 'rigid-knock-title' },
-      h('h2', { id: 'rigid-knock-title' }, 'Knock it over, then replay it'),
-      h('p', { class: 'section-intro' }, KNOCK_INTRO),
+    return introSection(
+      'bench',
+      'rigid-knock-title',
+      'Knock it over, then replay it',
+      KNOCK_INTRO,
       h(
         'div',
         { class: 'duo' },
@@ -437,11 +433,11 @@ class RigidBodiesChapter {
       this.net[id] = out;
       return [h('dt', {}, label), out.el];
     };
-    return h(
-      'section',
-      { class: 'bench', 'aria-labelledby': 'rigid-net-title' },
-      h('h2', { id: 'rigid-net-title' }, 'Rolled back over a bad network'),
-      h('p', { class: 'section-intro' }, NET_INTRO),
+    return introSection(
+      'bench',
+      'rigid-net-title',
+      'Rolled back over a bad network',
+      NET_INTRO,
       controls,
       h('div', { class: 'duo' }, machine(0), machine(1)),
       h(
@@ -499,7 +495,8 @@ class RigidBodiesChapter {
 
   // ------------------------------------------------------------------------------ drawing
 
-  private render(): void {
+  /** Draw the current state and write the readouts (the shell calls it every frame). */
+  render(): void {
     const lab = this.lab;
     const mod = this.mod;
     const all = [this.live, this.replay, ...this.machines, ...this.worlds];

@@ -8,6 +8,7 @@ export type { SessionPhase, SessionErrorCode, SessionEvent } from './events.js';
 export { NetSession } from './base.js';
 export { setupFromWelcome } from './relay-options.js';
 export type { NetEvent, NetSessionOptions, NetSessionStats } from './relay-options.js';
+export type { LinkStats } from './link-stats.js';
 export { LockstepSession } from './lockstep.js';
 export type { LockstepSessionOptions } from './lockstep.js';
 export { SpectatorSession } from './spectator.js';

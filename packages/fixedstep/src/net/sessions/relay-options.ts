@@ -10,6 +10,7 @@ import type { Simulation } from '../../sim/simulation.js';
 import type { Clock } from '../../time/drivers.js';
 import type { DesyncMessage, WelcomeMessage } from '../relay/messages.js';
 import type { LeaveReason } from '../wire/common.js';
+import { emptyLinkStats, type LinkStats } from './link-stats.js';
 import type { Transport } from '../transport.js';
 import type { SessionEvent } from './events.js';
 
@@ -112,7 +113,7 @@ export interface NetSessionOptions<I = ButtonInput> {
 }
 
 /** Counters of a session; all cumulative except the current delays. */
-export interface NetSessionStats {
+export interface NetSessionStats extends LinkStats {
   /** Calls of {@link NetSession.frame}. */
   frames: number;
   /** Ticks stepped forward (not counting resimulation). */
@@ -137,13 +138,6 @@ export interface NetSessionStats {
   lead: number;
   /** Lockstep / spectator: ticks behind the server clock now (adaptive jitter buffer). */
   playoutDelay: number;
-  /** Round trip to the server, min and high of the window, in ms. */
-  rtt: number;
-  rttHigh: number;
-  messagesSent: number;
-  messagesReceived: number;
-  bytesSent: number;
-  bytesReceived: number;
   hashesReported: number;
   /** Messages from the server that could not be decoded. */
   badMessages: number;
@@ -164,12 +158,7 @@ export function emptyNetStats(): NetSessionStats {
     inputDelay: 0,
     lead: 0,
     playoutDelay: 0,
-    rtt: 0,
-    rttHigh: 0,
-    messagesSent: 0,
-    messagesReceived: 0,
-    bytesSent: 0,
-    bytesReceived: 0,
+    ...emptyLinkStats(),
     hashesReported: 0,
     badMessages: 0,
   };

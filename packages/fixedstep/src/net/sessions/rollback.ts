@@ -5,6 +5,7 @@
  * @module
  */
 import type { ButtonInput } from '../../sim/buttons.js';
+import { LeadTicks } from '../clock-sync.js';
 import { diffSnapshots } from '../forensics.js';
 import { InputRing, type SavesInto } from '../history.js';
 import { NetSession } from './base.js';
@@ -68,8 +69,7 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
   private readonly maxPrediction: number;
   private readonly autoLead: boolean;
   private readonly predict: ((last: I, player: number) => I) | undefined;
-  private leadTicks = -1;
-  private lastLeadMove = -Infinity;
+  private readonly lead = new LeadTicks();
   private used = new InputRing(1, 1);
   private pendingRollback = Infinity;
   private row: I[] = [];
@@ -92,7 +92,7 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
       );
     }
     this.autoLead = options.lead === undefined || options.lead === 'auto';
-    if (typeof options.lead === 'number') this.leadTicks = options.lead;
+    if (typeof options.lead === 'number') this.lead.ticks = options.lead;
     this.predict = options.predict;
   }
 
@@ -181,7 +181,7 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
   }
 
   protected displayTime(now: number): number {
-    return this.serverTick(now) + Math.max(0, this.leadTicks);
+    return this.serverTick(now) + Math.max(0, this.lead.ticks);
   }
 
   protected advance(serverTick: number, now: number): number {
@@ -194,7 +194,7 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
       this.pendingDelay = undefined;
     }
     this.adaptLead(now);
-    const target = Math.min(Math.floor(serverTick) + this.leadTicks, this.stopAt);
+    const target = Math.min(Math.floor(serverTick) + this.lead.ticks, this.stopAt);
     this.issueUntil(target + this.inputDelay);
     this.rollback();
     let n = 0;
@@ -308,16 +308,10 @@ export class RollbackSession<I = ButtonInput> extends NetSession<I> {
           Math.ceil((this.clockSync.rttHigh / 2 + this.tickMs) / this.tickMs) - this.inputDelay,
         ),
       );
-      if (this.leadTicks < 0) {
-        this.leadTicks = want;
-        this.lastLeadMove = now;
-      } else if (want !== this.leadTicks && now - this.lastLeadMove >= 250) {
-        this.leadTicks += want > this.leadTicks ? 1 : -1;
-        this.lastLeadMove = now;
-      }
+      this.lead.follow(want, now);
     }
-    if (this.leadTicks < 0) this.leadTicks = 0;
-    this.stats.lead = this.leadTicks;
+    if (this.lead.ticks < 0) this.lead.ticks = 0;
+    this.stats.lead = this.lead.ticks;
     this.stats.inputDelay = this.inputDelay;
   }
 }

@@ -11,6 +11,7 @@ import type { Transport } from '../transport.js';
 import type { ResyncReason, StateSyncLimits, StateWelcomeMessage } from '../state-sync/messages.js';
 import type { StateSyncRender } from '../state-sync/render.js';
 import type { SessionEvent } from './events.js';
+import { emptyLinkStats, type LinkStats } from './link-stats.js';
 
 /**
  * What a state-sync session tells its owner: the events every session shares
@@ -109,7 +110,7 @@ export interface StateSyncCorrection {
 }
 
 /** Counters of a state-sync session. */
-export interface StateSyncSessionStats {
+export interface StateSyncSessionStats extends LinkStats {
   frames: number;
   /** Forward ticks predicted (resimulation not counted). */
   ticks: number;
@@ -138,13 +139,6 @@ export interface StateSyncSessionStats {
   lead: number;
   renderDelayMs: number;
   jitterMs: number;
-  /** Round trip: the smallest and a high one of the window, ms. */
-  rtt: number;
-  rttHigh: number;
-  messagesSent: number;
-  messagesReceived: number;
-  bytesSent: number;
-  bytesReceived: number;
   /** Messages that did not decode. */
   badMessages: number;
 }
@@ -169,12 +163,7 @@ export function emptyStateSyncStats(): StateSyncSessionStats {
     lead: 0,
     renderDelayMs: 0,
     jitterMs: 0,
-    rtt: 0,
-    rttHigh: 0,
-    messagesSent: 0,
-    messagesReceived: 0,
-    bytesSent: 0,
-    bytesReceived: 0,
+    ...emptyLinkStats(),
     badMessages: 0,
   };
 }

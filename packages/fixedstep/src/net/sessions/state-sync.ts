@@ -8,7 +8,7 @@ import { fnv1a64 } from '../../det/hash.js';
 import type { GameDefinition, GameSetup } from '../../sim/game.js';
 import type { Simulation } from '../../sim/simulation.js';
 import type { Clock } from '../../time/drivers.js';
-import { ClockSync } from '../clock-sync.js';
+import { ClockSync, LeadTicks } from '../clock-sync.js';
 import { InputRing, SnapshotRing } from '../history.js';
 import { ProtocolError } from '../wire/error.js';
 import type { ErrorMessage } from '../wire/common.js';
@@ -109,8 +109,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
   private pingsSent = 0;
   private nextPingAt = -Infinity;
   private joinSentAt = -Infinity;
-  private leadTicks = -1;
-  private lastLeadMove = -Infinity;
+  private readonly lead = new LeadTicks();
   private leadExtra = 0;
   private lastFilled = 0;
   private lastFillAt = -Infinity;
@@ -151,7 +150,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
           `StateSyncSession: lead must be 'auto' or an integer from 0 to maxPrediction - 1, got ${options.lead}`,
         );
       }
-      this.leadTicks = options.lead;
+      this.lead.ticks = options.lead;
     }
     this.autoDelay = options.renderDelay === undefined || options.renderDelay === 'auto';
     if (typeof options.renderDelay === 'number') {
@@ -323,14 +322,14 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       this.adaptLead(now);
       const server = this.serverTick(now);
       const target = Math.min(
-        Math.floor(server) + this.leadTicks,
+        Math.floor(server) + this.lead.ticks,
         this.newest + this.maxPrediction,
       );
       while (this.sim.tick < target && n < this.maxTicksPerFrame) {
         this.stepPredicted(true);
         n++;
       }
-      if (this.sim.tick < Math.floor(server) + this.leadTicks && this.sim.tick >= target) {
+      if (this.sim.tick < Math.floor(server) + this.lead.ticks && this.sim.tick >= target) {
         this.stats.stallFrames++;
       }
       this.stats.ticks += n;
@@ -350,7 +349,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     const w = this.welcomeMsg;
     if (!d.enabled || !w || !this.appliedOnce) return d.out;
     const server = this.serverTick(now);
-    const own = w.slot >= 0 && this.sim ? server + this.leadTicks - this.sim.tick : undefined;
+    const own = w.slot >= 0 && this.sim ? server + this.lead.ticks - this.sim.tick : undefined;
     if (d.draw(server - this.renderDelayMs / this.tickMs, own, now)) this.stats.starvedFrames++;
     return d.out;
   }
@@ -461,15 +460,9 @@ export class StateSyncSession<I, S extends Simulation<I>> {
           Math.ceil(this.clockSync.rttHigh / 2 / this.tickMs) + 2 + this.leadExtra,
         ),
       );
-      if (this.leadTicks < 0) {
-        this.leadTicks = want;
-        this.lastLeadMove = now;
-      } else if (want !== this.leadTicks && now - this.lastLeadMove >= 250) {
-        this.leadTicks += want > this.leadTicks ? 1 : -1;
-        this.lastLeadMove = now;
-      }
+      this.lead.follow(want, now);
     }
-    this.stats.lead = this.leadTicks;
+    this.stats.lead = this.lead.ticks;
   }
 
   private adaptDelay(now: number): void {
