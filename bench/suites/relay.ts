@@ -849,7 +849,7 @@ class Counter implements Simulation {
   }
 }
 
-interface BalancedRun {
+export interface BalancedRun {
   processes: number;
   players: number;
   seconds: number;
@@ -867,8 +867,8 @@ interface BalancedRun {
  * HAProxy with deploy/haproxy/haproxy.cfg to `processes` `fixedstep serve` processes (1: all three
  * server lines point at the same process), for `seconds` of real time after every room started.
  */
-async function runBalanced(
-  haproxy: string,
+export async function runBalanced(
+  haproxy: string | undefined,
   processes: number,
   players: number,
   seconds: number,
@@ -897,7 +897,7 @@ async function runBalanced(
             env: {
               ...process.env,
               // HAProxy passes each client's address on; the caps per address stay as deployed.
-              FIXEDSTEP_PROXY_HEADER: 'x-forwarded-for',
+              ...(haproxy !== undefined ? { FIXEDSTEP_PROXY_HEADER: 'x-forwarded-for' } : {}),
             },
             stdio: ['ignore', 'pipe', 'inherit'],
           },
@@ -917,38 +917,43 @@ async function runBalanced(
         return { pid: child.pid!, port };
       }),
     );
-    const lbPort = await freePort();
-    const statsPort = await freePort();
-    const extra = path.join(dir, 'stats.cfg');
-    await writeFile(
-      extra,
-      `frontend bench_stats\n  bind 127.0.0.1:${statsPort}\n` +
-        `  http-request return status 200 content-type text/plain lf-string "%[nbsrv(relays_by_room)]"\n`,
-    );
-    const server = (i: number) => `127.0.0.1:${relays[i % processes]!.port}`;
-    const lb = spawn(
-      haproxy,
-      ['-db', '-f', path.join(ROOT, 'deploy/haproxy/haproxy.cfg'), '-f', extra],
-      {
-        env: {
-          PATH: process.env.PATH ?? '',
-          FIXEDSTEP_BIND: `127.0.0.1:${lbPort}`,
-          FIXEDSTEP_RELAY1: server(0),
-          FIXEDSTEP_RELAY2: server(1),
-          FIXEDSTEP_RELAY3: server(2),
+    // Without HAProxy: the players connect to the one relay directly.
+    let lbPort = relays[0]!.port;
+    let lbPid: number | undefined;
+    if (haproxy !== undefined) {
+      lbPort = await freePort();
+      const statsPort = await freePort();
+      const extra = path.join(dir, 'stats.cfg');
+      await writeFile(
+        extra,
+        `frontend bench_stats\n  bind 127.0.0.1:${statsPort}\n` +
+          `  http-request return status 200 content-type text/plain lf-string "%[nbsrv(relays_by_room)]"\n`,
+      );
+      const server = (i: number) => `127.0.0.1:${relays[i % processes]!.port}`;
+      const lb = spawn(
+        haproxy,
+        ['-db', '-f', path.join(ROOT, 'deploy/haproxy/haproxy.cfg'), '-f', extra],
+        {
+          env: {
+            PATH: process.env.PATH ?? '',
+            FIXEDSTEP_BIND: `127.0.0.1:${lbPort}`,
+            FIXEDSTEP_RELAY1: server(0),
+            FIXEDSTEP_RELAY2: server(1),
+            FIXEDSTEP_RELAY3: server(2),
+          },
+          stdio: 'ignore',
         },
-        stdio: 'ignore',
-      },
-    );
-    children.push(lb);
-    await waitFor('HAProxy', async () => {
-      try {
-        return (await (await fetch(`http://127.0.0.1:${statsPort}/`)).text()) === '3';
-      } catch {
-        return false;
-      }
-    });
-
+      );
+      children.push(lb);
+      await waitFor('HAProxy', async () => {
+        try {
+          return (await (await fetch(`http://127.0.0.1:${statsPort}/`)).text()) === '3';
+        } catch {
+          return false;
+        }
+      });
+      lbPid = lb.pid;
+    }
     const clock = performanceClock();
     const delays: number[] = [];
     let measuring = false;
@@ -1021,7 +1026,7 @@ async function runBalanced(
     const late0 = sessions.reduce((a, s) => a + s.stats.replacedInputs, 0);
     const ticks0 = sessions.reduce((a, s) => a + s.tick, 0);
     const cpu0 = relays.map((r) => cpuSeconds(r.pid));
-    const lb0 = cpuSeconds(lb.pid!);
+    const lb0 = lbPid === undefined ? 0 : cpuSeconds(lbPid);
     const gen0 = process.cpuUsage();
     const t0 = performance.now();
     measuring = true;
@@ -1034,7 +1039,7 @@ async function runBalanced(
       players,
       seconds: wall,
       relayCpu: relays.map((r, i) => (cpuSeconds(r.pid) - cpu0[i]!) / wall),
-      haproxyCpu: (cpuSeconds(lb.pid!) - lb0) / wall,
+      haproxyCpu: lbPid === undefined ? 0 : (cpuSeconds(lbPid) - lb0) / wall,
       generatorCpu: (gen.user + gen.system) / 1e6 / wall,
       clientDelay: Float64Array.from(delays),
       lateInputs: sessions.reduce((a, s) => a + s.stats.replacedInputs, 0) - late0,

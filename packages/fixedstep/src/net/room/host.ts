@@ -6,8 +6,9 @@ import type { Clock } from '../../time/drivers.js';
 import type { Transport } from '../transport.js';
 import { refusalCode, type LeaveReason, type NetErrorCode } from '../wire/common.js';
 import { ProtocolError } from '../wire/error.js';
-import type { WireProtocol } from '../wire/protocol.js';
+import type { DecodeOptions, WireProtocol } from '../wire/protocol.js';
 import { AddressTally } from './admission.js';
+import { HostRoomContext, type HostInternals } from './context.js';
 import { TokenBucket } from './bucket.js';
 import { LivenessClock } from './liveness.js';
 import {
@@ -105,35 +106,12 @@ export abstract class RoomHost<
     );
     this.answersPings = protocol.types.includes('pong');
     this.probes = protocol.types.includes('ping') && protocol.sender('ping') === 'both';
-    this.context = {
-      settings: this.settings,
+    // The host's protected parts, as its context calls them (see `context.ts`).
+    this.context = new HostRoomContext(
+      this as unknown as HostInternals<M, Msg>,
+      this.settings,
       clock,
-      send: (m, message) => {
-        this.send(m, message);
-      },
-      sendBytes: (m, bytes) => {
-        this.sendBytes(m, bytes);
-      },
-      drop: (m, code, message, reason) => {
-        // A connection replaced by its player's reconnect did nothing wrong: not counted.
-        this.drop(m, code, message, reason, reason !== 'replaced');
-      },
-      strike: (m, code, message) => {
-        this.strike(m, code, message);
-      },
-      leave: (m) => {
-        this.removeMember(m, 'left');
-        m.transport.close('left');
-      },
-      randomU32: () => this.random() >>> 0,
-      silence: (m, now) => this.liveness.at(now) - m.heardAt,
-      emit: (event) => {
-        this.emit(event);
-      },
-      closeRoom: (room, code, message) => {
-        this.closeRoom(room as R, code, message);
-      },
-    };
+    );
   }
 
   // ------------------------------------------------------------------------------ public
@@ -204,7 +182,8 @@ export abstract class RoomHost<
       this.checkLiveness(now);
       this.checkRooms(now);
     }
-    for (const room of [...this.rooms.values()]) {
+    // A room closed meanwhile leaves the map; a Map's iteration takes that in its stride.
+    for (const room of this.rooms.values()) {
       try {
         room.advance(now);
       } catch (error) {
@@ -310,9 +289,19 @@ export abstract class RoomHost<
    */
   protected abstract onJoinMessage(m: M, message: Msg, now: number): boolean;
 
-  /** The decode limits of the protocol (default: the protocol's own). */
+  /** The decode limits of the protocol (default: the protocol's own). Asked once. */
   protected decodeLimits(): object | undefined {
     return undefined;
+  }
+
+  // What every client message is decoded with: made once (every message of a match needs it).
+  private clientDecode: DecodeOptions<object> | undefined;
+  private decodeOptions(): DecodeOptions<object> {
+    if (this.clientDecode === undefined) {
+      const limits = this.decodeLimits();
+      this.clientDecode = { from: 'client', ...(limits ? { limits } : {}) };
+    }
+    return this.clientDecode;
   }
 
   /**
@@ -505,8 +494,7 @@ export abstract class RoomHost<
     }
     let message: Msg;
     try {
-      const limits = this.decodeLimits();
-      message = this.protocol.decode(bytes, { from: 'client', ...(limits ? { limits } : {}) });
+      message = this.protocol.decode(bytes, this.decodeOptions());
     } catch (error) {
       if (!(error instanceof ProtocolError)) throw error;
       this.drop(m, refusalCode(error, bytes, this.protocol.header), error.message);
@@ -674,7 +662,7 @@ export abstract class RoomHost<
     let members = 0;
     for (const r of this.rooms.values()) {
       if (r.state === 'waiting') waiting++;
-      members += [...r.members()].length;
+      members += r.countMembers();
     }
     this.stats.waitingRooms = waiting;
     this.stats.members = members;

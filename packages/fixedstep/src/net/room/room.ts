@@ -151,6 +151,14 @@ export abstract class Room<M extends Member> {
     for (const c of this.spectators) if (c.state === 'member') yield c;
   }
 
+  /** How many {@link members} there are. */
+  countMembers(): number {
+    let n = 0;
+    for (const s of this.seats) if (s.member?.state === 'member') n++;
+    for (const c of this.spectators) if (c.state === 'member') n++;
+    return n;
+  }
+
   /** Every connection in the room, joining or member. */
   *connections(): Generator<M> {
     for (const s of this.seats) if (s.member !== undefined) yield s.member;

@@ -7,7 +7,7 @@
 import type { ByteWriter } from '../../det/bytes.js';
 import type { Random } from '../../det/random.js';
 import type { Fast, Field, Fields, Limits, WireReader } from './field.js';
-import { fastProblem, fastRead, fastWrite } from './scalars.js';
+import { failUint, fastProblem, fastRead, fastWrite, isInlineUint } from './scalars.js';
 
 /** Node (or a runtime like it): where {@link Layout} compiles its codecs. */
 const SERVER_RUNTIME =
@@ -145,14 +145,30 @@ export class Layout {
     const { keys, fasts } = this;
     const q = (k: string) => JSON.stringify(k);
     const init = keys.map((k) => `${q(k)}: undefined`).join(', ');
+    // A uint with a numeric range (most fields of the hot messages) is read and checked inline:
+    // the same calls and refusals as `fastRead` and `fastProblem`, without their switch.
     const reads = keys.map((k, i) => {
       if (this.bits[i]! < 0) return '';
-      const call = fasts[i] ? `fastRead(fasts[${i}], r)` : `fields[${i}].read(r, m)`;
+      const f = fasts[i];
+      if (f && isInlineUint(f)) {
+        return (
+          `r.fieldName = ${q(k)}; at = r.pos; v = r.varint(${q(k)}) + ${f.min}; ` +
+          `if (v > ${f.max}) failUint(r, v, ${f.max}, at); m[${q(k)}] = v;`
+        );
+      }
+      const call = f ? `fastRead(fasts[${i}], r)` : `fields[${i}].read(r, m)`;
       return `r.fieldName = ${q(k)}; m[${q(k)}] = ${call};`;
     });
     const encodes = keys.map((k, i) => {
       const get = `v = m[${q(k)}];`;
-      if (fasts[i]) {
+      const f = fasts[i];
+      if (f && isInlineUint(f)) {
+        return (
+          `${get} if (typeof v !== 'number' || !(v >= ${f.min} && v <= ${f.max} && v - ${f.min} <= 0xffffffff) || !Number.isInteger(v)) ` +
+          `return [${q(k)}, fastProblem(fasts[${i}], v, limits)]; w.varint(v - ${f.min});`
+        );
+      }
+      if (f) {
         return `${get} p = fastProblem(fasts[${i}], v, limits); if (p !== undefined) return [${q(k)}, p]; fastWrite(fasts[${i}], w, v);`;
       }
       const write = this.bits[i]! < 0 ? '' : `fields[${i}].write(w, v, m, limits);`;
@@ -164,10 +180,11 @@ export class Layout {
         'fastRead',
         'fastWrite',
         'fastProblem',
+        'failUint',
         'fasts',
         'fields',
         `return [
-          function read(r, m0) { const m = { type: m0.type, ${init} }; ${reads.join(' ')} return m; },
+          function read(r, m0) { const m = { type: m0.type, ${init} }; let at, v; ${reads.join(' ')} return m; },
           function encode(w, m, limits) { let v, p; ${encodes.join(' ')} return undefined; },
         ];`,
       ) as (
@@ -180,6 +197,7 @@ export class Layout {
         fastRead,
         fastWrite,
         fastProblem,
+        failUint,
         fasts,
         this.fields,
       );

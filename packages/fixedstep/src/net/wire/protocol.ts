@@ -11,7 +11,7 @@
  */
 import { ByteWriter } from '../../det/bytes.js';
 import type { Random } from '../../det/random.js';
-import { ProtocolError } from './error.js';
+import { ProtocolError, type ProtocolErrorCode, type ProtocolErrorPlace } from './error.js';
 import { Layout, WireReader, type Field, type Fields, type Limits } from './fields.js';
 
 /** Who sends a message: a decoder reading one side's messages refuses the other side's. */
@@ -172,26 +172,22 @@ export class WireProtocol<M extends { type: string }, L extends object> {
    */
   decode(bytes: Uint8Array, options: DecodeOptions<L> = {}): M {
     const limits = (options.limits ?? this.limits) as Limits;
-    const place = { protocol: this.name };
+    // Every message of every match comes through here: the error's place is built only on error.
     try {
-      if (!(bytes instanceof Uint8Array)) throw new ProtocolError('BAD_VALUE', 'not bytes', place);
-      if (bytes.length < 2) {
-        throw new ProtocolError('TRUNCATED', 'shorter than a header', { ...place, offset: 0 });
-      }
+      if (!(bytes instanceof Uint8Array)) throw this.error('BAD_VALUE', 'not bytes');
+      if (bytes.length < 2) throw this.error('TRUNCATED', 'shorter than a header', { offset: 0 });
       this.checkHeader(bytes[0]!);
       const c = this.byCode[bytes[1]!];
       if (c === undefined) {
-        throw new ProtocolError('BAD_TYPE', `unknown message type 0x${bytes[1]!.toString(16)}`, {
-          ...place,
+        throw this.error('BAD_TYPE', `unknown message type 0x${bytes[1]!.toString(16)}`, {
           offset: 1,
         });
       }
       if (options.from !== undefined && c.from !== 'both' && c.from !== options.from) {
-        throw new ProtocolError(
+        throw this.error(
           'BAD_TYPE',
           `a ${c.type} is sent by the ${c.from}, not the ${options.from}`,
           {
-            ...place,
             messageType: c.type,
             offset: 1,
           },
@@ -199,11 +195,10 @@ export class WireProtocol<M extends { type: string }, L extends object> {
       }
       const max = 2 + c.layout.maxBytes(limits);
       if (bytes.length > max) {
-        throw new ProtocolError(
+        throw this.error(
           'TOO_LARGE',
           `${bytes.length} bytes; a ${c.type} message is at most ${max}`,
           {
-            ...place,
             messageType: c.type,
           },
         );
@@ -213,20 +208,27 @@ export class WireProtocol<M extends { type: string }, L extends object> {
       const m = c.layout.readMessage(r, c.type);
       r.fieldName = '';
       r.end();
-      const problem = c.check?.(m as never, limits);
-      if (problem !== undefined) {
-        throw new ProtocolError('BAD_VALUE', problem[1], {
-          ...place,
-          messageType: c.type,
-          field: problem[0],
-        });
+      if (c.check !== undefined) {
+        const problem = c.check(m as never, limits);
+        if (problem !== undefined) {
+          throw this.error('BAD_VALUE', problem[1], { messageType: c.type, field: problem[0] });
+        }
       }
       return m as unknown as M;
     } catch (error) {
       if (error instanceof ProtocolError) throw error;
       // A bug here must still surface as the one documented error type.
-      throw new ProtocolError('BAD_VALUE', `undecodable: ${String(error)}`, place);
+      throw this.error('BAD_VALUE', `undecodable: ${String(error)}`);
     }
+  }
+
+  /** A {@link ProtocolError} of this protocol at `place`. */
+  private error(
+    code: ProtocolErrorCode,
+    message: string,
+    place: Omit<ProtocolErrorPlace, 'protocol'> = {},
+  ): ProtocolError {
+    return new ProtocolError(code, message, { protocol: this.name, ...place });
   }
 
   /** The message type of `bytes` without decoding the rest (undefined: unknown, or not this protocol). */
