@@ -26,6 +26,7 @@ import {
   BUTTON_WORD,
   BaseTransport,
   EventScheduler,
+  RELAY_PROTOCOL,
   LockstepSession,
   ManualClock,
   Random,
@@ -146,9 +147,10 @@ function seededU32(seed: number): () => number {
   };
 }
 
-function newRelay(clock: ManualClock, seed: number): Relay {
+function newRelay(clock: ManualClock, seed: number, sendEvery = 1): Relay {
   return new Relay({
     clock,
+    sendEvery,
     catalog: CATALOG,
     randomU32: seededU32(seed),
     hashEvery: HASH_EVERY,
@@ -171,6 +173,8 @@ export interface TraceOptions {
   oneWayMs: number;
   jitterMs: number;
   seed: number;
+  /** The relay's network rate, ticks per send (the clients group their inputs alike). Default 1. */
+  sendEvery?: number;
 }
 
 /** What the relay saw: deliveries (`conn` ≥ 0) and updates (`conn` = -1), in order. */
@@ -221,6 +225,8 @@ interface Client {
   issued: Uint32Array;
   /** Stream: every issued input before this tick has been sent. */
   sentTo: number;
+  /** When it last sent inputs. */
+  lastSentAt: number;
   /** When its input for each tick was first sent (NaN: not yet). */
   sentAt: Float64Array;
   serverInputAck: number;
@@ -246,13 +252,15 @@ export function recordTrace(o: TraceOptions): Trace {
   // The closed loop's events, in time order (ties in the order they were scheduled).
   const scheduler = new EventScheduler(0);
   const clock = scheduler.clock;
-  const relay = newRelay(clock, o.seed);
+  const every = o.sendEvery ?? 1;
+  const relay = newRelay(clock, o.seed, every);
   const push = (at: number, kind: number, client: number, bytes?: Uint8Array): void => {
     scheduler.at(at, () => {
       handle({ at, kind, client, bytes });
     });
   };
-  const inputDelay = inputDelayTicks(2 * (o.oneWayMs + o.jitterMs));
+  // As the LockstepSession picks it: the round trip, and the network rate's grouping both ways.
+  const inputDelay = inputDelayTicks(2 * (o.oneWayMs + o.jitterMs)) + 2 * (every - 1);
   const maxTicks = Math.ceil((o.seconds * 1000) / STEP_MS) + inputDelay + 2 * MAX_WINDOW + 64;
 
   const at: number[] = [];
@@ -291,6 +299,7 @@ export function recordTrace(o: TraceOptions): Trace {
         issueNext: 0,
         issued: new Uint32Array(maxTicks + MAX_WINDOW),
         sentTo: 0,
+        lastSentAt: -Infinity,
         sentAt: new Float64Array(maxTicks + MAX_WINDOW).fill(NaN),
         serverInputAck: 0,
         confirmedEnd: 0,
@@ -323,7 +332,11 @@ export function recordTrace(o: TraceOptions): Trace {
   }
   push(STEP_MS / 2, 2, -1);
 
-  function onRelaySend(c: Client, b: Uint8Array): void {
+  function onRelaySend(c: Client, frame: Uint8Array): void {
+    for (const b of RELAY_PROTOCOL.split(frame)) onRelayMessage(c, b);
+  }
+
+  function onRelayMessage(c: Client, b: Uint8Array): void {
     const m = decodeMessage(b);
     if (steadyFrom >= 0 && clock.now() < endAt) sent.push(m);
     if (m.type !== 'confirmed') return;
@@ -386,7 +399,10 @@ export function recordTrace(o: TraceOptions): Trace {
       fresh = true;
     }
     const from = Math.max(c.serverInputAck, c.issueNext - MAX_WINDOW, o.stream ? c.sentTo : 0);
-    if (fresh && from < c.issueNext) {
+    // The network rate: inputs go in groups of `every` ticks (or once the first has waited that long).
+    const due = c.issueNext - c.sentTo >= every || now - c.lastSentAt >= every * STEP_MS;
+    if ((fresh || c.sentTo < c.issueNext) && due && from < c.issueNext) {
+      c.lastSentAt = now;
       for (let t = from; t < c.issueNext; t++) if (Number.isNaN(c.sentAt[t]!)) c.sentAt[t] = now;
       c.sentTo = c.issueNext;
       clientSend(c, now, {
@@ -462,7 +478,7 @@ export function recordTrace(o: TraceOptions): Trace {
       push(e.at + STEP_MS / 2, 2, -1);
     } else {
       const c = clients[e.client]!;
-      onClientMessage(c, decodeMessage(e.bytes!), e.at);
+      for (const b of RELAY_PROTOCOL.split(e.bytes!)) onClientMessage(c, decodeMessage(b), e.at);
       if (startAt === Infinity && c.startAt !== undefined) {
         startAt = c.startAt;
         endAt = startAt + o.seconds * 1000;
@@ -510,7 +526,7 @@ interface Replay {
 /** A fresh relay fed the trace up to its timed part (handshakes, start). */
 function prepareReplay(trace: Trace, onSend?: (bytes: Uint8Array) => void): Replay {
   const clock = new ManualClock(0);
-  const relay = newRelay(clock, trace.options.seed);
+  const relay = newRelay(clock, trace.options.seed, trace.options.sendEvery);
   const r: Replay = { relay, clock, ends: [], bytesOut: 0 };
   for (let i = 0; i < trace.connections; i++) {
     const end = new BenchTransport(
@@ -581,7 +597,7 @@ export function processingLatency(trace: Trace): { handle: Float64Array; flush: 
   let updateStart = 0n;
   const flush: number[] = [];
   const r = prepareReplay(trace, (b) => {
-    if (updateStart !== 0n && b[1] === 0x05) {
+    if (updateStart !== 0n && (b[1] === 0x05 || b[1] === RELAY_PROTOCOL.batch)) {
       flush.push(Number(process.hrtime.bigint() - updateStart));
     }
   });
@@ -781,6 +797,7 @@ export default defineSuite({
         'confirmed send (rooms earlier in the same update go first).',
     );
 
+    await socketSection(ctx);
     await balancerSection(ctx);
   },
 });
@@ -872,6 +889,7 @@ export async function runBalanced(
   processes: number,
   players: number,
   seconds: number,
+  sendEvery = 1,
 ): Promise<BalancedRun> {
   const dir = await mkdtemp(path.join(os.tmpdir(), 'fixedstep-bench-'));
   const children: ChildProcess[] = [];
@@ -898,6 +916,7 @@ export async function runBalanced(
               ...process.env,
               // HAProxy passes each client's address on; the caps per address stay as deployed.
               ...(haproxy !== undefined ? { FIXEDSTEP_PROXY_HEADER: 'x-forwarded-for' } : {}),
+              FIXEDSTEP_SEND_EVERY: String(sendEvery),
             },
             stdio: ['ignore', 'pipe', 'inherit'],
           },
@@ -974,8 +993,9 @@ export async function runBalanced(
         },
         onMessage: (h) => {
           t.onMessage((b) => {
-            if (measuring && slot >= 0 && peekMessageType(b) === 'confirmed') {
-              const m = decodeMessage(b) as ConfirmedMessage;
+            for (const part of measuring && slot >= 0 ? RELAY_PROTOCOL.split(b) : []) {
+              if (peekMessageType(part) !== 'confirmed') continue;
+              const m = decodeMessage(part) as ConfirmedMessage;
               const end = m.tick + m.inputs.length / (m.players * m.words);
               const now = clock.now();
               for (let k = Math.max(m.tick, confirmedEnd); k < end; k++) {
@@ -1060,6 +1080,61 @@ export async function runBalanced(
     for (const c of children) if (c.exitCode === null && c.signalCode === null) c.kill('SIGKILL');
     await rm(dir, { recursive: true, force: true });
   }
+}
+
+/**
+ * The headline: players per core of one relay process, its players connected over real WebSockets
+ * (on 127.0.0.1, straight to it), at each network rate.
+ */
+async function socketSection(ctx: SuiteContext): Promise<void> {
+  const title = 'Relay capacity through real WebSockets: one process, rooms of 2 at 60 Hz';
+  if (ctx.quick) {
+    ctx.note(`${title}: not in --quick (npm run bench -- relay runs it).`);
+    return;
+  }
+  const players = 400;
+  const seconds = 8;
+  const rows: string[][] = [];
+  for (const every of [1, 2, 3]) {
+    const r = await runBalanced(undefined, 1, players, seconds, every);
+    const cpu = r.relayCpu[0]!;
+    rows.push([
+      `${every} (${fmt(TICK_HZ / every, 0)} Hz)`,
+      `${r.players}`,
+      `${fmt(cpu * 100, 1)} %`,
+      fmt((cpu / r.players) * 1e6, 0),
+      fmt(r.players / cpu, 0),
+      `${fmt(r.generatorCpu * 100, 1)} %`,
+      `${fmt(percentile(r.clientDelay, 50), 1)} / ${fmt(percentile(r.clientDelay, 99), 1)}`,
+      `${fmt((100 * r.lateInputs) / Math.max(1, r.inputs), 2)} %${r.agree ? '' : ' DISAGREE'}`,
+    ]);
+  }
+  ctx.table(
+    title,
+    [
+      'sendEvery (network rate)',
+      'players',
+      'relay CPU (% of a core)',
+      'µs CPU per player-second',
+      'players per core',
+      'load generator CPU',
+      'input → confirmed p50 / p99 ms',
+      'late inputs',
+    ],
+    rows,
+  );
+  ctx.note(
+    `${players} players (LockstepSessions with a trivial game, in this process: the load ` +
+      `generator) in rooms of 2 for ${seconds} s after every room started, each from a loopback ` +
+      `address of its own, connected straight to one \`fixedstep serve\` (FIXEDSTEP_SEND_EVERY ` +
+      `set); relay CPU from /proc (user + system: the socket writes and reads are most of it). ` +
+      `Players per core = players / relay CPU. The relay sends one WebSocket frame a connection a ` +
+      `flush (protocol 5's batch frame when it has several messages); sendEvery groups confirmed ` +
+      `ticks and the players' inputs, fewer frames each way, for the latency in the input → ` +
+      `confirmed column (the client's send to its receipt of the tick confirmed, over loopback). ` +
+      `${cpus().length} cores shared by the relay, the load generator and anything else (load ` +
+      `average ${os.loadavg()[0]!.toFixed(1)}).`,
+  );
 }
 
 async function balancerSection(ctx: SuiteContext): Promise<void> {

@@ -2,7 +2,7 @@ import { describe, expect, it } from 'vitest';
 import {
   RELAY_PROTOCOL,
   SimulatedMatch,
-  decodeMessage,
+  decodeFrame,
   encodeMessage,
   type ErrorMessage,
   type NetErrorCode,
@@ -22,7 +22,7 @@ class Raw {
     /** A room's invite token, which a spectator's hello carries unless told otherwise. */
     private readonly inviteOf: (room: string) => Uint8Array | undefined = () => undefined,
   ) {
-    t.onMessage((b) => this.got.push(decodeMessage(b)));
+    t.onMessage((b) => this.got.push(...decodeFrame(b)));
     t.onClose((r) => (this.closed = r));
   }
   send(m: NetMessage): void {

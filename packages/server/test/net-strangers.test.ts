@@ -8,7 +8,7 @@ import { describe, expect, it } from 'vitest';
 import {
   LockstepSession,
   SimulatedMatch,
-  decodeMessage,
+  decodeFrame,
   encodeMessage,
   type DesyncMessage,
   type ErrorMessage,
@@ -28,11 +28,12 @@ class Raw {
     /** Answer the relay's liveness pings (an idle but live squatter); default: stay silent. */
     answerPings = false,
   ) {
-    t.onMessage((b) => {
-      const m = decodeMessage(b);
-      this.got.push(m);
-      if (answerPings && m.type === 'ping') {
-        this.send({ type: 'pong', id: m.id, time: m.time, serverTime: 0 });
+    t.onMessage((frame) => {
+      for (const m of decodeFrame(frame)) {
+        this.got.push(m);
+        if (answerPings && m.type === 'ping') {
+          this.send({ type: 'pong', id: m.id, time: m.time, serverTime: 0 });
+        }
       }
     });
     t.onClose((r) => (this.closed = r));

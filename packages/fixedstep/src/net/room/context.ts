@@ -24,6 +24,7 @@ export interface HostInternals<M extends Member, Msg extends { type: string }> {
   drop(m: M, code: NetErrorCode, message: string, reason?: LeaveReason, count?: boolean): void;
   strike(m: M, code: NetErrorCode, message: string): void;
   removeMember(m: M, reason: LeaveReason): void;
+  sendFrame(m: M): void;
   emit(event: HostEvent): void;
   closeRoom(room: Room<M>, code: NetErrorCode, message: string): void;
 }
@@ -56,6 +57,7 @@ export class HostRoomContext<M extends Member, Msg extends { type: string }> imp
   }
   leave(m: M): void {
     this.host.removeMember(m, 'left');
+    this.host.sendFrame(m);
     m.transport.close('left');
   }
   silence(m: M, now: number): number {

@@ -9,6 +9,7 @@ import { ProtocolError } from '../wire/error.js';
 import type { DecodeOptions, WireProtocol } from '../wire/protocol.js';
 import { AddressTally } from './admission.js';
 import { HostRoomContext, type HostInternals } from './context.js';
+import { FrameHold } from './frames.js';
 import { TokenBucket } from './bucket.js';
 import { LivenessClock } from './liveness.js';
 import {
@@ -78,6 +79,8 @@ export abstract class RoomHost<
   private lastHousekeeping = -Infinity;
   private closedHost = false;
   private drainState: { deadline: number; resolve: () => void; done: Promise<void> } | undefined;
+  // One frame a member a flush (an update, one client message's handling).
+  private readonly frames: FrameHold<M>;
   /** What rooms get to act on the host. */
   protected readonly context: RoomContext<M, Msg>;
 
@@ -104,6 +107,7 @@ export abstract class RoomHost<
       this.settings.maxRoomsPerAddress,
       this.settings.maxRooms,
     );
+    this.frames = new FrameHold(protocol);
     this.answersPings = protocol.types.includes('pong');
     this.probes = protocol.types.includes('ping') && protocol.sender('ping') === 'both';
     // The host's protected parts, as its context calls them (see `context.ts`).
@@ -154,7 +158,12 @@ export abstract class RoomHost<
     this.countConnections();
     transport.onMessage((bytes) => {
       try {
-        this.onBytes(m, bytes);
+        this.frames.hold();
+        try {
+          this.onBytes(m, bytes);
+        } finally {
+          this.frames.release();
+        }
       } catch (error) {
         // A bug must cost one connection, never the server.
         this.emit({ type: 'internal-error', connection: m.id, error });
@@ -173,6 +182,15 @@ export abstract class RoomHost<
    * few milliseconds (the server does, every 8 ms).
    */
   update(now = this.clock.now()): void {
+    this.frames.hold();
+    try {
+      this.advance(now);
+    } finally {
+      this.frames.release();
+    }
+  }
+
+  private advance(now: number): void {
     this.liveness.update(now);
     this.stats.stalledMs = this.liveness.stalledMs;
     const housekeeping = now - this.lastHousekeeping >= HOUSEKEEPING_MS;
@@ -413,7 +431,12 @@ export abstract class RoomHost<
     if (!m.transport.isOpen) return;
     this.stats.messagesOut++;
     this.stats.bytesOut += bytes.length;
-    m.transport.send(bytes);
+    if (!this.frames.add(m, bytes)) m.transport.send(bytes);
+  }
+
+  /** Sends what is held for `m` now, as one frame (see `FrameHold`). */
+  protected sendFrame(m: M): void {
+    this.frames.send(m);
   }
 
   /** Sends a fatal error and closes; `count` false for shutdowns and replacements. */
@@ -431,6 +454,7 @@ export abstract class RoomHost<
     }
     this.send(m, this.error(code, message, true));
     this.removeMember(m, reason);
+    this.sendFrame(m);
     m.transport.close(`${code}: ${message}`);
   }
 

@@ -49,6 +49,8 @@ export class Member {
   probedAt: number;
   /** Messages before its join (pings, inputs that overtook it) — bounded. */
   early = 0;
+  /** Messages held for one frame at the end of the host's flush (see `RoomHost`). */
+  outgoing: Uint8Array[] = [];
   /** Its room, once seated. */
   room: Room<Member> | undefined;
   /** When it connected, on the host's responsive clock (its join deadline counts from here). */

@@ -9,7 +9,7 @@
  * a message of another protocol, or of an older client, is refused with a sentence that says so.
  * @module
  */
-import { ByteWriter } from '../../det/bytes.js';
+import { ByteWriter, varintSize } from '../../det/bytes.js';
 import type { Random } from '../../det/random.js';
 import { ProtocolError, type ProtocolErrorCode, type ProtocolErrorPlace } from './error.js';
 import { Layout, WireReader, type Field, type Fields, type Limits } from './fields.js';
@@ -53,6 +53,12 @@ export interface ProtocolSpec<M extends { type: string }, L extends object> {
   limits: Readonly<L>;
   /** Every message, by type. */
   messages: { [K in M['type']]: MessageSpec<Extract<M, { type: K }>> };
+  /**
+   * The type byte of a batch frame, if the protocol has them: `[header][batch]` and then, for
+   * each message, its length as a varint and its bytes (header included) — several messages of
+   * one side in one WebSocket frame (see {@link WireProtocol.frame}).
+   */
+  batch?: number;
 }
 
 interface Compiled {
@@ -81,6 +87,8 @@ export class WireProtocol<M extends { type: string }, L extends object> {
   /** Byte 0 of every message. */
   readonly header: number;
   readonly limits: Readonly<L>;
+  /** The type byte of a batch frame, or undefined (see {@link ProtocolSpec.batch}). */
+  readonly batch: number | undefined;
   private readonly byCode: (Compiled | undefined)[] = [];
   private readonly byType = new Map<string, Compiled>();
   // Encoding is synchronous and never re-entered: one buffer serves every message, and a message
@@ -99,6 +107,7 @@ export class WireProtocol<M extends { type: string }, L extends object> {
     this.header = spec.family | spec.version;
     this.limits = Object.freeze({ ...spec.limits });
     FAMILIES.set(spec.family, spec.name);
+    this.batch = spec.batch;
     const messages = spec.messages as Record<string, MessageSpec<{ type: string }>>;
     for (const [type, m] of Object.entries(messages)) {
       if (this.byCode[m.code] !== undefined) {
@@ -111,9 +120,62 @@ export class WireProtocol<M extends { type: string }, L extends object> {
         layout: new Layout(m.fields),
         check: m.check,
       };
+      if (m.code === spec.batch)
+        throw new RangeError(`${spec.name}: type byte ${m.code} is the batch's`);
       this.byCode[m.code] = c;
       this.byType.set(type, c);
     }
+  }
+
+  /**
+   * One frame holding `messages` (each one's bytes, as {@link encode} made them): the message
+   * itself when there is one, else a batch frame — one WebSocket frame instead of several, read
+   * back with {@link split}. Throws when the protocol has no batch frame and there are several.
+   */
+  frame(messages: readonly Uint8Array[]): Uint8Array {
+    if (messages.length === 1) return messages[0]!;
+    if (this.batch === undefined) throw new RangeError(`${this.name}: no batch frames`);
+    let size = 2;
+    for (const b of messages) size += varintSize(b.length) + b.length;
+    const out = new Uint8Array(size);
+    out[0] = this.header;
+    out[1] = this.batch;
+    let at = 2;
+    for (const b of messages) {
+      for (let x = b.length; ; x >>>= 7) {
+        if (x < 0x80) {
+          out[at++] = x;
+          break;
+        }
+        out[at++] = (x & 0x7f) | 0x80;
+      }
+      out.set(b, at);
+      at += b.length;
+    }
+    return out;
+  }
+
+  /**
+   * The messages of one frame: the frame itself, or a batch frame's messages (views into it, each
+   * to {@link decode}). Throws a {@link ProtocolError} for a batch frame that is not a whole
+   * number of non-empty messages; what the messages hold is left to `decode`.
+   */
+  split(frame: Uint8Array): Uint8Array[] {
+    if (this.batch === undefined || frame.length < 2 || frame[1] !== this.batch) return [frame];
+    this.checkHeader(frame[0]!);
+    const r = new WireReader(frame, this.name, this.limits as Limits);
+    r.messageType = 'batch';
+    r.fieldName = 'messages';
+    const out: Uint8Array[] = [];
+    while (r.pos < frame.length) {
+      const n = r.count('message length', frame.length, 2);
+      r.need(n, 'message');
+      out.push(frame.subarray(r.pos, r.pos + n));
+      r.pos += n;
+    }
+    if (out.length < 2)
+      throw this.error('BAD_VALUE', 'a batch of fewer than two messages', { messageType: 'batch' });
+    return out;
   }
 
   /** Every message type. */
@@ -179,7 +241,11 @@ export class WireProtocol<M extends { type: string }, L extends object> {
       this.checkHeader(bytes[0]!);
       const c = this.byCode[bytes[1]!];
       if (c === undefined) {
-        throw this.error('BAD_TYPE', `unknown message type 0x${bytes[1]!.toString(16)}`, {
+        const what =
+          bytes[1] === this.batch
+            ? 'a batch frame: split it into its messages first'
+            : `unknown message type 0x${bytes[1]!.toString(16)}`;
+        throw this.error('BAD_TYPE', what, {
           offset: 1,
         });
       }
