@@ -828,6 +828,16 @@ async function waitFor<T>(what: string, f: () => T | Promise<T>, ms = 60_000): P
   }
 }
 
+/** Waits (up to 60 s) until process `pid` uses under 3 % of a core over a second. */
+async function waitQuiet(pid: number): Promise<void> {
+  const end = performance.now() + 60_000;
+  while (performance.now() < end) {
+    const before = cpuSeconds(pid);
+    await new Promise((r) => setTimeout(r, 1000));
+    if (!(cpuSeconds(pid) - before >= 0.03)) return;
+  }
+}
+
 function freePort(): Promise<number> {
   return new Promise((resolve, reject) => {
     const s = net.createServer();
@@ -877,6 +887,9 @@ export interface BalancedRun {
   lateInputs: number;
   inputs: number;
   agree: boolean;
+  /** WebSocket frames per player per second, up (to the relay) and down, while measuring. */
+  framesUp: number;
+  framesDown: number;
 }
 
 /**
@@ -933,6 +946,10 @@ export async function runBalanced(
             return false;
           }
         });
+        // Quiet before it is measured: a new server's worker threads (the verification pool,
+        // state sync) load and compile their games for a while after it is ready, and that is not
+        // the relay's work.
+        await waitQuiet(child.pid!);
         return { pid: child.pid!, port };
       }),
     );
@@ -976,6 +993,8 @@ export async function runBalanced(
     const clock = performanceClock();
     const delays: number[] = [];
     let measuring = false;
+    let framesUp = 0;
+    let framesDown = 0;
     for (let i = 0; i < players; i++) {
       const room = `bench-${i >> 1}`;
       // Every player from an address of its own (127/8 is all this machine's), as on the internet.
@@ -989,10 +1008,12 @@ export async function runBalanced(
       const observed: Transport = {
         reliable: true,
         send: (b) => {
+          if (measuring) framesUp++;
           t.send(b);
         },
         onMessage: (h) => {
           t.onMessage((b) => {
+            if (measuring) framesDown++;
             for (const part of measuring && slot >= 0 ? RELAY_PROTOCOL.split(b) : []) {
               if (peekMessageType(part) !== 'confirmed') continue;
               const m = decodeMessage(part) as ConfirmedMessage;
@@ -1065,6 +1086,8 @@ export async function runBalanced(
       lateInputs: sessions.reduce((a, s) => a + s.stats.replacedInputs, 0) - late0,
       inputs: sessions.reduce((a, s) => a + s.tick, 0) - ticks0,
       agree: true,
+      framesUp: framesUp / players / wall,
+      framesDown: framesDown / players / wall,
     };
     // Both players of each room on one state at a tick they both have.
     for (let i = 0; i + 1 < sessions.length; i += 2) {
@@ -1092,29 +1115,62 @@ async function socketSection(ctx: SuiteContext): Promise<void> {
     ctx.note(`${title}: not in --quick (npm run bench -- relay runs it).`);
     return;
   }
-  const players = 400;
+  const players = 200;
   const seconds = 8;
-  const rows: string[][] = [];
-  for (const every of [1, 2, 3]) {
-    const r = await runBalanced(undefined, 1, players, seconds, every);
-    const cpu = r.relayCpu[0]!;
-    rows.push([
+  const rates = [1, 2, 3];
+  const rounds = 2;
+  // Interleaved rounds; each run's relay CPU per player-second of play at 60 Hz (the ticks the
+  // sessions played, so a load generator that falls behind does not flatter the relay).
+  const runs: BalancedRun[][] = rates.map(() => []);
+  for (let round = 0; round < rounds; round++) {
+    for (const i of roundOrder(rates.length, round)) {
+      runs[i]!.push(await runBalanced(undefined, 1, players, seconds, rates[i]));
+    }
+  }
+  const perPlayer = (r: BalancedRun) => r.relayCpu[0]! / (r.inputs / TICK_HZ / r.seconds);
+  const rows = rates.map((every, i) => {
+    const rs = runs[i]!;
+    const cost = spread(rs.map(perPlayer));
+    const r = rs[0]!;
+    const delays = Float64Array.from(rs.flatMap((x) => [...x.clientDelay]));
+    const mean = (f: (x: BalancedRun) => number) => rs.reduce((a, x) => a + f(x), 0) / rs.length;
+    return [
       `${every} (${fmt(TICK_HZ / every, 0)} Hz)`,
       `${r.players}`,
-      `${fmt(cpu * 100, 1)} %`,
-      fmt((cpu / r.players) * 1e6, 0),
-      fmt(r.players / cpu, 0),
-      `${fmt(r.generatorCpu * 100, 1)} %`,
-      `${fmt(percentile(r.clientDelay, 50), 1)} / ${fmt(percentile(r.clientDelay, 99), 1)}`,
-      `${fmt((100 * r.lateInputs) / Math.max(1, r.inputs), 2)} %${r.agree ? '' : ' DISAGREE'}`,
-    ]);
-  }
+      fmt(
+        mean((x) => x.inputs / x.players / x.seconds),
+        1,
+      ),
+      `${fmt(
+        mean((x) => x.framesUp),
+        1,
+      )} / ${fmt(
+        mean((x) => x.framesDown),
+        1,
+      )}`,
+      `${fmt(mean((x) => x.relayCpu[0]!) * 100, 1)} %`,
+      `${fmt(cost.median * 1e6, 0)} (${fmt(cost.min * 1e6, 0)}–${fmt(cost.max * 1e6, 0)})`,
+      `${fmt(1 / cost.median, 0)} (${fmt(1 / cost.max, 0)}–${fmt(1 / cost.min, 0)})`,
+      `${fmt(mean((x) => x.generatorCpu) * 100, 1)} %`,
+      `${fmt(percentile(delays, 50), 1)} / ${fmt(percentile(delays, 99), 1)}`,
+      `${fmt(
+        (100 * rs.reduce((a, x) => a + x.lateInputs, 0)) /
+          Math.max(
+            1,
+            rs.reduce((a, x) => a + x.inputs, 0),
+          ),
+        2,
+      )} %${rs.every((x) => x.agree) ? '' : ' DISAGREE'}`,
+    ];
+  });
   ctx.table(
     title,
     [
       'sendEvery (network rate)',
       'players',
-      'relay CPU (% of a core)',
+      'ticks/s played',
+      'frames/s up / down',
+      'relay CPU',
       'µs CPU per player-second',
       'players per core',
       'load generator CPU',
@@ -1125,10 +1181,13 @@ async function socketSection(ctx: SuiteContext): Promise<void> {
   );
   ctx.note(
     `${players} players (LockstepSessions with a trivial game, in this process: the load ` +
-      `generator) in rooms of 2 for ${seconds} s after every room started, each from a loopback ` +
+      `generator) in rooms of 2 for ${seconds} s after every room started, ${rounds} interleaved ` +
+      `rounds (median, range), each player from a loopback ` +
       `address of its own, connected straight to one \`fixedstep serve\` (FIXEDSTEP_SEND_EVERY ` +
       `set); relay CPU from /proc (user + system: the socket writes and reads are most of it). ` +
-      `Players per core = players / relay CPU. The relay sends one WebSocket frame a connection a ` +
+      `µs CPU per player-second = relay CPU / (ticks the sessions played / 60 / s), so a load ` +
+      `generator that falls behind does not flatter it; players per core = its inverse. Frames: ` +
+      `WebSocket frames per player per second, to the relay and from it. The relay sends one WebSocket frame a connection a ` +
       `flush (protocol 5's batch frame when it has several messages); sendEvery groups confirmed ` +
       `ticks and the players' inputs, fewer frames each way, for the latency in the input → ` +
       `confirmed column (the client's send to its receipt of the tick confirmed, over loopback). ` +

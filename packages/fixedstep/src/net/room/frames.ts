@@ -35,7 +35,8 @@ export class FrameHold<M extends Member> {
   /** A flush ends: the outermost sends each member's messages as one frame. */
   release(): void {
     if (this.protocol.batch === undefined || --this.depth > 0) return;
-    for (const m of this.held) this.send(m);
+    // By index: a send may deliver at once (an in-memory transport) and a reply be held here.
+    for (let i = 0; i < this.held.length; i++) this.send(this.held[i]!);
     this.held.length = 0;
   }
 
@@ -43,7 +44,8 @@ export class FrameHold<M extends Member> {
   send(m: M): void {
     const list = m.outgoing;
     if (list.length === 0) return;
-    m.outgoing = [];
-    if (m.transport.isOpen) m.transport.send(this.protocol.frame(list));
+    const frame = this.protocol.frame(list);
+    list.length = 0;
+    if (m.transport.isOpen) m.transport.send(frame);
   }
 }
