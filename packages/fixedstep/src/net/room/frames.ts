@@ -11,8 +11,10 @@ import type { Member } from './room.js';
 /** The messages held for members during a flush. */
 export class FrameHold<M extends Member> {
   // How deep in flushes (an update may handle messages …), and the members holding messages.
+  // (`held` is never shrunk: setting an array's length is a slow call on every message's path.)
   private depth = 0;
-  private readonly held: M[] = [];
+  private readonly held: (M | undefined)[] = [];
+  private count = 0;
 
   constructor(private readonly protocol: WireProtocol<{ type: string }, object>) {}
 
@@ -27,7 +29,7 @@ export class FrameHold<M extends Member> {
    */
   add(m: M, bytes: Uint8Array): boolean {
     if (this.depth === 0 || m.transport.reliable !== true) return false;
-    if (m.outgoing.length === 0) this.held.push(m);
+    if (m.outgoing.length === 0) this.held[this.count++] = m;
     m.outgoing.push(bytes);
     return true;
   }
@@ -36,16 +38,24 @@ export class FrameHold<M extends Member> {
   release(): void {
     if (this.protocol.batch === undefined || --this.depth > 0) return;
     // By index: a send may deliver at once (an in-memory transport) and a reply be held here.
-    for (let i = 0; i < this.held.length; i++) this.send(this.held[i]!);
-    this.held.length = 0;
+    for (let i = 0; i < this.count; i++) {
+      this.send(this.held[i]!);
+      this.held[i] = undefined;
+    }
+    this.count = 0;
   }
 
   /** Sends what is held for `m` now (before its connection closes, too). */
   send(m: M): void {
     const list = m.outgoing;
     if (list.length === 0) return;
-    const frame = this.protocol.frame(list);
-    list.length = 0;
+    let frame: Uint8Array;
+    if (list.length === 1) {
+      frame = list.pop()!;
+    } else {
+      frame = this.protocol.frame(list);
+      list.length = 0;
+    }
     if (m.transport.isOpen) m.transport.send(frame);
   }
 }
