@@ -6,7 +6,14 @@
  */
 import type { ByteWriter } from '../../det/bytes.js';
 import type { Random } from '../../det/random.js';
-import type { Fast, Field, Fields, Limits, WireReader } from './field.js';
+import {
+  bound,
+  type Fast,
+  type Field,
+  type Fields,
+  type Limits,
+  type WireReader,
+} from './field.js';
 import { failUint, fastProblem, fastRead, fastWrite, isInlineUint } from './scalars.js';
 
 /** Node (or a runtime like it): where {@link Layout} compiles its codecs. */
@@ -151,9 +158,14 @@ export class Layout {
       if (this.bits[i]! < 0) return '';
       const f = fasts[i];
       if (f && isInlineUint(f)) {
+        // A named limit is looked up as `bound` does (which throws for a missing one).
+        const hi =
+          typeof f.max === 'number'
+            ? `hi = ${f.max};`
+            : `hi = r.limits[${q(f.max)}]; if (hi === undefined) hi = bound(${q(f.max)}, r.limits);`;
         return (
-          `r.fieldName = ${q(k)}; at = r.pos; v = r.varint(${q(k)}) + ${f.min}; ` +
-          `if (v > ${f.max}) failUint(r, v, ${f.max}, at); m[${q(k)}] = v;`
+          `r.fieldName = ${q(k)}; at = r.pos; v = r.varint(${q(k)}) + ${f.min}; ${hi} ` +
+          `if (v > hi) failUint(r, v, hi, at); m[${q(k)}] = v;`
         );
       }
       const call = f ? `fastRead(fasts[${i}], r)` : `fields[${i}].read(r, m)`;
@@ -163,8 +175,12 @@ export class Layout {
       const get = `v = m[${q(k)}];`;
       const f = fasts[i];
       if (f && isInlineUint(f)) {
+        const hi =
+          typeof f.max === 'number'
+            ? `hi = ${f.max};`
+            : `hi = limits[${q(f.max)}]; if (hi === undefined) hi = bound(${q(f.max)}, limits);`;
         return (
-          `${get} if (typeof v !== 'number' || !(v >= ${f.min} && v <= ${f.max} && v - ${f.min} <= 0xffffffff) || !Number.isInteger(v)) ` +
+          `${get} ${hi} if (typeof v !== 'number' || !(v >= ${f.min} && v <= hi && v - ${f.min} <= 0xffffffff) || !Number.isInteger(v)) ` +
           `return [${q(k)}, fastProblem(fasts[${i}], v, limits)]; w.varint(v - ${f.min});`
         );
       }
@@ -181,11 +197,12 @@ export class Layout {
         'fastWrite',
         'fastProblem',
         'failUint',
+        'bound',
         'fasts',
         'fields',
         `return [
-          function read(r, m0) { const m = { type: m0.type, ${init} }; let at, v; ${reads.join(' ')} return m; },
-          function encode(w, m, limits) { let v, p; ${encodes.join(' ')} return undefined; },
+          function read(r, m0) { const m = { type: m0.type, ${init} }; let at, v, hi; ${reads.join(' ')} return m; },
+          function encode(w, m, limits) { let v, p, hi; ${encodes.join(' ')} return undefined; },
         ];`,
       ) as (
         ...args: unknown[]
@@ -198,6 +215,7 @@ export class Layout {
         fastWrite,
         fastProblem,
         failUint,
+        bound,
         fasts,
         this.fields,
       );

@@ -60,8 +60,8 @@ function fastKind(
  * Whether fast kind `f` is a `uint` with a numeric max: a compiled layout reads and writes it
  * inline (see `Layout`), with {@link failUint} and {@link fastProblem} for its refusals.
  */
-export function isInlineUint(f: Fast): f is Fast & { readonly max: number } {
-  return f.op === OP_UINT && typeof f.max === 'number';
+export function isInlineUint(f: Fast): f is Fast & { readonly max: number | string } {
+  return f.op === OP_UINT && (typeof f.max === 'number' || typeof f.max === 'string');
 }
 
 /** A `uint` read `v` above its `max`: the refusal {@link fastRead} throws. */
