@@ -26,6 +26,7 @@ import {
   BUTTON_WORD,
   BaseTransport,
   EventScheduler,
+  RELAY_PROTOCOL,
   LockstepSession,
   ManualClock,
   Random,
@@ -146,9 +147,10 @@ function seededU32(seed: number): () => number {
   };
 }
 
-function newRelay(clock: ManualClock, seed: number): Relay {
+function newRelay(clock: ManualClock, seed: number, sendEvery = 1): Relay {
   return new Relay({
     clock,
+    sendEvery,
     catalog: CATALOG,
     randomU32: seededU32(seed),
     hashEvery: HASH_EVERY,
@@ -171,6 +173,8 @@ export interface TraceOptions {
   oneWayMs: number;
   jitterMs: number;
   seed: number;
+  /** The relay's network rate, ticks per send (the clients group their inputs alike). Default 1. */
+  sendEvery?: number;
 }
 
 /** What the relay saw: deliveries (`conn` ≥ 0) and updates (`conn` = -1), in order. */
@@ -221,6 +225,8 @@ interface Client {
   issued: Uint32Array;
   /** Stream: every issued input before this tick has been sent. */
   sentTo: number;
+  /** When it last sent inputs. */
+  lastSentAt: number;
   /** When its input for each tick was first sent (NaN: not yet). */
   sentAt: Float64Array;
   serverInputAck: number;
@@ -246,13 +252,15 @@ export function recordTrace(o: TraceOptions): Trace {
   // The closed loop's events, in time order (ties in the order they were scheduled).
   const scheduler = new EventScheduler(0);
   const clock = scheduler.clock;
-  const relay = newRelay(clock, o.seed);
+  const every = o.sendEvery ?? 1;
+  const relay = newRelay(clock, o.seed, every);
   const push = (at: number, kind: number, client: number, bytes?: Uint8Array): void => {
     scheduler.at(at, () => {
       handle({ at, kind, client, bytes });
     });
   };
-  const inputDelay = inputDelayTicks(2 * (o.oneWayMs + o.jitterMs));
+  // As the LockstepSession picks it: the round trip, and the network rate's grouping both ways.
+  const inputDelay = inputDelayTicks(2 * (o.oneWayMs + o.jitterMs)) + 2 * (every - 1);
   const maxTicks = Math.ceil((o.seconds * 1000) / STEP_MS) + inputDelay + 2 * MAX_WINDOW + 64;
 
   const at: number[] = [];
@@ -291,6 +299,7 @@ export function recordTrace(o: TraceOptions): Trace {
         issueNext: 0,
         issued: new Uint32Array(maxTicks + MAX_WINDOW),
         sentTo: 0,
+        lastSentAt: -Infinity,
         sentAt: new Float64Array(maxTicks + MAX_WINDOW).fill(NaN),
         serverInputAck: 0,
         confirmedEnd: 0,
@@ -323,7 +332,11 @@ export function recordTrace(o: TraceOptions): Trace {
   }
   push(STEP_MS / 2, 2, -1);
 
-  function onRelaySend(c: Client, b: Uint8Array): void {
+  function onRelaySend(c: Client, frame: Uint8Array): void {
+    for (const b of RELAY_PROTOCOL.split(frame)) onRelayMessage(c, b);
+  }
+
+  function onRelayMessage(c: Client, b: Uint8Array): void {
     const m = decodeMessage(b);
     if (steadyFrom >= 0 && clock.now() < endAt) sent.push(m);
     if (m.type !== 'confirmed') return;
@@ -386,7 +399,10 @@ export function recordTrace(o: TraceOptions): Trace {
       fresh = true;
     }
     const from = Math.max(c.serverInputAck, c.issueNext - MAX_WINDOW, o.stream ? c.sentTo : 0);
-    if (fresh && from < c.issueNext) {
+    // The network rate: inputs go in groups of `every` ticks (or once the first has waited that long).
+    const due = c.issueNext - c.sentTo >= every || now - c.lastSentAt >= every * STEP_MS;
+    if ((fresh || c.sentTo < c.issueNext) && due && from < c.issueNext) {
+      c.lastSentAt = now;
       for (let t = from; t < c.issueNext; t++) if (Number.isNaN(c.sentAt[t]!)) c.sentAt[t] = now;
       c.sentTo = c.issueNext;
       clientSend(c, now, {
@@ -462,7 +478,7 @@ export function recordTrace(o: TraceOptions): Trace {
       push(e.at + STEP_MS / 2, 2, -1);
     } else {
       const c = clients[e.client]!;
-      onClientMessage(c, decodeMessage(e.bytes!), e.at);
+      for (const b of RELAY_PROTOCOL.split(e.bytes!)) onClientMessage(c, decodeMessage(b), e.at);
       if (startAt === Infinity && c.startAt !== undefined) {
         startAt = c.startAt;
         endAt = startAt + o.seconds * 1000;
@@ -510,7 +526,7 @@ interface Replay {
 /** A fresh relay fed the trace up to its timed part (handshakes, start). */
 function prepareReplay(trace: Trace, onSend?: (bytes: Uint8Array) => void): Replay {
   const clock = new ManualClock(0);
-  const relay = newRelay(clock, trace.options.seed);
+  const relay = newRelay(clock, trace.options.seed, trace.options.sendEvery);
   const r: Replay = { relay, clock, ends: [], bytesOut: 0 };
   for (let i = 0; i < trace.connections; i++) {
     const end = new BenchTransport(
@@ -581,7 +597,7 @@ export function processingLatency(trace: Trace): { handle: Float64Array; flush: 
   let updateStart = 0n;
   const flush: number[] = [];
   const r = prepareReplay(trace, (b) => {
-    if (updateStart !== 0n && b[1] === 0x05) {
+    if (updateStart !== 0n && (b[1] === 0x05 || b[1] === RELAY_PROTOCOL.batch)) {
       flush.push(Number(process.hrtime.bigint() - updateStart));
     }
   });
@@ -781,6 +797,7 @@ export default defineSuite({
         'confirmed send (rooms earlier in the same update go first).',
     );
 
+    await socketSection(ctx);
     await balancerSection(ctx);
   },
 });
@@ -808,6 +825,16 @@ async function waitFor<T>(what: string, f: () => T | Promise<T>, ms = 60_000): P
     if (v) return v;
     if (performance.now() > end) throw new Error(`bench: timed out waiting for ${what}`);
     await new Promise((r) => setTimeout(r, 50));
+  }
+}
+
+/** Waits (up to 60 s) until process `pid` uses under 3 % of a core over a second. */
+async function waitQuiet(pid: number): Promise<void> {
+  const end = performance.now() + 60_000;
+  while (performance.now() < end) {
+    const before = cpuSeconds(pid);
+    await new Promise((r) => setTimeout(r, 1000));
+    if (!(cpuSeconds(pid) - before >= 0.03)) return;
   }
 }
 
@@ -849,7 +876,7 @@ class Counter implements Simulation {
   }
 }
 
-interface BalancedRun {
+export interface BalancedRun {
   processes: number;
   players: number;
   seconds: number;
@@ -860,6 +887,9 @@ interface BalancedRun {
   lateInputs: number;
   inputs: number;
   agree: boolean;
+  /** WebSocket frames per player per second, up (to the relay) and down, while measuring. */
+  framesUp: number;
+  framesDown: number;
 }
 
 /**
@@ -867,11 +897,12 @@ interface BalancedRun {
  * HAProxy with deploy/haproxy/haproxy.cfg to `processes` `fixedstep serve` processes (1: all three
  * server lines point at the same process), for `seconds` of real time after every room started.
  */
-async function runBalanced(
-  haproxy: string,
+export async function runBalanced(
+  haproxy: string | undefined,
   processes: number,
   players: number,
   seconds: number,
+  sendEvery = 1,
 ): Promise<BalancedRun> {
   const dir = await mkdtemp(path.join(os.tmpdir(), 'fixedstep-bench-'));
   const children: ChildProcess[] = [];
@@ -897,7 +928,8 @@ async function runBalanced(
             env: {
               ...process.env,
               // HAProxy passes each client's address on; the caps per address stay as deployed.
-              FIXEDSTEP_PROXY_HEADER: 'x-forwarded-for',
+              ...(haproxy !== undefined ? { FIXEDSTEP_PROXY_HEADER: 'x-forwarded-for' } : {}),
+              FIXEDSTEP_SEND_EVERY: String(sendEvery),
             },
             stdio: ['ignore', 'pipe', 'inherit'],
           },
@@ -914,44 +946,55 @@ async function runBalanced(
             return false;
           }
         });
+        // Quiet before it is measured: a new server's worker threads (the verification pool,
+        // state sync) load and compile their games for a while after it is ready, and that is not
+        // the relay's work.
+        await waitQuiet(child.pid!);
         return { pid: child.pid!, port };
       }),
     );
-    const lbPort = await freePort();
-    const statsPort = await freePort();
-    const extra = path.join(dir, 'stats.cfg');
-    await writeFile(
-      extra,
-      `frontend bench_stats\n  bind 127.0.0.1:${statsPort}\n` +
-        `  http-request return status 200 content-type text/plain lf-string "%[nbsrv(relays_by_room)]"\n`,
-    );
-    const server = (i: number) => `127.0.0.1:${relays[i % processes]!.port}`;
-    const lb = spawn(
-      haproxy,
-      ['-db', '-f', path.join(ROOT, 'deploy/haproxy/haproxy.cfg'), '-f', extra],
-      {
-        env: {
-          PATH: process.env.PATH ?? '',
-          FIXEDSTEP_BIND: `127.0.0.1:${lbPort}`,
-          FIXEDSTEP_RELAY1: server(0),
-          FIXEDSTEP_RELAY2: server(1),
-          FIXEDSTEP_RELAY3: server(2),
+    // Without HAProxy: the players connect to the one relay directly.
+    let lbPort = relays[0]!.port;
+    let lbPid: number | undefined;
+    if (haproxy !== undefined) {
+      lbPort = await freePort();
+      const statsPort = await freePort();
+      const extra = path.join(dir, 'stats.cfg');
+      await writeFile(
+        extra,
+        `frontend bench_stats\n  bind 127.0.0.1:${statsPort}\n` +
+          `  http-request return status 200 content-type text/plain lf-string "%[nbsrv(relays_by_room)]"\n`,
+      );
+      const server = (i: number) => `127.0.0.1:${relays[i % processes]!.port}`;
+      const lb = spawn(
+        haproxy,
+        ['-db', '-f', path.join(ROOT, 'deploy/haproxy/haproxy.cfg'), '-f', extra],
+        {
+          env: {
+            PATH: process.env.PATH ?? '',
+            FIXEDSTEP_BIND: `127.0.0.1:${lbPort}`,
+            FIXEDSTEP_RELAY1: server(0),
+            FIXEDSTEP_RELAY2: server(1),
+            FIXEDSTEP_RELAY3: server(2),
+          },
+          stdio: 'ignore',
         },
-        stdio: 'ignore',
-      },
-    );
-    children.push(lb);
-    await waitFor('HAProxy', async () => {
-      try {
-        return (await (await fetch(`http://127.0.0.1:${statsPort}/`)).text()) === '3';
-      } catch {
-        return false;
-      }
-    });
-
+      );
+      children.push(lb);
+      await waitFor('HAProxy', async () => {
+        try {
+          return (await (await fetch(`http://127.0.0.1:${statsPort}/`)).text()) === '3';
+        } catch {
+          return false;
+        }
+      });
+      lbPid = lb.pid;
+    }
     const clock = performanceClock();
     const delays: number[] = [];
     let measuring = false;
+    let framesUp = 0;
+    let framesDown = 0;
     for (let i = 0; i < players; i++) {
       const room = `bench-${i >> 1}`;
       // Every player from an address of its own (127/8 is all this machine's), as on the internet.
@@ -965,12 +1008,15 @@ async function runBalanced(
       const observed: Transport = {
         reliable: true,
         send: (b) => {
+          if (measuring) framesUp++;
           t.send(b);
         },
         onMessage: (h) => {
           t.onMessage((b) => {
-            if (measuring && slot >= 0 && peekMessageType(b) === 'confirmed') {
-              const m = decodeMessage(b) as ConfirmedMessage;
+            if (measuring) framesDown++;
+            for (const part of measuring && slot >= 0 ? RELAY_PROTOCOL.split(b) : []) {
+              if (peekMessageType(part) !== 'confirmed') continue;
+              const m = decodeMessage(part) as ConfirmedMessage;
               const end = m.tick + m.inputs.length / (m.players * m.words);
               const now = clock.now();
               for (let k = Math.max(m.tick, confirmedEnd); k < end; k++) {
@@ -1021,7 +1067,7 @@ async function runBalanced(
     const late0 = sessions.reduce((a, s) => a + s.stats.replacedInputs, 0);
     const ticks0 = sessions.reduce((a, s) => a + s.tick, 0);
     const cpu0 = relays.map((r) => cpuSeconds(r.pid));
-    const lb0 = cpuSeconds(lb.pid!);
+    const lb0 = lbPid === undefined ? 0 : cpuSeconds(lbPid);
     const gen0 = process.cpuUsage();
     const t0 = performance.now();
     measuring = true;
@@ -1034,12 +1080,14 @@ async function runBalanced(
       players,
       seconds: wall,
       relayCpu: relays.map((r, i) => (cpuSeconds(r.pid) - cpu0[i]!) / wall),
-      haproxyCpu: (cpuSeconds(lb.pid!) - lb0) / wall,
+      haproxyCpu: lbPid === undefined ? 0 : (cpuSeconds(lbPid) - lb0) / wall,
       generatorCpu: (gen.user + gen.system) / 1e6 / wall,
       clientDelay: Float64Array.from(delays),
       lateInputs: sessions.reduce((a, s) => a + s.stats.replacedInputs, 0) - late0,
       inputs: sessions.reduce((a, s) => a + s.tick, 0) - ticks0,
       agree: true,
+      framesUp: framesUp / players / wall,
+      framesDown: framesDown / players / wall,
     };
     // Both players of each room on one state at a tick they both have.
     for (let i = 0; i + 1 < sessions.length; i += 2) {
@@ -1055,6 +1103,97 @@ async function runBalanced(
     for (const c of children) if (c.exitCode === null && c.signalCode === null) c.kill('SIGKILL');
     await rm(dir, { recursive: true, force: true });
   }
+}
+
+/**
+ * The headline: players per core of one relay process, its players connected over real WebSockets
+ * (on 127.0.0.1, straight to it), at each network rate.
+ */
+async function socketSection(ctx: SuiteContext): Promise<void> {
+  const title = 'Relay capacity through real WebSockets: one process, rooms of 2 at 60 Hz';
+  if (ctx.quick) {
+    ctx.note(`${title}: not in --quick (npm run bench -- relay runs it).`);
+    return;
+  }
+  const players = 200;
+  const seconds = 8;
+  const rates = [1, 2, 3];
+  const rounds = 2;
+  // Interleaved rounds; each run's relay CPU per player-second of play at 60 Hz (the ticks the
+  // sessions played, so a load generator that falls behind does not flatter the relay).
+  const runs: BalancedRun[][] = rates.map(() => []);
+  for (let round = 0; round < rounds; round++) {
+    for (const i of roundOrder(rates.length, round)) {
+      runs[i]!.push(await runBalanced(undefined, 1, players, seconds, rates[i]));
+    }
+  }
+  const perPlayer = (r: BalancedRun) => r.relayCpu[0]! / (r.inputs / TICK_HZ / r.seconds);
+  const rows = rates.map((every, i) => {
+    const rs = runs[i]!;
+    const cost = spread(rs.map(perPlayer));
+    const r = rs[0]!;
+    const delays = Float64Array.from(rs.flatMap((x) => [...x.clientDelay]));
+    const mean = (f: (x: BalancedRun) => number) => rs.reduce((a, x) => a + f(x), 0) / rs.length;
+    return [
+      `${every} (${fmt(TICK_HZ / every, 0)} Hz)`,
+      `${r.players}`,
+      fmt(
+        mean((x) => x.inputs / x.players / x.seconds),
+        1,
+      ),
+      `${fmt(
+        mean((x) => x.framesUp),
+        1,
+      )} / ${fmt(
+        mean((x) => x.framesDown),
+        1,
+      )}`,
+      `${fmt(mean((x) => x.relayCpu[0]!) * 100, 1)} %`,
+      `${fmt(cost.median * 1e6, 0)} (${fmt(cost.min * 1e6, 0)}–${fmt(cost.max * 1e6, 0)})`,
+      `${fmt(1 / cost.median, 0)} (${fmt(1 / cost.max, 0)}–${fmt(1 / cost.min, 0)})`,
+      `${fmt(mean((x) => x.generatorCpu) * 100, 1)} %`,
+      `${fmt(percentile(delays, 50), 1)} / ${fmt(percentile(delays, 99), 1)}`,
+      `${fmt(
+        (100 * rs.reduce((a, x) => a + x.lateInputs, 0)) /
+          Math.max(
+            1,
+            rs.reduce((a, x) => a + x.inputs, 0),
+          ),
+        2,
+      )} %${rs.every((x) => x.agree) ? '' : ' DISAGREE'}`,
+    ];
+  });
+  ctx.table(
+    title,
+    [
+      'sendEvery (network rate)',
+      'players',
+      'ticks/s played',
+      'frames/s up / down',
+      'relay CPU',
+      'µs CPU per player-second',
+      'players per core',
+      'load generator CPU',
+      'input → confirmed p50 / p99 ms',
+      'late inputs',
+    ],
+    rows,
+  );
+  ctx.note(
+    `${players} players (LockstepSessions with a trivial game, in this process: the load ` +
+      `generator) in rooms of 2 for ${seconds} s after every room started, ${rounds} interleaved ` +
+      `rounds (median, range), each player from a loopback ` +
+      `address of its own, connected straight to one \`fixedstep serve\` (FIXEDSTEP_SEND_EVERY ` +
+      `set); relay CPU from /proc (user + system: the socket writes and reads are most of it). ` +
+      `µs CPU per player-second = relay CPU / (ticks the sessions played / 60 / s), so a load ` +
+      `generator that falls behind does not flatter it; players per core = its inverse. Frames: ` +
+      `WebSocket frames per player per second, to the relay and from it. The relay sends one WebSocket frame a connection a ` +
+      `flush (protocol 5's batch frame when it has several messages); sendEvery groups confirmed ` +
+      `ticks and the players' inputs, fewer frames each way, for the latency in the input → ` +
+      `confirmed column (the client's send to its receipt of the tick confirmed, over loopback). ` +
+      `${cpus().length} cores shared by the relay, the load generator and anything else (load ` +
+      `average ${os.loadavg()[0]!.toFixed(1)}).`,
+  );
 }
 
 async function balancerSection(ctx: SuiteContext): Promise<void> {

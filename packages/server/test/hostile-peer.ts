@@ -60,9 +60,12 @@ export class Peer<M extends AnyMessage = AnyMessage> {
     const p = new Peer<M>(ws, protocol, address);
     ws.on('message', (data: Buffer, isBinary: boolean) => {
       if (isBinary) {
-        const m = protocol.decode(new Uint8Array(data), { from: 'server' });
-        p.got.push(m);
-        for (const h of p.handlers) h(m);
+        // A frame may hold several messages (a relay's batch frame).
+        for (const b of protocol.split(new Uint8Array(data))) {
+          const m = protocol.decode(b, { from: 'server' });
+          p.got.push(m);
+          for (const h of p.handlers) h(m);
+        }
       }
       p.wake();
     });

@@ -12,7 +12,7 @@ import {
   LockstepSession,
   MATCH_PROTOCOL,
   ManualClock,
-  decodeMessage,
+  decodeFrame,
   encodeMessage,
   hex64,
   performanceClock,
@@ -382,7 +382,7 @@ describe('quick match over real sockets through createServer', () => {
     const t = await connectNodeWebSocket(`${base}/ws/${room}`);
     return new Promise((resolve) => {
       t.onMessage((b) => {
-        resolve(decodeMessage(b));
+        resolve(decodeFrame(b)[0]!);
         t.close('done');
       });
       t.send(

@@ -26,7 +26,7 @@ import {
   PeerHost,
   SignalClient,
   StateSyncSession,
-  decodeMessage,
+  decodeFrame,
   decodeSignal,
   decodeStateSyncMessage,
   encodeMessage,
@@ -369,7 +369,7 @@ function roomOn(port: number, surface: 'ws' | 'state' | 'signal', room: string):
   } as const;
   const [frame, decode] =
     surface === 'ws'
-      ? [encodeMessage({ type: 'hello', ...join }), decodeMessage]
+      ? [encodeMessage({ type: 'hello', ...join }), (b: Uint8Array) => decodeFrame(b)[0]!]
       : surface === 'state'
         ? [encodeStateSyncMessage({ type: 'join', ...join }), decodeStateSyncMessage]
         : [encodeSignal({ type: 'join', room, invite: new Uint8Array(16) }), decodeSignal];

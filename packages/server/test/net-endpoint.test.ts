@@ -9,7 +9,7 @@ import { afterEach, describe, expect, it } from 'vitest';
 import WebSocket from 'ws';
 import {
   LockstepSession,
-  decodeMessage,
+  decodeFrame,
   encodeMessage,
   hex64,
   nodeWebSocketTransport,
@@ -98,7 +98,7 @@ function helloReply(
       );
     });
     ws.on('message', (data: Buffer) => {
-      resolve(decodeMessage(new Uint8Array(data)));
+      resolve(decodeFrame(new Uint8Array(data))[0]!);
     });
     ws.on('error', reject);
   });
@@ -315,7 +315,7 @@ describe('500 idle WebSockets beside a game', () => {
           );
         });
         ws.on('message', (data: Buffer) => {
-          const m = decodeMessage(new Uint8Array(data));
+          const m = decodeFrame(new Uint8Array(data))[0]!;
           resolve(m.type === 'error' ? `${m.code}: ${m.message}` : m.type);
         });
       });

@@ -7,7 +7,7 @@ import {
   LockstepSession,
   RollbackSession,
   SpectatorSession,
-  decodeMessage,
+  decodeFrame,
   encodeMessage,
   hex64,
   performanceClock,
@@ -162,7 +162,7 @@ describe('the relay over real WebSockets on 127.0.0.1', () => {
         ws.send(encodeMessage({ type: 'ping', id: 7, time: 1 }));
       });
       ws.on('message', (data: Buffer) => {
-        resolve(decodeMessage(new Uint8Array(data)).type);
+        resolve(decodeFrame(new Uint8Array(data))[0]!.type);
         ws.close();
       });
       ws.on('error', reject);

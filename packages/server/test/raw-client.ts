@@ -4,7 +4,7 @@
  * reason its transport closed, and says hello to a room of capture the flag.
  */
 import {
-  decodeMessage,
+  decodeFrame,
   encodeMessage,
   type ErrorMessage,
   type NetMessage,
@@ -32,11 +32,13 @@ export class RawClient {
     readonly t: Transport,
     private readonly options: RawClientOptions,
   ) {
-    t.onMessage((b) => {
-      const m = decodeMessage(b);
-      this.got.push(m);
-      if (options.answerPings && m.type === 'ping') {
-        this.send({ type: 'pong', id: m.id, time: m.time, serverTime: 0 });
+    // A frame may carry several messages (protocol 5's batch frame).
+    t.onMessage((frame) => {
+      for (const m of decodeFrame(frame)) {
+        this.got.push(m);
+        if (options.answerPings && m.type === 'ping') {
+          this.send({ type: 'pong', id: m.id, time: m.time, serverTime: 0 });
+        }
       }
     });
     t.onClose((r) => (this.closed = r));

@@ -9,10 +9,12 @@ export * from './wire/index.js';
 export {
   PROTOCOL_VERSION,
   MAX_WIRE_INPUT_WORDS,
+  MAX_SEND_EVERY,
   DEFAULT_PROTOCOL_LIMITS,
   RELAY_PROTOCOL,
   encodeMessage,
   decodeMessage,
+  decodeFrame,
   peekMessageType,
 } from './relay/messages.js';
 export type {

@@ -4,6 +4,7 @@
  */
 import type http from 'node:http';
 import {
+  MAX_SEND_EVERY,
   RELAY_PROTOCOL,
   Relay,
   gameCatalog,
@@ -39,6 +40,24 @@ export function registryCatalog(games: readonly AnyGameDefinition[] = GAMES): Ga
   return gameCatalog(games);
 }
 
+/**
+ * `FIXEDSTEP_SEND_EVERY`: the relay's network rate, as ticks per send (`RelayOptions.sendEvery`,
+ * 1 to 6); unset, 1. Anything else is refused at start.
+ */
+export function sendEveryFromEnv(
+  env: Readonly<Record<string, string | undefined>>,
+): number | undefined {
+  const text = env.FIXEDSTEP_SEND_EVERY;
+  if (text === undefined || text === '') return undefined;
+  const n = Number(text);
+  if (!(Number.isInteger(n) && n >= 1 && n <= MAX_SEND_EVERY)) {
+    throw new RangeError(
+      `FIXEDSTEP_SEND_EVERY must be an integer from 1 to ${MAX_SEND_EVERY}, got "${text}"`,
+    );
+  }
+  return n;
+}
+
 /** A {@link Relay} over the game registry (the catalog may be replaced, e.g. by test games). */
 export function createRelay(
   options: Omit<RelayOptions, 'catalog'> & { catalog?: GameCatalog },
@@ -52,7 +71,13 @@ export class RelayEndpoint extends RoomHostEndpoint<Relay> {
     const { env, surface, host } = splitHostOptions(options);
     const { path = '/ws', updateIntervalMs = RELAY_UPDATE_MS, ...relayOptions } = host;
     const clock = relayOptions.clock ?? performanceClock();
-    const relay = createRelay({ ...relayOptions, clock });
+    // The network rate may come from the environment (a deployment's choice, not the game's).
+    const sendEvery = relayOptions.sendEvery ?? sendEveryFromEnv(env);
+    const relay = createRelay({
+      ...relayOptions,
+      clock,
+      ...(sendEvery !== undefined ? { sendEvery } : {}),
+    });
     super(
       server,
       {

@@ -2,7 +2,10 @@
  * The relay protocol (lockstep and rollback through `/ws/<room>`): its messages, declared once.
  * docs/network.md has the table; {@link RELAY_PROTOCOL} encodes and decodes them.
  *
- * Version 4 declares the messages as data (`net/wire`): one error list with the other protocols,
+ * Version 5 sends the server's messages to one connection in a flush as one WebSocket frame (a
+ * batch frame, type byte 0x1f: each message's length, then its bytes) and tells each connection
+ * the room's network rate in its welcome (`sendEvery`: confirmed ticks go out in groups of that
+ * many, and a player sends its inputs in groups of that many too). Version 4 declares the messages as data (`net/wire`): one error list with the other protocols,
  * the quick-match ticket in the hello, and `confirmed` as version 3 sent it — no room number, the
  * input ack relative to the message's end, players and words in one varint, the delta flag in the
  * row count — six bytes of header for a tick of held buttons. Version 3 added the input schema's
@@ -41,7 +44,10 @@ import {
 import { defineProtocol } from '../wire/protocol.js';
 
 /** The relay protocol's version (byte 0 of every message is this, its family being 0x00). */
-export const PROTOCOL_VERSION = 4;
+export const PROTOCOL_VERSION = 5;
+
+/** The type byte of a batch frame (several server messages in one frame; version 5 on). */
+export const BATCH_TYPE = 0x1f;
 
 /**
  * Most u32 words of one player's input per tick, on the wire: `confirmed` packs players and words
@@ -110,6 +116,11 @@ export interface WelcomeMessage {
   hashEvery: number;
   /** How long after a tick's time the server waits for a missing input before filling it. */
   deadlineMs: number;
+  /**
+   * The room's network rate, as ticks per send: the server sends confirmed ticks in groups of
+   * this many (1: every tick as it closes), and a player sends its inputs in groups of this many.
+   */
+  sendEvery: number;
   /** The first tick the server takes inputs from you for. */
   inputFrom: number;
   /** The tick of the initial state: the snapshot's, or 0. */
@@ -283,12 +294,16 @@ export type MessageKind = NetMessage['type'];
 const rowsOf = (m: { inputs?: unknown; players?: unknown; words?: unknown }): number =>
   (m.inputs as Uint32Array).length / ((m.players as number) * (m.words as number));
 
+/** Most ticks per send of a room's network rate (`sendEvery`): 6, i.e. 10 Hz at 60 Hz. */
+export const MAX_SEND_EVERY = 6;
+
 /** The relay protocol: encode, decode, sizes (see `net/wire`). */
 export const RELAY_PROTOCOL = defineProtocol<NetMessage, ProtocolLimits>({
   name: 'relay',
   family: 0x00,
   version: PROTOCOL_VERSION,
   limits: DEFAULT_PROTOCOL_LIMITS,
+  batch: BATCH_TYPE,
   messages: {
     hello: { code: 0x01, from: 'client', fields: joinFields('maxPlayers') },
     welcome: {
@@ -303,6 +318,7 @@ export const RELAY_PROTOCOL = defineProtocol<NetMessage, ProtocolLimits>({
         tickRate: uint({ min: 1, max: 10_000 }),
         hashEvery: uint({ min: 1, max: 1 << 20 }),
         deadlineMs: uint(),
+        sendEvery: uint({ min: 1, max: MAX_SEND_EVERY }),
         inputFrom: uint(),
         startTick: uint(),
         config: bytes({ max: 'maxConfigBytes' }),
@@ -435,6 +451,17 @@ export function decodeMessage(
   limits: Readonly<ProtocolLimits> = DEFAULT_PROTOCOL_LIMITS,
 ): NetMessage {
   return RELAY_PROTOCOL.decode(bytes, { limits });
+}
+
+/**
+ * Decodes one WebSocket frame of the server's: one message, or a batch frame's messages (protocol
+ * 5 on: see `WireProtocol.split`). Throws a {@link ProtocolError} as {@link decodeMessage} does.
+ */
+export function decodeFrame(
+  frame: Uint8Array,
+  limits: Readonly<ProtocolLimits> = DEFAULT_PROTOCOL_LIMITS,
+): NetMessage[] {
+  return RELAY_PROTOCOL.split(frame).map((b) => decodeMessage(b, limits));
 }
 
 /** The message type of `bytes` without decoding the rest (undefined when unknown or too short). */

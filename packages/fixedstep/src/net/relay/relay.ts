@@ -13,6 +13,7 @@ import type { LeaveReason } from '../wire/common.js';
 import type { DesyncRecord } from './forensics.js';
 import {
   DEFAULT_PROTOCOL_LIMITS,
+  MAX_SEND_EVERY,
   RELAY_PROTOCOL,
   type NetMessage,
   type ProtocolLimits,
@@ -62,6 +63,14 @@ export interface RelayOptions extends RoomHostOptions {
   deadlineMs?: number;
   /** Clients report a state hash every this many ticks. Default {@link DEFAULT_HASH_EVERY}. */
   hashEvery?: number;
+  /**
+   * The network rate, as ticks per send (1 to {@link MAX_SEND_EVERY}): confirmed ticks go out in
+   * groups of this many, and the welcome asks players to send their inputs in groups of this
+   * many. Fewer, larger WebSocket frames — 60 Hz play at `sendEvery: 3` sends 20 frames a second
+   * each way instead of 60 — for up to `sendEvery − 1` ticks more latency each way (which the
+   * sessions' input delay and playout buffer take in). Default 1. Does not change what is played.
+   */
+  sendEvery?: number;
   /** Time from "all seats filled" to tick 0. Default {@link DEFAULT_START_DELAY_MS}. */
   startDelayMs?: number;
   /** Inputs more than this many ticks ahead of the server clock are refused. Default {@link DEFAULT_MAX_AHEAD_TICKS}. */
@@ -165,6 +174,7 @@ export class Relay extends GameRoomHost<RelayMember, RelayRoom, NetMessage, Rela
     this.relay = {
       deadlineMs: options.deadlineMs ?? DEFAULT_DEADLINE_MS,
       hashEvery: options.hashEvery ?? DEFAULT_HASH_EVERY,
+      sendEvery: options.sendEvery ?? 1,
       startDelayMs: options.startDelayMs ?? DEFAULT_START_DELAY_MS,
       maxAheadTicks: options.maxAheadTicks ?? DEFAULT_MAX_AHEAD_TICKS,
       maxBehindTicks: options.maxBehindTicks ?? DEFAULT_MAX_BEHIND_TICKS,
@@ -178,6 +188,12 @@ export class Relay extends GameRoomHost<RelayMember, RelayRoom, NetMessage, Rela
       maxForensicsBytes: options.maxForensicsBytes ?? DEFAULT_MAX_FORENSICS_BYTES,
       limits: { ...DEFAULT_PROTOCOL_LIMITS, ...options.limits },
     };
+    const every = this.relay.sendEvery;
+    if (!(Number.isInteger(every) && every >= 1 && every <= MAX_SEND_EVERY)) {
+      throw new RangeError(
+        `Relay: sendEvery must be an integer from 1 to ${MAX_SEND_EVERY}, got ${every}`,
+      );
+    }
     for (const [k, v] of Object.entries(this.relay)) {
       if (typeof v === 'number' && !(v >= 0)) {
         throw new RangeError(`Relay: ${k} must be a number >= 0, got ${String(v)}`);

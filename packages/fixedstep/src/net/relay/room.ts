@@ -15,6 +15,7 @@ import { encodeMessage, type NetMessage, type ProtocolLimits } from './messages.
 export interface RelaySettings {
   deadlineMs: number;
   hashEvery: number;
+  sendEvery: number;
   startDelayMs: number;
   maxAheadTicks: number;
   maxBehindTicks: number;
@@ -236,6 +237,7 @@ export class RelayRoom extends Room<RelayMember> {
       tickRate: this.game.tickRate,
       hashEvery: this.relay.hashEvery,
       deadlineMs: this.relay.deadlineMs,
+      sendEvery: this.relay.sendEvery,
       inputFrom: this.state === 'waiting' ? 0 : this.closedEnd,
       startTick: tick,
       config: this.config,
@@ -534,6 +536,18 @@ export class RelayRoom extends Room<RelayMember> {
     if (c.sentUpTo < c.ack) c.sentUpTo = c.ack;
     const rewind = c.ack < c.sentUpTo && now - c.ackMovedAt > (c.reliable ? 1000 : 250);
     if (!(newest > c.sentUpTo || rewind)) return;
+    // The network rate: new ticks wait until there are `sendEvery` of them, or the first has
+    // waited that many ticks' time (a stalled room, the end of a match).
+    const every = this.relay.sendEvery;
+    if (
+      every > 1 &&
+      !rewind &&
+      newest - c.sentUpTo < every &&
+      this.state === 'running' &&
+      now < this.startAt! + (c.sentUpTo + every) * this.tickMs
+    ) {
+      return;
+    }
     // Small gap: every message carries every unacknowledged tick (loss costs nothing).
     // Large gap (a late joiner catching up): stream onwards; go back to the ack on a timeout.
     let from = rewind || (!c.reliable && newest - c.ack <= maxTicks) ? c.ack : c.sentUpTo;

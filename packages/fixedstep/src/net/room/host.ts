@@ -6,8 +6,10 @@ import type { Clock } from '../../time/drivers.js';
 import type { Transport } from '../transport.js';
 import { refusalCode, type LeaveReason, type NetErrorCode } from '../wire/common.js';
 import { ProtocolError } from '../wire/error.js';
-import type { WireProtocol } from '../wire/protocol.js';
+import type { DecodeOptions, WireProtocol } from '../wire/protocol.js';
 import { AddressTally } from './admission.js';
+import { HostRoomContext, type HostInternals } from './context.js';
+import { FrameHold } from './frames.js';
 import { TokenBucket } from './bucket.js';
 import { LivenessClock } from './liveness.js';
 import {
@@ -77,6 +79,8 @@ export abstract class RoomHost<
   private lastHousekeeping = -Infinity;
   private closedHost = false;
   private drainState: { deadline: number; resolve: () => void; done: Promise<void> } | undefined;
+  // One frame a member a flush (an update, one client message's handling).
+  private readonly frames: FrameHold<M>;
   /** What rooms get to act on the host. */
   protected readonly context: RoomContext<M, Msg>;
 
@@ -103,37 +107,15 @@ export abstract class RoomHost<
       this.settings.maxRoomsPerAddress,
       this.settings.maxRooms,
     );
+    this.frames = new FrameHold(protocol);
     this.answersPings = protocol.types.includes('pong');
     this.probes = protocol.types.includes('ping') && protocol.sender('ping') === 'both';
-    this.context = {
-      settings: this.settings,
+    // The host's protected parts, as its context calls them (see `context.ts`).
+    this.context = new HostRoomContext(
+      this as unknown as HostInternals<M, Msg>,
+      this.settings,
       clock,
-      send: (m, message) => {
-        this.send(m, message);
-      },
-      sendBytes: (m, bytes) => {
-        this.sendBytes(m, bytes);
-      },
-      drop: (m, code, message, reason) => {
-        // A connection replaced by its player's reconnect did nothing wrong: not counted.
-        this.drop(m, code, message, reason, reason !== 'replaced');
-      },
-      strike: (m, code, message) => {
-        this.strike(m, code, message);
-      },
-      leave: (m) => {
-        this.removeMember(m, 'left');
-        m.transport.close('left');
-      },
-      randomU32: () => this.random() >>> 0,
-      silence: (m, now) => this.liveness.at(now) - m.heardAt,
-      emit: (event) => {
-        this.emit(event);
-      },
-      closeRoom: (room, code, message) => {
-        this.closeRoom(room as R, code, message);
-      },
-    };
+    );
   }
 
   // ------------------------------------------------------------------------------ public
@@ -176,7 +158,12 @@ export abstract class RoomHost<
     this.countConnections();
     transport.onMessage((bytes) => {
       try {
-        this.onBytes(m, bytes);
+        this.frames.hold();
+        try {
+          this.onBytes(m, bytes);
+        } finally {
+          this.frames.release();
+        }
       } catch (error) {
         // A bug must cost one connection, never the server.
         this.emit({ type: 'internal-error', connection: m.id, error });
@@ -195,6 +182,15 @@ export abstract class RoomHost<
    * few milliseconds (the server does, every 8 ms).
    */
   update(now = this.clock.now()): void {
+    this.frames.hold();
+    try {
+      this.advance(now);
+    } finally {
+      this.frames.release();
+    }
+  }
+
+  private advance(now: number): void {
     this.liveness.update(now);
     this.stats.stalledMs = this.liveness.stalledMs;
     const housekeeping = now - this.lastHousekeeping >= HOUSEKEEPING_MS;
@@ -204,7 +200,8 @@ export abstract class RoomHost<
       this.checkLiveness(now);
       this.checkRooms(now);
     }
-    for (const room of [...this.rooms.values()]) {
+    // A room closed meanwhile leaves the map; a Map's iteration takes that in its stride.
+    for (const room of this.rooms.values()) {
       try {
         room.advance(now);
       } catch (error) {
@@ -310,9 +307,19 @@ export abstract class RoomHost<
    */
   protected abstract onJoinMessage(m: M, message: Msg, now: number): boolean;
 
-  /** The decode limits of the protocol (default: the protocol's own). */
+  /** The decode limits of the protocol (default: the protocol's own). Asked once. */
   protected decodeLimits(): object | undefined {
     return undefined;
+  }
+
+  // What every client message is decoded with: made once (every message of a match needs it).
+  private clientDecode: DecodeOptions<object> | undefined;
+  private decodeOptions(): DecodeOptions<object> {
+    if (this.clientDecode === undefined) {
+      const limits = this.decodeLimits();
+      this.clientDecode = { from: 'client', ...(limits ? { limits } : {}) };
+    }
+    return this.clientDecode;
   }
 
   /**
@@ -424,7 +431,12 @@ export abstract class RoomHost<
     if (!m.transport.isOpen) return;
     this.stats.messagesOut++;
     this.stats.bytesOut += bytes.length;
-    m.transport.send(bytes);
+    if (!this.frames.add(m, bytes)) m.transport.send(bytes);
+  }
+
+  /** Sends what is held for `m` now, as one frame (see `FrameHold`). */
+  protected sendFrame(m: M): void {
+    this.frames.send(m);
   }
 
   /** Sends a fatal error and closes; `count` false for shutdowns and replacements. */
@@ -442,6 +454,7 @@ export abstract class RoomHost<
     }
     this.send(m, this.error(code, message, true));
     this.removeMember(m, reason);
+    this.sendFrame(m);
     m.transport.close(`${code}: ${message}`);
   }
 
@@ -505,8 +518,7 @@ export abstract class RoomHost<
     }
     let message: Msg;
     try {
-      const limits = this.decodeLimits();
-      message = this.protocol.decode(bytes, { from: 'client', ...(limits ? { limits } : {}) });
+      message = this.protocol.decode(bytes, this.decodeOptions());
     } catch (error) {
       if (!(error instanceof ProtocolError)) throw error;
       this.drop(m, refusalCode(error, bytes, this.protocol.header), error.message);
@@ -674,7 +686,7 @@ export abstract class RoomHost<
     let members = 0;
     for (const r of this.rooms.values()) {
       if (r.state === 'waiting') waiting++;
-      members += [...r.members()].length;
+      members += r.countMembers();
     }
     this.stats.waitingRooms = waiting;
     this.stats.members = members;

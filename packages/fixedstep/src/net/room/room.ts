@@ -49,6 +49,8 @@ export class Member {
   probedAt: number;
   /** Messages before its join (pings, inputs that overtook it) — bounded. */
   early = 0;
+  /** Messages held for one frame at the end of the host's flush (see `RoomHost`). */
+  outgoing: Uint8Array[] = [];
   /** Its room, once seated. */
   room: Room<Member> | undefined;
   /** When it connected, on the host's responsive clock (its join deadline counts from here). */
@@ -149,6 +151,14 @@ export abstract class Room<M extends Member> {
   *members(): Generator<M> {
     yield* this.playerMembers();
     for (const c of this.spectators) if (c.state === 'member') yield c;
+  }
+
+  /** How many {@link members} there are. */
+  countMembers(): number {
+    let n = 0;
+    for (const s of this.seats) if (s.member?.state === 'member') n++;
+    for (const c of this.spectators) if (c.state === 'member') n++;
+    return n;
   }
 
   /** Every connection in the room, joining or member. */

@@ -13,6 +13,7 @@ import { ClockSync } from '../clock-sync.js';
 import { InputRing, SnapshotRing } from '../history.js';
 import {
   DEFAULT_PROTOCOL_LIMITS,
+  RELAY_PROTOCOL,
   decodeMessage,
   encodeMessage,
   type ConfirmedMessage,
@@ -397,7 +398,20 @@ export abstract class NetSession<I = ButtonInput> {
 
   // ---------------------------------------------------------------------------- receiving
 
-  private receive(bytes: Uint8Array): void {
+  private receive(frame: Uint8Array): void {
+    // A frame is one message, or several (a batch: the server's messages of one flush).
+    let messages: Uint8Array[];
+    try {
+      messages = RELAY_PROTOCOL.split(frame);
+    } catch (error) {
+      if (!(error instanceof ProtocolError)) throw error;
+      this.stats.badMessages++;
+      return;
+    }
+    for (const bytes of messages) this.receiveMessage(bytes);
+  }
+
+  private receiveMessage(bytes: Uint8Array): void {
     this.stats.messagesReceived++;
     this.stats.bytesReceived += bytes.length;
     let m: NetMessage;
@@ -604,8 +618,13 @@ export abstract class NetSession<I = ButtonInput> {
       this.reliable ? this.inputsSentTo : 0,
     );
     if (from >= this.issueNext) return;
-    // New inputs go at once; unacknowledged ones are resent every 50 ms (they may have been lost).
+    // New inputs go at once — in groups of the room's network rate (`sendEvery` ticks) over a
+    // stream; unacknowledged ones are resent every 50 ms (they may have been lost).
     if (!this.newInputs && now - this.lastInputSendAt < 50) return;
+    const every = this.welcomeMsg.sendEvery;
+    if (this.newInputs && every > 1 && this.issueNext - this.inputsSentTo < every) {
+      if (now - this.lastInputSendAt < every * this.tickMs) return;
+    }
     this.inputsSentTo = this.issueNext;
     const w = this.words;
     const inputs = new Uint32Array((this.issueNext - from) * w);
@@ -629,6 +648,16 @@ export abstract class NetSession<I = ButtonInput> {
     const w = this.welcomeMsg;
     if (!w) return;
     if (this.confirmedEnd === this.lastAckSent && now - this.lastAckSendAt < 200) return;
+    // A playing player's ack rides on its inputs; at a network rate below the tick rate, it does
+    // not go alone in between (that would be a frame per confirmed group again).
+    if (
+      w.sendEvery > 1 &&
+      this.slot >= 0 &&
+      this.life.phase === 'running' &&
+      now - this.lastAckSendAt < 200
+    ) {
+      return;
+    }
     this.send({ type: 'ack', room: w.room, ack: this.confirmedEnd });
     this.lastAckSent = this.confirmedEnd;
     this.lastAckSendAt = now;

@@ -116,7 +116,10 @@ export class LockstepSession<I = ButtonInput> extends NetSession<I> {
     if (this.autoDelay && this.slot >= 0 && this.clockSync.ready) {
       const want = Math.min(
         this.maxDelay,
-        Math.ceil((this.clockSync.rttHigh + 1.5 * tickMs) / tickMs),
+        // The round trip, plus the room's network rate: inputs wait for their group here and
+        // confirmed ticks for theirs at the server, up to `sendEvery − 1` ticks each.
+        Math.ceil((this.clockSync.rttHigh + 1.5 * tickMs) / tickMs) +
+          2 * ((this.welcomeMsg?.sendEvery ?? 1) - 1),
       );
       if (want > this.delay) {
         this.delay = want;

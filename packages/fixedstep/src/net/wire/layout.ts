@@ -6,8 +6,15 @@
  */
 import type { ByteWriter } from '../../det/bytes.js';
 import type { Random } from '../../det/random.js';
-import type { Fast, Field, Fields, Limits, WireReader } from './field.js';
-import { fastProblem, fastRead, fastWrite } from './scalars.js';
+import {
+  bound,
+  type Fast,
+  type Field,
+  type Fields,
+  type Limits,
+  type WireReader,
+} from './field.js';
+import { failUint, fastProblem, fastRead, fastWrite, isInlineUint } from './scalars.js';
 
 /** Node (or a runtime like it): where {@link Layout} compiles its codecs. */
 const SERVER_RUNTIME =
@@ -145,14 +152,39 @@ export class Layout {
     const { keys, fasts } = this;
     const q = (k: string) => JSON.stringify(k);
     const init = keys.map((k) => `${q(k)}: undefined`).join(', ');
+    // A uint with a numeric range (most fields of the hot messages) is read and checked inline:
+    // the same calls and refusals as `fastRead` and `fastProblem`, without their switch.
     const reads = keys.map((k, i) => {
       if (this.bits[i]! < 0) return '';
-      const call = fasts[i] ? `fastRead(fasts[${i}], r)` : `fields[${i}].read(r, m)`;
+      const f = fasts[i];
+      if (f && isInlineUint(f)) {
+        // A named limit is looked up as `bound` does (which throws for a missing one).
+        const hi =
+          typeof f.max === 'number'
+            ? `hi = ${f.max};`
+            : `hi = r.limits[${q(f.max)}]; if (hi === undefined) hi = bound(${q(f.max)}, r.limits);`;
+        return (
+          `r.fieldName = ${q(k)}; at = r.pos; v = r.varint(${q(k)}) + ${f.min}; ${hi} ` +
+          `if (v > hi) failUint(r, v, hi, at); m[${q(k)}] = v;`
+        );
+      }
+      const call = f ? `fastRead(fasts[${i}], r)` : `fields[${i}].read(r, m)`;
       return `r.fieldName = ${q(k)}; m[${q(k)}] = ${call};`;
     });
     const encodes = keys.map((k, i) => {
       const get = `v = m[${q(k)}];`;
-      if (fasts[i]) {
+      const f = fasts[i];
+      if (f && isInlineUint(f)) {
+        const hi =
+          typeof f.max === 'number'
+            ? `hi = ${f.max};`
+            : `hi = limits[${q(f.max)}]; if (hi === undefined) hi = bound(${q(f.max)}, limits);`;
+        return (
+          `${get} ${hi} if (typeof v !== 'number' || !(v >= ${f.min} && v <= hi && v - ${f.min} <= 0xffffffff) || !Number.isInteger(v)) ` +
+          `return [${q(k)}, fastProblem(fasts[${i}], v, limits)]; w.varint(v - ${f.min});`
+        );
+      }
+      if (f) {
         return `${get} p = fastProblem(fasts[${i}], v, limits); if (p !== undefined) return [${q(k)}, p]; fastWrite(fasts[${i}], w, v);`;
       }
       const write = this.bits[i]! < 0 ? '' : `fields[${i}].write(w, v, m, limits);`;
@@ -164,11 +196,13 @@ export class Layout {
         'fastRead',
         'fastWrite',
         'fastProblem',
+        'failUint',
+        'bound',
         'fasts',
         'fields',
         `return [
-          function read(r, m0) { const m = { type: m0.type, ${init} }; ${reads.join(' ')} return m; },
-          function encode(w, m, limits) { let v, p; ${encodes.join(' ')} return undefined; },
+          function read(r, m0) { const m = { type: m0.type, ${init} }; let at, v, hi; ${reads.join(' ')} return m; },
+          function encode(w, m, limits) { let v, p, hi; ${encodes.join(' ')} return undefined; },
         ];`,
       ) as (
         ...args: unknown[]
@@ -180,6 +214,8 @@ export class Layout {
         fastRead,
         fastWrite,
         fastProblem,
+        failUint,
+        bound,
         fasts,
         this.fields,
       );

@@ -9,9 +9,9 @@
  * a message of another protocol, or of an older client, is refused with a sentence that says so.
  * @module
  */
-import { ByteWriter } from '../../det/bytes.js';
+import { ByteWriter, varintSize } from '../../det/bytes.js';
 import type { Random } from '../../det/random.js';
-import { ProtocolError } from './error.js';
+import { ProtocolError, type ProtocolErrorCode, type ProtocolErrorPlace } from './error.js';
 import { Layout, WireReader, type Field, type Fields, type Limits } from './fields.js';
 
 /** Who sends a message: a decoder reading one side's messages refuses the other side's. */
@@ -53,6 +53,12 @@ export interface ProtocolSpec<M extends { type: string }, L extends object> {
   limits: Readonly<L>;
   /** Every message, by type. */
   messages: { [K in M['type']]: MessageSpec<Extract<M, { type: K }>> };
+  /**
+   * The type byte of a batch frame, if the protocol has them: `[header][batch]` and then, for
+   * each message, its length as a varint and its bytes (header included) — several messages of
+   * one side in one WebSocket frame (see {@link WireProtocol.frame}).
+   */
+  batch?: number;
 }
 
 interface Compiled {
@@ -81,6 +87,8 @@ export class WireProtocol<M extends { type: string }, L extends object> {
   /** Byte 0 of every message. */
   readonly header: number;
   readonly limits: Readonly<L>;
+  /** The type byte of a batch frame, or undefined (see {@link ProtocolSpec.batch}). */
+  readonly batch: number | undefined;
   private readonly byCode: (Compiled | undefined)[] = [];
   private readonly byType = new Map<string, Compiled>();
   // Encoding is synchronous and never re-entered: one buffer serves every message, and a message
@@ -99,6 +107,7 @@ export class WireProtocol<M extends { type: string }, L extends object> {
     this.header = spec.family | spec.version;
     this.limits = Object.freeze({ ...spec.limits });
     FAMILIES.set(spec.family, spec.name);
+    this.batch = spec.batch;
     const messages = spec.messages as Record<string, MessageSpec<{ type: string }>>;
     for (const [type, m] of Object.entries(messages)) {
       if (this.byCode[m.code] !== undefined) {
@@ -111,9 +120,62 @@ export class WireProtocol<M extends { type: string }, L extends object> {
         layout: new Layout(m.fields),
         check: m.check,
       };
+      if (m.code === spec.batch)
+        throw new RangeError(`${spec.name}: type byte ${m.code} is the batch's`);
       this.byCode[m.code] = c;
       this.byType.set(type, c);
     }
+  }
+
+  /**
+   * One frame holding `messages` (each one's bytes, as {@link encode} made them): the message
+   * itself when there is one, else a batch frame — one WebSocket frame instead of several, read
+   * back with {@link split}. Throws when the protocol has no batch frame and there are several.
+   */
+  frame(messages: readonly Uint8Array[]): Uint8Array {
+    if (messages.length === 1) return messages[0]!;
+    if (this.batch === undefined) throw new RangeError(`${this.name}: no batch frames`);
+    let size = 2;
+    for (const b of messages) size += varintSize(b.length) + b.length;
+    const out = new Uint8Array(size);
+    out[0] = this.header;
+    out[1] = this.batch;
+    let at = 2;
+    for (const b of messages) {
+      for (let x = b.length; ; x >>>= 7) {
+        if (x < 0x80) {
+          out[at++] = x;
+          break;
+        }
+        out[at++] = (x & 0x7f) | 0x80;
+      }
+      out.set(b, at);
+      at += b.length;
+    }
+    return out;
+  }
+
+  /**
+   * The messages of one frame: the frame itself, or a batch frame's messages (views into it, each
+   * to {@link decode}). Throws a {@link ProtocolError} for a batch frame that is not a whole
+   * number of non-empty messages; what the messages hold is left to `decode`.
+   */
+  split(frame: Uint8Array): Uint8Array[] {
+    if (this.batch === undefined || frame.length < 2 || frame[1] !== this.batch) return [frame];
+    this.checkHeader(frame[0]!);
+    const r = new WireReader(frame, this.name, this.limits as Limits);
+    r.messageType = 'batch';
+    r.fieldName = 'messages';
+    const out: Uint8Array[] = [];
+    while (r.pos < frame.length) {
+      const n = r.count('message length', frame.length, 2);
+      r.need(n, 'message');
+      out.push(frame.subarray(r.pos, r.pos + n));
+      r.pos += n;
+    }
+    if (out.length < 2)
+      throw this.error('BAD_VALUE', 'a batch of fewer than two messages', { messageType: 'batch' });
+    return out;
   }
 
   /** Every message type. */
@@ -172,26 +234,26 @@ export class WireProtocol<M extends { type: string }, L extends object> {
    */
   decode(bytes: Uint8Array, options: DecodeOptions<L> = {}): M {
     const limits = (options.limits ?? this.limits) as Limits;
-    const place = { protocol: this.name };
+    // Every message of every match comes through here: the error's place is built only on error.
     try {
-      if (!(bytes instanceof Uint8Array)) throw new ProtocolError('BAD_VALUE', 'not bytes', place);
-      if (bytes.length < 2) {
-        throw new ProtocolError('TRUNCATED', 'shorter than a header', { ...place, offset: 0 });
-      }
+      if (!(bytes instanceof Uint8Array)) throw this.error('BAD_VALUE', 'not bytes');
+      if (bytes.length < 2) throw this.error('TRUNCATED', 'shorter than a header', { offset: 0 });
       this.checkHeader(bytes[0]!);
       const c = this.byCode[bytes[1]!];
       if (c === undefined) {
-        throw new ProtocolError('BAD_TYPE', `unknown message type 0x${bytes[1]!.toString(16)}`, {
-          ...place,
+        const what =
+          bytes[1] === this.batch
+            ? 'a batch frame: split it into its messages first'
+            : `unknown message type 0x${bytes[1]!.toString(16)}`;
+        throw this.error('BAD_TYPE', what, {
           offset: 1,
         });
       }
       if (options.from !== undefined && c.from !== 'both' && c.from !== options.from) {
-        throw new ProtocolError(
+        throw this.error(
           'BAD_TYPE',
           `a ${c.type} is sent by the ${c.from}, not the ${options.from}`,
           {
-            ...place,
             messageType: c.type,
             offset: 1,
           },
@@ -199,11 +261,10 @@ export class WireProtocol<M extends { type: string }, L extends object> {
       }
       const max = 2 + c.layout.maxBytes(limits);
       if (bytes.length > max) {
-        throw new ProtocolError(
+        throw this.error(
           'TOO_LARGE',
           `${bytes.length} bytes; a ${c.type} message is at most ${max}`,
           {
-            ...place,
             messageType: c.type,
           },
         );
@@ -213,20 +274,27 @@ export class WireProtocol<M extends { type: string }, L extends object> {
       const m = c.layout.readMessage(r, c.type);
       r.fieldName = '';
       r.end();
-      const problem = c.check?.(m as never, limits);
-      if (problem !== undefined) {
-        throw new ProtocolError('BAD_VALUE', problem[1], {
-          ...place,
-          messageType: c.type,
-          field: problem[0],
-        });
+      if (c.check !== undefined) {
+        const problem = c.check(m as never, limits);
+        if (problem !== undefined) {
+          throw this.error('BAD_VALUE', problem[1], { messageType: c.type, field: problem[0] });
+        }
       }
       return m as unknown as M;
     } catch (error) {
       if (error instanceof ProtocolError) throw error;
       // A bug here must still surface as the one documented error type.
-      throw new ProtocolError('BAD_VALUE', `undecodable: ${String(error)}`, place);
+      throw this.error('BAD_VALUE', `undecodable: ${String(error)}`);
     }
+  }
+
+  /** A {@link ProtocolError} of this protocol at `place`. */
+  private error(
+    code: ProtocolErrorCode,
+    message: string,
+    place: Omit<ProtocolErrorPlace, 'protocol'> = {},
+  ): ProtocolError {
+    return new ProtocolError(code, message, { protocol: this.name, ...place });
   }
 
   /** The message type of `bytes` without decoding the rest (undefined: unknown, or not this protocol). */

@@ -56,6 +56,19 @@ function fastKind(
   };
 }
 
+/**
+ * Whether fast kind `f` is a `uint` with a numeric max: a compiled layout reads and writes it
+ * inline (see `Layout`), with {@link failUint} and {@link fastProblem} for its refusals.
+ */
+export function isInlineUint(f: Fast): f is Fast & { readonly max: number | string } {
+  return f.op === OP_UINT && (typeof f.max === 'number' || typeof f.max === 'string');
+}
+
+/** A `uint` read `v` above its `max`: the refusal {@link fastRead} throws. */
+export function failUint(r: WireReader, v: number, max: number, at: number): never {
+  return r.fail('too-large', `${v}, at most ${max}`, at);
+}
+
 /** Reads a value of fast kind `f`. */
 export function fastRead(f: Fast, r: WireReader): unknown {
   const at = r.pos;
@@ -263,11 +276,19 @@ export function packed(
     if (typeof hi !== 'number') throw new RangeError(`packed: ${key}'s max must be a number`);
     return hi - lo + 1;
   });
+  // The digits as parallel arrays: a message's hot path reads them with no destructuring.
+  const keys = digits.map(([key]) => key);
+  const mins = digits.map(([, lo]) => lo);
+  const maxes = digits.map(([, , hi]) => hi);
+  const count = digits.length;
   return {
     kind: `packed ${digits.map(([k, lo, hi]) => `${k} ${lo}–${describe(hi)}`).join(', ')}`,
     minBytes: 1,
     problem(_v, m, limits) {
-      for (const [key, lo, hi] of digits) {
+      for (let i = 0; i < count; i++) {
+        const key = keys[i]!;
+        const lo = mins[i]!;
+        const hi = maxes[i]!;
         const v = m[key];
         if (!isInt(v) || v < lo || v > bound(hi, limits)) {
           return `${key} ${String(v)} is not from ${lo} to ${bound(hi, limits)}`;
@@ -278,9 +299,8 @@ export function packed(
     write(w, _v, m) {
       let value = 0;
       let scale = 1;
-      for (let i = 0; i < digits.length; i++) {
-        const [key, lo] = digits[i]!;
-        value += ((m[key] as number) - lo) * scale;
+      for (let i = 0; i < count; i++) {
+        value += ((m[keys[i]!] as number) - mins[i]!) * scale;
         scale *= spans[i] ?? 1;
       }
       w.varint(value);
@@ -288,8 +308,10 @@ export function packed(
     read(r, m) {
       const at = r.pos;
       let rest = r.varint(r.fieldName);
-      for (let i = 0; i < digits.length; i++) {
-        const [key, lo, hi] = digits[i]!;
+      for (let i = 0; i < count; i++) {
+        const key = keys[i]!;
+        const lo = mins[i]!;
+        const hi = maxes[i]!;
         const span = spans[i];
         const v = (span === undefined ? rest : rest % span) + lo;
         if (span !== undefined) rest = Math.floor(rest / span);
