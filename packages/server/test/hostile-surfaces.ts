@@ -177,6 +177,60 @@ function roomUrl(base: string, path: string, room: string | undefined): string {
 
 // ------------------------------------------------------------------------------------------ /ws
 
+/** How a game surface (the relay, state sync) differs, for {@link gameRooms}. */
+interface GameRoomParts {
+  open(base: string, address: string, room: string): Promise<Peer>;
+  /** A player's join of `room`: the relay's hello, state sync's join. */
+  join(room: string, extras?: JoinExtras): AnyMessage;
+  /** The message that says the match is on: the relay's start, state sync's first snapshot. */
+  started: string;
+  keepAlive(peer: Peer, playing: boolean): void;
+  count: (server: FixedstepServer) => number;
+  has: (server: FixedstepServer, room: string) => boolean;
+  ping: (id: number) => AnyMessage;
+  leave: (peer: Peer) => AnyMessage;
+}
+
+/** The rooms of a game surface: seats held, spectators with the invite, joined by a welcome. */
+function gameRooms(parts: GameRoomParts): RoomSurface {
+  return {
+    holdsSeats: true,
+    spectators: true,
+    joined: 'welcome',
+    count: parts.count,
+    has: parts.has,
+    join: (peer, room, x) => {
+      peer.send(parts.join(room, x));
+    },
+    async hold(peer, room) {
+      peer.send(parts.join(room, { players: 1 }));
+      const outcome = await peer.outcome([parts.started]);
+      if (outcome !== parts.started) return outcome;
+      parts.keepAlive(peer, false);
+      return 'held';
+    },
+    async play(base, room, [a, b], playing = false) {
+      const pa = await parts.open(base, a, room);
+      pa.send(parts.join(room));
+      await madeBy(pa, 'welcome');
+      const pb = await parts.open(base, b, room);
+      pb.send(parts.join(room));
+      for (const p of [pa, pb]) {
+        const outcome = await p.outcome([parts.started]);
+        if (outcome !== parts.started) {
+          throw new Error(`${p.address}: ${outcome}, not a ${parts.started}`);
+        }
+        parts.keepAlive(p, playing);
+      }
+      return [pa, pb];
+    },
+    token: (peer) => welcomeOf(peer).token,
+    invite: (peer) => welcomeOf(peer).invite,
+    ping: parts.ping,
+    leave: parts.leave,
+  };
+}
+
 const relayHello = (room: string, x: JoinExtras = {}): NetMessage => ({
   type: 'hello',
   room,
@@ -225,43 +279,19 @@ const RELAY: Surface = {
   hello: (room) => relayHello(room),
   welcome: 'welcome',
   chatter: () => ({ type: 'ping', id: 1, time: 0 }) satisfies NetMessage,
-  rooms: {
-    holdsSeats: true,
-    spectators: true,
-    joined: 'welcome',
+  rooms: gameRooms({
+    open: (base, address, room) => RELAY.open(base, address, room),
+    join: relayHello,
+    started: 'start',
+    keepAlive: relayKeepAlive,
     count: (s) => s.relay!.relay.stats.rooms,
     has: (s, room) => s.relay!.relay.room(room) !== undefined,
-    join: (peer, room, x) => {
-      peer.send(relayHello(room, x));
-    },
-    async hold(peer, room) {
-      peer.send(relayHello(room, { players: 1 }));
-      const outcome = await peer.outcome(['start']);
-      if (outcome !== 'start') return outcome;
-      relayKeepAlive(peer, false);
-      return 'held';
-    },
-    async play(base, room, [a, b], playing = false) {
-      const pa = await RELAY.open(base, a, room);
-      pa.send(relayHello(room));
-      await madeBy(pa, 'welcome');
-      const pb = await RELAY.open(base, b, room);
-      pb.send(relayHello(room));
-      for (const p of [pa, pb]) {
-        const outcome = await p.outcome(['start']);
-        if (outcome !== 'start') throw new Error(`${p.address}: ${outcome}, not a start`);
-        relayKeepAlive(p, playing);
-      }
-      return [pa, pb];
-    },
-    token: (peer) => welcomeOf(peer).token,
-    invite: (peer) => welcomeOf(peer).invite,
     ping: (id) => ({ type: 'ping', id, time: 0 }) satisfies NetMessage,
     leave: (peer) => {
       const w = welcomeOf(peer);
       return { type: 'leave', room: w.room, peer: w.peer, reason: 'left' } satisfies NetMessage;
     },
-  },
+  }),
 };
 
 // --------------------------------------------------------------------------------------- /state
@@ -312,40 +342,16 @@ const STATE: Surface = {
   hello: (room) => stateJoin(room),
   welcome: 'welcome',
   chatter: () => ({ type: 'ping', id: 1, time: 0 }) satisfies StateSyncMessage,
-  rooms: {
-    holdsSeats: true,
-    spectators: true,
-    joined: 'welcome',
+  rooms: gameRooms({
+    open: (base, address, room) => STATE.open(base, address, room),
+    join: stateJoin,
+    started: 'snapshot',
+    keepAlive: stateKeepAlive,
     count: (s) => s.stateSync!.rooms().length,
     has: (s, room) => s.stateSync!.rooms().some((r) => r.room === room),
-    join: (peer, room, x) => {
-      peer.send(stateJoin(room, x));
-    },
-    async hold(peer, room) {
-      peer.send(stateJoin(room, { players: 1 }));
-      const outcome = await peer.outcome(['welcome']);
-      if (outcome !== 'welcome') return outcome;
-      stateKeepAlive(peer, false);
-      return 'held';
-    },
-    async play(base, room, [a, b], playing = false) {
-      const pa = await STATE.open(base, a, room);
-      pa.send(stateJoin(room));
-      await madeBy(pa, 'welcome');
-      const pb = await STATE.open(base, b, room);
-      pb.send(stateJoin(room));
-      for (const p of [pa, pb]) {
-        const outcome = await p.outcome(['snapshot']);
-        if (outcome !== 'snapshot') throw new Error(`${p.address}: ${outcome}, not a snapshot`);
-        stateKeepAlive(p, playing);
-      }
-      return [pa, pb];
-    },
-    token: (peer) => welcomeOf(peer).token,
-    invite: (peer) => welcomeOf(peer).invite,
     ping: (id) => ({ type: 'ping', id, time: 0 }) satisfies StateSyncMessage,
     leave: () => ({ type: 'leave' }) satisfies StateSyncMessage,
-  },
+  }),
 };
 
 // -------------------------------------------------------------------------------------- /signal
