@@ -2,6 +2,7 @@ import { availableParallelism } from 'node:os';
 import { Worker } from 'node:worker_threads';
 import type { AnyGameDefinition, ReplayLimits } from 'fixedstep';
 import { SubmissionError, resimulate, submissionLimits, type Resimulation } from './check.js';
+import { workerScript } from '../worker-script.js';
 
 /** Options of {@link VerifierPool}. */
 export interface VerifierPoolOptions {
@@ -180,7 +181,7 @@ export class VerifierPool {
   }
 
   private spawn(): Slot {
-    const { url, execArgv } = workerScript();
+    const { url, execArgv } = workerScript('./worker.js', import.meta.url);
     const worker = new Worker(url, {
       workerData: { modules: [...this.modules] },
       ...(execArgv ? { execArgv } : {}),
@@ -285,22 +286,4 @@ export class VerifierPool {
     this.options.onDone?.((performance.now() - job.started) / 1000, result.ok ? 'ok' : result.code);
     job.resolve(result);
   }
-}
-
-/**
- * The worker's script. Built, it is worker.js next to this file. From TypeScript sources (the
- * tests, `npm run bench` under tsx) it is worker.ts, loaded through tsx's loader, which a small
- * bootstrap registers in the worker (a worker's `execArgv` cannot carry `--import`), with the
- * packages' `source` export condition.
- */
-function workerScript(): { url: URL; execArgv?: string[] } {
-  const here = import.meta.url;
-  if (!here.endsWith('.ts')) return { url: new URL('./worker.js', here) };
-  const tsx = import.meta.resolve('tsx/esm/api');
-  const worker = new URL('./worker.ts', here).href;
-  const bootstrap = `const { register } = await import(${JSON.stringify(tsx)}); register(); await import(${JSON.stringify(worker)});`;
-  return {
-    url: new URL(`data:text/javascript,${encodeURIComponent(bootstrap)}`),
-    execArgv: ['--conditions=source'],
-  };
 }

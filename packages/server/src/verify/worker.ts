@@ -8,6 +8,7 @@ import { parentPort, workerData } from 'node:worker_threads';
 import type { AnyGameDefinition, ReplayLimits } from 'fixedstep';
 import { importGames } from '../games/load.js';
 import { resimulate } from './check.js';
+import { lowerThreadPriority } from '../worker-script.js';
 
 interface Data {
   modules: string[];
@@ -19,6 +20,7 @@ interface Job {
   limits: Partial<ReplayLimits>;
 }
 
+lowerThreadPriority();
 const port = parentPort;
 if (port === null) throw new Error('verify/worker.js runs as a worker thread of VerifierPool');
 const { modules } = workerData as Data;
