@@ -11,8 +11,6 @@ export interface PgliteWorkerData {
   readonly template?: Uint8Array<ArrayBuffer>;
   /** Modules the thread imports before it opens the database (see `PgliteOptions.preload`). */
   readonly preload: readonly string[];
-  /** Only create the folder (`initdb`), close it, and say so. */
-  readonly initOnly: boolean;
 }
 
 /** An error as it crosses from the worker: its name, message and (PostgreSQL or errno) code. */

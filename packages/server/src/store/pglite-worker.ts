@@ -76,9 +76,6 @@ try {
   await new Promise(() => undefined);
   throw error;
 }
-// A new folder (`initOnly`): `initdb` leaves hundreds of MB behind in this thread, so the main
-// thread opens the database again in a fresh one and ends this one.
-if (data.initOnly) await db.close();
 port.postMessage({ opened: true });
 
 /** Open transactions by the id of their `begin`: their handle, and how to end them. */

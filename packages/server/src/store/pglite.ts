@@ -1,11 +1,13 @@
+import { spawn } from 'node:child_process';
 import { existsSync, readFileSync } from 'node:fs';
 import { mkdir, open, readFile, readdir, rename, rm, stat, unlink } from 'node:fs/promises';
+import os from 'node:os';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
 import { Worker } from 'node:worker_threads';
 import type { Queryable, Row, SqlDriver } from './driver.js';
-import type { PgliteWorkerData, WorkerError } from './pglite-protocol.js';
-import { workerScript } from '../worker-script.js';
+import { PGLITE_START_PARAMS, type PgliteWorkerData, type WorkerError } from './pglite-protocol.js';
+import { WORKER_NICENESS, workerScript } from '../worker-script.js';
 
 interface Pending {
   resolve: (rows: Row[]) => void;
@@ -364,17 +366,64 @@ export async function claimDataDir(dataDir: string): Promise<ClaimedDataDir> {
   return { dir, release: await lockDataDir(dir) };
 }
 
-/** Opens the database in `where` in a worker thread, running `initdb` first in one of its own if new. */
+/**
+ * Creates a new database folder (`initdb`) in a short-lived child process at a lower priority:
+ * `initdb` leaves some hundred MB behind in whatever process runs it — a worker thread gives its
+ * heap back when it ends, but not the C library's arenas — and a process gives everything back.
+ */
+async function initInChild(where: string): Promise<{ error: Error; opening: boolean } | undefined> {
+  const pglite = import.meta.resolve('@electric-sql/pglite');
+  const script = `
+    const { PGlite } = await import(${JSON.stringify(pglite)});
+    const db = await PGlite.create({
+      dataDir: ${JSON.stringify(where)},
+      startParams: [...PGlite.defaultStartParams, ...${JSON.stringify(PGLITE_START_PARAMS)}],
+    });
+    await db.close();`;
+  const child = spawn(process.execPath, ['--input-type=module', '-e', script], {
+    stdio: ['ignore', 'ignore', 'pipe'],
+  });
+  try {
+    if (child.pid !== undefined) os.setPriority(child.pid, Math.min(19, WORKER_NICENESS));
+  } catch {
+    // Not permitted: it keeps the server's priority.
+  }
+  let said = '';
+  child.stderr.on('data', (d: Buffer) => {
+    said = (said + d.toString()).slice(-4000);
+  });
+  const [code, signal] = await new Promise<[number | null, NodeJS.Signals | null]>((resolve) => {
+    child.once('exit', (c, s) => {
+      resolve([c, s]);
+    });
+    child.once('error', () => {
+      resolve([null, null]);
+    });
+  });
+  if (code === 0) return undefined;
+  const fatal = said
+    .split('\n')
+    .filter((l) => /\b(PANIC|FATAL|ERROR|Error)\b/.test(l))
+    .slice(-3)
+    .join(' / ');
+  return {
+    error: new Error(
+      `initdb failed (${signal ?? `exit ${String(code)}`})${fatal === '' ? '' : `: ${fatal.trim()}`}`,
+    ),
+    opening: true,
+  };
+}
+
+/** Opens the database in `where` in a worker thread, creating it first if it is new. */
 async function openFolder(
   where: string,
   preload: readonly string[],
 ): Promise<{ worker: Worker } | { error: Error; opening: boolean }> {
   if (!existsSync(path.join(where, 'PG_VERSION'))) {
-    const init = await startWorker({ dataDir: where, preload, initOnly: true });
-    if ('error' in init) return init;
-    await init.worker.terminate();
+    const failed = await initInChild(where);
+    if (failed !== undefined) return failed;
   }
-  return startWorker({ dataDir: where, preload, initOnly: false });
+  return startWorker({ dataDir: where, preload });
 }
 
 /** A time for a file name: `2026-12-07T05-12-44Z`. */
@@ -390,7 +439,7 @@ function fileStamp(date: Date): string {
  * in-memory one when `dataDir` is undefined, in a worker thread of its own. The folder is locked
  * for this process ({@link claimDataDir}, unless `claimed` says it already is — then the caller
  * keeps the lock whatever happens). The first open of a new folder runs `initdb` (seconds, in a
- * thread that ends after it, taking its memory along); later opens take about a second.
+ * child process that ends after it, taking its memory along); later opens take about a second.
  *
  * A folder PGlite cannot open (a damaged file: PGlite says little more than `Aborted()`) is set
  * aside as `<dataDir>/pglite.corrupt-<time>` — kept as it was, never deleted — and a new, empty
@@ -411,7 +460,6 @@ export async function openPglite(
         : new Uint8Array(await options.template.arrayBuffer());
     const started = await startWorker({
       preload,
-      initOnly: false,
       ...(template !== undefined ? { template } : {}),
     });
     if ('error' in started) throw started.error;
