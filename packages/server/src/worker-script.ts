@@ -26,8 +26,10 @@ export function workerScript(script: string, from: string): { url: URL; execArgv
  * How much lower than the event loop's a worker thread's scheduling priority is (a nice value;
  * 19 is the lowest). On Linux a thread has its own nice value, so a worker that calls
  * {@link lowerThreadPriority} gives way to the server's event loop when the cores are short —
- * the event loop's work is small and latency-bound (a relay's tick, a health check), the workers'
- * (a re-simulation, the database opening) large and throughput-bound.
+ * the event loop's work is small and latency-bound (a relay's tick, a health check), a
+ * verification worker's (a re-simulation) large and throughput-bound. The embedded database's
+ * thread keeps the event loop's priority: its opening decides when the server is ready, and its
+ * statements are short.
  */
 export const WORKER_NICENESS = 10;
 

@@ -13,9 +13,7 @@
 import { parentPort, workerData } from 'node:worker_threads';
 import { PGlite, type Transaction } from '@electric-sql/pglite';
 import { PGLITE_START_PARAMS, type PgliteWorkerData, type WorkerError } from './pglite-protocol.js';
-import { lowerThreadPriority } from '../worker-script.js';
 
-lowerThreadPriority();
 const port = parentPort;
 if (port === null) throw new Error('store/pglite-worker.js runs as a worker thread of openPglite');
 const data = workerData as PgliteWorkerData;

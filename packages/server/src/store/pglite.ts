@@ -1,13 +1,12 @@
 import { spawn } from 'node:child_process';
 import { existsSync, readFileSync } from 'node:fs';
 import { mkdir, open, readFile, readdir, rename, rm, stat, unlink } from 'node:fs/promises';
-import os from 'node:os';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
 import { Worker } from 'node:worker_threads';
 import type { Queryable, Row, SqlDriver } from './driver.js';
 import { PGLITE_START_PARAMS, type PgliteWorkerData, type WorkerError } from './pglite-protocol.js';
-import { WORKER_NICENESS, workerScript } from '../worker-script.js';
+import { workerScript } from '../worker-script.js';
 
 interface Pending {
   resolve: (rows: Row[]) => void;
@@ -367,7 +366,7 @@ export async function claimDataDir(dataDir: string): Promise<ClaimedDataDir> {
 }
 
 /**
- * Creates a new database folder (`initdb`) in a short-lived child process at a lower priority:
+ * Creates a new database folder (`initdb`) in a short-lived child process:
  * `initdb` leaves some hundred MB behind in whatever process runs it — a worker thread gives its
  * heap back when it ends, but not the C library's arenas — and a process gives everything back.
  */
@@ -383,11 +382,6 @@ async function initInChild(where: string): Promise<{ error: Error; opening: bool
   const child = spawn(process.execPath, ['--input-type=module', '-e', script], {
     stdio: ['ignore', 'ignore', 'pipe'],
   });
-  try {
-    if (child.pid !== undefined) os.setPriority(child.pid, Math.min(19, WORKER_NICENESS));
-  } catch {
-    // Not permitted: it keeps the server's priority.
-  }
   let said = '';
   child.stderr.on('data', (d: Buffer) => {
     said = (said + d.toString()).slice(-4000);
