@@ -1,5 +1,14 @@
 /**
- * The server under forged submissions: does verification stay off the event loop?
+ * The server's event loop: does anything block it — opening the store, forged submissions, an
+ * honest burst — and how much memory does it hold idle?
+ *
+ * - **Event-loop delay** (`perf_hooks.monitorEventLoopDelay`, p99 and max, ms) of the server's
+ *   process during a cold start on a new data folder, a restart on the same folder, the forged
+ *   flood below, 200 forged posts at once from one address, and 200 honest submissions at once.
+ *   Goal: p99 < 20 ms and max < 100 ms in each. With them: the ready times (new and existing
+ *   folder; goal ≤ 10 s and ≤ 3 s) and the longest `/healthz` answer while the store opened.
+ * - **Idle RSS** of `fixedstep serve` with the default store (embedded PGlite), new and existing
+ *   folder, after it has been ready and idle a while (goal ≤ 200 MB).
  *
  * - **Latency while forged replays arrive** (20 a second): `GET /` and a WebSocket ping to the
  *   relay, p50 and p99 in ms, with verification in the worker pool and inline on the event loop,
@@ -9,11 +18,24 @@
  * - **Verification throughput**, replays a second: the same honest replays through a
  *   `VerifierPool` (cores − 1 workers, at least 1) and inline, one after another.
  */
-import { availableParallelism } from 'node:os';
+import { spawn } from 'node:child_process';
+import http from 'node:http';
+import { existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { availableParallelism, tmpdir } from 'node:os';
+import path from 'node:path';
+import { monitorEventLoopDelay } from 'node:perf_hooks';
+import { fileURLToPath } from 'node:url';
 import WebSocket from 'ws';
 import { decodeMessage, encodeMessage } from 'fixedstep';
 import { ctfGame } from '@fixedstep/games';
-import { createServer, openStore, VerifierPool, loadGames } from '@fixedstep/server';
+import {
+  createServer,
+  openStore,
+  prepareStore,
+  VerifierPool,
+  loadGames,
+  type LoadedGames,
+} from '@fixedstep/server';
 import { defineSuite } from '../lib/suite.js';
 import { recordBotGame } from './replay.js';
 
@@ -27,6 +49,125 @@ interface LoadResult {
   get: number[];
   ping: number[];
   answered: Record<number, number>;
+  loop: LoopDelay;
+}
+
+/** Event-loop delay over a stretch of time, ms. */
+interface LoopDelay {
+  p99: number;
+  max: number;
+}
+
+/** Runs `work` while sampling this process's event-loop delay (10 ms resolution). */
+async function withLoopDelay<T>(work: () => Promise<T>): Promise<{ result: T; loop: LoopDelay }> {
+  const h = monitorEventLoopDelay({ resolution: 10 });
+  h.enable();
+  try {
+    const result = await work();
+    return { result, loop: { p99: h.percentile(99) / 1e6, max: h.max / 1e6 } };
+  } finally {
+    h.disable();
+  }
+}
+
+/** POSTs `body` to `path` on 127.0.0.1 through `agent`; resolves with the status once answered. */
+function post(port: number, path: string, body: Uint8Array, agent: http.Agent): Promise<number> {
+  return new Promise((resolve, reject) => {
+    const req = http.request({ host: '127.0.0.1', port, path, method: 'POST', agent }, (res) => {
+      res.resume();
+      res.on('end', () => {
+        resolve(res.statusCode ?? 0);
+      });
+    });
+    req.on('error', reject);
+    req.end(Buffer.from(body));
+  });
+}
+
+/** Asks `url` every 20 ms until `done` settles; the longest answer, ms. */
+async function probeWhile(url: string, done: Promise<unknown>): Promise<number> {
+  let settled = false;
+  void done.finally(() => (settled = true)).catch(() => undefined);
+  let longest = 0;
+  while (!settled) {
+    const t0 = performance.now();
+    await (await fetch(url)).arrayBuffer();
+    longest = Math.max(longest, performance.now() - t0);
+    await new Promise((resolve) => setTimeout(resolve, 20));
+  }
+  return longest;
+}
+
+/**
+ * Starts a server on `dataDir` (PGlite) and waits until its store is open: the ms until it
+ * listened and until it was ready, the event-loop delay meanwhile, the longest `/healthz` answer.
+ */
+async function startOn(
+  dataDir: string,
+  games: LoadedGames,
+): Promise<{ listenMs: number; readyMs: number; loop: LoopDelay; healthMs: number }> {
+  const t0 = performance.now();
+  const server = await createServer({
+    port: 0,
+    store: await prepareStore({ dataDir }),
+    games,
+    log: () => undefined,
+  });
+  const listenMs = performance.now() - t0;
+  // From listening on: what a client meets (before it, nothing can be asked of the server; the
+  // ~0.2–0.7 s before it are fastify loading its schema compilers).
+  const { result, loop } = await withLoopDelay(async () => {
+    const healthMs = await probeWhile(`http://127.0.0.1:${server.port}/healthz`, server.storeReady);
+    await server.storeReady;
+    return { readyMs: performance.now() - t0, healthMs };
+  });
+  await server.close();
+  return { listenMs, ...result, loop };
+}
+
+/**
+ * `fixedstep serve` in a process of its own (the built CLI when there is one, else the sources
+ * under tsx), on `dataDir`: its RSS in MB once it has been ready and idle for `idleSeconds`.
+ */
+async function idleRss(dataDir: string, idleSeconds: number): Promise<{ mb: number; how: string }> {
+  const root = fileURLToPath(new URL('../..', import.meta.url));
+  const built = path.join(root, 'packages/cli/dist/cli.js');
+  const lab = mkdtempSync(path.join(tmpdir(), 'fixedstep-bench-lab-'));
+  writeFileSync(path.join(lab, 'index.html'), '<!doctype html><title>lab</title>');
+  const args = existsSync(built)
+    ? [built]
+    : ['--conditions=source', '--import', 'tsx', path.join(root, 'packages/cli/src/cli.ts')];
+  const child = spawn(
+    process.execPath,
+    [...args, 'serve', '--port', '0', '--root', lab, '--data', dataDir],
+    { stdio: ['ignore', 'pipe', 'inherit'], env: { ...process.env, DATABASE_URL: '' } },
+  );
+  try {
+    const port = await new Promise<number>((resolve, reject) => {
+      let out = '';
+      child.stdout.on('data', (d: Buffer) => {
+        out += d.toString();
+        const m = /localhost:(\d+)\//.exec(out);
+        if (m) resolve(Number(m[1]));
+      });
+      child.once('exit', (code) => {
+        reject(new Error(`fixedstep serve exited (${String(code)}) before listening`));
+      });
+    });
+    for (;;) {
+      if ((await fetch(`http://127.0.0.1:${port}/readyz`)).status === 200) break;
+      await new Promise((resolve) => setTimeout(resolve, 100));
+    }
+    await new Promise((resolve) => setTimeout(resolve, idleSeconds * 1000));
+    const status = readFileSync(`/proc/${child.pid}/status`, 'utf8');
+    const kb = Number(/VmRSS:\s+(\d+)/.exec(status)?.[1] ?? NaN);
+    return { mb: kb / 1024, how: existsSync(built) ? 'built CLI' : 'sources under tsx' };
+  } finally {
+    const exited = new Promise((resolve) => child.once('exit', resolve));
+    child.kill('SIGINT');
+    await exited;
+    rmSync(lab, { recursive: true, force: true });
+  }
 }
 
 /** Serves with `workers` verification workers (0: inline) while forged replays arrive at `rate`/s. */
@@ -86,7 +227,9 @@ async function underLoad(
     ).arrayBuffer();
     await (await fetch(`${base}/healthz`)).arrayBuffer();
   }
-  const result: LoadResult = { get: [], ping: [], answered: {} };
+  const result: LoadResult = { get: [], ping: [], answered: {}, loop: { p99: NaN, max: NaN } };
+  const h = monitorEventLoopDelay({ resolution: 10 });
+  h.enable();
   const end = performance.now() + seconds * 1000;
   const pending: Promise<unknown>[] = [];
   // Forged submissions at a steady rate.
@@ -112,6 +255,8 @@ async function underLoad(
   }
   clearInterval(submit);
   await Promise.all(pending);
+  h.disable();
+  result.loop = { p99: h.percentile(99) / 1e6, max: h.max / 1e6 };
   ws.close();
   await server.close();
   return result;
@@ -140,6 +285,8 @@ export default defineSuite({
         f(percentile(r.get, 99)),
         f(percentile(r.ping, 50)),
         f(percentile(r.ping, 99)),
+        f(r.loop.p99),
+        f(r.loop.max),
         Object.entries(r.answered)
           .map(([status, n]) => `${n}×${status}`)
           .join(' '),
@@ -154,13 +301,157 @@ export default defineSuite({
         'GET p99 ms',
         'ping p50 ms',
         'ping p99 ms',
+        'loop p99 ms',
+        'loop max ms',
         'answers',
       ],
       rows,
     );
+    const games = await loadGames();
+
+    // Start-up: a new data folder, then restarts on it.
+    const f1 = (v: number) => v.toFixed(1);
+    const dataRoot = mkdtempSync(path.join(tmpdir(), 'fixedstep-bench-data-'));
+    const starts: string[][] = [];
+    try {
+      const fresh = ctx.quick ? 1 : 2;
+      const again = ctx.quick ? 1 : 3;
+      for (let i = 0; i < fresh; i++) {
+        const dir = path.join(dataRoot, `new-${i}`);
+        const r = await startOn(dir, games);
+        starts.push([
+          'new folder',
+          f1(r.listenMs),
+          f1(r.readyMs),
+          f1(r.healthMs),
+          f1(r.loop.p99),
+          f1(r.loop.max),
+        ]);
+      }
+      for (let i = 0; i < again; i++) {
+        const r = await startOn(path.join(dataRoot, 'new-0'), games);
+        starts.push([
+          'existing folder',
+          f1(r.listenMs),
+          f1(r.readyMs),
+          f1(r.healthMs),
+          f1(r.loop.p99),
+          f1(r.loop.max),
+        ]);
+      }
+      ctx.table(
+        'Start-up with the default store (PGlite): until listening, until the store is open, the longest /healthz answer and the event-loop delay from listening to ready (goal: ready ≤ 10 s new, ≤ 3 s existing; loop p99 < 20 ms, max < 100 ms)',
+        [
+          'data folder',
+          'listening ms',
+          'ready ms',
+          '/healthz max ms',
+          'loop p99 ms',
+          'loop max ms',
+        ],
+        starts,
+      );
+
+      // Bursts: 200 forged posts at once from one address (the default rate limit), then 200 honest
+      // submissions at once (no rate limit: they stand for 200 players).
+      const burst = ctx.quick ? 50 : 200;
+      const bursts: string[][] = [];
+      const honestRuns = Array.from({ length: burst }, (_, i) => {
+        const rec = recordBotGame(ctfGame, ctx.quick ? 300 : 600, 1000 + i);
+        const g = rec.def.create(rec.config);
+        const n = rec.config.players;
+        const frame = new Array<number>(n).fill(0);
+        for (let t = 0; t < rec.ticks; t++) {
+          for (let p = 0; p < n; p++) frame[p] = rec.inputs[t * n + p]!;
+          g.step(frame);
+        }
+        return { bytes: rec.bytes, score: ctfGame.score!(g) };
+      });
+      for (const [label, runs, perMinute] of [
+        [
+          'forged, one address',
+          honestRuns.map((r) => ({ bytes: forged, score: r.score + 999 })),
+          undefined,
+        ],
+        ['honest, at once', honestRuns, 1_000_000],
+      ] as const) {
+        const server = await createServer({
+          port: 0,
+          store: await prepareStore({ dataDir: path.join(dataRoot, 'new-0') }),
+          games,
+          log: () => undefined,
+          ...(perMinute !== undefined ? { submissionsPerMinute: perMinute } : {}),
+        });
+        await server.storeReady;
+        const base = `http://127.0.0.1:${server.port}`;
+        const answered: Record<number, number> = {};
+        // All posted at once over at most 64 connections (one address may hold 96; more would
+        // wait for the server's per-address cap, not for the server).
+        const agent = new http.Agent({ keepAlive: true, maxSockets: 64 });
+        const t0 = performance.now();
+        const { result: healthMs, loop } = await withLoopDelay(async () => {
+          const all = Promise.all(
+            runs.map(async (r) => {
+              const status = await post(
+                server.port,
+                `/api/highscores?score=${r.score}`,
+                r.bytes,
+                agent,
+              );
+              answered[status] = (answered[status] ?? 0) + 1;
+            }),
+          );
+          const longest = await probeWhile(`${base}/healthz`, all);
+          await all;
+          return longest;
+        });
+        const seconds = (performance.now() - t0) / 1000;
+        agent.destroy();
+        await server.close();
+        bursts.push([
+          label,
+          String(runs.length),
+          seconds.toFixed(1),
+          f1(healthMs),
+          f1(loop.p99),
+          f1(loop.max),
+          Object.entries(answered)
+            .map(([status, n]) => `${n}×${status}`)
+            .join(' '),
+        ]);
+      }
+      ctx.table(
+        `${burst} submissions posted at once (CTF, ${ctx.quick ? 300 : 600} ticks; forged: the ${forgedTicks}-tick file claiming a score it does not reach)`,
+        [
+          'submissions',
+          'posts',
+          'all answered s',
+          '/healthz max ms',
+          'loop p99 ms',
+          'loop max ms',
+          'answers',
+        ],
+        bursts,
+      );
+
+      // Idle memory of `fixedstep serve` with the default store.
+      const idle = ctx.quick ? 5 : 30;
+      const rss: string[][] = [];
+      const newDir = path.join(dataRoot, 'rss-new');
+      const fresh1 = await idleRss(newDir, idle);
+      rss.push(['new folder', fresh1.how, fresh1.mb.toFixed(0)]);
+      const again1 = await idleRss(newDir, idle);
+      rss.push(['existing folder', again1.how, again1.mb.toFixed(0)]);
+      ctx.table(
+        `Idle RSS of fixedstep serve with the default store, ready and idle for ${idle} s (goal ≤ 200 MB)`,
+        ['data folder', 'run as', 'RSS MB'],
+        rss,
+      );
+    } finally {
+      rmSync(dataRoot, { recursive: true, force: true });
+    }
 
     // Throughput: honest replays through the pool and inline.
-    const games = await loadGames();
     const count = ctx.quick ? 6 : 24;
     const honest = recordBotGame(ctfGame, ctx.quick ? 600 : 1800);
     const game = honest.def.create(honest.config);

@@ -38,6 +38,7 @@ import {
   loadGames,
   parseOriginPolicy,
   prepareStore,
+  type PreparedStore,
   type OriginPolicy,
 } from '@fixedstep/server';
 import { lineChartSvg } from './svg.js';
@@ -551,7 +552,16 @@ export async function run(
           dataDir,
           ...(command.databaseUrl !== undefined ? { databaseUrl: command.databaseUrl } : {}),
         });
-        const store = prepared.open();
+        // The server opens it while it listens, and tries again while it cannot (a PostgreSQL
+        // server that is down); what opening did (a folder set aside, a table imported) is said.
+        const store: PreparedStore = {
+          ...prepared,
+          open: async () => {
+            const opened = await prepared.open();
+            for (const note of opened.notes) io.out(`fixedstep: ${note}\n`);
+            return opened;
+          },
+        };
         server = await createServer({
           port: command.port,
           host: command.host,
@@ -576,12 +586,6 @@ export async function run(
         io.out(`fixedstep lab: ${server.url} (press Ctrl-C to stop)\n`);
         io.out(`games: ${games.games.map((g) => `${g.id} v${g.version}`).join(', ')}\n`);
         io.out(`highscores kept in ${prepared.description}\n`);
-        store.then(
-          (opened) => {
-            for (const note of opened.notes) io.out(`fixedstep: ${note}\n`);
-          },
-          () => undefined, // reported by the server's log, and by /readyz
-        );
       } catch (error) {
         const message = error instanceof Error ? error.message : String(error);
         io.err(`fixedstep: ${error instanceof GamesModuleError ? '' : ''}${message}\n`);

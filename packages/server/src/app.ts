@@ -32,7 +32,8 @@ import {
   type OriginPolicy,
   type TrustedProxy,
 } from './http/admission.js';
-import type { HighscoreStore } from './store/store.js';
+import { SchemaError, type HighscoreStore, type PreparedStore } from './store/store.js';
+import { DataDirError } from './store/pglite.js';
 import { VerifierPool } from './verify/pool.js';
 import { DEFAULT_HTTP_LIMITS, type HttpLimits } from './http/limits.js';
 import { ServerMetrics } from './http/metrics.js';
@@ -58,9 +59,26 @@ export interface ServerOptions {
   games?: LoadedGames | readonly AnyGameDefinition[];
   /**
    * Where highscores and their replays go. A promise is fine: the server listens at once and the
-   * highscore API answers 503 `STORE_STARTING` until it resolves. Default: no highscore API.
+   * highscore API answers 503 `STORE_STARTING` until it resolves. A {@link PreparedStore} (from
+   * `prepareStore`) is better: the server opens it, and while it cannot (a PostgreSQL server that
+   * is down) tries again with a growing wait (see {@link storeRetry}), until it opens or the server
+   * closes. Default: no highscore API.
    */
-  store?: HighscoreStore | Promise<HighscoreStore>;
+  store?: HighscoreStore | Promise<HighscoreStore> | PreparedStore;
+  /**
+   * The waits between attempts to open a {@link PreparedStore}, in ms: the first, doubled after
+   * each failure up to the longest, each taken between half and all of it (jitter, so a
+   * deployment's processes do not knock on their database together). Default 1000 and 30 000.
+   */
+  storeRetry?: { firstMs?: number; maxMs?: number };
+  /**
+   * Liveness: once a {@link PreparedStore} has failed to open for this many ms, `/healthz` answers
+   * 503 (so an orchestrator that probes it restarts the process). 0: never. Default
+   * `FIXEDSTEP_STORE_LIVENESS_MS`, else 300 000 (5 minutes). A store that cannot open for a reason
+   * a restart cannot cure (the folder in use by another process, a newer schema) is not retried
+   * and does not fail liveness: `/readyz` says why.
+   */
+  storeLivenessMs?: number;
   /** Close the store when the server closes. Default true. */
   closeStore?: boolean;
   /** The relay at `/ws` (`false`: none). Default: on, over the same games. */
@@ -164,6 +182,137 @@ export interface FixedstepServer {
   close(): Promise<void>;
 }
 
+/** Whether a store option is one the server opens itself (and may retry). */
+function isPrepared(store: ServerOptions['store']): store is PreparedStore {
+  return (
+    typeof store === 'object' &&
+    typeof (store as Partial<PreparedStore>).open === 'function' &&
+    typeof (store as Partial<PreparedStore>).release === 'function'
+  );
+}
+
+/** A failure of opening that a retry cannot cure: another process holds the folder, a newer schema. */
+function lasting(error: unknown): boolean {
+  return error instanceof DataDirError || error instanceof SchemaError;
+}
+
+/** `FIXEDSTEP_STORE_LIVENESS_MS` read as a whole number of ms ≥ 0, or the default. */
+function livenessFromEnv(env: Readonly<Record<string, string | undefined>>): number {
+  const text = env.FIXEDSTEP_STORE_LIVENESS_MS;
+  if (text === undefined || text === '') return 300_000;
+  const ms = Number(text);
+  if (!Number.isSafeInteger(ms) || ms < 0)
+    throw new RangeError(
+      `FIXEDSTEP_STORE_LIVENESS_MS must be a whole number of ms ≥ 0, got "${text}"`,
+    );
+  return ms;
+}
+
+/**
+ * The store's opening: a store or promise as given, or a {@link PreparedStore} opened — and, while
+ * it fails for a reason that may pass (a database that is down or slow to answer), opened again
+ * after a growing, jittered wait — until it opens or {@link stop} is called.
+ */
+class StoreOpening {
+  /** Resolves with the open store (undefined: no store given). */
+  readonly opened: Promise<HighscoreStore> | undefined;
+  private readonly since = Date.now();
+  private readonly livenessMs: number;
+  private attempts = 0;
+  private lastError: string | undefined;
+  private nextTry: number | undefined;
+  private stopped = false;
+  private wake: (() => void) | undefined;
+
+  constructor(
+    private readonly options: ServerOptions,
+    env: Readonly<Record<string, string | undefined>>,
+    private readonly log: (message: string, error?: unknown) => void,
+  ) {
+    this.livenessMs = options.storeLivenessMs ?? livenessFromEnv(env);
+    if (!Number.isSafeInteger(this.livenessMs) || this.livenessMs < 0) {
+      throw new RangeError(
+        `storeLivenessMs must be a whole number of ms ≥ 0, got ${String(options.storeLivenessMs)}`,
+      );
+    }
+    const store = options.store;
+    this.opened =
+      store === undefined
+        ? undefined
+        : isPrepared(store)
+          ? this.retry(store)
+          : Promise.resolve(store);
+  }
+
+  private async retry(prepared: PreparedStore): Promise<HighscoreStore> {
+    let wait = this.options.storeRetry?.firstMs ?? 1000;
+    const longest = this.options.storeRetry?.maxMs ?? 30_000;
+    for (;;) {
+      this.attempts++;
+      try {
+        const store = await prepared.open();
+        if (this.attempts > 1) this.log(`the highscore store is open (attempt ${this.attempts})`);
+        return store;
+      } catch (error) {
+        if (lasting(error) || this.stopped) throw error;
+        this.lastError = error instanceof Error ? error.message : String(error);
+        const delay = Math.round(wait * (0.5 + Math.random() * 0.5));
+        this.nextTry = Date.now() + delay;
+        this.log(
+          `the highscore store could not be opened (attempt ${this.attempts}; trying again in ${(delay / 1000).toFixed(1)} s)`,
+          error,
+        );
+        await new Promise<void>((resolve) => {
+          const timer = setTimeout(resolve, delay);
+          this.wake = () => {
+            clearTimeout(timer);
+            resolve();
+          };
+        });
+        this.wake = undefined;
+        this.nextTry = undefined;
+        if (this.isStopped()) {
+          throw new Error('the server closed before the highscore store opened', { cause: error });
+        }
+        wait = Math.min(longest, wait * 2);
+      }
+    }
+  }
+
+  /** What `/readyz` says while the store is not open. */
+  state(): string {
+    if (this.lastError === undefined) return 'the store is opening';
+    const next =
+      this.nextTry === undefined
+        ? 'trying again now'
+        : `trying again in ${Math.max(0, (this.nextTry - Date.now()) / 1000).toFixed(1)} s`;
+    return `the store could not be opened (attempt ${this.attempts}: ${this.lastError}); ${next}`;
+  }
+
+  /** Why liveness fails: the store has failed to open for longer than allowed (else undefined). */
+  stuck(): string | undefined {
+    if (this.livenessMs === 0 || this.lastError === undefined) return undefined;
+    const waited = Date.now() - this.since;
+    if (waited < this.livenessMs) return undefined;
+    return `the highscore store has not opened for ${Math.round(waited / 1000)} s (${this.attempts} attempts; last: ${this.lastError})`;
+  }
+
+  private isStopped(): boolean {
+    return this.stopped;
+  }
+
+  /** No more attempts (the server is closing). */
+  stop(): void {
+    this.stopped = true;
+    this.wake?.();
+  }
+
+  /** Gives up a prepared store that never opened (its data folder's lock). */
+  async release(): Promise<void> {
+    if (isPrepared(this.options.store)) await this.options.store.release();
+  }
+}
+
 /**
  * Under `createServer` every surface shares one admission: an origin or proxy setting given to one
  * surface alone would be ignored, so it is refused with a sentence saying where it goes.
@@ -236,16 +385,19 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
   if (!Number.isInteger(port) || port < 0 || port > 65535) {
     throw new RangeError(`port must be an integer from 0 to 65535, got ${String(port)}`);
   }
-  // Observed at once: a store that fails while the server is still being set up is reported by
-  // storeReady and /readyz, not as an unhandled rejection.
-  const storeInput = options.store === undefined ? undefined : Promise.resolve(options.store);
-  storeInput?.catch(() => undefined);
   const limits: HttpLimits = { ...DEFAULT_HTTP_LIMITS, ...options.limits };
   const log =
     options.log ??
     ((message: string, error?: unknown) => {
       console.error(`fixedstep: ${message}`, error ?? '');
     });
+  const env = options.env ?? process.env;
+  // The store opens while the server listens; a prepared one is retried until it opens.
+  const opening = new StoreOpening(options, env, log);
+  // Observed at once: a store that fails while the server is still being set up is reported by
+  // storeReady and /readyz, not as an unhandled rejection.
+  const storeInput = opening.opened;
+  storeInput?.catch(() => undefined);
   let root: string | undefined;
   if (options.root !== undefined) {
     try {
@@ -262,7 +414,6 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     ? (gamesOption as readonly AnyGameDefinition[])
     : (gamesOption as LoadedGames).games;
   const metrics = new ServerMetrics();
-  const env = options.env ?? process.env;
   refuseSurfaceAdmission(options);
   // One admission for every WebSocket surface: origins, client addresses, sockets per address.
   const fromEnv = admissionOptionsFromEnv(env);
@@ -356,16 +507,23 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     return undefined;
   });
 
-  // Health: alive, and ready to take traffic (not draining, the store open and answering).
-  app.get('/healthz', async (_request, reply) =>
-    reply.header('Cache-Control', 'no-store').send({ status: 'ok' }),
-  );
+  // Health: alive (unless the store has failed to open for too long), and ready to take traffic
+  // (not draining, the store open and answering).
+  app.get('/healthz', async (_request, reply) => {
+    const stuck = store === undefined && storeError === undefined ? opening.stuck() : undefined;
+    return reply
+      .code(stuck === undefined ? 200 : 503)
+      .header('Cache-Control', 'no-store')
+      .send(
+        stuck === undefined ? { status: 'ok' } : { status: 'store-unavailable', reason: stuck },
+      );
+  });
   app.get('/readyz', async (_request, reply) => {
     const reasons: string[] = [];
     if (draining) reasons.push('draining: the server is shutting down');
     if (options.store !== undefined) {
       if (storeError !== undefined) reasons.push(`the store failed to open: ${storeError}`);
-      else if (store === undefined) reasons.push('the store is opening');
+      else if (store === undefined) reasons.push(opening.state());
       else if (!(await store.ping())) {
         metrics.storeErrors.inc();
         reasons.push('the store does not answer');
@@ -417,7 +575,7 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
           },
           (error: unknown) => {
             storeError = error instanceof Error ? error.message : JSON.stringify(error);
-            log('the highscore store could not be opened', error);
+            if (!draining) log('the highscore store could not be opened', error);
             throw error;
           },
         );
@@ -577,6 +735,11 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
     server.once('listening', onListening);
     server.listen(port, host);
   }).catch(async (error: unknown) => {
+    opening.stop();
+    void storeInput?.then(
+      (opened) => (options.closeStore !== false ? opened.close() : undefined),
+      () => opening.release(),
+    );
     await relay?.close();
     await stateSync?.close();
     await signalling?.close();
@@ -606,10 +769,10 @@ export async function createServer(options: ServerOptions = {}): Promise<Fixedst
       server.closeAllConnections();
       await stopped;
       await app.close().catch(() => undefined);
-      if (options.closeStore !== false) {
-        const opened = await storeInput?.catch(() => undefined);
-        await opened?.close();
-      }
+      opening.stop();
+      const opened = await storeInput?.catch(() => undefined);
+      if (options.closeStore !== false) await opened?.close();
+      if (opened === undefined) await opening.release();
     })());
   return {
     url: `http://${displayHost(host)}:${bound}/`,

@@ -9,8 +9,8 @@ import { TABLE_SIZE } from './store/store.js';
 import {
   MAX_SUBMITTED_BYTES,
   SubmissionError,
-  precheckSubmission,
   submissionLimits,
+  type PrecheckSummary,
 } from './verify/check.js';
 import { VerifierPool } from './verify/pool.js';
 import type { LoadedGames } from './games/load.js';
@@ -46,6 +46,11 @@ export interface HighscoreApiOptions {
   verifier?: VerifierPool;
   /** Submissions that passed the pre-check allowed per client address per minute. Default 20. */
   perMinute?: number;
+  /**
+   * Submissions of any kind (before the pre-check, which runs in a verification worker) allowed
+   * per client address per minute. Default 60, or 3 × `perMinute` when that is more.
+   */
+  attemptsPerMinute?: number;
   /**
    * A trusted reverse proxy (see `TrustedProxy`), or just the header it puts the client's address
    * in (`x-forwarded-for`, `x-real-ip`) for a proxy on loopback: its header is believed only from
@@ -139,7 +144,13 @@ export function highscoreApi(options: HighscoreApiOptions): HighscoreApi {
           }
         : {}),
     });
-  const limiter = new RateLimiter(options.perMinute ?? 20, 60_000, options.now ?? Date.now);
+  const perMinute = options.perMinute ?? 20;
+  const limiter = new RateLimiter(perMinute, 60_000, options.now ?? Date.now);
+  const attempts = new RateLimiter(
+    options.attemptsPerMinute ?? Math.max(60, 3 * perMinute),
+    60_000,
+    options.now ?? Date.now,
+  );
   const now = options.now ?? Date.now;
   const log =
     options.log ??
@@ -205,12 +216,40 @@ export function highscoreApi(options: HighscoreApiOptions): HighscoreApi {
       );
     }
     const claimed = Number(scoreText);
-    let pre;
+    // Before a byte is decoded: a looser cap on attempts per address, so one address cannot keep
+    // the workers busy with pre-checks (junk refused by them is not charged to the limit below).
+    const attemptWait = attempts.check(client);
+    if (attemptWait > 0) {
+      return count(
+        refusal(
+          new SubmissionError(
+            429,
+            'RATE_LIMITED',
+            `at most ${attempts.limit} submission attempts a minute from one address`,
+            attemptWait,
+          ),
+        ),
+        'RATE_LIMITED',
+      );
+    }
+    attempts.charge(client);
+    // The pre-check in a worker: its cost follows the ticks the file declares, not its size.
+    let pre: PrecheckSummary;
     try {
-      pre = precheckSubmission(bytes, claimed, games, limits);
+      const pending = verifier.precheck(bytes, claimed);
+      gauges();
+      const checked = await pending;
+      if (!checked.ok)
+        return count(
+          refusal(new SubmissionError(checked.status, checked.code, checked.message)),
+          checked.code,
+        );
+      pre = checked.summary;
     } catch (error) {
       if (error instanceof SubmissionError) return count(refusal(error), error.code);
       throw error;
+    } finally {
+      gauges();
     }
     // A run already in the table is answered from the table, with no simulation.
     let known: HighscoreEntry | undefined;
@@ -253,8 +292,8 @@ export function highscoreApi(options: HighscoreApiOptions): HighscoreApi {
         verdict.code,
       );
     const entry: HighscoreEntry = {
-      game: pre.game.id,
-      version: String(pre.game.version),
+      game: pre.gameId,
+      version: pre.gameVersion,
       name: pre.name,
       score: verdict.score,
       ticks: verdict.ticks,

@@ -158,7 +158,10 @@ describe('deploy/: Kubernetes manifests', () => {
       'FIXEDSTEP_PROXY_HEADER',
       'FIXEDSTEP_TRUSTED_PROXIES',
       'FIXEDSTEP_ALLOWED_ORIGINS',
+      'FIXEDSTEP_STORE_LIVENESS_MS',
     ]);
+    // Liveness fails only after the store has not opened for this long: minutes, not seconds.
+    expect(Number(env.FIXEDSTEP_STORE_LIVENESS_MS)).toBeGreaterThanOrEqual(60_000);
     expect(admissionOptionsFromEnv(env)).toEqual({
       allowedOrigins: 'same-origin',
       trustProxy: { header: 'x-forwarded-for', proxies: ['10.0.0.0/8'] },

@@ -1,6 +1,6 @@
 import { spawn, spawnSync } from 'node:child_process';
 import { readFileSync } from 'node:fs';
-import { cp, mkdtemp, readFile, rm, writeFile } from 'node:fs/promises';
+import { cp, mkdtemp, readFile, rm, utimes, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
@@ -131,7 +131,7 @@ describe('the highscore store', () => {
     await again.close();
   });
 
-  it('refuses a second process on one data folder, and takes over the lock of a dead one', async () => {
+  it('refuses a second process on one data folder, and takes over a stale lock: its process dead, a reboot, its pid reused', async () => {
     const data = path.join(dir, 'locked');
     const mine = await claimDataDir(data);
     await expect(claimDataDir(data)).rejects.toThrow(/already open in this process/);
@@ -163,6 +163,17 @@ describe('the highscore store', () => {
     await takesOver(`${dead}\n`);
     // The live parent's pid with another start time: a reboot, or the pid reused since.
     await takesOver(`${process.ppid} ${Number(parentStart) + 1}\n`);
+    // The live parent's pid and start time, written in another boot of the machine.
+    await takesOver(`${process.ppid} ${parentStart} 00000000-0000-4000-8000-000000000000\n`);
+    // The live parent's pid alone (an older lock), written before the parent started: reused.
+    await writeFile(lockFile, `${process.ppid}\n`);
+    await utimes(lockFile, new Date(2000, 0, 1), new Date(2000, 0, 1));
+    const reused = await claimDataDir(data);
+    expect((await readFile(lockFile, 'utf8')).split(' ')[0]).toBe(String(process.pid));
+    await reused.release();
+    // This process's own pid, not held by it: a container restarted, its server pid 1 again.
+    await takesOver(`${process.pid} ${Number(parentStart) - 1}\n`);
+    await takesOver(`${process.pid}\n`);
     // A killed server whose parent never reaped it (a zombie still answers kill(pid, 0)): a
     // shell backgrounds a sleep and becomes a sleep itself, which never waits for its child.
     const shell = spawn('sh', ['-c', 'sleep 60 & echo $!; exec sleep 60'], {
@@ -176,6 +187,8 @@ describe('the highscore store', () => {
           });
         }),
       );
+      // Killed before the shell has become a sleep, the shell would reap it.
+      await expect.poll(() => readFileSync(`/proc/${shell.pid}/comm`, 'utf8').trim()).toBe('sleep');
       process.kill(zombie, 'SIGKILL');
       for (
         let i = 0;

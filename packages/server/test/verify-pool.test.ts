@@ -107,6 +107,28 @@ describe('verification in worker threads', () => {
     expect((await submit(run('gate', 3))).status).toBe(201);
   });
 
+  it('pre-checks in the worker too: junk waits for a free worker (the event loop answers meanwhile), then is refused', async () => {
+    rmSync(gateFile, { force: true });
+    const held = submit(run('gate', 7));
+    await expect.poll(() => gauge('fixedstep_verifications_running'), { timeout: 30_000 }).toBe(1);
+    let junkAnswered = false;
+    const junk = fetch(url('/api/highscores?score=1'), {
+      method: 'POST',
+      body: Buffer.from(new Uint8Array(64)),
+    }).then((r) => {
+      junkAnswered = true;
+      return r;
+    });
+    // Its pre-check waits for the one worker, stuck at the gate; the event loop does not.
+    await expect.poll(() => gauge('fixedstep_verification_queue_length')).toBe(1);
+    expect((await fetch(url('/healthz'))).status).toBe(200);
+    expect(junkAnswered).toBe(false);
+    writeFileSync(gateFile, '');
+    const refused = await junk;
+    expect(refused.status).toBe(422);
+    expect((await held).status).toBe(201);
+  });
+
   it('a verifier thread that dies fails only its submission (500), and a new one takes the next', async () => {
     const crashed = await submit(run('crash', 4));
     expect(crashed.status).toBe(500);

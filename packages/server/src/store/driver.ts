@@ -18,6 +18,8 @@ export interface Queryable {
 export interface SqlDriver extends Queryable {
   /** What this is, for messages: `PGlite at ./data/pglite`, `PostgreSQL at host:5432/db`. */
   readonly description: string;
+  /** What opening it did that an operator should know (a damaged folder set aside, …). */
+  readonly notes?: readonly string[];
   /**
    * Runs `work` in one transaction (BEGIN … COMMIT, ROLLBACK when it throws), on one connection.
    */

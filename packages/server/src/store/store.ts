@@ -1,7 +1,7 @@
 import { readFile } from 'node:fs/promises';
 import path from 'node:path';
 import type { Queryable, Row, SqlDriver } from './driver.js';
-import { claimDataDir, openPglite } from './pglite.js';
+import { claimDataDir, openPglite, type ClaimedDataDir } from './pglite.js';
 import { describeDatabaseUrl, openPostgres } from './pg.js';
 import { cleanName } from '../text.js';
 
@@ -64,6 +64,11 @@ const MIGRATIONS: readonly string[] = [
    create table fixedstep_meta (key text primary key, value text not null);`,
 ];
 
+/** The database was written by a newer server: retrying cannot help, upgrading the server does. */
+export class SchemaError extends Error {
+  override readonly name = 'SchemaError';
+}
+
 /** Any 64-bit number that identifies fixedstep's migration lock among a database's advisory locks. */
 const MIGRATION_LOCK = 0x66786473; // "fxds"
 
@@ -108,7 +113,7 @@ export class HighscoreStore {
   static async open(db: SqlDriver, options: { importJson?: string } = {}): Promise<HighscoreStore> {
     try {
       await migrate(db);
-      const notes: string[] = [];
+      const notes: string[] = [...(db.notes ?? [])];
       if (options.importJson !== undefined) {
         const note = await importJsonTable(db, options.importJson);
         if (note !== undefined) notes.push(note);
@@ -245,7 +250,7 @@ async function migrate(db: SqlDriver): Promise<void> {
     );
     const have = Number(rows[0]?.v ?? 0);
     if (have > MIGRATIONS.length) {
-      throw new Error(
+      throw new SchemaError(
         `the database is at schema version ${have}, newer than this server knows (${MIGRATIONS.length}): upgrade the server`,
       );
     }
@@ -344,14 +349,25 @@ export interface OpenStoreOptions {
   dataDir?: string;
   /** For the embedded database in memory: a `dumpDataDir()` to start from (skips `initdb`; tests). */
   template?: Blob;
+  /**
+   * Modules (paths or URLs) the embedded database's thread imports before it opens the database
+   * (a test holds the opening on a gate this way).
+   */
+  preload?: readonly string[];
 }
 
 /** A store whose location was checked, ready to be opened (see {@link prepareStore}). */
 export interface PreparedStore {
   /** Where it will be: `PGlite in <dir>/pglite`, `PostgreSQL at host:port/db`, `PGlite in memory`. */
   readonly description: string;
-  /** Opens it (the slow part: PGlite's first `initdb` takes seconds; connecting to PostgreSQL). */
+  /**
+   * Opens it (the slow part: PGlite's first `initdb` takes seconds; connecting to PostgreSQL). May
+   * be called again after it failed (a database that was down): `createServer` retries it with a
+   * backoff until it succeeds.
+   */
   open(): Promise<HighscoreStore>;
+  /** Gives up the data folder's lock, when the store is given up before it ever opened. */
+  release(): Promise<void>;
 }
 
 /**
@@ -364,26 +380,50 @@ export async function prepareStore(options: OpenStoreOptions = {}): Promise<Prep
     options.dataDir !== undefined
       ? { importJson: path.join(path.resolve(options.dataDir), 'highscores.json') }
       : {};
+  const nothing = () => Promise.resolve();
   if (options.databaseUrl !== undefined && options.databaseUrl !== '') {
     const url = options.databaseUrl;
     return {
       description: describeDatabaseUrl(url),
       open: async () => HighscoreStore.open(await openPostgres(url), importJson),
+      release: nothing,
     };
   }
+  const preload = options.preload !== undefined ? { preload: options.preload } : {};
   if (options.dataDir === undefined) {
     return {
       description: 'PGlite in memory',
       open: async () =>
         HighscoreStore.open(
-          await openPglite(undefined, options.template ? { template: options.template } : {}),
+          await openPglite(undefined, {
+            ...preload,
+            ...(options.template ? { template: options.template } : {}),
+          }),
         ),
+      release: nothing,
     };
   }
-  const claimed = await claimDataDir(options.dataDir);
+  const dataDir = options.dataDir;
+  let claimed: ClaimedDataDir | undefined = await claimDataDir(dataDir);
+  const dir = claimed.dir;
   return {
-    description: `PGlite in ${path.join(claimed.dir, 'pglite')}`,
-    open: async () => HighscoreStore.open(await openPglite(claimed.dir, { claimed }), importJson),
+    description: `PGlite in ${path.join(dir, 'pglite')}`,
+    open: async () => {
+      // A failed attempt that got as far as opening the database gave the lock up with it.
+      const mine = (claimed ??= await claimDataDir(dataDir));
+      const lock: ClaimedDataDir = {
+        dir,
+        release: async () => {
+          if (claimed === mine) claimed = undefined;
+          await mine.release();
+        },
+      };
+      return HighscoreStore.open(await openPglite(dir, { claimed: lock, ...preload }), importJson);
+    },
+    release: async () => {
+      await claimed?.release();
+      claimed = undefined;
+    },
   };
 }
 
@@ -392,5 +432,11 @@ export async function prepareStore(options: OpenStoreOptions = {}): Promise<Prep
  * `dataDir` (or in memory). Migrates it, and imports `<dataDir>/highscores.json` once when present.
  */
 export async function openStore(options: OpenStoreOptions = {}): Promise<HighscoreStore> {
-  return (await prepareStore(options)).open();
+  const prepared = await prepareStore(options);
+  try {
+    return await prepared.open();
+  } catch (error) {
+    await prepared.release();
+    throw error;
+  }
 }

@@ -187,6 +187,58 @@ export function precheckSubmission(
   };
 }
 
+/**
+ * What the pre-check learned, as plain data (it crosses from a worker thread): see
+ * `precheckSubmission`.
+ */
+export interface PrecheckSummary {
+  readonly gameId: string;
+  readonly gameVersion: string;
+  /** The run's identity (16 hex digits). */
+  readonly runId: string;
+  /** The first player's name, cleaned. */
+  readonly name: string;
+  readonly seed: number;
+  readonly ticks: number;
+}
+
+/** A pre-check's answer: the summary, or the refusal. */
+export type PrecheckResult =
+  | { readonly ok: true; readonly summary: PrecheckSummary }
+  | {
+      readonly ok: false;
+      readonly status: number;
+      readonly code: string;
+      readonly message: string;
+    };
+
+/** Runs the pre-check (see `precheckSubmission`), as plain data. */
+export function precheckPlain(
+  bytes: Uint8Array,
+  claimedScore: number,
+  games: readonly AnyGameDefinition[],
+  limits: Partial<ReplayLimits>,
+): PrecheckResult {
+  try {
+    const pre = precheckSubmission(bytes, claimedScore, games, limits);
+    return {
+      ok: true,
+      summary: {
+        gameId: pre.game.id,
+        gameVersion: String(pre.game.version),
+        runId: pre.runId,
+        name: pre.name,
+        seed: pre.seed,
+        ticks: pre.ticks,
+      },
+    };
+  } catch (error) {
+    if (error instanceof SubmissionError)
+      return { ok: false, status: error.status, code: error.code, message: error.message };
+    return { ok: false, status: 500, code: 'VERIFIER_ERROR', message: String(error) };
+  }
+}
+
 /** What re-simulating a submission found (plain data: it crosses from a worker thread). */
 export type Resimulation =
   | {

@@ -1,7 +1,15 @@
 import { availableParallelism } from 'node:os';
 import { Worker } from 'node:worker_threads';
 import type { AnyGameDefinition, ReplayLimits } from 'fixedstep';
-import { SubmissionError, resimulate, submissionLimits, type Resimulation } from './check.js';
+import {
+  SubmissionError,
+  precheckPlain,
+  resimulate,
+  submissionLimits,
+  type PrecheckResult,
+  type Resimulation,
+} from './check.js';
+import { workerScript } from '../worker-script.js';
 
 /** Options of {@link VerifierPool}. */
 export interface VerifierPoolOptions {
@@ -30,10 +38,12 @@ export interface VerifierPoolOptions {
 
 interface Job {
   id: number;
+  /** `precheck`: only the cheap checks and the run id; `verify`: the re-simulation. */
+  kind: 'precheck' | 'verify';
   bytes: Uint8Array;
   claimedScore: number;
   started: number;
-  resolve: (r: Resimulation) => void;
+  resolve: (r: Resimulation | PrecheckResult) => void;
   reject: (e: unknown) => void;
 }
 
@@ -118,10 +128,30 @@ export class VerifierPool {
    * {@link drain} or {@link close} began. The bytes are copied to the worker.
    */
   verify(bytes: Uint8Array, claimedScore: number): Promise<Resimulation> {
+    return this.enqueue('verify', bytes, claimedScore) as Promise<Resimulation>;
+  }
+
+  /**
+   * The pre-check of a submission (parse it, a known game, within the limits, its run id — see
+   * `precheckSubmission`) in a worker too: its cost follows the ticks the file declares, not its
+   * bytes (a small file can declare an hour of play), so it stays off the event loop. Queued and
+   * refused like {@link verify}.
+   */
+  precheck(bytes: Uint8Array, claimedScore: number): Promise<PrecheckResult> {
+    return this.enqueue('precheck', bytes, claimedScore) as Promise<PrecheckResult>;
+  }
+
+  private enqueue(
+    kind: Job['kind'],
+    bytes: Uint8Array,
+    claimedScore: number,
+  ): Promise<Resimulation | PrecheckResult> {
     if (this.closed) {
       return Promise.reject(new SubmissionError(503, 'DRAINING', 'the server is shutting down', 5));
     }
     if (this.workers === 0) {
+      if (kind === 'precheck')
+        return Promise.resolve(precheckPlain(bytes, claimedScore, this.games, this.limits));
       const started = performance.now();
       const result = resimulate(bytes, claimedScore, this.games, this.limits);
       this.options.onDone?.((performance.now() - started) / 1000, result.ok ? 'ok' : result.code);
@@ -146,9 +176,10 @@ export class VerifierPool {
         ),
       );
     }
-    return new Promise<Resimulation>((resolve, reject) => {
+    return new Promise<Resimulation | PrecheckResult>((resolve, reject) => {
       const job: Job = {
         id: this.nextId++,
+        kind,
         bytes,
         claimedScore,
         started: performance.now(),
@@ -156,7 +187,13 @@ export class VerifierPool {
         reject,
       };
       if (idle) this.run(idle, job);
-      else this.queue.push(job);
+      else if (kind === 'verify') this.queue.push(job);
+      else {
+        // Pre-checks go before the re-simulations waiting: they are short, and an honest
+        // submission should not queue twice behind the same backlog.
+        const firstVerify = this.queue.findIndex((j) => j.kind === 'verify');
+        this.queue.splice(firstVerify < 0 ? this.queue.length : firstVerify, 0, job);
+      }
     });
   }
 
@@ -180,7 +217,7 @@ export class VerifierPool {
   }
 
   private spawn(): Slot {
-    const { url, execArgv } = workerScript();
+    const { url, execArgv } = workerScript('./worker.js', import.meta.url);
     const worker = new Worker(url, {
       workerData: { modules: [...this.modules] },
       ...(execArgv ? { execArgv } : {}),
@@ -197,7 +234,12 @@ export class VerifierPool {
     let failure: string | undefined;
     worker.on(
       'message',
-      (m: { ready?: boolean; error?: string; id?: number; result?: Resimulation }) => {
+      (m: {
+        ready?: boolean;
+        error?: string;
+        id?: number;
+        result?: Resimulation | PrecheckResult;
+      }) => {
         if (m.ready !== undefined) {
           if (m.ready) {
             this.startFailures = 0;
@@ -265,7 +307,13 @@ export class VerifierPool {
     slot.state = 'busy';
     const copy = job.bytes.slice(); // the caller keeps its bytes; the copy is transferred
     slot.worker.postMessage(
-      { id: job.id, bytes: copy, claimedScore: job.claimedScore, limits: this.limits },
+      {
+        id: job.id,
+        kind: job.kind,
+        bytes: copy,
+        claimedScore: job.claimedScore,
+        limits: this.limits,
+      },
       copy.buffer instanceof ArrayBuffer ? [copy.buffer] : [],
     );
   }
@@ -281,26 +329,12 @@ export class VerifierPool {
       for (const w of this.idleWaiters.splice(0)) w();
   }
 
-  private finish(job: Job, result: Resimulation): void {
-    this.options.onDone?.((performance.now() - job.started) / 1000, result.ok ? 'ok' : result.code);
+  private finish(job: Job, result: Resimulation | PrecheckResult): void {
+    if (job.kind === 'verify')
+      this.options.onDone?.(
+        (performance.now() - job.started) / 1000,
+        result.ok ? 'ok' : result.code,
+      );
     job.resolve(result);
   }
-}
-
-/**
- * The worker's script. Built, it is worker.js next to this file. From TypeScript sources (the
- * tests, `npm run bench` under tsx) it is worker.ts, loaded through tsx's loader, which a small
- * bootstrap registers in the worker (a worker's `execArgv` cannot carry `--import`), with the
- * packages' `source` export condition.
- */
-function workerScript(): { url: URL; execArgv?: string[] } {
-  const here = import.meta.url;
-  if (!here.endsWith('.ts')) return { url: new URL('./worker.js', here) };
-  const tsx = import.meta.resolve('tsx/esm/api');
-  const worker = new URL('./worker.ts', here).href;
-  const bootstrap = `const { register } = await import(${JSON.stringify(tsx)}); register(); await import(${JSON.stringify(worker)});`;
-  return {
-    url: new URL(`data:text/javascript,${encodeURIComponent(bootstrap)}`),
-    execArgv: ['--conditions=source'],
-  };
 }

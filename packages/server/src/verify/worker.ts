@@ -7,18 +7,21 @@
 import { parentPort, workerData } from 'node:worker_threads';
 import type { AnyGameDefinition, ReplayLimits } from 'fixedstep';
 import { importGames } from '../games/load.js';
-import { resimulate } from './check.js';
+import { precheckPlain, resimulate } from './check.js';
+import { lowerThreadPriority } from '../worker-script.js';
 
 interface Data {
   modules: string[];
 }
 interface Job {
   id: number;
+  kind: 'precheck' | 'verify';
   bytes: Uint8Array;
   claimedScore: number;
   limits: Partial<ReplayLimits>;
 }
 
+lowerThreadPriority();
 const port = parentPort;
 if (port === null) throw new Error('verify/worker.js runs as a worker thread of VerifierPool');
 const { modules } = workerData as Data;
@@ -35,7 +38,10 @@ const games = [...byId.values()];
 port.on('message', (job: Job) => {
   let result;
   try {
-    result = resimulate(job.bytes, job.claimedScore, games, job.limits);
+    result =
+      job.kind === 'precheck'
+        ? precheckPlain(job.bytes, job.claimedScore, games, job.limits)
+        : resimulate(job.bytes, job.claimedScore, games, job.limits);
   } catch (error) {
     result = { ok: false, status: 500, code: 'VERIFIER_ERROR', message: String(error) };
   }
