@@ -16,5 +16,7 @@ export const BUSY_UNIT_TESTS = [
   'packages/server/test/state-sync-server.test.ts',
   'packages/server/test/net-endpoint.test.ts',
   'packages/server/test/net-websocket.test.ts',
+  'packages/server/test/store-opening.test.ts',
+  'packages/server/test/submit-retry.test.ts',
   'packages/cli/test/cli.test.ts',
 ];

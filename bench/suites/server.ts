@@ -26,7 +26,7 @@ import path from 'node:path';
 import { monitorEventLoopDelay } from 'node:perf_hooks';
 import { fileURLToPath } from 'node:url';
 import WebSocket from 'ws';
-import { decodeMessage, encodeMessage } from 'fixedstep';
+import { decodeFrame, encodeMessage } from 'fixedstep';
 import { ctfGame } from '@fixedstep/games';
 import {
   createServer,
@@ -206,7 +206,7 @@ async function underLoad(
   );
   let answered: ((error?: Error) => void) | undefined;
   ws.on('message', (data: Buffer) => {
-    if (decodeMessage(new Uint8Array(data)).type === 'pong') answered?.();
+    if (decodeFrame(new Uint8Array(data)).some((m) => m.type === 'pong')) answered?.();
   });
   ws.once('close', (code, reason) => {
     answered?.(new Error(`the relay closed the probe (${code} ${reason.toString()})`));

@@ -10,18 +10,11 @@ import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import {
-  BUTTON_WORD,
-  ReplayRecorder,
-  fetchWithRetry,
-  gameSetup,
-  type AnyGameDefinition,
-  type FetchRetry,
-  type Simulation,
-} from 'fixedstep';
+import { fetchWithRetry, type AnyGameDefinition, type FetchRetry } from 'fixedstep';
 import { createServer, type FixedstepServer } from '../src/app.js';
 import { loadGames } from '../src/games/load.js';
 import { memoryStore } from './helpers.js';
+import { gaugeOf, recordRun } from './verify-runs.js';
 
 const gamesModule = fileURLToPath(new URL('./verify-games.ts', import.meta.url));
 const dir = mkdtempSync(path.join(os.tmpdir(), 'fixedstep-retry-'));
@@ -53,34 +46,11 @@ afterAll(async () => {
   rmSync(dir, { recursive: true, force: true });
 });
 
-/** A 120-tick run of the `gate` game for player `name` (the seed makes it distinct), and its score. */
-function run(seed: number): { bytes: Uint8Array; score: number } {
-  const game = games.find((g) => g.id === 'gate')!;
-  const setup = gameSetup(game, 1, seed);
-  const sim = game.create(setup) as Simulation;
-  const recorder = ReplayRecorder.forGame(
-    game as AnyGameDefinition & { input: typeof BUTTON_WORD },
-    setup,
-    [`p${seed}`],
-    { checkpointEvery: 30 },
-  );
-  recorder.start(sim);
-  for (let t = 0; t < 120; t++) {
-    const inputs = [(t + seed) % 3 === 0 ? 1 : 0];
-    sim.step(inputs);
-    recorder.record(inputs, sim);
-  }
-  return { bytes: recorder.finish(), score: game.score!(sim) };
-}
+const run = (seed: number) => recordRun(games, 'gate', seed, `p${seed}`);
 
 const url = (p: string) => `http://127.0.0.1:${server.port}${p}`;
 
-/** A gauge's value from /metrics. */
-async function gauge(name: string): Promise<number> {
-  const text = await (await fetch(url('/metrics'))).text();
-  const line = text.split('\n').find((l) => l.startsWith(`${name} `));
-  return Number(line?.split(' ')[1]);
-}
+const gauge = (name: string) => gaugeOf(server.port, name);
 
 describe('a burst of honest submissions while the verifier is busy', () => {
   it(`${CLIENTS} clients that retry BUSY all get ranked; each was told its score is queued`, async () => {

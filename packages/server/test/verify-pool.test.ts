@@ -10,16 +10,11 @@ import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import {
-  BUTTON_WORD,
-  ReplayRecorder,
-  gameSetup,
-  type AnyGameDefinition,
-  type Simulation,
-} from 'fixedstep';
+import type { AnyGameDefinition } from 'fixedstep';
 import { createServer, type FixedstepServer } from '../src/app.js';
 import { loadGames } from '../src/games/load.js';
 import { memoryStore } from './helpers.js';
+import { gaugeOf, recordRun } from './verify-runs.js';
 
 const gamesModule = fileURLToPath(new URL('./verify-games.ts', import.meta.url));
 const dir = mkdtempSync(path.join(os.tmpdir(), 'fixedstep-verify-'));
@@ -49,36 +44,13 @@ afterAll(async () => {
   rmSync(dir, { recursive: true, force: true });
 });
 
-/** A 120-tick one-player run of `id` (its seed makes it a distinct run), and its score. */
-function run(id: string, seed: number): { bytes: Uint8Array; score: number } {
-  const game = games.find((g) => g.id === id)!;
-  const setup = gameSetup(game, 1, seed);
-  const sim = game.create(setup) as Simulation;
-  const recorder = ReplayRecorder.forGame(
-    game as AnyGameDefinition & { input: typeof BUTTON_WORD },
-    setup,
-    ['ada'],
-    { checkpointEvery: 30 },
-  );
-  recorder.start(sim);
-  for (let t = 0; t < 120; t++) {
-    const inputs = [t % 3 === 0 ? 1 : 0];
-    sim.step(inputs);
-    recorder.record(inputs, sim);
-  }
-  return { bytes: recorder.finish(), score: game.score!(sim) };
-}
+const run = (id: string, seed: number) => recordRun(games, id, seed);
 
 const url = (p: string) => `http://127.0.0.1:${server.port}${p}`;
 const submit = ({ bytes, score }: { bytes: Uint8Array; score: number }) =>
   fetch(url(`/api/highscores?score=${score}`), { method: 'POST', body: Buffer.from(bytes) });
 
-/** A gauge's value from /metrics. */
-async function gauge(name: string): Promise<number> {
-  const text = await (await fetch(url('/metrics'))).text();
-  const line = text.split('\n').find((l) => l.startsWith(`${name} `));
-  return Number(line?.split(' ')[1]);
-}
+const gauge = (name: string) => gaugeOf(server.port, name);
 
 describe('verification in worker threads', () => {
   it('answers GET / and the API while a verification runs, queues one more, refuses the next with 503 and Retry-After', async () => {
