@@ -7,17 +7,8 @@ import http from 'node:http';
 import type { AddressInfo } from 'node:net';
 import { afterEach, describe, expect, it } from 'vitest';
 import WebSocket from 'ws';
-import {
-  LockstepSession,
-  decodeFrame,
-  encodeMessage,
-  hex64,
-  nodeWebSocketTransport,
-  performanceClock,
-  type ErrorMessage,
-  type NetMessage,
-} from 'fixedstep';
-import { ctfGame, type Game } from '@fixedstep/games';
+import { decodeFrame, encodeMessage, type ErrorMessage, type NetMessage } from 'fixedstep';
+import { ctfGame } from '@fixedstep/games';
 import { attachRelay, type RelayEndpoint, type RelayEndpointOptions } from '../src/relay/index.js';
 import {
   Admission,
@@ -26,6 +17,7 @@ import {
   roomCapsFromEnv,
 } from '../src/http/admission.js';
 import { createServer } from '../src/index.js';
+import { ctfBotsOnRelay } from './session-frames.js';
 
 /** What the relay's endpoint reads from the environment. */
 const relayEndpointOptionsFromEnv = (env: Record<string, string>) => ({
@@ -333,48 +325,15 @@ describe('500 idle WebSockets beside a game', () => {
     expect(count('ADDRESS_LIMIT: at most 8 rooms from one address')).toBeGreaterThan(0);
     expect(endpoint!.relay.stats.connections).toBe(8);
 
-    const clock = performanceClock();
-    const ticks = 180;
-    const sessions = await Promise.all(
-      ['198.51.100.1', '198.51.100.2'].map(
-        (ip) =>
-          new Promise<LockstepSession>((resolve, reject) => {
-            const ws = new WebSocket(`${url}/play`, { headers: { 'X-Forwarded-For': ip } });
-            sockets.push(ws);
-            ws.on('error', reject);
-            ws.on('open', () => {
-              let slot = 0;
-              resolve(
-                new LockstepSession({
-                  transport: nodeWebSocketTransport(ws),
-                  clock,
-                  room: 'play',
-                  game: ctfGame,
-                  players: 2,
-                  seed: 3,
-                  stopAt: ticks,
-                  createSimulation: (w) => {
-                    slot = w.slot;
-                    return ctfGame.create(ctfGame.decodeConfig(w.config));
-                  },
-                  localInput: (_t, sim) => ctfGame.bot(sim as Game, slot),
-                }),
-              );
-            });
-          }),
-      ),
-    );
-    const timer = setInterval(() => {
-      for (const s of sessions) s.frame();
-    }, 8);
-    try {
-      await expect
-        .poll(() => sessions.every((s) => s.isFinished), { timeout: 20_000, interval: 50 })
-        .toBe(true);
-    } finally {
-      clearInterval(timer);
-    }
-    expect(hex64(sessions[0]!.hashAt(ticks)!)).toBe(hex64(sessions[1]!.hashAt(ticks)!));
+    const [ha, hb] = await ctfBotsOnRelay({
+      url: `${url}/play`,
+      room: 'play',
+      ticks: 180,
+      seed: 3,
+      headers: [{ 'X-Forwarded-For': '198.51.100.1' }, { 'X-Forwarded-For': '198.51.100.2' }],
+      timeoutMs: 20_000,
+    });
+    expect(ha).toBe(hb);
     expect(endpoint!.relay.stats.addresses).toBe(3);
   });
 });

@@ -16,13 +16,11 @@ import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { afterAll, afterEach, beforeAll, describe, expect, it } from 'vitest';
-import WebSocket from 'ws';
-import { LockstepSession, hex64, nodeWebSocketTransport, performanceClock } from 'fixedstep';
-import { ctfGame, type Game } from '@fixedstep/games';
 import { createServer, type FixedstepServer } from '../src/app.js';
 import { openStore, prepareStore } from '../src/store/store.js';
 import { PgCluster, pgBin } from './pg-cluster.js';
 import { recordRunner } from './replay-fixtures.js';
+import { ctfBotsOnRelay } from './session-frames.js';
 
 const gateModule = fileURLToPath(new URL('./store-gate.ts', import.meta.url));
 let dir: string;
@@ -47,54 +45,14 @@ const get = async (p: string) => {
 };
 
 /** Two bots play a 120-tick capture-the-flag match through the server's relay; their final hashes. */
-async function relayMatch(port: number, room: string): Promise<[string, string]> {
-  const clock = performanceClock();
-  const ticks = 120;
-  const sockets: WebSocket[] = [];
-  try {
-    const sessions = await Promise.all(
-      [0, 1].map(
-        () =>
-          new Promise<LockstepSession>((resolve, reject) => {
-            const ws = new WebSocket(`ws://127.0.0.1:${port}/ws/${room}`);
-            sockets.push(ws);
-            ws.on('error', reject);
-            ws.on('open', () => {
-              let slot = 0;
-              resolve(
-                new LockstepSession({
-                  transport: nodeWebSocketTransport(ws),
-                  clock,
-                  room,
-                  game: ctfGame,
-                  players: 2,
-                  seed: 7,
-                  stopAt: ticks,
-                  createSimulation: (w) => {
-                    slot = w.slot;
-                    return ctfGame.create(ctfGame.decodeConfig(w.config));
-                  },
-                  localInput: (_t, sim) => ctfGame.bot(sim as Game, slot),
-                }),
-              );
-            });
-          }),
-      ),
-    );
-    const timer = setInterval(() => {
-      for (const s of sessions) s.frame();
-    }, 8);
-    try {
-      await expect
-        .poll(() => sessions.every((s) => s.isFinished), { timeout: 60_000, interval: 50 })
-        .toBe(true);
-    } finally {
-      clearInterval(timer);
-    }
-    return [hex64(sessions[0]!.hashAt(ticks)!), hex64(sessions[1]!.hashAt(ticks)!)];
-  } finally {
-    for (const ws of sockets) ws.terminate();
-  }
+function relayMatch(port: number, room: string): Promise<[string, string]> {
+  return ctfBotsOnRelay({
+    url: `ws://127.0.0.1:${port}/ws/${room}`,
+    room,
+    ticks: 120,
+    seed: 7,
+    timeoutMs: 60_000,
+  });
 }
 
 describe('while the store opens', () => {
