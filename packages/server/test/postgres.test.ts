@@ -1,11 +1,8 @@
-import { spawn, spawnSync, type ChildProcess } from 'node:child_process';
-import { chownSync, existsSync, mkdtempSync, rmSync } from 'node:fs';
-import net from 'node:net';
-import os from 'node:os';
-import path from 'node:path';
+import { spawn, type ChildProcess } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
 import pg from 'pg';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
+import { PgCluster, pgBin } from './pg-cluster.js';
 import { recordRunner } from './replay-fixtures.js';
 
 /**
@@ -15,37 +12,15 @@ import { recordRunner } from './replay-fixtures.js';
  * process is killed with SIGKILL mid-way. Afterwards every acknowledged score (every 201) is in the
  * table under the name it was acknowledged with, and no run was accepted twice.
  */
-const bin =
-  process.env.FIXEDSTEP_PG_BIN ??
-  ['/usr/lib/postgresql/16/bin', '/usr/lib/postgresql/15/bin'].find((b) =>
-    existsSync(path.join(b, 'initdb')),
-  );
 const skip =
-  bin === undefined ? (process.env.FIXEDSTEP_PG_SKIP ?? 'PostgreSQL is not installed') : undefined;
+  pgBin === undefined
+    ? (process.env.FIXEDSTEP_PG_SKIP ?? 'PostgreSQL is not installed')
+    : undefined;
 if (skip !== undefined) console.log(`skipped: two server processes on one PostgreSQL: ${skip}`);
 
-const isRoot = process.getuid?.() === 0;
-let dir: string;
+let cluster: PgCluster | undefined;
 let url: string;
 const children: ChildProcess[] = [];
-
-function asPostgres(cmd: string, args: string[]): { status: number | null; output: string } {
-  const r = isRoot
-    ? spawnSync('runuser', ['-u', 'postgres', '--', cmd, ...args], { encoding: 'utf8' })
-    : spawnSync(cmd, args, { encoding: 'utf8' });
-  return { status: r.status, output: `${r.stdout}${r.stderr}` };
-}
-
-function freePort(): Promise<number> {
-  return new Promise((resolve) => {
-    const s = net.createServer().listen(0, '127.0.0.1', () => {
-      const port = (s.address() as net.AddressInfo).port;
-      s.close(() => {
-        resolve(port);
-      });
-    });
-  });
-}
 
 function startServerProcess(): Promise<{ child: ChildProcess; port: number }> {
   const script = fileURLToPath(new URL('./fixtures/pg-server.ts', import.meta.url));
@@ -69,45 +44,14 @@ function startServerProcess(): Promise<{ child: ChildProcess; port: number }> {
 
 beforeAll(async () => {
   if (skip !== undefined) return;
-  dir = mkdtempSync(path.join(os.tmpdir(), 'fixedstep-pg-'));
-  if (isRoot) {
-    const pw = spawnSync('id', ['-u', 'postgres'], { encoding: 'utf8' });
-    const gid = spawnSync('id', ['-g', 'postgres'], { encoding: 'utf8' });
-    chownSync(dir, Number(pw.stdout), Number(gid.stdout));
-  }
-  const data = path.join(dir, 'data');
-  const init = asPostgres(path.join(bin!, 'initdb'), [
-    '-D',
-    data,
-    '-A',
-    'trust',
-    '-U',
-    'postgres',
-    '--no-sync',
-  ]);
-  if (init.status !== 0) throw new Error(`initdb failed: ${init.output}`);
-  const port = await freePort();
-  const start = asPostgres(path.join(bin!, 'pg_ctl'), [
-    '-D',
-    data,
-    '-l',
-    path.join(dir, 'log'),
-    '-w',
-    '-t',
-    '60',
-    '-o',
-    `-p ${port} -k ${dir} -c listen_addresses=127.0.0.1`,
-    'start',
-  ]);
-  if (start.status !== 0) throw new Error(`pg_ctl start failed: ${start.output}`);
-  url = `postgres://postgres@127.0.0.1:${port}/postgres`;
+  cluster = await PgCluster.create(pgBin!);
+  cluster.start();
+  url = cluster.url;
 }, 120_000);
 
 afterAll(() => {
   for (const c of children) if (c.exitCode === null && c.signalCode === null) c.kill('SIGKILL');
-  if (skip !== undefined) return;
-  asPostgres(path.join(bin!, 'pg_ctl'), ['-D', path.join(dir, 'data'), '-m', 'immediate', 'stop']);
-  rmSync(dir, { recursive: true, force: true });
+  cluster?.remove();
 });
 
 interface Answer {
