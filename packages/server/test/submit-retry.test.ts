@@ -5,46 +5,23 @@
  * until the test opens it; each client's wait lasts until the gate is open and the queue is empty
  * (state, not time), so the burst is the same on any machine.
  */
-import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
-import os from 'node:os';
-import path from 'node:path';
-import { fileURLToPath } from 'node:url';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { fetchWithRetry, type AnyGameDefinition, type FetchRetry } from 'fixedstep';
-import { createServer, type FixedstepServer } from '../src/app.js';
-import { loadGames } from '../src/games/load.js';
-import { memoryStore } from './helpers.js';
-import { gaugeOf, recordRun } from './verify-runs.js';
+import type { FixedstepServer } from '../src/app.js';
+import { gaugeOf, recordRun, startGatedServer, type GatedServer } from './verify-runs.js';
 
-const gamesModule = fileURLToPath(new URL('./verify-games.ts', import.meta.url));
-const dir = mkdtempSync(path.join(os.tmpdir(), 'fixedstep-retry-'));
-const gateFile = path.join(dir, 'open');
 const CLIENTS = 12;
-
+let gated: GatedServer;
 let server: FixedstepServer;
 let games: readonly AnyGameDefinition[];
 beforeAll(async () => {
-  process.env.FIXEDSTEP_TEST_GATE = gateFile; // read by the workers' `gate` game
-  writeFileSync(path.join(dir, 'index.html'), '<!doctype html><title>lab</title>');
-  const loaded = await loadGames([gamesModule]);
-  games = loaded.games;
-  server = await createServer({
-    port: 0,
-    root: dir,
-    games: loaded,
-    store: await memoryStore(),
-    verification: { workers: 1, maxQueue: 1 },
+  gated = await startGatedServer('retry', {
     // Each client is a player of its own address (X-Forwarded-For), as a real burst is.
     trustProxy: 'x-forwarded-for',
   });
-  await server.storeReady;
+  ({ server, games } = gated);
 }, 120_000);
-afterAll(async () => {
-  writeFileSync(gateFile, '');
-  await server.close();
-  delete process.env.FIXEDSTEP_TEST_GATE;
-  rmSync(dir, { recursive: true, force: true });
-});
+afterAll(() => gated.close());
 
 const run = (seed: number) => recordRun(games, 'gate', seed, `p${seed}`);
 
@@ -84,7 +61,7 @@ describe('a burst of honest submissions while the verifier is busy', () => {
       expect(r.status).toBe(503);
       expect(r.retryAfterMs).toBeGreaterThan(0);
     }
-    writeFileSync(gateFile, '');
+    gated.openGate();
     open();
     const statuses = await Promise.all(answers.map(async (a) => (await a).status));
     expect(statuses).toEqual(Array.from({ length: CLIENTS }, () => 201));

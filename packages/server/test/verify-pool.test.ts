@@ -5,44 +5,19 @@
  * verification open as long as it likes — no timing involved: were verification on the event
  * loop, the server could not answer anything while the gate is shut, and the test would hang.
  */
-import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
-import os from 'node:os';
-import path from 'node:path';
-import { fileURLToPath } from 'node:url';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import type { AnyGameDefinition } from 'fixedstep';
-import { createServer, type FixedstepServer } from '../src/app.js';
-import { loadGames } from '../src/games/load.js';
-import { memoryStore } from './helpers.js';
-import { gaugeOf, recordRun } from './verify-runs.js';
+import type { FixedstepServer } from '../src/app.js';
+import { gaugeOf, recordRun, startGatedServer, type GatedServer } from './verify-runs.js';
 
-const gamesModule = fileURLToPath(new URL('./verify-games.ts', import.meta.url));
-const dir = mkdtempSync(path.join(os.tmpdir(), 'fixedstep-verify-'));
-const gateFile = path.join(dir, 'open');
-
+let gated: GatedServer;
 let server: FixedstepServer;
 let games: readonly AnyGameDefinition[];
 beforeAll(async () => {
-  // Read by the `gate` game in the workers (they inherit the environment when they start).
-  process.env.FIXEDSTEP_TEST_GATE = gateFile;
-  writeFileSync(path.join(dir, 'index.html'), '<!doctype html><title>lab</title>');
-  const loaded = await loadGames([gamesModule]);
-  games = loaded.games;
-  server = await createServer({
-    port: 0,
-    root: dir,
-    games: loaded,
-    store: await memoryStore(),
-    verification: { workers: 1, maxQueue: 1 },
-  });
-  await server.storeReady;
+  gated = await startGatedServer('verify');
+  ({ server, games } = gated);
 }, 120_000);
-afterAll(async () => {
-  writeFileSync(gateFile, ''); // never leave a worker waiting
-  await server.close();
-  delete process.env.FIXEDSTEP_TEST_GATE;
-  rmSync(dir, { recursive: true, force: true });
-});
+afterAll(() => gated.close());
 
 const run = (id: string, seed: number) => recordRun(games, id, seed);
 
@@ -68,7 +43,7 @@ describe('verification in worker threads', () => {
     expect(Number(refused.headers.get('retry-after'))).toBeGreaterThan(0);
     expect(await refused.json()).toMatchObject({ code: 'BUSY' });
 
-    writeFileSync(gateFile, '');
+    gated.openGate();
     expect((await first).status).toBe(201);
     expect((await second).status).toBe(201);
     const table = (await (await fetch(url('/api/highscores?game=gate'))).json()) as {
@@ -80,7 +55,7 @@ describe('verification in worker threads', () => {
   });
 
   it('pre-checks in the worker too: junk waits for a free worker (the event loop answers meanwhile), then is refused', async () => {
-    rmSync(gateFile, { force: true });
+    gated.closeGate();
     const held = submit(run('gate', 7));
     await expect.poll(() => gauge('fixedstep_verifications_running'), { timeout: 30_000 }).toBe(1);
     let junkAnswered = false;
@@ -95,7 +70,7 @@ describe('verification in worker threads', () => {
     await expect.poll(() => gauge('fixedstep_verification_queue_length')).toBe(1);
     expect((await fetch(url('/healthz'))).status).toBe(200);
     expect(junkAnswered).toBe(false);
-    writeFileSync(gateFile, '');
+    gated.openGate();
     const refused = await junk;
     expect(refused.status).toBe(422);
     expect((await held).status).toBe(201);
