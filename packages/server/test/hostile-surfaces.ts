@@ -231,8 +231,8 @@ function gameRooms(parts: GameRoomParts): RoomSurface {
   };
 }
 
-const relayHello = (room: string, x: JoinExtras = {}): NetMessage => ({
-  type: 'hello',
+/** What a join of `room` says on the relay (its hello) and on state sync (its join) alike. */
+const joinFields = (room: string, x: JoinExtras) => ({
   room,
   role: x.role ?? 'player',
   ...GAME,
@@ -241,6 +241,11 @@ const relayHello = (room: string, x: JoinExtras = {}): NetMessage => ({
   ...(x.token ? { token: x.token } : {}),
   ...(x.ticket ? { ticket: x.ticket } : {}),
   name: 'p',
+});
+
+const relayHello = (room: string, x: JoinExtras = {}): NetMessage => ({
+  type: 'hello',
+  ...joinFields(room, x),
 });
 
 /** A relay member's keep-alive: answer pings, acknowledge the ticks; `playing`, send inputs too. */
@@ -298,14 +303,7 @@ const RELAY: Surface = {
 
 const stateJoin = (room: string, x: JoinExtras = {}): StateSyncMessage => ({
   type: 'join',
-  room,
-  role: x.role ?? 'player',
-  ...GAME,
-  players: x.players ?? 2,
-  ...(x.seed !== undefined ? { seed: x.seed } : {}),
-  ...(x.token ? { token: x.token } : {}),
-  ...(x.ticket ? { ticket: x.ticket } : {}),
-  name: 'p',
+  ...joinFields(room, x),
 });
 
 /** A state-sync member's keep-alive (the server sends no pings): acks; `playing`, inputs too. */
