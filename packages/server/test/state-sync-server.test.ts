@@ -26,7 +26,11 @@ import {
 import { ctfGame, type Game } from '@fixedstep/games';
 import { startServer, type RunningServer } from '@fixedstep/server';
 import { connectNodeWebSocket } from '../src/relay/index.js';
-import { attachStateSync, type StateSyncEndpoint } from '../src/state-sync/index.js';
+import {
+  attachStateSync,
+  type StateSyncEndpoint,
+  type StateSyncEndpointOptions,
+} from '../src/state-sync/index.js';
 import { GAMES as TEST_GAMES } from './state-sync-games.js';
 
 let dir: string;
@@ -80,20 +84,29 @@ async function client<S extends Simulation>(
   };
 }
 
+/** A server serving the test folder with state-sync rooms at `/state` (`options`), ready. */
+async function startStateSync(
+  options: StateSyncEndpointOptions,
+): Promise<{ server: RunningServer; endpoint: StateSyncEndpoint; url: string }> {
+  const server = await startServer({ port: 0, host: '127.0.0.1', root: dir });
+  const endpoint = attachStateSync(server.server, options);
+  await endpoint.ready;
+  return { server, endpoint, url: `ws://127.0.0.1:${server.port}/state` };
+}
+
+async function stopStateSync(server: RunningServer, endpoint: StateSyncEndpoint): Promise<void> {
+  await endpoint.close();
+  await server.close();
+}
+
 describe('state-sync rooms of the talk’s games', () => {
   let server: RunningServer;
   let endpoint: StateSyncEndpoint;
   let url: string;
   beforeAll(async () => {
-    server = await startServer({ port: 0, host: '127.0.0.1', root: dir });
-    endpoint = attachStateSync(server.server, { workers: 1 });
-    url = `ws://127.0.0.1:${server.port}/state`;
-    await endpoint.ready;
+    ({ server, endpoint, url } = await startStateSync({ workers: 1 }));
   }, 60_000);
-  afterAll(async () => {
-    await endpoint.close();
-    await server.close();
-  });
+  afterAll(() => stopStateSync(server, endpoint));
 
   it('two clients play capture the flag through a worker and hold the same server world', async () => {
     const a = await client<Game>(url, 'duel', ctfGame);
@@ -225,19 +238,13 @@ describe('state-sync rooms in a pool of workers', () => {
     GameDefinition<ButtonInput, Simulation>,
   ];
   beforeAll(async () => {
-    server = await startServer({ port: 0, host: '127.0.0.1', root: dir });
-    endpoint = attachStateSync(server.server, {
+    ({ server, endpoint, url } = await startStateSync({
       workers: 2,
       games: pathToFileURL(path.join(import.meta.dirname, 'state-sync-games.ts')).href,
       log: (m) => logged.push(m),
-    });
-    url = `ws://127.0.0.1:${server.port}/state`;
-    await endpoint.ready;
+    }));
   }, 60_000);
-  afterAll(async () => {
-    await endpoint.close();
-    await server.close();
-  });
+  afterAll(() => stopStateSync(server, endpoint));
 
   it('a room that keeps its worker busy holds up neither the HTTP server nor a room on another worker', async () => {
     // The client runs a plain counter (a state-sync client need not run the server's code).
