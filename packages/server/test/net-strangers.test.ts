@@ -147,10 +147,13 @@ describe('a frozen peer', () => {
     expect(r.room!.startAt).toBeGreaterThan(12_000);
   });
 
-  it('in a running match is dropped after 10 s; its room plays on, not held', () => {
-    const m = match(3000, [honest('198.51.100.1')]);
-    // A real session that freezes at 5 s: no frames, and its message handler stops too.
-    const { transport } = m.connect({ latencyMs: 30, jitterMs: 5 }, { address: '203.0.113.2' });
+  /**
+   * The honest room's second player, a capture-the-flag bot from `address` on a 30 ± 5 ms link,
+   * playing to tick 3000 when framed.
+   */
+  function secondPlayer(m: ReturnType<typeof match>, address: string) {
+    const { transport } = m.connect({ latencyMs: 30, jitterMs: 5 }, { address });
+    let slot = 0;
     const session = new LockstepSession({
       transport,
       clock: m.scheduler.clock,
@@ -158,7 +161,20 @@ describe('a frozen peer', () => {
       game: ctfGame,
       players: 2,
       seed: 12,
+      stopAt: 3000,
+      createSimulation: (w) => {
+        slot = w.slot;
+        return ctfGame.create(ctfGame.decodeConfig(w.config));
+      },
+      localInput: (_t, sim) => ctfGame.bot(sim as Game, slot),
     });
+    return { transport, session };
+  }
+
+  it('in a running match is dropped after 10 s; its room plays on, not held', () => {
+    const m = match(3000, [honest('198.51.100.1')]);
+    // A real session that freezes at 5 s: no frames, and its message handler stops too.
+    const { transport, session } = secondPlayer(m, '203.0.113.2');
     const frames = m.scheduler.every(1000 / 60, () => session.frame(m.scheduler.now), 3);
     m.scheduler.at(5000, () => {
       frames.cancel();
@@ -176,22 +192,7 @@ describe('a frozen peer', () => {
 
   it('a background tab (no frames, its message handler alive) answers the probes and is kept', () => {
     const m = match(3000, [honest('198.51.100.1')]);
-    const { transport } = m.connect({ latencyMs: 30, jitterMs: 5 }, { address: '198.51.100.3' });
-    let slot = 0;
-    const session = new LockstepSession({
-      transport,
-      clock: m.scheduler.clock,
-      room: 'honest',
-      game: ctfGame,
-      players: 2,
-      seed: 12,
-      stopAt: 3000,
-      createSimulation: (w) => {
-        slot = w.slot;
-        return ctfGame.create(ctfGame.decodeConfig(w.config));
-      },
-      localInput: (_t, sim) => ctfGame.bot(sim as Game, slot),
-    });
+    const { session } = secondPlayer(m, '198.51.100.3');
     // Hidden from 5 s to 35 s: not a single frame.
     const hidden = (t: number) => t >= 5000 && t < 35_000;
     m.scheduler.every(
