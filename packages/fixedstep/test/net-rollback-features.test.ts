@@ -101,15 +101,7 @@ describe('input delay changed during a match', () => {
   });
 
   it('refuses a delay out of range, naming it', () => {
-    const [a] = [new SimulatedLink({ scheduler: new EventScheduler() })];
-    const s = new RollbackSession({
-      transport: a.a,
-      clock: { now: () => 0 },
-      room: 'r',
-      game: 'toy',
-      gameVersion: 1,
-      createSimulation: () => new Toy(1, 1),
-    });
+    const s = idleSession();
     expect(() => {
       s.setInputDelay(61);
     }).toThrow(/from 0 to 60, got 61/);
@@ -162,14 +154,7 @@ describe('several local players on one machine', () => {
   });
 
   it('refuses a session listed twice', () => {
-    const s = new RollbackSession({
-      transport: new SimulatedLink({ scheduler: new EventScheduler() }).a,
-      clock: { now: () => 0 },
-      room: 'r',
-      game: 'toy',
-      gameVersion: 1,
-      createSimulation: () => new Toy(1, 1),
-    });
+    const s = idleSession();
     expect(() => {
       RollbackSession.linkLocalPlayers([s, s]);
     }).toThrow(/listed twice/);
@@ -223,3 +208,15 @@ describe('CorrectionSmoother', () => {
     }).toThrow(/needs 2 values/);
   });
 });
+
+/** A rollback session of the toy game on a link nothing answers: for checks of its arguments. */
+function idleSession(): RollbackSession {
+  return new RollbackSession({
+    transport: new SimulatedLink({ scheduler: new EventScheduler() }).a,
+    clock: { now: () => 0 },
+    room: 'r',
+    game: 'toy',
+    gameVersion: 1,
+    createSimulation: () => new Toy(1, 1),
+  });
+}
