@@ -2,6 +2,7 @@ import { existsSync, readFileSync, writeFileSync } from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 import { INTEGRATOR_METHODS, type IntegratorMethod } from 'fixedstep';
+import { TALK_INTEGRATOR_EXPERIMENT } from '@fixedstep/games';
 import {
   UsageError,
   convertValue,
@@ -351,12 +352,12 @@ function parseIntegrators(rest: readonly string[]): Command {
       `--methods: unknown method "${unknown[0] ?? ''}"; choose from ${INTEGRATOR_METHODS.join(', ')}`,
     );
   }
-  const x0 = num(values.x0, 1);
-  const v0 = num(values.v0, 0);
+  const x0 = num(values.x0, TALK_INTEGRATOR_EXPERIMENT.x0);
+  const v0 = num(values.v0, TALK_INTEGRATOR_EXPERIMENT.v0);
   if (x0 === 0 && v0 === 0)
     throw new UsageError('--x0 and --v0 cannot both be 0: the oscillator would have no energy');
-  const dt = num(values.dt, 0.03);
-  const duration = num(values.duration, 10);
+  const dt = num(values.dt, TALK_INTEGRATOR_EXPERIMENT.dt);
+  const duration = num(values.duration, TALK_INTEGRATOR_EXPERIMENT.duration);
   if (duration / dt > 1e7)
     throw new UsageError(
       `--duration / --dt is ${Math.round(duration / dt)} steps; at most 10 000 000`,
@@ -364,7 +365,7 @@ function parseIntegrators(rest: readonly string[]): Command {
   return {
     kind: 'experiment-integrators',
     options: {
-      omega: num(values.omega, Math.sqrt(20)),
+      omega: num(values.omega, TALK_INTEGRATOR_EXPERIMENT.omega),
       dt,
       duration,
       x0,

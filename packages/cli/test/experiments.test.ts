@@ -2,6 +2,7 @@ import { mkdtemp, readFile, rm } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
+import { TALK_INTEGRATOR_EXPERIMENT } from '@fixedstep/games';
 import { EXIT_OK, EXIT_USAGE, parseArgs, run } from '@fixedstep/cli';
 import {
   formatIntegratorTable,
@@ -35,14 +36,7 @@ function io() {
 }
 
 describe('experiment integrators', () => {
-  const exp = runIntegratorExperiment({
-    omega: Math.sqrt(20),
-    dt: 0.03,
-    duration: 10,
-    x0: 1,
-    v0: 0,
-    methods: ALL,
-  });
+  const exp = runIntegratorExperiment({ ...TALK_INTEGRATOR_EXPERIMENT, methods: ALL });
   const by = (m: string) => exp.results.find((r) => r.method === m)!;
   const h2 = 20 * 0.03 * 0.03;
 

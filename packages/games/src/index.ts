@@ -30,7 +30,13 @@ export type {
   WallRule,
   RangeLoopKind,
 } from './scenes/collisions.js';
-export { OscillatorRace, TalkSpring, isStable, runIntegratorExperiment } from './scenes/physics.js';
+export {
+  OscillatorRace,
+  TALK_INTEGRATOR_EXPERIMENT,
+  TalkSpring,
+  isStable,
+  runIntegratorExperiment,
+} from './scenes/physics.js';
 export type {
   OscillatorRaceOptions,
   RaceLane,

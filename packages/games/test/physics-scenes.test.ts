@@ -9,6 +9,7 @@ import {
   OscillatorRace,
   Rope,
   SceneRig,
+  TALK_INTEGRATOR_EXPERIMENT,
   TalkSpring,
   isStable,
   ropeConfig,
@@ -67,11 +68,7 @@ describe('OscillatorRace: one spring, six integrators in lockstep', () => {
   it('is the CLI experiment: runIntegratorExperiment gives the same numbers', () => {
     const race = talkRace();
     const exp = runIntegratorExperiment({
-      omega: Math.sqrt(20),
-      dt: 0.03,
-      duration: 10,
-      x0: 1,
-      v0: 0,
+      ...TALK_INTEGRATOR_EXPERIMENT,
       methods: INTEGRATOR_METHODS,
     });
     expect(exp.steps).toBe(333);

@@ -303,6 +303,19 @@ export interface IntegratorExperiment {
 }
 
 /**
+ * The talk's integrator experiment: the spring of k/m = 20 (ω = √20 rad/s, a period of 1.4 s)
+ * stepped every 30 ms for 10 s from rest at x = 1 m — the defaults of
+ * `fixedstep experiment integrators`.
+ */
+export const TALK_INTEGRATOR_EXPERIMENT = {
+  omega: Math.sqrt(20),
+  dt: 0.03,
+  duration: 10,
+  x0: 1,
+  v0: 0,
+} as const;
+
+/**
  * Runs each method on `x'' = −ω²x` for `duration` (rounded to whole steps) and measures energy
  * drift and phase error against the exact solution — an {@link OscillatorRace} run to the end.
  */
