@@ -17,6 +17,8 @@ import {
   PING_FIELDS,
   PONG_FIELDS,
   LEAVE_REASONS,
+  checkInputRun,
+  inputRunFields,
   joinFields,
   tokenField,
   type ErrorMessage,
@@ -339,20 +341,9 @@ export const RELAY_PROTOCOL = defineProtocol<NetMessage, ProtocolLimits>({
         player: uint({ max: 'maxPlayers' }),
         ack: uint(),
         tick: uint(),
-        words: uint({ min: 1, max: 'maxInputWords' }),
-        inputs: inputs({
-          lanes: (m) => m.words as number,
-          words: (m) => m.words as number,
-          maxLanes: (l) => l.maxInputWords!,
-          rows: [1, 'maxInputTicks'],
-        }),
+        ...inputRunFields(),
       },
-      check: (m, l) =>
-        m.player >= l.maxPlayers!
-          ? ['player', `${m.player} of at most ${l.maxPlayers} players`]
-          : m.tick + m.inputs.length / m.words - 1 > 0xffffffff
-            ? ['tick', 'tick range past 2^32']
-            : undefined,
+      check: checkInputRun,
     },
     confirmed: {
       code: 0x05,

@@ -11,6 +11,8 @@ import {
   ERROR_FIELDS,
   PING_FIELDS,
   PONG_FIELDS,
+  checkInputRun,
+  inputRunFields,
   joinFields,
   tokenField,
   type ErrorMessage,
@@ -18,7 +20,7 @@ import {
   type PingMessage,
   type PongMessage,
 } from '../wire/common.js';
-import { bytes, inputs, oneOf, time, u32, u64, uint, type Field } from '../wire/fields.js';
+import { bytes, oneOf, time, u32, u64, uint, type Field } from '../wire/fields.js';
 import { defineProtocol } from '../wire/protocol.js';
 
 /** The state-sync protocol's version (byte 0 of every message is 0x80 | this). */
@@ -214,20 +216,9 @@ export const STATE_SYNC_PROTOCOL = defineProtocol<StateSyncMessage, StateSyncLim
         player: uint({ max: 'maxPlayers' }),
         ack: uint({ min: -1 }),
         tick: uint(),
-        words: uint({ min: 1, max: 'maxInputWords' }),
-        inputs: inputs({
-          lanes: (m) => m.words as number,
-          words: (m) => m.words as number,
-          maxLanes: (l) => l.maxInputWords!,
-          rows: [1, 'maxInputTicks'],
-        }),
+        ...inputRunFields(),
       },
-      check: (m, l) =>
-        m.player >= l.maxPlayers!
-          ? ['player', `${m.player} of at most ${l.maxPlayers} players`]
-          : m.tick + m.inputs.length / m.words - 1 > 0xffffffff
-            ? ['tick', 'tick range past 2^32']
-            : undefined,
+      check: checkInputRun,
     },
     ack: { code: 0x03, from: 'client', fields: { ack: uint({ min: -1 }) } },
     ping: { code: 0x04, from: 'client', fields: PING_FIELDS },

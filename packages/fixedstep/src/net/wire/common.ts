@@ -8,6 +8,7 @@ import {
   bytes,
   flag,
   hex64,
+  inputs,
   name,
   oneOf,
   optional,
@@ -205,4 +206,35 @@ export function joinFields(maxPlayers: string): {
 /** A token field of a welcome: empty (none), or {@link TOKEN_BYTES} bytes. */
 export function tokenField(): Field<Uint8Array> {
   return bytes({ max: TOKEN_BYTES, sizes: [0, TOKEN_BYTES] });
+}
+
+/**
+ * A player's run of inputs (the relay's and state sync's `input`): `words` words a tick, one to
+ * `maxInputTicks` ticks from `tick`.
+ */
+export function inputRunFields(): {
+  words: Field<number>;
+  inputs: Field<Uint32Array>;
+} {
+  return {
+    words: uint({ min: 1, max: 'maxInputWords' }),
+    inputs: inputs({
+      lanes: (m) => m.words as number,
+      words: (m) => m.words as number,
+      maxLanes: (l) => l.maxInputWords!,
+      rows: [1, 'maxInputTicks'],
+    }),
+  };
+}
+
+/** The rule between an input run's fields: a player the room has, ticks that fit 32 bits. */
+export function checkInputRun(
+  m: { player: number; tick: number; words: number; inputs: Uint32Array },
+  l: { maxPlayers?: number },
+): readonly [string, string] | undefined {
+  return m.player >= l.maxPlayers!
+    ? ['player', `${m.player} of at most ${l.maxPlayers} players`]
+    : m.tick + m.inputs.length / m.words - 1 > 0xffffffff
+      ? ['tick', 'tick range past 2^32']
+      : undefined;
 }
