@@ -6,30 +6,17 @@ import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { DOCS_NOT_BUILT, startServer, type RunningServer } from '@fixedstep/server';
 import { createServer } from '../src/app.js';
 import { SECURITY_HEADERS } from '../src/http/security.js';
-import { closed, connect, memoryStore } from './helpers.js';
+import { closed, connect, memoryStore, request } from './helpers.js';
 
 /** A raw GET: the path goes on the wire exactly as given (fetch would normalise `..`). */
-function get(
+async function get(
   port: number,
   rawPath: string,
   method = 'GET',
   headers: Record<string, string> = {},
 ): Promise<{ status: number; headers: http.IncomingHttpHeaders; body: string }> {
-  return new Promise((resolve, reject) => {
-    const req = http.request({ host: '127.0.0.1', port, path: rawPath, method, headers }, (res) => {
-      const chunks: Buffer[] = [];
-      res.on('data', (c: Buffer) => chunks.push(c));
-      res.on('end', () => {
-        resolve({
-          status: res.statusCode ?? 0,
-          headers: res.headers,
-          body: Buffer.concat(chunks).toString('utf8'),
-        });
-      });
-    });
-    req.on('error', reject);
-    req.end();
-  });
+  const res = await request(port, rawPath, { method, headers });
+  return { ...res, body: res.body.toString('utf8') };
 }
 
 let dir: string;
