@@ -7,12 +7,12 @@ import type { RegisteredGame } from '../games/game.js';
 import { GAMES } from '../games/registry.js';
 import { TRACE_DISPLAY_RATES } from './display.js';
 import { gameScenes } from './games.js';
+import { detMathScene } from './probes.js';
 import {
   ballScenes,
   bulletsScenes,
   circlesScene,
   clothScenes,
-  detMathScene,
   labScenes,
   randomScene,
   ropeScenes,

@@ -51,6 +51,9 @@ export {
   SPECIAL_DOUBLES,
   DET_MATH_PROBES,
   detMathScene,
+} from './probes.js';
+export type { FunctionProbe, FunctionProbeSceneOptions } from './probes.js';
+export {
   randomScene,
   ballTraceScript,
   ballScenes,
@@ -59,6 +62,5 @@ export {
   ropeDef,
   ropeScenes,
 } from './scenes.js';
-export type { FunctionProbe, FunctionProbeSceneOptions } from './scenes.js';
 export { gameScenes, recordBotMatch, tracePlayers, TRACE_GAME_SEED } from './games.js';
 export type { BotRecording } from './games.js';
