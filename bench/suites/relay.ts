@@ -46,6 +46,7 @@ import { ctfGame } from '@fixedstep/games';
 // The CLI's Node WebSocket client (the bench runs the sources, like the e2e tests).
 import { connectNodeWebSocket } from '../../packages/server/src/relay/client.js';
 import { formatRatio } from '../lib/format.js';
+import { fixedstepCommand, residentMb } from '../lib/serve.js';
 import { roundOrder, spread, summarize } from '../lib/stats.js';
 import { defineSuite, type SuiteContext } from '../lib/suite.js';
 
@@ -890,6 +891,8 @@ export interface BalancedRun {
   /** WebSocket frames per player per second, up (to the relay) and down, while measuring. */
   framesUp: number;
   framesDown: number;
+  /** Each relay process's resident memory at the end of the measurement, and its peak, MB. */
+  relayRss: { now: number; peak: number }[];
 }
 
 /**
@@ -914,7 +917,7 @@ export async function runBalanced(
       Array.from({ length: processes }, async (_, index) => {
         const child = spawn(
           process.execPath,
-          ['--conditions=source', '--import', 'tsx', 'packages/cli/src/cli.ts', 'serve'].concat([
+          [...fixedstepCommand().args, 'serve'].concat([
             '--port',
             '0',
             '--root',
@@ -1088,6 +1091,7 @@ export async function runBalanced(
       agree: true,
       framesUp: framesUp / players / wall,
       framesDown: framesDown / players / wall,
+      relayRss: relays.map((r) => residentMb(r.pid)),
     };
     // Both players of each room on one state at a tick they both have.
     for (let i = 0; i + 1 < sessions.length; i += 2) {
@@ -1100,7 +1104,9 @@ export async function runBalanced(
   } finally {
     if (timer) clearInterval(timer);
     for (const s of sessions) s.leave();
-    for (const c of children) if (c.exitCode === null && c.signalCode === null) c.kill('SIGKILL');
+    for (const c of children)
+      if (c.exitCode === null && c.signalCode === null)
+        c.kill(process.env.TMP_KILL === '1' ? 'SIGINT' : 'SIGKILL');
     await rm(dir, { recursive: true, force: true });
   }
 }
@@ -1115,8 +1121,11 @@ async function socketSection(ctx: SuiteContext): Promise<void> {
     ctx.note(`${title}: not in --quick (npm run bench -- relay runs it).`);
     return;
   }
-  const players = 200;
-  const seconds = 8;
+  // As many players as the load generator (one thread, in this process) drives at 60 Hz on a
+  // 2-core machine: a relay's cost per player falls as its load grows (more sockets ready at each
+  // wake-up of its event loop), so a light load would understate what a core serves.
+  const players = 1000;
+  const seconds = 10;
   const rates = [1, 2, 3];
   const rounds = 2;
   // Interleaved rounds; each run's relay CPU per player-second of play at 60 Hz (the ticks the
@@ -1152,6 +1161,7 @@ async function socketSection(ctx: SuiteContext): Promise<void> {
       `${fmt(cost.median * 1e6, 0)} (${fmt(cost.min * 1e6, 0)}–${fmt(cost.max * 1e6, 0)})`,
       `${fmt(1 / cost.median, 0)} (${fmt(1 / cost.max, 0)}–${fmt(1 / cost.min, 0)})`,
       `${fmt(mean((x) => x.generatorCpu) * 100, 1)} %`,
+      fmt(Math.max(...rs.map((x) => x.relayRss[0]!.peak)), 0),
       `${fmt(percentile(delays, 50), 1)} / ${fmt(percentile(delays, 99), 1)}`,
       `${fmt(
         (100 * rs.reduce((a, x) => a + x.lateInputs, 0)) /
@@ -1174,6 +1184,7 @@ async function socketSection(ctx: SuiteContext): Promise<void> {
       'µs CPU per player-second',
       'players per core',
       'load generator CPU',
+      'relay RSS peak MB',
       'input → confirmed p50 / p99 ms',
       'late inputs',
     ],
@@ -1183,8 +1194,10 @@ async function socketSection(ctx: SuiteContext): Promise<void> {
     `${players} players (LockstepSessions with a trivial game, in this process: the load ` +
       `generator) in rooms of 2 for ${seconds} s after every room started, ${rounds} interleaved ` +
       `rounds (median, range), each player from a loopback ` +
-      `address of its own, connected straight to one \`fixedstep serve\` (FIXEDSTEP_SEND_EVERY ` +
-      `set); relay CPU from /proc (user + system: the socket writes and reads are most of it). ` +
+      `address of its own, connected straight to one \`fixedstep serve\` (${fixedstepCommand().how}, ` +
+      `FIXEDSTEP_SEND_EVERY set); relay CPU from /proc, user + system (system time is about ` +
+      `half of it: on loopback the kernel's TCP work for both ends of each packet the relay ` +
+      `sends is charged to the relay). ` +
       `µs CPU per player-second = relay CPU / (ticks the sessions played / 60 / s), so a load ` +
       `generator that falls behind does not flatter it; players per core = its inverse. Frames: ` +
       `WebSocket frames per player per second, to the relay and from it. The relay sends one WebSocket frame a connection a ` +
