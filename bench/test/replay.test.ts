@@ -103,6 +103,24 @@ describe('replay suite: a tiny run', () => {
       GAMES.map((g) => g.info.id),
       GAMES.flatMap((g) => [g.info.id, g.info.id]),
     ]);
+    // CPU time: the bare loop beside verification, with the goals in the title and per row.
+    const cpu = tables[1]!;
+    expect(cpu.title).toMatch(
+      /verifyReplay ≤ 1\.3× the bare step for ctf and survival, ctf ≥ 1 M ticks\/s/,
+    );
+    expect(cpu.header).toEqual([
+      'game',
+      'replay',
+      'bare step(), ticks/s',
+      'verifyReplay, ticks/s',
+      'verify / bare',
+      'goals',
+    ]);
+    expect(cpu.rows.map((r) => r[5]!.replace(/[✓✗] /g, ''))).toEqual(
+      GAMES.map((g) =>
+        g.info.id === 'ctf' ? 'ratio, speed' : g.info.id === 'survival' ? 'ratio' : '—',
+      ),
+    );
     // The stored size, bots beside the human-pace model: the model changes keys less often.
     const pace = tables[3]!.rows;
     expect(pace.map((r) => r[1])).toEqual(

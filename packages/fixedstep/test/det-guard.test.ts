@@ -274,4 +274,25 @@ describe('guardStep and guardSimulation', () => {
       bare.step([0]);
     }).not.toThrow();
   });
+
+  it('guards skip() where the simulation has one, and adds none where it has not', () => {
+    expect('skip' in guardSimulation(new Walk())).toBe(false);
+    /** A walk that is over at once: skipping only counts ticks — unless it cheats. */
+    class Finished extends Walk {
+      ticks = 0;
+      readonly frozen = true;
+      skip(n: number): void {
+        this.ticks += n + (this.cheat ? Math.random() : 0);
+      }
+    }
+    const finished = new Finished();
+    const guarded = guardSimulation(finished);
+    guarded.skip(5);
+    expect(finished.ticks).toBe(5);
+    finished.cheat = true;
+    expect(() => {
+      guarded.skip(1);
+    }).toThrow(DeterminismError);
+    expectRestored();
+  });
 });

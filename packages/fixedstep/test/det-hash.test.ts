@@ -41,6 +41,31 @@ describe('FNV-1a 64', () => {
     expect(chunked.hex()).toBe(expected.toString(16).padStart(16, '0'));
   });
 
+  it('mostly zero bytes, as snapshots are: runs of every length, at every alignment, in chunks', () => {
+    // Runs of zeros are hashed as one multiplication by a power of the prime, found a word at a
+    // time: what must never differ from the byte-by-byte reference. Runs longer than the table
+    // of powers (4096), runs that start or end inside a word, views at odd offsets.
+    const r = new Random(2);
+    const backing = new Uint8Array(40_000);
+    let at = 0;
+    while (at < backing.length) {
+      const run = [0, 1, 2, 3, 4, 5, 7, 8, 15, 16, 17, 31, 64, 4095, 4096, 4097, 9000][r.int(17)]!;
+      at = Math.min(backing.length, at + run);
+      for (let k = r.int(12); k > 0 && at < backing.length; k--) backing[at++] = 1 + r.int(255);
+    }
+    for (const offset of [0, 1, 2, 3, 5]) {
+      for (const length of [0, 3, 63, 64, 65, 4100, 20_001, 39_990]) {
+        const bytes = backing.subarray(offset, offset + length);
+        expect(fnv1a64(bytes), `offset ${offset}, length ${length}`).toBe(referenceFnv1a64(bytes));
+      }
+    }
+    const zeros = new Uint8Array(70_000);
+    expect(fnv1a64(zeros)).toBe(referenceFnv1a64(zeros));
+    const chunked = new Fnv1a64();
+    for (let k = 0; k < backing.length; k += 999) chunked.update(backing.subarray(k, k + 999));
+    expect(chunked.digest()).toBe(referenceFnv1a64(backing));
+  });
+
   it('every single byte value and the high bits of the state (carries across the halves)', () => {
     for (let b = 0; b < 256; b++) {
       const bytes = Uint8Array.of(b, 255 - b, b ^ 0x5a, 0xff, 0x00, b);
@@ -120,6 +145,36 @@ describe('ByteWriter / ByteReader', () => {
     const a = new ByteWriter().f64(nans[1]!).f64(-0).finish();
     const b = new ByteWriter().f64(nans[2]!).f64(0).finish();
     expect(fnv1a64(a)).toBe(fnv1a64(b));
+  });
+
+  it('writes long arrays (copied whole) exactly as element by element, -0 and NaNs included', () => {
+    const r = new Random(3);
+    const n = 40;
+    const f64 = new Float64Array(n);
+    for (let i = 0; i < n; i++) f64[i] = [0, -0, NaN, -NaN, 1.5, -r.next(), 1e308][r.int(7)]!;
+    f64[0] = -0;
+    f64[n - 1] = NaN;
+    const ints = [Int8Array, Uint8Array, Int16Array, Uint16Array, Int32Array, Uint32Array].map(
+      (Type) => {
+        const a = new Type(n);
+        for (let i = 0; i < n; i++) a[i] = r.nextU32() | 0;
+        return a;
+      },
+    );
+    // From an odd position of the writer, and from views at an offset into a larger array.
+    const whole = new ByteWriter(16).u8(1).f64s(f64).f64s(f64.subarray(3, 30));
+    const oneByOne = new ByteWriter(16).u8(1);
+    for (const v of f64) oneByOne.f64(v);
+    for (const v of f64.subarray(3, 30)) oneByOne.f64(v);
+    for (const a of ints) {
+      whole.ints(a).ints(a.subarray(1, 35));
+      for (const v of [...a, ...a.subarray(1, 35)]) {
+        if (a.BYTES_PER_ELEMENT === 1) oneByOne.u8(v);
+        else if (a.BYTES_PER_ELEMENT === 2) oneByOne.u16(v & 0xffff);
+        else oneByOne.u32(v);
+      }
+    }
+    expect(whole.finish()).toEqual(oneByOne.finish());
   });
 
   it('reads from a view into a larger buffer', () => {

@@ -6,6 +6,7 @@
  */
 import { expect, it } from 'vitest';
 import {
+  Random,
   ReplayRecorder,
   guardSimulation,
   hex64,
@@ -16,7 +17,9 @@ import {
   withDeterminismGuard,
   type ButtonInput,
   type DisplayEvent,
+  type ReplayHeader,
   type ReplayRecorderOptions,
+  type Simulation,
 } from 'fixedstep';
 import {
   findGame,
@@ -243,8 +246,11 @@ export interface RecordedMatch {
   readonly players: number;
   /** The inputs, tick by tick: `recorded[t * players + p]`. */
   readonly recorded: Uint32Array;
-  /** The same file with other inputs and the recorded hashes: well formed, only re-simulation can tell. */
-  forge(inputs: Uint32Array): Uint8Array;
+  /**
+   * The same file with other inputs and the recorded hashes (but for `hash.tick`, whose stored
+   * hash is `hash.value`): well formed, only re-simulation can tell.
+   */
+  forge(inputs: Uint32Array, hash?: { tick: number; value: bigint }): Uint8Array;
 }
 
 /** Records `ticks` of a bot match of `config` with the registry's recorder options. */
@@ -270,8 +276,12 @@ export function recordBotMatch<G extends Arena>(
     rec.record(frame, game);
     hashes.push(game.hash());
   }
-  const forge = (inputsOf: Uint32Array): Uint8Array => {
-    const puppet = { tick: 0, hash: () => hashes[puppet.tick]!, save: () => new Uint8Array(0) };
+  const forge = (inputsOf: Uint32Array, hash?: { tick: number; value: bigint }): Uint8Array => {
+    const puppet = {
+      tick: 0,
+      hash: () => (puppet.tick === hash?.tick ? hash.value : hashes[puppet.tick]!),
+      save: () => new Uint8Array(0),
+    };
     const r = new ReplayRecorder(replayOptionsFor(def, config, names));
     r.start(puppet);
     const frame = new Array<ButtonInput>(n).fill(0);
@@ -299,4 +309,94 @@ export function expectEditCaught(match: RecordedMatch, t: number): void {
   const next = Math.ceil((t + 1) / every) * every;
   expect(result).toMatchObject({ ok: false, kind: 'checkpoint', firstMismatchTick: next });
   expect(verifyReplay(match.forge(match.recorded), gameFromReplayHeader).ok).toBe(true);
+}
+
+/**
+ * The end of a match: from `over` on the game says it is frozen, `skip(k)` leaves what k steps
+ * with any inputs leave, and `verifyReplay` jumps over the rest of a file — still refusing one
+ * whose hashes after the end are forged, and answering for an honest one exactly what stepping
+ * every tick answers.
+ */
+export function itStandsStillAfterTheEnd<G extends Arena & Required<Pick<Game, 'frozen' | 'skip'>>>(
+  shooter: Shooter<G>,
+  config: GameConfig,
+): void {
+  /** The bot match of `config`, played to its end. */
+  const ended = (): G => {
+    const game = botMatch(shooter, config.seed, config.players, 60 * 60 * 60);
+    expect(game.over).toBe(true);
+    return game;
+  };
+
+  it('after the end, skip(k) leaves the state k steps with any inputs leave', () => {
+    const fresh = shooter.make(config);
+    expect(fresh.frozen).toBe(false);
+    expect(() => {
+      fresh.skip(1);
+    }).toThrow(RangeError);
+    const game = ended();
+    expect(game.frozen).toBe(true);
+    const copy = shooter.make(config);
+    copy.load(game.save());
+    const rng = new Random(9);
+    const inputs = new Array<ButtonInput>(config.players).fill(0);
+    for (const k of [1, 59, 600]) {
+      for (let t = 0; t < k; t++) {
+        for (let p = 0; p < config.players; p++) inputs[p] = rng.nextU32() & 0xffff;
+        game.step(inputs);
+      }
+      copy.skip(k);
+      expect(copy.tick).toBe(game.tick);
+      expect(copy.save()).toEqual(game.save());
+      expect(copy.frozen).toBe(true);
+    }
+    expect(() => {
+      copy.skip(-1);
+    }).toThrow(RangeError);
+    expect(() => {
+      copy.skip(1.5);
+    }).toThrow(RangeError);
+  });
+
+  it('a replay that runs on after the end: verified without stepping the rest, forged hashes there refused', () => {
+    const end = ended().tick;
+    const names = Array.from({ length: config.players }, (_, p) => `p${p}`);
+    const match = recordBotMatch(shooter, config, names, end + 3000, { keyframeEvery: 1200 });
+    const skipping = verifyReplay(match.bytes, gameFromReplayHeader);
+    expect(skipping).toMatchObject({ ok: true, simulated: match.ticks });
+    expect(skipping.frozenFrom).toBeGreaterThanOrEqual(end);
+    expect(skipping.frozenFrom).toBeLessThan(end + 600);
+    // The same game without `frozen`: stepped to the last tick, the same answer.
+    const stepping = (header: ReplayHeader): Simulation => {
+      const g = gameFromReplayHeader(header);
+      return {
+        get tick() {
+          return g.tick;
+        },
+        step: (i: readonly ButtonInput[]) => {
+          g.step(i);
+        },
+        save: () => g.save(),
+        load: (b: Uint8Array) => {
+          g.load(b);
+        },
+        hash: () => g.hash(),
+      };
+    };
+    const stepped = verifyReplay(match.bytes, stepping);
+    expect(stepped.frozenFrom).toBe(-1);
+    expect({ ...skipping, frozenFrom: -1 }).toEqual(stepped);
+
+    const every = readReplay(match.bytes).checkpointEvery;
+    const forgedAt = (Math.floor(match.ticks / every) - 1) * every;
+    expect(forgedAt).toBeGreaterThan(skipping.frozenFrom);
+    const forged = match.forge(match.recorded, { tick: forgedAt, value: 0x5eedn });
+    expect(verifyReplay(forged, gameFromReplayHeader)).toMatchObject({
+      ok: false,
+      kind: 'checkpoint',
+      firstMismatchTick: forgedAt,
+      lastGoodTick: forgedAt - every,
+      expected: 0x5eedn,
+    });
+  });
 }

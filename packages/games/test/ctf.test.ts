@@ -20,6 +20,7 @@ import {
   expectRegistered,
   hashOnDisplay,
   itIsDeterministic,
+  itStandsStillAfterTheEnd,
   recordBotMatch,
   type Shooter,
 } from './arena-games.js';
@@ -248,6 +249,8 @@ describe('capture the flag: the players’ tunnelling diagnostic', () => {
 });
 
 describe('capture the flag: replays', () => {
+  itStandsStillAfterTheEnd(CTF_SHOOTER, { seed: 11, players: 2 });
+
   const match = recordBotMatch(CTF_SHOOTER, { seed: 11, players: 2 }, ['ann', 'bob'], 2 * 60 * 60);
 
   it('records two minutes of a 2-player bot match and verifies it by re-simulation', () => {

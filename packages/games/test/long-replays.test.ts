@@ -70,6 +70,15 @@ describe.each(GAMES.map((def) => ({ id: def.info.id, def })))(
       const result = verifyReplay(bytes, gameFromReplayHeader);
       expect(result.ok).toBe(true);
       expect(result.simulated).toBe(ticks);
+      // A finished match is not stepped to the end of the file (every hash still compared):
+      // from the first tick checked at or after the end on.
+      const overAt = golden?.overAt ?? -1;
+      const lag = result.frozenFrom - overAt;
+      const every = readReplay(bytes).checkpointEvery;
+      expect(
+        overAt < 0 ? result.frozenFrom === -1 : lag >= 0 && lag < every,
+        `frozen from ${result.frozenFrom}, over at ${overAt}`,
+      ).toBe(true);
       const final = hex64(readReplay(bytes).finalHash);
       if (final !== golden?.final) console.log(`${id} 10-minute final hash: ${final}`);
       expect(final).toBe(golden?.final);

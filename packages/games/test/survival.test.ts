@@ -19,6 +19,7 @@ import {
   expectRegistered,
   hashOnDisplay,
   itIsDeterministic,
+  itStandsStillAfterTheEnd,
   recordBotMatch,
   type Shooter,
 } from './arena-games.js';
@@ -225,6 +226,8 @@ describe("survival: the talk's breakage, for real", () => {
 });
 
 describe('survival: replays', () => {
+  itStandsStillAfterTheEnd(SURVIVAL_SHOOTER, { seed: 2, players: 1 });
+
   const match = recordBotMatch(SURVIVAL_SHOOTER, { seed: 12, players: 1 }, ['solo'], 2 * 60 * 60, {
     keyframeEvery: 1200,
   });

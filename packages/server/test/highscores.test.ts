@@ -28,6 +28,26 @@ describe('checking a submission', () => {
     });
   });
 
+  it('checks a survival run past its end: the claimed kills, and every hash after the end', () => {
+    // Survival is over when the bot has lost its lives (6 to 7 minutes); the file runs on for a
+    // minute. The verifier skips those ticks (the state is frozen) but not their hashes.
+    const ticks = 9 * 60 * 60;
+    const honest = recordBot('survival', ticks);
+    expect(honest.game.over).toBe(true);
+    const kills = honest.game.hud().kills!;
+    expect(resimulate(honest.bytes, kills, GAMES)).toMatchObject({ ok: true, score: kills });
+    expect(resimulate(honest.bytes, kills + 1, GAMES)).toMatchObject({
+      ok: false,
+      code: 'SCORE_MISMATCH',
+    });
+    const forged = recordBot('survival', ticks, 1, { hashAt: ticks - 60 });
+    expect(resimulate(forged.bytes, kills, GAMES)).toMatchObject({
+      ok: false,
+      code: 'DOES_NOT_REPRODUCE',
+      message: expect.stringContaining(`${ticks - 120}, ${ticks - 60}]`) as string,
+    });
+  });
+
   it('gives a renamed run the same identity, and another run another', () => {
     const renamed = recordRunner(1800, {}, 'mallory');
     expect(readReplay(renamed.bytes).header.players).toEqual(['mallory']);

@@ -49,20 +49,35 @@ export function recordRunner(
   return { bytes: rec.finish(), game };
 }
 
-/** An honest bot match of any registered game: every player driven by the game's bot. */
-export function recordBot(gameId: string, ticks: number, players = 1): Recorded {
+/**
+ * A bot match of any registered game: every player driven by the game's bot. Honest, unless
+ * `lie.hashAt` is given: then the hash stored for that tick is not the state's.
+ */
+export function recordBot(
+  gameId: string,
+  ticks: number,
+  players = 1,
+  lie: { hashAt?: number } = {},
+): Recorded {
   const def = findGame(gameId);
   if (!def) throw new Error(`the ${gameId} game is not registered`);
   const config = { seed: 3, players };
   const game = def.create(config);
   const names = Array.from({ length: players }, (_, i) => `bot${i}`);
   const rec = new ReplayRecorder(replayOptionsFor(def, config, names, { checkpointEvery: 60 }));
-  rec.start(game);
+  const seen = {
+    get tick() {
+      return game.tick;
+    },
+    hash: () => (game.tick === lie.hashAt ? ~game.hash() : game.hash()),
+    save: () => game.save(),
+  };
+  rec.start(seen);
   const inputs = new Array<number>(players).fill(0);
   for (let t = 0; t < ticks; t++) {
     for (let p = 0; p < players; p++) inputs[p] = def.bot(game, p);
     game.step(inputs);
-    rec.record(inputs, game);
+    rec.record(inputs, seen);
   }
   return { bytes: rec.finish(), game };
 }

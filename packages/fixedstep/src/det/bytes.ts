@@ -70,6 +70,11 @@ function littleU32(b: Uint8Array, p: number): number {
 const F64 = new Float64Array(1);
 const F64_BYTES = new Uint8Array(F64.buffer);
 const LITTLE_ENDIAN = new Uint8Array(new Uint16Array([1]).buffer)[0] === 1;
+/**
+ * Arrays of at least this many elements are copied whole by {@link ByteWriter.f64s} and
+ * {@link ByteWriter.ints} (a view of their memory costs about as much as writing a few elements).
+ */
+const BULK_FROM = 16;
 
 /** Appends canonical little-endian values to a growing buffer. Reuse one writer to avoid allocation. */
 export class ByteWriter {
@@ -148,17 +153,44 @@ export class ByteWriter {
     return this;
   }
 
-  /** Every element of a Float64Array, canonical. */
+  /**
+   * Every element of a Float64Array, canonical. On a little-endian engine an array's memory is
+   * already those bytes but for -0 and NaNs: a longer one is copied whole, then those elements
+   * are rewritten (what {@link f64} would write). Same bytes, a fraction of the time.
+   */
   f64s(values: Float64Array): this {
-    this.ensure(values.length * 8);
-    for (let i = 0; i < values.length; i++) this.f64(values[i]!);
+    const n = values.length;
+    this.ensure(n * 8);
+    if (!LITTLE_ENDIAN || n < BULK_FROM) {
+      for (let i = 0; i < n; i++) this.f64(values[i]!);
+      return this;
+    }
+    const at = this.pos;
+    this.buf.set(new Uint8Array(values.buffer, values.byteOffset, n * 8), at);
+    for (let i = 0; i < n; i++) {
+      const v = values[i]!;
+      if (v === 0 ? 1 / v < 0 : v !== v) {
+        this.pos = at + i * 8;
+        this.f64(v);
+      }
+    }
+    this.pos = at + n * 8;
     return this;
   }
 
-  /** Every element of an integer typed array, as little-endian of its own width. */
+  /**
+   * Every element of an integer typed array, as little-endian of its own width. On a
+   * little-endian engine that is the array's memory (two's complement for the signed ones): a
+   * longer array is copied whole.
+   */
   ints(values: Int32Array | Uint32Array | Uint16Array | Uint8Array | Int8Array | Int16Array): this {
     const w = values.BYTES_PER_ELEMENT;
     this.ensure(values.length * w);
+    if (LITTLE_ENDIAN && values.length >= BULK_FROM) {
+      this.buf.set(new Uint8Array(values.buffer, values.byteOffset, values.byteLength), this.pos);
+      this.pos += values.byteLength;
+      return this;
+    }
     const view = this.view;
     for (let i = 0; i < values.length; i++) {
       const v = values[i]!;

@@ -29,8 +29,14 @@ export interface VerifyResult {
   readonly ok: boolean;
   /** Ticks in the replay. */
   readonly ticks: number;
-  /** Ticks re-simulated (verification stops at the first mismatch). */
+  /** Ticks re-simulated (verification stops at the first mismatch), skipped ones included. */
   readonly simulated: number;
+  /**
+   * The tick after which the game declared its state frozen (`Simulation.frozen`), from
+   * which the remaining ticks were jumped over with `skip()` rather than stepped — every stored
+   * hash and keyframe still computed and compared; -1 if every tick was stepped.
+   */
+  readonly frozenFrom: number;
   /** The first tick after which a stored value was not reproduced, or -1. */
   readonly firstMismatchTick: number;
   /** Which stored value it was, or null. */
@@ -55,11 +61,16 @@ export interface VerifyResult {
  * checkpoint at tick 0 (the factory rebuilt the same start: same seeds, same config), every
  * checkpoint, every per-tick hash when present, every keyframe, the final hash.
  *
+ * A game whose state is `Simulation.frozen` (a finished match) is not stepped through
+ * the rest of the file: it is moved from one stored hash to the next with `skip()`, and each of
+ * those hashes is still computed and compared — a file whose hashes after the end are not those
+ * of the frozen state is refused as before, at the first such tick.
+ *
  * `input` is the file's bytes (parsed with `options`' limits and expectations) or a parsed
  * {@link Replay} (checked against `options.gameId`/`gameVersion` only).
  *
  * Throws a {@link ReplayError} for a file that does not parse (see {@link readReplay}) and
- * `'GAME_REJECTED'` when the game's factory, or its `step()`, throws; a file that parses but does
+ * `'GAME_REJECTED'` when the game's factory, or its `step()` or `skip()`, throws; a file that parses but does
  * not replay is `{ ok: false }`. Runs at most `tickCount` steps (bounded by `limits.maxTicks`).
  */
 export function verifyReplay(
@@ -89,6 +100,7 @@ export function verifyReplay(
 
   const sim = createSimulation(factory, replay.header);
   let lastGood = -1;
+  let frozenFrom = -1;
   const fail = (
     tick: number,
     kind: ReplayMismatch['kind'],
@@ -98,6 +110,7 @@ export function verifyReplay(
     ok: false,
     ticks: total,
     simulated: sim.tick,
+    frozenFrom,
     firstMismatchTick: tick,
     kind,
     expected,
@@ -116,15 +129,31 @@ export function verifyReplay(
   const w = replay.words;
   const words = new Uint32Array(replay.playerCount * w);
   const inputs: unknown[] = new Array<unknown>(replay.playerCount).fill(0);
-  for (let t = 1; t <= total; t++) {
-    cursor.nextWords(words);
-    for (let p = 0; p < inputs.length; p++) inputs[p] = schema.decode(words, p * w);
+  const canSkip = typeof sim.skip === 'function';
+  let nextProgress = every;
+  // From one tick with something to check (a stored hash or keyframe, a progress report) to the
+  // next: stepped tick by tick — or, once the game says its state is frozen, jumped over with
+  // skip(), since no input can change it any more. Either way every stored value is compared.
+  for (let t = 0; t < total;) {
+    let next = Math.min(total, nextProgress, nextMultiple(t, n));
+    if (tickHashes !== null) next = t + 1;
+    if (checkKeyframes && m !== 0) next = Math.min(next, nextMultiple(t, m));
     try {
-      sim.step(inputs);
+      if (frozenFrom >= 0) {
+        sim.skip!(next - t);
+        if (sim.tick !== next) throw new RangeError(`skip() left tick ${sim.tick}, not ${next}`);
+        t = next;
+      } else {
+        for (; t < next; t++) {
+          cursor.nextWords(words);
+          for (let p = 0; p < inputs.length; p++) inputs[p] = schema.decode(words, p * w);
+          sim.step(inputs);
+        }
+      }
     } catch (e) {
       throw new ReplayError(
         'GAME_REJECTED',
-        `the simulation threw on tick ${t - 1}: ${String(e)}`,
+        `the simulation threw on tick ${t}: ${String(e)}`,
         -1,
         e,
       );
@@ -145,15 +174,22 @@ export function verifyReplay(
     if (checkKeyframes && m !== 0 && t % m === 0) {
       const stored = replay.keyframes[t / m - 1]!.bytes;
       const saved = sim.save();
-      if (!equalBytes(stored, saved)) return fail(t, 'keyframe', fnv1a64(stored), fnv1a64(saved));
+      if (!equalBytes(stored, saved)) {
+        return fail(t, 'keyframe', fnv1a64(stored), fnv1a64(saved));
+      }
     }
-    if (t % every === 0) options.onProgress?.(t, total);
+    if (t === nextProgress) {
+      options.onProgress?.(t, total);
+      nextProgress += every;
+    }
+    if (frozenFrom < 0 && canSkip && sim.frozen === true) frozenFrom = t;
   }
   if (total % every !== 0 || total === 0) options.onProgress?.(total, total);
   return {
     ok: true,
     ticks: total,
     simulated: total,
+    frozenFrom,
     firstMismatchTick: -1,
     kind: null,
     expected: null,
@@ -162,6 +198,11 @@ export function verifyReplay(
     exact: true,
     replay,
   };
+}
+
+/** The first multiple of `every` after `t`. */
+function nextMultiple(t: number, every: number): number {
+  return t - (t % every) + every;
 }
 
 function equalBytes(a: Uint8Array, b: Uint8Array): boolean {

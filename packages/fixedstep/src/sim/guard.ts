@@ -32,6 +32,13 @@ export function guardSimulation<S extends Simulation<never>>(sim: S): S {
     },
     hash: () => withDeterminismGuard(() => sim.hash(), sim.tick),
   };
+  if (typeof sim.skip === 'function') {
+    guarded.skip = (ticks: number) => {
+      withDeterminismGuard(() => {
+        sim.skip!(ticks);
+      }, sim.tick);
+    };
+  }
   return new Proxy(sim, {
     get(target, key) {
       if (Object.hasOwn(guarded, key)) return guarded[key];

@@ -37,4 +37,21 @@ export interface Simulation<I = number> {
   load(bytes: Uint8Array): void;
   /** A hash of the canonical state bytes (FNV-1a 64). */
   hash(): bigint;
+  /**
+   * Optional, with {@link skip}: true once the state is frozen — the run is over and every later
+   * step, whatever its inputs, changes nothing but {@link tick} (and what is a function of the
+   * tick alone, such as a clock of tick × step). Once true it stays true under `step` and
+   * `skip`. `verifyReplay` then jumps from one stored hash to the next with `skip` instead of
+   * stepping through a finished match tick by tick; it still computes and compares every stored
+   * hash, which then differ only by the tick.
+   *
+   * A promise about the rules, so test it: after the end, `skip(k)` and k steps with any inputs
+   * must leave equal `save()` bytes.
+   */
+  readonly frozen?: boolean;
+  /**
+   * Optional, with {@link frozen}: while frozen, advance `ticks` ticks at once, leaving exactly
+   * the state `ticks` calls of `step` would. Throws a RangeError when not frozen.
+   */
+  skip?(ticks: number): void;
 }

@@ -293,6 +293,31 @@ export abstract class ArenaGame<S extends ArenaState> implements Game {
   }
 
   /**
+   * True once the match is over: {@link advance} then does nothing (its contract), so a step
+   * only counts the tick and sets the clock to tick × step — nothing else in the state changes,
+   * whatever the inputs. See `Simulation.frozen`.
+   */
+  get frozen(): boolean {
+    return this.state.over === 1;
+  }
+
+  /**
+   * After the end ({@link frozen}): `ticks` steps at once — the tick counted on, the clock
+   * tick × step, exactly as that many calls of {@link step} leave them.
+   */
+  skip(ticks: number): void {
+    if (!this.frozen) throw new RangeError(`${this.label}.skip: the match is not over`);
+    if (!Number.isInteger(ticks) || ticks < 0) {
+      throw new RangeError(
+        `${this.label}.skip: ticks must be a non-negative integer, got ${String(ticks)}`,
+      );
+    }
+    const s = this.state;
+    s.tick += ticks;
+    s.clock = s.tick * STEP;
+  }
+
+  /**
    * The naive variable-Δt game (for the lab's demo): advance by `dt` seconds with discrete
    * detection only. Not deterministic across frame rates — the point of the demo. Do not mix with
    * {@link step} in one game.
@@ -350,7 +375,10 @@ export abstract class ArenaGame<S extends ArenaState> implements Game {
     s.facing[slot] = facing & 7;
   }
 
-  /** The rules: advance everything by `dt` seconds; `continuous` under {@link step}. Nothing happens once the match is over. */
+  /**
+   * The rules: advance everything by `dt` seconds; `continuous` under {@link step}. Once the
+   * match is over it must change nothing at all: {@link frozen} and {@link skip} rely on it.
+   */
   protected abstract advance(dt: number, inputs: readonly ButtonInput[], continuous: boolean): void;
 
   /**
