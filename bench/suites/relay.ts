@@ -1121,12 +1121,13 @@ async function socketSection(ctx: SuiteContext): Promise<void> {
     ctx.note(`${title}: not in --quick (npm run bench -- relay runs it).`);
     return;
   }
-  // As many players as the load generator (one thread, in this process) drives at 60 Hz on a
-  // 2-core machine: a relay's cost per player falls as its load grows (more sockets ready at each
-  // wake-up of its event loop), so a light load would understate what a core serves.
-  const players = 1000;
+  // As many players as the load generator (one thread, in this process) drives at close to a
+  // frame a tick each way on a 2-core machine: 200 cost ~2,000 µs of relay CPU a player-second, 500
+  // ~1,400 (the relay's wake-ups serve more sockets each as its load grows); at 1,000 the generator
+  // falls to ~18 frames a second a player — a bundling that would flatter the relay.
+  const players = 500;
   const seconds = 10;
-  const rates = [1, 2, 3];
+  const rates = [1, 2, 3, 4];
   const rounds = 2;
   // Interleaved rounds; each run's relay CPU per player-second of play at 60 Hz (the ticks the
   // sessions played, so a load generator that falls behind does not flatter the relay).

@@ -464,7 +464,8 @@ export default defineSuite({
         const run = await runBalanced(undefined, 1, 1000, 10);
         const { now, peak } = run.relayRss[0]!;
         rss.push([
-          `1,000 relay players (rooms of 2, 60 Hz, ${run.seconds.toFixed(0)} s), new folder`,
+          `1,000 relay players (rooms of 2, 60 Hz, ${run.framesUp.toFixed(0)} frames/s up a ` +
+            `player, ${run.seconds.toFixed(0)} s), new folder`,
           fixedstepCommand().how,
           `${now.toFixed(0)} (peak ${peak.toFixed(0)})`,
           '450',
