@@ -58,12 +58,14 @@ beforeAll(async () => {
     path.join(project, 'package.json'),
     JSON.stringify({ name: 'consumer', private: true, type: 'module' }),
   );
-  // Everything offline: fixedstep has no dependencies, games only fixedstep.
+  // fixedstep has no dependencies, games only fixedstep; rapier needs Rapier's package, which
+  // `npm ci` of the workspace left in npm's cache (the registry answers otherwise).
   const install = await run(
     'npm',
-    ['install', '--no-audit', '--no-fund', '--offline', '--no-package-lock'].concat([
+    ['install', '--no-audit', '--no-fund', '--prefer-offline', '--no-package-lock'].concat([
       packed.get('fixedstep')!.tarball,
       packed.get('@fixedstep/games')!.tarball,
+      packed.get('@fixedstep/rapier')!.tarball,
     ]),
     project,
   );
@@ -170,18 +172,19 @@ describe('the fixedstep tarball', () => {
   });
 });
 
-/** A strict consumer's compiler options: nothing skipped, no DOM, Node's types only. */
-const STRICT = {
+/** A strict consumer's compiler options, types aside: nothing skipped, no DOM. */
+const STRICT_CHECKS = {
   strict: true,
   noUncheckedIndexedAccess: true,
   exactOptionalPropertyTypes: true,
   noImplicitOverride: true,
   target: 'ES2022',
   lib: ['ES2022'],
-  types: ['node'],
-  typeRoots,
   skipLibCheck: false,
 };
+
+/** A strict consumer's compiler options: nothing skipped, no DOM, Node's types only. */
+const STRICT = { ...STRICT_CHECKS, types: ['node'], typeRoots };
 
 /** What a CommonJS consumer does: one loop, 100 ms of frames (6 ticks at 60 Hz), printed. */
 const CJS_BODY = `
@@ -285,6 +288,96 @@ describe('TypeScript consumers of the tarball (strict, lib ES2022 without DOM, t
       expect({ code: out.code, stderr: out.stderr }).toMatchObject({ code: 0 });
       expect(out.stdout.split('\n')[0]).toBe('6 6');
     }
+  });
+});
+
+/**
+ * A game's own compilation: no Node types and no DOM (`lib: ["ES2022"], types: []`, how Coin
+ * Dash's `build:game` compiles its simulation), and a browser game's (`lib: ["ES2022", "DOM"]`,
+ * `types: []`). The declarations of fixedstep, @fixedstep/games and @fixedstep/rapier must
+ * type-check under both, nothing skipped: a global of Node or the DOM named in a public signature
+ * (`WebSocket`, `AbortSignal`, `Response`…) fails here with TS2304.
+ */
+const STANDALONE_FILES: Record<string, string> = {
+  'standalone/all.ts': `import * as fixedstep from 'fixedstep';
+import * as games from '@fixedstep/games';
+import * as rapier from '@fixedstep/rapier';
+export const names: readonly string[] = [fixedstep, games, rapier].flatMap((m) => Object.keys(m));
+`,
+  // The browser's own objects fit the structural types the declarations name.
+  'standalone/browser.ts': `import { connectWebSocket, fetchWithRetry, quickMatch, webSocketTransport } from 'fixedstep';
+export async function online(): Promise<unknown> {
+  webSocketTransport(new WebSocket('wss://example.test/ws/a')).close('done');
+  await connectWebSocket('wss://example.test/ws/b', { WebSocketClass: WebSocket });
+  const controller = new AbortController();
+  await quickMatch({
+    url: 'wss://example.test/match',
+    game: 'pong',
+    gameVersion: 1,
+    input: { id: 'pong-input' },
+    minPlayers: 2,
+    signal: controller.signal,
+    WebSocketClass: WebSocket,
+  });
+  const res: Response = await fetchWithRetry(
+    '/api/highscores?score=1',
+    { method: 'POST', body: new Uint8Array(4), signal: controller.signal },
+    { fetch: (url, init) => fetch(url, init) },
+  );
+  return res.json();
+}
+`,
+};
+
+const STANDALONE_SETUPS = [
+  {
+    name: 'lib ES2022, types [] (no DOM, no Node)',
+    options: { lib: ['ES2022'], module: 'nodenext', moduleResolution: 'nodenext' },
+    files: ['standalone/all.ts'],
+  },
+  {
+    name: 'lib ES2022 + DOM, types [] (a browser game)',
+    options: { lib: ['ES2022', 'DOM'], module: 'preserve', moduleResolution: 'bundler' },
+    files: ['standalone/all.ts', 'standalone/browser.ts'],
+  },
+];
+
+/**
+ * Rapier's own declarations (`@dimforge/rapier2d-deterministic-compat`, not ours) name
+ * `Symbol.dispose` (lib `ESNext.Disposable`) and, without the DOM, `WebAssembly`: a consumer of
+ * @fixedstep/rapier adds that lib or skips library checks. Their diagnostics are set aside; every
+ * other one fails the test.
+ */
+const UPSTREAM = 'node_modules/@dimforge/';
+
+describe('standalone declarations: strict consumers with types [] and no ambient globals', () => {
+  const checks = new Map<string, Promise<Ran>>();
+
+  beforeAll(async () => {
+    for (const [name, text] of Object.entries(STANDALONE_FILES)) {
+      await mkdir(path.dirname(path.join(project, name)), { recursive: true });
+      await writeFile(path.join(project, name), text);
+    }
+    for (const [i, setup] of STANDALONE_SETUPS.entries()) {
+      const config = path.join(project, `tsconfig.standalone-${i}.json`);
+      const compilerOptions = { ...STRICT_CHECKS, ...setup.options, types: [], noEmit: true };
+      await writeFile(config, JSON.stringify({ compilerOptions, files: setup.files }));
+      checks.set(
+        setup.name,
+        run(process.execPath, [tscJs, '-p', config, '--pretty', 'false'], project),
+      );
+    }
+  });
+
+  it.each(STANDALONE_SETUPS)('$name', async (setup) => {
+    const checked = await checks.get(setup.name)!;
+    // One diagnostic per unindented line (`file(line,col): error TS…`), its details indented.
+    const diagnostics = (checked.stdout + checked.stderr).split(/\n(?=\S)/).filter((d) => d !== '');
+    const ours = diagnostics.filter((d) => !d.startsWith(UPSTREAM));
+    expect(ours).toEqual([]);
+    console.log(
+      `${setup.name}: ${diagnostics.length - ours.length} diagnostics in Rapier's own declarations set aside`,
+    );
   });
 });
 

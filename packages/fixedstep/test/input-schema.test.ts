@@ -118,7 +118,9 @@ describe('input schemas', () => {
     expect(back.buttons).toBe(p.buttons);
     expect([...back.steps]).toEqual([1023, 255, 65535]);
     expect(twinStick.problem(Uint32Array.of(0, 1 << 18, 0), 0)).toMatch(/bits no axis uses/);
-    expect(twinStick.problem(Uint32Array.of(0, 1 << 17, 1 << 15), 0)).toBeUndefined();
+    expect(twinStick.problem(Uint32Array.of(0, 1 << 16, 1 << 15), 0)).toBeUndefined();
+    // moveX is centred: its field 0x80 (−128) is no level.
+    expect(twinStick.problem(Uint32Array.of(0, 1 << 17, 0), 0)).toMatch(/moveX field 0x80/);
   });
 
   it('round-trips any input through its words (property)', () => {
@@ -127,7 +129,7 @@ describe('input schemas', () => {
         fc.integer({ min: 0, max: 31 }),
         fc.integer({ min: 0, max: 31 }),
         fc.integer({ min: 0, max: 1023 }),
-        fc.integer({ min: 0, max: 255 }),
+        fc.integer({ min: 0, max: 255 }).filter((v) => v !== 128), // 128: no level (centred)
         fc.integer({ min: 0, max: 65535 }),
         (down, pressed, a, b, c) => {
           const p = new PlayerInput(twinStick);
@@ -145,10 +147,10 @@ describe('input schemas', () => {
   it('quantises on the device side and reads back exact, engine-independent values', () => {
     const aim = twinStick.axis.aim;
     const moveX = twinStick.axis.moveX;
-    // Linear: both ends exact, clamped outside.
+    // Centred: both ends exact, clamped outside (field 127: +127 steps from the centre).
     expect(twinStick.value(moveX, twinStick.quantise(moveX, -1))).toBe(-1);
     expect(twinStick.value(moveX, twinStick.quantise(moveX, 1))).toBe(1);
-    expect(twinStick.quantise(moveX, 7)).toBe(255);
+    expect(twinStick.quantise(moveX, 7)).toBe(127);
     expect(twinStick.quantise(moveX, Number.NaN)).toBe(0);
     expect(Math.abs(twinStick.value(moveX, twinStick.quantise(moveX, 0.3)) - 0.3)).toBeLessThan(
       1 / 255,
@@ -248,5 +250,131 @@ describe('InputSampler with axes', () => {
     const ref = perTick(60);
     expect(ref.indexOf(ref.find((v) => v !== 0)!)).toBe(7); // 123.4 ms lies in tick 7
     for (const hz of [24, 30, 75, 144, 240]) expect(perTick(hz)).toEqual(ref);
+  });
+});
+
+describe('centred axes and dead zones', () => {
+  const pong = defineInput({ axes: { paddle: { min: -1, max: 1, bits: 6 } } });
+  const paddle = pong.axis.paddle;
+
+  it('a two-sided axis is centred by default: never set, it reads exactly 0', () => {
+    expect(pong.axes[paddle]!.kind).toBe('centred');
+    expect(new PlayerInput(pong).axis(paddle)).toBe(0);
+    expect(pong.neutral().axis(paddle)).toBe(0);
+    expect(pong.decode(new Uint32Array(2), 0).axis(paddle)).toBe(0);
+    // A value of 0 quantises to field 0 and reads back exactly 0 (the even quantisation read
+    // 0.015873 at 6 bits: the bug this fixes).
+    expect(pong.quantise(paddle, 0)).toBe(0);
+    expect(new PlayerInput(pong).setAxis(paddle, 0).axis(paddle)).toBe(0);
+    expect(new PlayerInput(pong).setAxis(paddle, -0.004).axis(paddle)).toBe(0);
+  });
+
+  it('has 2^bits − 1 levels, both ends exact, symmetric around the centre', () => {
+    // 6 bits: 31 steps each side, fields 0..31 and 33..63 (two's complement), 32 unused.
+    const levels = new Set<number>();
+    for (let v = -1.5; v <= 1.5; v += 1 / 256) levels.add(pong.quantise(paddle, v));
+    expect(levels.size).toBe(63);
+    expect(levels.has(32)).toBe(false);
+    expect(pong.quantise(paddle, 1)).toBe(31);
+    expect(pong.quantise(paddle, -1)).toBe(33);
+    expect(pong.value(paddle, 31)).toBe(1);
+    expect(pong.value(paddle, 33)).toBe(-1);
+    expect(pong.value(paddle, 1)).toBeCloseTo(1 / 31, 15);
+    expect(pong.value(paddle, 63)).toBeCloseTo(-1 / 31, 15);
+    for (const v of [0.1, 0.5, 0.77]) {
+      expect(pong.value(paddle, pong.quantise(paddle, -v))).toBeCloseTo(
+        -pong.value(paddle, pong.quantise(paddle, v)),
+        14,
+      );
+    }
+    // A range not around 0 is centred on its middle: 5…9 rests at 7.
+    const dial = defineInput({ axes: { d: { min: 5, max: 9, bits: 4, centred: true } } });
+    expect(new PlayerInput(dial).axis(0)).toBe(7);
+    expect(dial.value(0, dial.quantise(0, 9))).toBe(9);
+    expect(dial.value(0, dial.quantise(0, 5))).toBe(5);
+  });
+
+  it('refuses the one field that is no level, in encode, writeAxis and problem', () => {
+    const p = new PlayerInput(pong);
+    p.steps[0] = 32;
+    expect(() => {
+      pong.encode(p, new Uint32Array(2), 0);
+    }).toThrow(/axis paddle step 32 out of range/);
+    expect(() => {
+      pong.writeAxis(new Uint32Array(2), 0, paddle, 32);
+    }).toThrow(/cannot set axis 0 to step 32/);
+    expect(pong.problem(Uint32Array.of(0, 32), 0)).toMatch(/paddle field 0x20 is no level/);
+    expect(pong.problem(Uint32Array.of(0, 33), 0)).toBeUndefined();
+  });
+
+  it('a one-sided axis keeps the even quantisation: step 0 is min, its rest', () => {
+    const t = defineInput({ axes: { throttle: { min: 0, max: 1, bits: 4 } } });
+    expect(t.axes[0]!.kind).toBe('linear');
+    expect(new PlayerInput(t).axis(0)).toBe(0);
+    expect(t.value(0, 15)).toBe(1);
+  });
+
+  it('a dead zone quantises small values to rest and stretches the rest of the travel', () => {
+    const s = defineInput({ axes: { x: { min: -1, max: 1, bits: 8, deadZone: 0.25 } } });
+    const read = (v: number) => s.value(0, s.quantise(0, v));
+    for (const v of [0.08, -0.08, 0.25, -0.25]) expect(read(v)).toBe(0);
+    expect(read(1)).toBe(1);
+    expect(read(-1)).toBe(-1);
+    // 0.625 is halfway from the dead zone's edge to full: 0.5 × 127 steps = 63.5, rounded away
+    // from the centre on both sides.
+    expect(s.quantise(0, 0.625)).toBe(64);
+    expect(read(0.625)).toBe(64 / 127);
+    expect(read(-0.625)).toBe(-64 / 127);
+    // On a linear axis the zone is measured from min.
+    const trigger = defineInput({ axes: { t: { min: 0, max: 1, bits: 8, deadZone: 0.1 } } });
+    expect(trigger.quantise(0, 0.05)).toBe(0);
+    expect(trigger.quantise(0, 0.55)).toBe(Math.round(0.5 * 255));
+    // Not part of the encoding: same descriptor, same id as without a dead zone.
+    expect(s.id).toBe(defineInput({ axes: { x: { min: -1, max: 1, bits: 8 } } }).id);
+  });
+
+  it('refuses a dead zone outside [0, 1) and a 1-bit centred axis, naming the value', () => {
+    for (const dz of [-0.1, 1, 1.5, Number.NaN]) {
+      expect(() =>
+        defineInput({ axes: { x: { min: -1, max: 1, bits: 8, deadZone: dz } } }),
+      ).toThrow(
+        new RangeError(
+          `defineInput: axis x: deadZone must be a number in [0, 1), got ${String(dz)}`,
+        ),
+      );
+    }
+    expect(() => defineInput({ axes: { x: { min: -1, max: 1, bits: 1, centred: true } } })).toThrow(
+      /centred axis needs 2 bits or more, got 1/,
+    );
+    // A 1-bit two-sided axis stays linear by default (it has no centre to give).
+    expect(defineInput({ axes: { x: { min: -1, max: 1, bits: 1 } } }).axes[0]!.kind).toBe('linear');
+  });
+
+  it('records centred and linear in the descriptor: each reads back as it was defined', () => {
+    const both = defineInput({
+      axes: {
+        stick: { min: -1, max: 1, bits: 6 },
+        old: { min: -1, max: 1, bits: 6, centred: false },
+      },
+    });
+    expect(both.axes.map((a) => a.kind)).toEqual(['centred', 'linear']);
+    const read = inputSchemaFromDescriptor(both.descriptor);
+    expect(read.id).toBe(both.id);
+    expect(read.axes.map((a) => a.kind)).toEqual(['centred', 'linear']);
+    const idle = read.decode(new Uint32Array(2), 0) as PlayerInput;
+    expect([idle.axis(0), idle.axis(1)]).toEqual([0, -1]);
+    // The kind byte: 2 centred, 0 linear.
+    expect(both.descriptor[both.descriptor.indexOf(5) + 6]).toBe(2);
+  });
+
+  it('an even-quantised axis has the descriptor and id it had before centred axes', () => {
+    // Written by the library before centred axes (commit 1a043ba) for { min: -1, max: 1, bits: 6 }.
+    const before = defineInput({ axes: { moveX: { min: -1, max: 1, bits: 6, centred: false } } });
+    expect(Buffer.from(before.descriptor).toString('hex')).toBe(
+      '010001056d6f7665580006000000000000f0bf000000000000f03f',
+    );
+    expect(before.id).toBe('fbc8d6b2bf12b527');
+    expect(before.value(0, before.quantise(0, 0))).toBe(0.015873015873015817);
+    expect(new PlayerInput(before).axis(0)).toBe(-1);
   });
 });

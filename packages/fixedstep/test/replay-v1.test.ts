@@ -10,11 +10,17 @@ import {
   readReplay,
   verifyReplay,
 } from 'fixedstep';
+import { recordStick, StickDot } from './axis-fixture.js';
 import { arenaFactory, recordArena } from './replay-fixture.js';
 
 // Written by the format-1 recorder (commit 805b17e): 600 ticks of the test arena, 2 players,
 // checkpoints every 50 ticks, keyframes every 200, per-tick hashes.
 const v1 = new Uint8Array(readFileSync(new URL('./fixtures/arena-v1.fsr', import.meta.url)));
+// Written before centred axes (commit 1a043ba) by recordStick with { min: -1, max: 1, bits: 6 },
+// then the only quantisation: 90 ticks, the first 30 never set (−1 then), 30 at 0.3, 30 at −1.
+const stickLinear = new Uint8Array(
+  readFileSync(new URL('./fixtures/stick-linear-v2.fsr', import.meta.url)),
+);
 
 describe('replay format versions', () => {
   it('reads and verifies a format-1 file: its inputs are BUTTON_WORD words', () => {
@@ -89,5 +95,33 @@ describe('replay format versions', () => {
     const decoded = aim.decode(w, 0);
     expect(decoded.axis(0)).toBe(aim.value(0, aim.quantise(0, 0.5)));
     expect(aim.decode(replay.wordsAt(119), 0).axis(0)).toBe(aim.value(0, aim.quantise(0, -2)));
+  });
+
+  it('reads and verifies a replay of an even-quantised axis written before centred axes', () => {
+    const replay = readReplay(stickLinear);
+    const schema = replay.header.input;
+    // The descriptor says linear: the file decodes with the quantisation it was recorded with.
+    expect(schema.id).toBe('fbc8d6b2bf12b527');
+    expect(schema.axes).toEqual([
+      { kind: 'linear', name: 'moveX', bits: 6, min: -1, max: 1, deadZone: 0 },
+    ]);
+    const axisAt = (t: number) => (schema.decode(replay.wordsAt(t), 0) as PlayerInput).axis(0);
+    expect(axisAt(0)).toBe(-1); // never set: step 0, min
+    expect(axisAt(45)).toBe(schema.value(0, 41)); // 0.3: step round(1.3 / 2 × 63) = 41
+    expect(axisAt(45)).toBe(-1 + (41 * 2) / 63);
+    expect(axisAt(89)).toBe(-1);
+    expect(replay.finalHash).toBe(0x811de2501771cb9bn);
+    expect(verifyReplay(stickLinear, () => new StickDot())).toMatchObject({ ok: true, ticks: 90 });
+    // The same definition with centred: false records the same bytes today.
+    const again = recordStick(
+      defineInput({ axes: { moveX: { min: -1, max: 1, bits: 6, centred: false } } }),
+    );
+    expect([...again]).toEqual([...stickLinear]);
+    // The default today is centred: another schema (another id), idle reads 0, not −1.
+    const centred = defineInput({ axes: { moveX: { min: -1, max: 1, bits: 6 } } });
+    expect(centred.id).not.toBe(schema.id);
+    const dot = new StickDot();
+    dot.step([new PlayerInput(centred)]);
+    expect(dot.x).toBe(0);
   });
 });

@@ -70,6 +70,36 @@ describe('FixedLoop warns about the delta trap', () => {
     expect(loop.tick).toBeLessThan(2); // what the trap does: time stands still
   });
 
+  it('names a constant delta fed as a timestamp, which freezes the loop, once', () => {
+    const warnings: string[] = [];
+    const loop = new FixedLoop({ step: 60, onWarning: (m) => warnings.push(m) });
+    for (let i = 0; i < 600; i++) loop.frame(1000 / 60); // the same delta every frame
+    expect(loop.tick).toBe(0); // what the trap does: no tick, ever
+    expect(warnings).toEqual([
+      'FixedLoop.frame(nowMs) expects a clock reading in ms (a requestAnimationFrame timestamp, performance.now()), but the last 30 readings were all 16.666666666666668 ms: the clock does not advance, so no tick runs (tick 0). That is a constant frame delta, not a timestamp: call loop.advance(deltaMs, nowMs) instead.',
+    ]);
+    // The fix the message names: the same deltas through advance() run 60 ticks a second.
+    const fixed = new FixedLoop({ step: 60, onWarning: (m) => warnings.push(m) });
+    for (let i = 0; i < 600; i++) fixed.advance(1000 / 60);
+    expect(fixed.tick).toBeGreaterThanOrEqual(599);
+    expect(warnings).toHaveLength(1);
+  });
+
+  it('stays quiet for a clock that stands still at 0, or past a second, or advances in between', () => {
+    const warnings: string[] = [];
+    const atZero = new FixedLoop({ step: 60, onWarning: (m) => warnings.push(m) });
+    for (let i = 0; i < 60; i++) atZero.frame(0);
+    const paused = new FixedLoop({ step: 60, onWarning: (m) => warnings.push(m) });
+    for (let i = 0; i < 60; i++) paused.frame(4000); // a page clock paused at 4 s
+    const stuttering = new FixedLoop({ step: 60, onWarning: (m) => warnings.push(m) });
+    // Early in a page's life, a clock that stands still for 20 frames and then moves on.
+    for (let i = 0; i < 60; i++) stuttering.frame(i < 20 ? 100 : 100 + (i - 19) * 16.7);
+    const late = new FixedLoop({ step: 60, onWarning: (m) => warnings.push(m) });
+    for (let i = 0; i < 60; i++) late.frame(16.7 + i * 16.7);
+    for (let i = 0; i < 60; i++) late.frame(1000); // stands still after the first 60 frames
+    expect(warnings).toEqual([]);
+  });
+
   it('stays quiet for a real clock, duplicate frames, a paused clock, a clock set back once, and when told to', () => {
     const warnings: string[] = [];
     const loop = new FixedLoop({ step: 60, onWarning: (m) => warnings.push(m) });
@@ -129,6 +159,54 @@ describe('FrameStepper', () => {
     expect(seen).toEqual([0, packButtons(4, 4), packButtons(4, 0)]);
     expect(alphas).toHaveLength(2);
     expect(alphas[1]).toBeCloseTo(0, 6);
+  });
+
+  it('steps two local players, one sampler each, each press on its own tick and player', () => {
+    const left = new InputSampler();
+    const right = new InputSampler();
+    const steps: number[][] = [];
+    const firsts: number[] = [];
+    const stepper = new FrameStepper({
+      loop: new FixedLoop({ step: 60 }),
+      inputs: [left, right],
+      update: (_dt, first, inputs) => {
+        firsts.push(first);
+        steps.push([...inputs]);
+      },
+    });
+    stepper.frame(1000);
+    left.push(1005, 0, true); // tick 0 (1000–1016.7 ms): player 0 presses button 0
+    right.push(1030, 1, true); // tick 1 (1016.7–1033.3 ms): player 1 presses button 1
+    right.push(1040, 1, false); // released during tick 2: down in it, not pressed
+    expect(stepper.frame(1050)).toBe(3);
+    expect(steps).toEqual([
+      [packButtons(1, 1), 0],
+      [packButtons(1, 0), packButtons(2, 2)],
+      [packButtons(1, 0), packButtons(2, 0)],
+    ]);
+    expect(stepper.frame(1070)).toBe(1);
+    expect(steps[3]).toEqual([packButtons(1, 0), 0]); // tick 3: player 1 let go
+    expect(firsts).toEqual(steps.map((s) => s[0]));
+  });
+
+  it('keeps one source as before: inputs is [input]; refuses both or none', () => {
+    const seen: number[][] = [];
+    const stepper = new FrameStepper({
+      loop: new FixedLoop({ step: 60 }),
+      neutral: 7,
+      update: (_dt, input, inputs) => seen.push([input, ...inputs]),
+    });
+    stepper.frame(0);
+    stepper.frame(20);
+    expect(seen).toEqual([[7, 7]]);
+    const loop = new FixedLoop({ step: 60 });
+    const update = () => undefined;
+    expect(() => new FrameStepper({ loop, update, input: new InputSampler(), inputs: [] })).toThrow(
+      new RangeError('FrameStepper: pass input (one player) or inputs (several), not both'),
+    );
+    expect(() => new FrameStepper({ loop, update, inputs: [] })).toThrow(
+      new RangeError('FrameStepper: inputs needs at least one sampler, got none'),
+    );
   });
 });
 

@@ -7,6 +7,12 @@
  * Every other answer — success or refusal — is returned at once.
  * @module
  */
+import {
+  abortReason,
+  type AbortSignalLike,
+  type FetchInit,
+  type FetchResponse,
+} from './platform.js';
 
 /** One wait before another attempt, as {@link FetchRetryOptions.onRetry} is told of it. */
 export interface FetchRetry {
@@ -31,11 +37,11 @@ export interface FetchRetryOptions {
   /** A uniform number in [0, 1) for the jitter (default `Math.random`; a test passes its own). */
   readonly random?: () => number;
   /** Waits `ms` (default a timer); rejects when `signal` aborts. */
-  readonly sleep?: (ms: number, signal?: AbortSignal) => Promise<void>;
+  readonly sleep?: (ms: number, signal?: AbortSignalLike) => Promise<void>;
   /** Told before each wait: a page says "the server is busy: your score is queued". */
   readonly onRetry?: (retry: FetchRetry) => void;
   /** The request's `fetch` (default the global one). */
-  readonly fetch?: (url: string, init?: RequestInit) => Promise<Response>;
+  readonly fetch?: (url: string, init?: FetchInit) => Promise<FetchResponse>;
 }
 
 /** The statuses that mean "the same request may succeed later". */
@@ -51,20 +57,20 @@ const JITTER = 0.5;
  */
 export async function fetchWithRetry(
   url: string,
-  init: RequestInit = {},
+  init: FetchInit = {},
   options: FetchRetryOptions = {},
-): Promise<Response> {
+): Promise<FetchResponse> {
   const retries = options.retries ?? 4;
   const base = options.baseDelayMs ?? 1000;
   const max = options.maxDelayMs ?? 30_000;
   const random = options.random ?? Math.random;
   const sleep = options.sleep ?? wait;
-  const doFetch = options.fetch ?? ((u: string, i?: RequestInit) => fetch(u, i));
+  const doFetch = options.fetch ?? ((u: string, i?: FetchInit) => fetch(u, i));
   if (!Number.isInteger(retries) || retries < 0) {
     throw new RangeError(`fetchWithRetry: retries must be a whole number ≥ 0, got ${retries}`);
   }
   for (let attempt = 1; ; attempt++) {
-    let response: Response | undefined;
+    let response: FetchResponse | undefined;
     let failure: unknown;
     try {
       response = await doFetch(url, init);
@@ -103,10 +109,10 @@ export function parseRetryAfter(value: string | null): number | undefined {
   return Number(value) * 1000;
 }
 
-function wait(ms: number, signal?: AbortSignal): Promise<void> {
+function wait(ms: number, signal?: AbortSignalLike): Promise<void> {
   return new Promise((resolve, reject) => {
     if (signal?.aborted) {
-      reject(signal.reason as Error);
+      reject(abortReason(signal));
       return;
     }
     const timer = setTimeout(() => {
@@ -115,7 +121,7 @@ function wait(ms: number, signal?: AbortSignal): Promise<void> {
     }, ms);
     const onAbort = () => {
       clearTimeout(timer);
-      reject(signal!.reason as Error);
+      reject(abortReason(signal!));
     };
     signal?.addEventListener('abort', onAbort, { once: true });
   });

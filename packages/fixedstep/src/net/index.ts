@@ -43,6 +43,17 @@ export { BaseTransport, memoryPair, SimulatedLink } from './transport.js';
 export type { Transport, LinkConditions, LinkStats, SimulatedLinkOptions } from './transport.js';
 export { webSocketTransport, connectWebSocket, nodeWebSocketTransport } from './websocket.js';
 export type { WebSocketTransportOptions, NodeWebSocketLike } from './websocket.js';
+export type {
+  AbortSignalLike,
+  WebSocketLike,
+  WebSocketClassLike,
+  WebSocketMessageEventLike,
+  WebSocketCloseEventLike,
+  FetchInitLike,
+  FetchResponseLike,
+  FetchInit,
+  FetchResponse,
+} from './platform.js';
 export { ClockSync } from './clock-sync.js';
 export * from './sessions/index.js';
 export { diffSnapshots } from './forensics.js';

@@ -1,3 +1,4 @@
+import type { WebSocketClassLike, WebSocketLike } from './platform.js';
 import { BaseTransport, type Transport } from './transport.js';
 
 /** Options of the WebSocket adapters. */
@@ -72,19 +73,19 @@ abstract class WebSocketTransportCore<W extends SocketLike> extends BaseTranspor
   }
 }
 
-class BrowserWebSocketTransport extends WebSocketTransportCore<WebSocket> {
-  constructor(ws: WebSocket, maxBuffered: number) {
+class BrowserWebSocketTransport extends WebSocketTransportCore<WebSocketLike> {
+  constructor(ws: WebSocketLike, maxBuffered: number) {
     super(ws, maxBuffered);
     ws.binaryType = 'arraybuffer';
     ws.addEventListener('open', () => {
       this.opened();
     });
-    ws.addEventListener('message', (event: MessageEvent<unknown>) => {
+    ws.addEventListener('message', (event) => {
       const data = event.data;
       if (data instanceof ArrayBuffer) this.deliver(new Uint8Array(data));
       else this.close('text message on a binary protocol');
     });
-    ws.addEventListener('close', (event: CloseEvent) => {
+    ws.addEventListener('close', (event) => {
       this.closedRemotely(event.reason || `closed (${event.code})`);
     });
     ws.addEventListener('error', () => {
@@ -98,10 +99,11 @@ class BrowserWebSocketTransport extends WebSocketTransportCore<WebSocket> {
 
 /**
  * A {@link Transport} over a browser `WebSocket` (binary frames; a text frame closes it). Sends
- * made while it is still connecting are queued and go out on open.
+ * made while it is still connecting are queued and go out on open. Any object shaped as
+ * {@link WebSocketLike} will do (the browser's, Node 22's global one, the `ws` package's).
  */
 export function webSocketTransport(
-  ws: WebSocket,
+  ws: WebSocketLike,
   options: WebSocketTransportOptions = {},
 ): Transport {
   return new BrowserWebSocketTransport(ws, options.maxBufferedBytes ?? DEFAULT_MAX_BUFFERED_BYTES);
@@ -115,10 +117,10 @@ export function connectWebSocket(
   url: string,
   options: WebSocketTransportOptions & {
     timeoutMs?: number;
-    WebSocketClass?: new (url: string) => WebSocket;
+    WebSocketClass?: WebSocketClassLike;
   } = {},
 ): Promise<Transport> {
-  const Ctor = options.WebSocketClass ?? globalThis.WebSocket;
+  const Ctor: WebSocketClassLike | undefined = options.WebSocketClass ?? globalThis.WebSocket;
   if (typeof Ctor !== 'function') {
     return Promise.reject(
       new TypeError('connectWebSocket: no WebSocket here (in Node 20 use nodeWebSocketTransport)'),

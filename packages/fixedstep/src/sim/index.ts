@@ -35,6 +35,8 @@ export type {
   AxisDefinition,
   AxisSpec,
   LinearAxisSpec,
+  CentredAxisSpec,
+  AxisDeadZone,
   AngleAxisSpec,
 } from './input-schema.js';
 export { InputSampler, ButtonSampler } from './input.js';

@@ -9,6 +9,11 @@
  * packed from bit 0 of word 1 upwards, each axis in `bits` consecutive bits of one word (an axis
  * never straddles two words). A schema without axes is one word, and its input is the plain
  * {@link ButtonInput} number — the classic {@link BUTTON_WORD} schema is exactly that.
+ *
+ * An axis's field reads 0 in an input nobody set (a fresh {@link PlayerInput}, {@link
+ * InputSchema.neutral}, a tick before the first sample). A centred axis (the default for a
+ * two-sided range such as a stick's −1…1) stores its step as a signed offset from the centre, so
+ * that idle field is the centre, exactly; a linear axis stores step 0 as `min`.
  * @module
  */
 import { fnv1a64, hex64 } from '../det/hash.js';
@@ -22,7 +27,13 @@ import {
   type ButtonInput,
 } from './buttons.js';
 
-/** A linear axis: a value from `min` to `max`, both exact, in `2^bits − 1` equal steps. */
+/**
+ * A linear axis: a value from `min` to `max`, both exact, in `2^bits − 1` equal steps (`2^bits`
+ * levels: an even number, so the middle of the range is not one of them — 0 on a −1…1 axis reads
+ * ±0.0159 at 6 bits). Step 0, the idle field, is `min`: right for a one-sided axis (a throttle,
+ * 0…1), wrong for a stick — which is why a two-sided range is {@link CentredAxisSpec centred} by
+ * default.
+ */
 export interface LinearAxisSpec {
   readonly kind: 'linear';
   readonly name: string;
@@ -32,6 +43,27 @@ export interface LinearAxisSpec {
   readonly min: number;
   /** The value of the last step. */
   readonly max: number;
+  /** Values within this fraction of the range above `min` quantise to `min` (see {@link AxisDeadZone}). */
+  readonly deadZone: number;
+}
+
+/**
+ * A centred axis: `2^bits − 1` levels (an odd number) evenly from `min` to `max`, both exact, and
+ * the centre `(min + max) / 2` exact among them — 0 on a −1…1 axis. The field holds the signed
+ * offset from the centre in two's complement, so an input never set (all bits 0) reads the centre;
+ * the one pattern that is no level (the most negative) is refused as a problem.
+ */
+export interface CentredAxisSpec {
+  readonly kind: 'centred';
+  readonly name: string;
+  /** Bits of precision, 2–16 (`2^(bits−1) − 1` steps each side of the centre). */
+  readonly bits: number;
+  /** The value of the lowest level. */
+  readonly min: number;
+  /** The value of the highest level. */
+  readonly max: number;
+  /** Values within this fraction of the half range around the centre quantise to the centre. */
+  readonly deadZone: number;
 }
 
 /**
@@ -46,12 +78,34 @@ export interface AngleAxisSpec {
 }
 
 /** One axis of a schema. */
-export type AxisSpec = LinearAxisSpec | AngleAxisSpec;
+export type AxisSpec = LinearAxisSpec | CentredAxisSpec | AngleAxisSpec;
 
-/** How {@link defineInput} is told an axis: `{ angle: bits }` or `{ min, max, bits }`. */
+/**
+ * An axis's dead zone, a fraction in [0, 1) of its travel from rest (the centre of a centred axis,
+ * `min` of a linear one): a value within it quantises to rest, and the travel beyond it is
+ * stretched to the whole range, so a worn stick that rests at 0.08 reads exactly 0 and full
+ * deflection still reads `max`. Applied where a value is quantised (on the device side, in
+ * {@link InputSchema.quantise} / {@link PlayerInput.setAxis} / the samplers): it changes which
+ * steps a device sends, not what a step means, so it is not part of the descriptor or the id.
+ */
+export type AxisDeadZone = number;
+
+/**
+ * How {@link defineInput} is told an axis: `{ angle: bits }`, or `{ min, max, bits }` with
+ * optional `centred` and `deadZone`. `centred` defaults to true for a two-sided range (`min` =
+ * −`max`, such as a stick's −1…1, at 2 bits or more) and false otherwise; `centred: false` on a
+ * two-sided range is the even quantisation every such axis had before centred axes (its replays
+ * keep verifying).
+ */
 export type AxisDefinition =
   | { readonly angle: number }
-  | { readonly min: number; readonly max: number; readonly bits: number };
+  | {
+      readonly min: number;
+      readonly max: number;
+      readonly bits: number;
+      readonly centred?: boolean;
+      readonly deadZone?: AxisDeadZone;
+    };
 
 /** What {@link defineInput} takes. */
 export interface InputDefinition<B extends string = string, A extends string = string> {
@@ -96,7 +150,7 @@ export interface InputSchema<I = ButtonInput> {
   missing(last: ArrayLike<number>, lastAt: number, out: Uint32Array, outAt: number): void;
   /** Set axis `axis`'s step in the words `out[at …]`, leaving everything else as it is. */
   writeAxis(out: Uint32Array, at: number, axis: number, step: number): void;
-  /** The input with nothing pressed and every axis at step 0. */
+  /** The input with nothing pressed and every axis's field 0 (a centred axis at its centre). */
   neutral(): I;
   /** Axis `axis`'s step (an integer) for a value — device-side quantisation (clamped; angles wrap). */
   quantise(axis: number, value: number): number;
@@ -113,7 +167,11 @@ const TWO_PI = 2 * Math.PI;
 export class PlayerInput {
   /** The button word (see {@link ButtonInput}). */
   buttons: ButtonInput = 0;
-  /** Each axis's step (an integer from 0 to 2^bits − 1), in schema order. */
+  /**
+   * Each axis's field as encoded (an integer from 0 to 2^bits − 1), in schema order: the step of a
+   * linear or angle axis, the two's-complement offset from the centre of a centred one (0: the
+   * centre).
+   */
   readonly steps: Uint32Array;
 
   constructor(readonly schema: InputSchema<PlayerInput>) {
@@ -221,7 +279,7 @@ class Schema implements InputSchema<unknown> {
     for (let i = 0; i < this.slots.length; i++) {
       const s = this.slots[i]!;
       const q = input.steps[i]!;
-      if (q > s.mask)
+      if (q > s.mask || this.notALevel(i, q))
         throw new RangeError(`input: axis ${this.axes[i]!.name} step ${q} out of range`);
       out[at + s.word] = (out[at + s.word]! | (q << s.shift)) >>> 0;
     }
@@ -249,6 +307,13 @@ class Schema implements InputSchema<unknown> {
         return `axis word ${w} 0x${v.toString(16)} sets bits no axis uses`;
       }
     }
+    for (let i = 0; i < this.slots.length; i++) {
+      const s = this.slots[i]!;
+      const q = (words[at + s.word]! >>> s.shift) & s.mask;
+      if (this.notALevel(i, q)) {
+        return `axis ${this.axes[i]!.name} field 0x${q.toString(16)} is no level of a centred axis`;
+      }
+    }
     return undefined;
   }
 
@@ -259,7 +324,11 @@ class Schema implements InputSchema<unknown> {
 
   writeAxis(out: Uint32Array, at: number, axis: number, step: number): void {
     const s = this.slots[axis];
-    if (s === undefined || !(Number.isInteger(step) && step >= 0 && step <= s.mask)) {
+    if (
+      s === undefined ||
+      !(Number.isInteger(step) && step >= 0 && step <= s.mask) ||
+      this.notALevel(axis, step)
+    ) {
       throw new RangeError(`input: cannot set axis ${String(axis)} to step ${String(step)}`);
     }
     const i = at + s.word;
@@ -280,7 +349,16 @@ class Schema implements InputSchema<unknown> {
       const q = Math.round((turns - Math.floor(turns)) * n);
       return q >= n ? 0 : q;
     }
-    const t = (value - a.min) / (a.max - a.min);
+    if (a.kind === 'centred') {
+      // Travel from the centre in [−1, 1], the dead zone taken off, rounded half away from the
+      // centre (the same both sides), stored in two's complement.
+      const half = 1 << (a.bits - 1);
+      const radius = (a.max - a.min) / 2; // measured from the centre: −v and v mirror exactly
+      const t = pastDeadZone((value - (a.min + radius)) / radius, a.deadZone);
+      const k = Math.round(Math.abs(t) * (half - 1));
+      return t < 0 && k > 0 ? 2 * half - k : k;
+    }
+    const t = pastDeadZone((value - a.min) / (a.max - a.min), a.deadZone);
     return t <= 0 ? 0 : t >= 1 ? top : Math.round(t * top);
   }
 
@@ -288,8 +366,22 @@ class Schema implements InputSchema<unknown> {
     const a = this.axisSpec(axis);
     if (a.kind === 'angle')
       return -Math.PI + step * (TWO_PI / (a.bits === 32 ? 4294967296 : 1 << a.bits));
+    if (a.kind === 'centred') {
+      const half = 1 << (a.bits - 1);
+      const k = step >= half ? step - 2 * half : step; // the signed offset from the centre
+      if (k === 0) return a.min + (a.max - a.min) / 2;
+      if (k >= half - 1) return a.max;
+      if (k <= 1 - half) return a.min;
+      return a.min + ((k + half - 1) * (a.max - a.min)) / (2 * (half - 1));
+    }
     const top = a.bits === 32 ? 0xffffffff : (1 << a.bits) - 1;
     return step >= top ? a.max : a.min + (step * (a.max - a.min)) / top;
+  }
+
+  /** Whether `field` is the one bit pattern of centred axis `axis` that is no level. */
+  private notALevel(axis: number, field: number): boolean {
+    const a = this.axes[axis];
+    return a?.kind === 'centred' && field === 1 << (a.bits - 1);
   }
 
   private axisSpec(axis: number): AxisSpec {
@@ -303,7 +395,16 @@ class Schema implements InputSchema<unknown> {
   }
 }
 
+/**
+ * The descriptor's layout version. Centred axes did not change it: each axis already carries a
+ * kind byte (0 linear, 1 angle; 2 centred, new), so a descriptor of linear and angle axes — every
+ * replay and hello written before centred axes — is byte for byte what it was, keeps its id, and
+ * decodes with the quantisation it was recorded with; a library that predates centred axes
+ * refuses kind 2 by name ("unknown kind 2") rather than misreading it.
+ */
 const DESCRIPTOR_VERSION = 1;
+
+const KIND_BYTE = { linear: 0, angle: 1, centred: 2 } as const;
 
 // Written by hand rather than with ByteWriter: names are ASCII (checked), every count fits a
 // byte, and the input pipeline then stays small in a game's bundle (see bench bundle-size).
@@ -322,8 +423,8 @@ function encodeDescriptor(buttons: readonly string[], axes: readonly AxisSpec[])
   out.push(axes.length);
   for (const a of axes) {
     str(a.name);
-    out.push(a.kind === 'angle' ? 1 : 0, a.bits);
-    if (a.kind === 'linear') {
+    out.push(KIND_BYTE[a.kind], a.bits);
+    if (a.kind !== 'angle') {
       f64(a.min);
       f64(a.max);
     }
@@ -349,11 +450,15 @@ function checkSpec(buttons: readonly string[], axes: readonly AxisSpec[]): void 
     if (!Number.isInteger(a.bits) || a.bits < 1 || a.bits > 16) {
       fail(`axis ${a.name}: bits must be an integer from 1 to 16, got ${String(a.bits)}`);
     }
-    if (
-      a.kind === 'linear' &&
-      !(Number.isFinite(a.min) && Number.isFinite(a.max) && a.min < a.max)
-    ) {
+    if (a.kind === 'angle') continue;
+    if (!(Number.isFinite(a.min) && Number.isFinite(a.max) && a.min < a.max)) {
       fail(`axis ${a.name}: needs finite min < max, got ${String(a.min)} and ${String(a.max)}`);
+    }
+    if (a.kind === 'centred' && a.bits < 2) {
+      fail(`axis ${a.name}: a centred axis needs 2 bits or more, got ${a.bits}`);
+    }
+    if (!(typeof a.deadZone === 'number' && a.deadZone >= 0 && a.deadZone < 1)) {
+      fail(`axis ${a.name}: deadZone must be a number in [0, 1), got ${String(a.deadZone)}`);
     }
   }
 }
@@ -365,9 +470,10 @@ function checkSpec(buttons: readonly string[], axes: readonly AxisSpec[]): void 
  * const input = defineInput({ buttons: ['left', 'right', 'jump'] });       // InputSchema<ButtonInput>
  * const twinStick = defineInput({
  *   buttons: ['fire'],
- *   axes: { aim: { angle: 10 }, moveX: { min: -1, max: 1, bits: 8 } },    // InputSchema<PlayerInput>
- * });
+ *   axes: { aim: { angle: 10 }, moveX: { min: -1, max: 1, bits: 8, deadZone: 0.1 } },
+ * });                                                                       // InputSchema<PlayerInput>
  * twinStick.axis.aim; // 0 — read it in step() with input.axis(twinStick.axis.aim)
+ * new PlayerInput(twinStick).axis(twinStick.axis.moveX); // 0: a centred axis rests at its centre
  */
 export function defineInput<B extends string>(
   definition: InputDefinition<B, never> & { readonly axes?: undefined },
@@ -384,11 +490,30 @@ export function defineInput(definition: InputDefinition): InputSchema<unknown> {
   const buttons = [...(definition.buttons ?? [])];
   const axes: AxisSpec[] = [];
   for (const [name, d] of Object.entries<AxisDefinition>(definition.axes ?? {})) {
-    if ('angle' in d) axes.push(Object.freeze({ kind: 'angle', name, bits: d.angle }));
-    else axes.push(Object.freeze({ kind: 'linear', name, bits: d.bits, min: d.min, max: d.max }));
+    if ('angle' in d) {
+      axes.push(Object.freeze({ kind: 'angle', name, bits: d.angle }));
+      continue;
+    }
+    const { min, max, bits } = d;
+    const centred = d.centred ?? (min === -max && bits >= 2);
+    const deadZone = d.deadZone ?? 0;
+    axes.push(
+      Object.freeze({ kind: centred ? 'centred' : 'linear', name, bits, min, max, deadZone }),
+    );
   }
   checkSpec(buttons, axes);
   return new Schema(Object.freeze(buttons), Object.freeze(axes));
+}
+
+/**
+ * `t`, a travel from rest (in [−1, 1] for a centred axis, [0, 1] for a linear one, or beyond,
+ * clamped later), with the dead zone `dz` taken off: 0 within it, the rest stretched to the range.
+ */
+function pastDeadZone(t: number, dz: number): number {
+  const m = Math.min(1, Math.abs(t));
+  if (m <= dz) return 0;
+  const out = dz === 0 ? m : (m - dz) / (1 - dz);
+  return t < 0 ? -out : out;
 }
 
 export { BUTTON_WORD } from './button-word.js';
@@ -428,10 +553,11 @@ export function inputSchemaFromDescriptor(bytes: Uint8Array): InputSchema<unknow
     const name = str();
     const kind = u8();
     const bits = u8();
-    if (kind === 1) axes.push(Object.freeze({ kind: 'angle', name, bits }));
-    else if (kind === 0)
-      axes.push(Object.freeze({ kind: 'linear', name, bits, min: f64(), max: f64() }));
-    else bad(`axis ${name} has unknown kind ${kind}`);
+    if (kind === KIND_BYTE.angle) axes.push(Object.freeze({ kind: 'angle', name, bits }));
+    else if (kind === KIND_BYTE.linear || kind === KIND_BYTE.centred) {
+      const k = kind === KIND_BYTE.linear ? 'linear' : 'centred';
+      axes.push(Object.freeze({ kind: k, name, bits, min: f64(), max: f64(), deadZone: 0 }));
+    } else bad(`axis ${name} has unknown kind ${kind}`);
   }
   if (pos !== bytes.length) bad(`${bytes.length - pos} bytes left over`);
   try {

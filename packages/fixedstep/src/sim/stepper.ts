@@ -7,14 +7,23 @@ export interface FrameStepperOptions<I = ButtonInput> {
   /** The loop that decides how many steps each display frame runs (a `FixedLoop`, or a talk loop). */
   loop: Loop;
   /**
-   * One step of the simulation: `dt` in seconds (always the fixed step for a fixed loop) and the
-   * local player's input for this tick. Call `sim.step([input])` (or your own update) here.
+   * One step of the simulation: `dt` in seconds (always the fixed step for a fixed loop), the
+   * local player's input for this tick, and every local player's input for this tick, in the
+   * order of {@link inputs} (`[input]` with one source). Call `sim.step([input])` — or, with
+   * several local players, `sim.step(inputs)` — here. `inputs` is reused from step to step: copy
+   * it to keep it.
    */
-  update: (dt: number, input: I) => void;
+  update: (dt: number, input: I, inputs: readonly I[]) => void;
   /** Draw the current state; `alpha` in [0, 1) interpolates from the previous state. */
   render?: (alpha: number) => void;
   /** Where each step's input comes from. Without one, every step gets `neutral`. */
   input?: InputSampler<I>;
+  /**
+   * Several local players' input sources instead of {@link input}, one sampler per player — two
+   * players on one keyboard (each sampler attached with its own keys), or a keyboard and a
+   * gamepad. Each step samples each of them for its tick, in this order.
+   */
+  inputs?: readonly InputSampler<I>[];
   /** The input of a step when there is no sampler. Default 0 (no buttons). */
   neutral?: I;
 }
@@ -37,20 +46,38 @@ export interface FrameStepperOptions<I = ButtonInput> {
  *   render: (alpha) => draw(sim, alpha),
  * });
  * new FrameDriver(animationFrameScheduler(), (now) => stepper.frame(now)).start();
+ *
+ * @example
+ * // Two players on one keyboard: one sampler each, stepped together.
+ * const left = new InputSampler(input), right = new InputSampler(input);
+ * attachKeyboard(window, left, { KeyW: 'up', KeyS: 'down' });
+ * attachKeyboard(window, right, { ArrowUp: 'up', ArrowDown: 'down' });
+ * const stepper = new FrameStepper({
+ *   loop: new FixedLoop({ step: game }),
+ *   inputs: [left, right],
+ *   update: (_dt, _first, inputs) => sim.step(inputs),
+ * });
  */
 export class FrameStepper<I = ButtonInput> {
   readonly loop: Loop;
-  private readonly update: (dt: number, input: I) => void;
+  private readonly update: (dt: number, input: I, inputs: readonly I[]) => void;
   private readonly render: ((alpha: number) => void) | undefined;
-  private readonly input: InputSampler<I> | undefined;
-  private readonly neutral: I;
+  private readonly samplers: readonly InputSampler<I>[];
+  /** This step's inputs, one per local player (reused). */
+  private readonly current: I[];
 
   constructor(options: FrameStepperOptions<I>) {
     this.loop = options.loop;
     this.update = options.update;
     this.render = options.render;
-    this.input = options.input;
-    this.neutral = options.neutral ?? (0 as I);
+    if (options.input !== undefined && options.inputs !== undefined) {
+      throw new RangeError('FrameStepper: pass input (one player) or inputs (several), not both');
+    }
+    if (options.inputs?.length === 0) {
+      throw new RangeError('FrameStepper: inputs needs at least one sampler, got none');
+    }
+    this.samplers = [...(options.inputs ?? (options.input ? [options.input] : []))];
+    this.current = [options.neutral ?? (0 as I)];
   }
 
   /** Feed one display frame by a clock reading in ms. Returns the number of steps run. */
@@ -69,8 +96,11 @@ export class FrameStepper<I = ButtonInput> {
 
   private run(n: number): number {
     const loop = this.loop;
+    const samplers = this.samplers;
+    const current = this.current;
     for (let j = 0; j < n; j++) {
-      this.update(loop.dt, this.input ? this.input.sample(loop, j) : this.neutral);
+      for (let p = 0; p < samplers.length; p++) current[p] = samplers[p]!.sample(loop, j);
+      this.update(loop.dt, current[0]!, current);
     }
     this.render?.(loop.alpha);
     return n;

@@ -63,8 +63,8 @@ export interface FixedLoopOptions {
   onDrop?: (ms: number, reason: DropReason) => void;
   /**
    * Where the loop reports a likely mistake in how it is fed, once per kind — clock readings that
-   * do not advance (a frame *delta* passed to {@link FixedLoop.frame}, which expects a
-   * *timestamp*), or input events timestamped on another time line than the frames (a key press
+   * run back or stand still (a frame *delta*, jittering or constant, passed to
+   * {@link FixedLoop.frame}, which expects a *timestamp*), or input events timestamped on another time line than the frames (a key press
    * would wait seconds for its tick). Default `console.warn`; `null` to stay silent (production).
    * Reporting never changes what the loop does.
    */
@@ -144,6 +144,8 @@ export class FixedLoop implements Loop {
   private backwards = 0;
   /** Early clock readings that ran back, for the delta-as-timestamp check. */
   private stuckReadings = 0;
+  /** Consecutive early readings equal to the last one, for the same check (a constant delta). */
+  private stillReadings = 0;
   private readonly warn: ((message: string) => void) | null;
   private readonly warned = new Set<LoopWarning>();
 
@@ -233,6 +235,10 @@ export class FixedLoop implements Loop {
       this.backwards++;
       dt = 0;
       this.checkReadings(nowMs);
+    } else if (dt === 0) {
+      this.checkStill(nowMs);
+    } else {
+      this.stillReadings = 0;
     }
     return this.accumulate(dt);
   }
@@ -249,6 +255,23 @@ export class FixedLoop implements Loop {
       this.warnOnce(
         'delta-as-timestamp',
         `FixedLoop.frame(nowMs) expects a clock reading in ms (a requestAnimationFrame timestamp, performance.now()), but ${this.stuckReadings} of the first ${this.frameCount + 1} readings ran back (last ${nowMs} ms): if your engine gives you a frame delta, call loop.advance(deltaMs, nowMs) instead.`,
+      );
+    }
+  }
+
+  /**
+   * A constant frame delta passed where a timestamp belongs never runs back: it stands still, and
+   * no tick ever runs. A clock can stand still too (paused, or a simulated clock not advanced),
+   * but not at a reading under a second — a page open for less than a second — for thirty
+   * frames in a row among the first sixty; a frame delta is just such a reading (16.7 ms).
+   * A reading of 0 is a clock that has not started, not a delta.
+   */
+  private checkStill(nowMs: number): void {
+    if (this.frameCount >= 60 || this.warn === null || !(nowMs > 0 && nowMs < 1000)) return;
+    if (++this.stillReadings >= 30) {
+      this.warnOnce(
+        'delta-as-timestamp',
+        `FixedLoop.frame(nowMs) expects a clock reading in ms (a requestAnimationFrame timestamp, performance.now()), but the last ${this.stillReadings} readings were all ${nowMs} ms: the clock does not advance, so no tick runs (tick ${this.tick}). That is a constant frame delta, not a timestamp: call loop.advance(deltaMs, nowMs) instead.`,
       );
     }
   }

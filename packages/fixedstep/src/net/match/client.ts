@@ -4,6 +4,12 @@
  * player there.
  * @module
  */
+import {
+  abortReason,
+  type AbortSignalLike,
+  type WebSocketClassLike,
+  type WebSocketLike,
+} from '../platform.js';
 import type { NetErrorCode } from '../wire/common.js';
 import { ProtocolError } from '../wire/error.js';
 import {
@@ -27,7 +33,7 @@ export class MatchmakingError extends Error {
   }
 }
 
-function send(ws: WebSocket, m: MatchClientMessage): void {
+function send(ws: WebSocketLike, m: MatchClientMessage): void {
   if (ws.readyState === 1) ws.send(MATCH_PROTOCOL.encode(m));
 }
 
@@ -48,9 +54,9 @@ export interface QuickMatchOptions {
   /** How long to wait for a match, in ms (the server may grant less). Default 30 000. */
   timeoutMs?: number;
   /** Aborting it cancels the wait: the promise rejects with the signal's reason. */
-  signal?: AbortSignal;
+  signal?: AbortSignalLike;
   /** The WebSocket class. Default the global one (browsers, Node 22+; in Node 20 pass `ws`'s). */
-  WebSocketClass?: new (url: string) => WebSocket;
+  WebSocketClass?: WebSocketClassLike;
   /**
    * Called when the server has queued the request, with the wait it granted (ms) — and again, with
    * the wait left, if a proposed match fell through because another player did not accept.
@@ -108,8 +114,8 @@ export function quickMatch(options: QuickMatchOptions): Promise<QuickMatchResult
     );
   }
   const signal = options.signal;
-  if (signal?.aborted) return Promise.reject(signal.reason as Error);
-  const Ctor = options.WebSocketClass ?? globalThis.WebSocket;
+  if (signal?.aborted) return Promise.reject(abortReason(signal));
+  const Ctor: WebSocketClassLike | undefined = options.WebSocketClass ?? globalThis.WebSocket;
   if (typeof Ctor !== 'function') {
     return Promise.reject(
       new TypeError('quickMatch: no WebSocket here (in Node 20 pass WebSocketClass from "ws")'),
@@ -125,7 +131,7 @@ export function quickMatch(options: QuickMatchOptions): Promise<QuickMatchResult
     }, request.timeoutMs + 15_000);
     const onAbort = () => {
       send(ws, { type: 'cancel' });
-      finish(signal?.reason as Error);
+      finish(abortReason(signal!));
     };
     function finish(outcome: QuickMatchResult | Error): void {
       if (settled) return;
@@ -144,7 +150,7 @@ export function quickMatch(options: QuickMatchOptions): Promise<QuickMatchResult
     ws.addEventListener('open', () => {
       ws.send(frame);
     });
-    ws.addEventListener('message', (event: MessageEvent<unknown>) => {
+    ws.addEventListener('message', (event) => {
       let m: MatchServerMessage;
       try {
         if (!(event.data instanceof ArrayBuffer)) {
@@ -189,7 +195,7 @@ export function quickMatch(options: QuickMatchOptions): Promise<QuickMatchResult
           break;
       }
     });
-    ws.addEventListener('close', (event: CloseEvent) => {
+    ws.addEventListener('close', (event) => {
       finish(
         new MatchmakingError(
           'CONNECTION',
