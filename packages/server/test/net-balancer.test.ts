@@ -334,7 +334,7 @@ function queueFrom(from: string, onQueued?: () => void): Promise<QuickMatchResul
       constructor(url: string) {
         super(url, { localAddress: from });
       }
-    } as unknown as new (url: string) => globalThis.WebSocket,
+    },
     ...(onQueued ? { onQueued } : {}),
   });
 }
