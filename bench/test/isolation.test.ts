@@ -86,4 +86,22 @@ describe('the bench runner', { timeout: 60_000 }, () => {
     ]);
     expect(run.stdout).toMatch(/FAILED: crash/);
   });
+
+  it('ends a suite that still holds its process after its report, naming what held it', async () => {
+    const json = join(scratch, 'linger.json');
+    const run = await runBench(['linger', 'second', '--json', json]);
+    expect(run.code).toBe(0);
+    expect(run.stderr).toMatch(
+      /suite linger still alive 3 s after its report \(holding: [^)]*TCPServerWrap × 1[^)]*Timeout × 1[^)]*\); ending it/,
+    );
+    const result = JSON.parse(readFileSync(json, 'utf8')) as { suites: SuiteReport[] };
+    expect(result.suites.map((s) => [s.name, s.ok])).toEqual([
+      ['linger', true],
+      ['second', true],
+    ]);
+    // Its process is gone: the run did not end before it did.
+    const pid = Number(/^pid (\d+);/.exec(notes(result.suites[0]!)[0]!)?.[1]);
+    expect(pid).toBeGreaterThan(0);
+    expect(() => process.kill(pid, 0)).toThrow(/ESRCH/);
+  });
 });
