@@ -9,9 +9,9 @@ export interface FrameStepperOptions<I = ButtonInput> {
   /**
    * One step of the simulation: `dt` in seconds (always the fixed step for a fixed loop), the
    * local player's input for this tick, and every local player's input for this tick, in the
-   * order of {@link inputs} (`[input]` with one source). Call `sim.step([input])` — or, with
-   * several local players, `sim.step(inputs)` — here. `inputs` is reused from step to step: copy
-   * it to keep it.
+   * order of {@link FrameStepperOptions.inputs} (`[input]` with one source). Call
+   * `sim.step([input])` — or, with several local players, `sim.step(inputs)` — here. `inputs` is
+   * reused from step to step: copy it to keep it.
    */
   update: (dt: number, input: I, inputs: readonly I[]) => void;
   /** Draw the current state; `alpha` in [0, 1) interpolates from the previous state. */
