@@ -100,8 +100,6 @@ let scenes: TraceScene[] = [];
 let nodeRun: EngineRun | undefined;
 let server: RunningServer | undefined;
 const sessions: EngineSession[] = [];
-/** Browsers traced a second time, and why (see the WebKit note where the runs start). */
-const retraced: string[] = [];
 
 beforeAll(async () => {
   const t0 = performance.now();
@@ -123,23 +121,9 @@ beforeAll(async () => {
       id,
       p.then(async (session) => {
         sessions.push(session);
-        const run = await session.run();
-        // JavaScriptCore's WebAssembly once trapped ("Out of bounds memory access") inside Rapier's
-        // step during a full `npm test` on a loaded machine, and never in a run of this suite
-        // alone. A trap is no divergence — it gives no trace at all — so such a run is traced once
-        // more in a fresh browser, and the report says so; a second trap, or any difference in
-        // the new trace, fails as every other failure does.
-        const trapped = run.scenes.filter((sc) =>
-          sc.error?.includes('Out of bounds memory access'),
-        );
-        if (id !== 'webkit' || trapped.length === 0) return { session, run };
-        retraced.push(
-          `${ENGINE_NAMES[id]}: ${trapped.map((sc) => `\`${sc.id}\``).join(', ')} trapped in WebAssembly ` +
-            `(${trapped[0]!.error ?? ''}); traced again in a fresh browser.`,
-        );
-        const again = await open(id, url);
-        sessions.push(again);
-        return { session: again, run: await again.run() };
+        // No second chance: a scene that throws — a WebAssembly trap included — fails like any
+        // other difference (docs/determinism.md, "A trap is a failure").
+        return { session, run: await session.run() };
       }),
     );
   }
@@ -241,7 +225,7 @@ beforeAll(async () => {
   await Promise.allSettled(sessions.map((s) => s.close()));
   sessions.length = 0;
 
-  const notes: string[] = [...retraced];
+  const notes: string[] = [];
   for (const s of scenes) {
     if (!s.id.endsWith('/sampled')) continue;
     const bot = reference.scenes.find((x) => x.id === s.id.replace(/\/sampled$/, '/bot'));
