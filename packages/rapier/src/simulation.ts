@@ -65,8 +65,9 @@ export interface RapierSceneDef<I = number, S = undefined> {
   afterStep?(world: World, tick: number, scene: S): void;
   /**
    * Refuses an input: returns why (e.g. `'not a button mask'`), or undefined when it is good.
-   * Default: every number anywhere in the input (it may be a number, an array or a plain object
-   * of them) must be finite.
+   * Default: the input is a number, an array, a `Float32Array`/`Float64Array` or a plain object
+   * of them, and every number in it is finite as a 32-bit float (Rapier's: 1e39 would be ∞
+   * there); a string, a boolean or another typed array is refused.
    */
   checkInput?(input: I, player: number): string | undefined;
   /**
@@ -87,20 +88,58 @@ const INPUT_DEPTH = 4;
 
 const EMPTY = new Uint8Array(0);
 
-/** Where in an input the first non-finite number is (`''` for the input itself), or undefined. */
-function nonFinitePath(value: unknown, depth: number): string | undefined {
-  if (typeof value === 'number') return Number.isFinite(value) ? undefined : '';
-  if (typeof value !== 'object' || value === null || depth >= INPUT_DEPTH) return undefined;
-  if (ArrayBuffer.isView(value)) {
-    if (value instanceof Float32Array || value instanceof Float64Array) {
-      const i = value.findIndex((x) => !Number.isFinite(x));
-      return i < 0 ? undefined : `[${i}]`;
+/**
+ * Largest magnitude Rapier can hold: its numbers are 32-bit floats, so a double beyond f32's range
+ * (1e39 is finite here) would become ±∞ inside the world.
+ */
+const F32_MAX = 3.4028234663852886e38;
+
+/** Why `x` (a leaf of an input) cannot go into Rapier, or undefined when it can. */
+function badNumber(x: unknown): string | undefined {
+  if (typeof x === 'undefined') return 'undefined, not a number';
+  if (typeof x !== 'number') {
+    // (Objects do not come here: `badLeaf` walks into them.)
+    const shown =
+      typeof x === 'symbol'
+        ? x.toString()
+        : typeof x === 'bigint'
+          ? `${x.toString()}n`
+          : typeof x === 'function'
+            ? 'a function'
+            : JSON.stringify(x);
+    return `${shown} is a ${typeof x}, not a number`;
+  }
+  if (!Number.isFinite(x)) return `${String(x)} is not finite`;
+  if (Math.abs(x) > F32_MAX) return `${String(x)} is beyond Rapier's 32-bit floats (±3.4e38)`;
+  return undefined;
+}
+
+/**
+ * The first leaf of an input that cannot go into Rapier: where it is (`''` for the input itself)
+ * and why; undefined when every leaf is a number finite as a 32-bit float. An input is a number,
+ * an array, a Float32Array/Float64Array or a plain object of them (nested up to `INPUT_DEPTH`).
+ */
+function badLeaf(value: unknown, depth: number): { at: string; why: string } | undefined {
+  if (typeof value !== 'object' || value === null) {
+    const why = badNumber(value);
+    return why === undefined ? undefined : { at: '', why };
+  }
+  if (depth >= INPUT_DEPTH) return { at: '', why: `nested deeper than ${INPUT_DEPTH} levels` };
+  if (value instanceof Float32Array || value instanceof Float64Array) {
+    for (let i = 0; i < value.length; i++) {
+      const why = badNumber(value[i]);
+      if (why !== undefined) return { at: `[${i}]`, why };
     }
     return undefined;
   }
+  if (ArrayBuffer.isView(value)) {
+    return { at: '', why: `a ${value.constructor.name} (use numbers, or a Float64Array)` };
+  }
   for (const [key, v] of Object.entries(value)) {
-    const inner = nonFinitePath(v, depth + 1);
-    if (inner !== undefined) return Array.isArray(value) ? `[${key}]${inner}` : `.${key}${inner}`;
+    const inner = badLeaf(v, depth + 1);
+    if (inner !== undefined) {
+      return { at: (Array.isArray(value) ? `[${key}]` : `.${key}`) + inner.at, why: inner.why };
+    }
   }
   return undefined;
 }
@@ -259,11 +298,11 @@ export class RapierSimulation<I = number, S = undefined> implements Simulation<I
           );
         }
       } else {
-        const at = nonFinitePath(input, 0);
-        if (at !== undefined) {
+        const bad = badLeaf(input, 0);
+        if (bad !== undefined) {
           throw new RangeError(
-            `${this.label}: input of player ${p} at tick ${this.ticks} is not finite` +
-              (at === '' ? ` (${String(input)})` : ` at input${at}`),
+            `${this.label}: bad input of player ${p} at tick ${this.ticks}` +
+              `${bad.at === '' ? '' : ` at input${bad.at}`}: ${bad.why}`,
           );
         }
       }

@@ -229,7 +229,7 @@ describe('misuse is refused with a clear error', () => {
     }).toThrow(/-1 is not a ButtonInput/);
     expect(sim.tick).toBe(0);
     expect(sim.hash()).toBe(before);
-    // The default check (no checkInput): every number in the input must be finite.
+    // The default check (no checkInput): every leaf a number, finite as Rapier's 32-bit floats.
     const stick: RapierSceneDef<{ x: number; y: number }, { ball: number }> = {
       id: 'stick',
       build(world, rapier) {
@@ -243,10 +243,26 @@ describe('misuse is refused with a clear error', () => {
     };
     const analog = new RapierSimulation(stick);
     analog.step([{ x: 1, y: 2 }]);
-    expect(() => {
-      analog.step([{ x: 1, y: Infinity }]);
-    }).toThrow(/input of player 0 at tick 1 is not finite at input\.y/);
-    expect(analog.tick).toBe(1);
+    const refused: [unknown, RegExp][] = [
+      [{ x: 1, y: Infinity }, /at tick 1 at input\.y: Infinity is not finite/],
+      // Finite as a double, ∞ as Rapier's f32.
+      [{ x: 1e39, y: 0 }, /at input\.x: 1e\+39 is beyond Rapier's 32-bit floats/],
+      [{ x: -3.5e38, y: 0 }, /at input\.x: -3\.5e\+38 is beyond Rapier's 32-bit floats/],
+      [{ x: '1', y: 0 }, /at input\.x: "1" is a string, not a number/],
+      [{ x: 1, y: true }, /at input\.y: true is a boolean, not a number/],
+      [{ x: 1, y: undefined }, /at input\.y: undefined, not a number/],
+      [{ x: 1, y: { z: [1, new Float64Array([0, NaN])] } }, /at input\.y\.z\[1\]\[1\]: NaN/],
+      [new Int32Array(2), /bad input of player 0 at tick 1: a Int32Array/],
+      ['1', /bad input of player 0 at tick 1: "1" is a string/],
+    ];
+    for (const [input, message] of refused) {
+      expect(() => {
+        analog.step([input as { x: number; y: number }]);
+      }).toThrow(message);
+    }
+    // The largest f32 itself goes in.
+    analog.step([{ x: 3.4028234663852886e38, y: 0 }]);
+    expect(analog.tick).toBe(2);
     sim.dispose();
     analog.dispose();
   });
