@@ -1104,9 +1104,7 @@ export async function runBalanced(
   } finally {
     if (timer) clearInterval(timer);
     for (const s of sessions) s.leave();
-    for (const c of children)
-      if (c.exitCode === null && c.signalCode === null)
-        c.kill(process.env.TMP_KILL === '1' ? 'SIGINT' : 'SIGKILL');
+    for (const c of children) if (c.exitCode === null && c.signalCode === null) c.kill('SIGKILL');
     await rm(dir, { recursive: true, force: true });
   }
 }

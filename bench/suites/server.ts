@@ -2,8 +2,8 @@
  * The server's event loop: does anything block it — opening the store, forged submissions, an
  * honest burst — and how much memory does it hold, idle and busy?
  *
- * - **Event-loop delay** (`perf_hooks.monitorEventLoopDelay` every 1 ms, p99 and max of the delay beyond that interval, ms) of the server's
- *   process during a cold start on a new data folder, a restart on the same folder, the forged
+ * - **Event-loop delay** (`perf_hooks.monitorEventLoopDelay` every 1 ms; p99 and max of the delay
+ *   beyond that interval, ms) of the server's process during a cold start on a new data folder, a restart on the same folder, the forged
  *   flood below, 200 forged posts at once from one address, and 200 honest submissions at once.
  *   Goal: p99 < 20 ms and max < 100 ms in each. With them: the ready times (new and existing
  *   folder; goal ≤ 10 s and ≤ 3 s) and the longest `/healthz` answer while the store opened.
@@ -84,14 +84,11 @@ function loopDelay(): { stop: () => LoopDelay } {
 /** Runs `work` while sampling this process's event-loop delay ({@link loopDelay}). */
 async function withLoopDelay<T>(work: () => Promise<T>): Promise<{ result: T; loop: LoopDelay }> {
   const sampler = loopDelay();
-  let loop: LoopDelay | undefined;
-  try {
-    const result = await work();
-    loop = sampler.stop();
-    return { result, loop };
-  } finally {
-    if (loop === undefined) sampler.stop();
-  }
+  const result = await work().catch((error: unknown) => {
+    sampler.stop();
+    throw error;
+  });
+  return { result, loop: sampler.stop() };
 }
 
 /** POSTs `body` to `path` on 127.0.0.1 through `agent`; resolves with the status once answered. */

@@ -96,7 +96,7 @@ const F32_MAX = 3.4028234663852886e38;
 
 /** Why `x` (a leaf of an input) cannot go into Rapier, or undefined when it can. */
 function badNumber(x: unknown): string | undefined {
-  if (typeof x === 'undefined') return 'undefined, not a number';
+  if (x === undefined || x === null) return `${String(x)}, not a number`;
   if (typeof x !== 'number') {
     // (Objects do not come here: `badLeaf` walks into them.)
     const shown =

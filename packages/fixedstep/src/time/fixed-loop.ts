@@ -64,8 +64,8 @@ export interface FixedLoopOptions {
   /**
    * Where the loop reports a likely mistake in how it is fed, once per kind — clock readings that
    * run back or stand still (a frame *delta*, jittering or constant, passed to
-   * {@link FixedLoop.frame}, which expects a *timestamp*), or input events timestamped on another time line than the frames (a key press
-   * would wait seconds for its tick). Default `console.warn`; `null` to stay silent (production).
+   * {@link FixedLoop.frame}, which expects a *timestamp*), or input events timestamped on another
+   * time line than the frames (a key press would wait seconds for its tick). Default `console.warn`; `null` to stay silent (production).
    * Reporting never changes what the loop does.
    */
   onWarning?: ((message: string) => void) | null;

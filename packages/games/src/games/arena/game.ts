@@ -298,7 +298,7 @@ export abstract class ArenaGame<S extends ArenaState> implements Game {
    * whatever the inputs. See `Simulation.frozen`.
    */
   get frozen(): boolean {
-    return this.state.over === 1;
+    return this.over;
   }
 
   /**
