@@ -1,13 +1,19 @@
 /**
- * State sync (the talk's network model) on capture the flag with 4 players at 60 Hz:
+ * State sync (the talk's network model):
  *
- * 1. **Bandwidth per client**, delta-coded snapshots against whole ones, at 60, 30 and 20
- *    snapshots a second: a real `StateSyncRoom` and four `StateSyncSession`s (bots at the
- *    controls) over simulated links on simulated time, bytes counted at the server's end (payload,
- *    and with WebSocket frame headers). Goal of issue 13: delta ≤ 25 % of full, ≤ 4 KB/s a client.
+ * 1. **Bandwidth per client** on capture the flag, 4 players at 60 Hz — whole snapshots, byte
+ *    deltas (XOR runs of `save()`) and the schema codec side by side — at 60, 30 and 20 snapshots a
+ *    second: a real `StateSyncRoom` and four `StateSyncSession`s (bots at the controls) over
+ *    simulated links on simulated time, bytes counted at the server's end (payload, and with
+ *    WebSocket frame headers).
+ *    **1b.** The same three codecs on the scenes of issue 24, where everything moves: jostle (11
+ *    bodies under random forces), survival held at 64 enemies, CTF, and a stirred pile of 900
+ *    own-world bodies at 60 snapshots a second (Fiedler's *Snapshot Compression* scene), with the
+ *    quantisation error and the share of rows that moved.
  * 2. **Server CPU per room-tick**: R rooms of 4, each tick every player's input message delivered
  *    (decoded, checked, stored) and `update()` (the step, four views, four delta-coded snapshots on
- *    snapshot ticks, the pongs). Clients are modelled by pre-encoded input messages that acknowledge
+ *    snapshot ticks, the pongs), with byte deltas and with the schema codec (which also snaps the
+ *    room's world to what it sends). Clients are modelled by pre-encoded input messages that acknowledge
  *    the snapshot of ~100 ms before. Side by side with the bare game step on the same inputs.
  * 3. **Client prediction + reconciliation per snapshot at 100 ms round trip**: one session's
  *    snapshot handling (decode, delta, hash, load check, render read) and the frame that
@@ -23,12 +29,21 @@ import {
   StateSyncSession,
   encodeStateSyncMessage,
   peekStateSyncType,
+  type AnyGameDefinition,
   type ButtonInput,
   type Clock,
+  type Simulation,
   type LinkConditions,
   type Transport,
 } from 'fixedstep';
-import { ctfGame, type Game } from '@fixedstep/games';
+import {
+  SurvivalGame,
+  ctfGame,
+  jostleGame,
+  stirredPileGame,
+  survivalGame,
+  type Game,
+} from '@fixedstep/games';
 import { roundOrder, summarize } from '../lib/stats.js';
 import { defineSuite } from '../lib/suite.js';
 
@@ -98,7 +113,12 @@ function seededU32(seed: number): () => number {
 function benchRoom(
   clock: Clock,
   seed: number,
-  options: { snapshotEvery?: number; delta?: boolean; tokenSeed?: number } = {},
+  options: {
+    snapshotEvery?: number;
+    delta?: boolean;
+    codec?: 'schema' | 'bytes';
+    tokenSeed?: number;
+  } = {},
 ): StateSyncRoom<Game> {
   return new StateSyncRoom<Game>({
     game: ctfGame,
@@ -108,6 +128,7 @@ function benchRoom(
     seed,
     snapshotEvery: options.snapshotEvery,
     delta: options.delta,
+    codec: options.codec,
     randomU32: seededU32(options.tokenSeed ?? seed),
   });
 }
@@ -139,6 +160,8 @@ function heldBot(): (tick: number, sim: Game, slot: number) => ButtonInput {
 export interface BandwidthOptions {
   snapshotEvery: number;
   delta: boolean;
+  /** Default: the game's schema (CTF declares one). */
+  codec?: 'schema' | 'bytes';
   /** Simulated seconds measured, after 2 s of joining. */
   seconds: number;
   link: Partial<LinkConditions>;
@@ -167,7 +190,11 @@ export interface BandwidthResult {
 export function measureBandwidth(o: BandwidthOptions): BandwidthResult {
   const scheduler = new EventScheduler(0);
   const clock = scheduler.clock;
-  const room = benchRoom(clock, o.seed, { snapshotEvery: o.snapshotEvery, delta: o.delta });
+  const room = benchRoom(clock, o.seed, {
+    snapshotEvery: o.snapshotEvery,
+    delta: o.delta,
+    codec: o.codec,
+  });
   const history = new Map<number, Uint8Array>();
   scheduler.every(4, () => {
     room.update(clock.now());
@@ -191,9 +218,13 @@ export function measureBandwidth(o: BandwidthOptions): BandwidthResult {
   const sum = (f: (c: Counter) => number) => counters.reduce((a, c) => a + f(c), 0);
   const snapshots = sum((c) => c.snapshotsOut);
   let inSync = true;
+  // With the schema codec a client's local columns (the generator) are its own: compare what was sent.
+  const schema = o.codec === 'bytes' ? undefined : ctfGame.stateSchema;
   for (const s of sessions) {
-    const state = s.snapshotState;
-    const server = history.get(s.snapshotTick);
+    const mine = s.snapshotState;
+    const theirs = history.get(s.snapshotTick);
+    const state = mine && schema ? schema.quantise(mine) : mine;
+    const server = theirs && schema ? schema.quantise(theirs) : theirs;
     const same =
       state !== undefined &&
       server?.length === state.length &&
@@ -213,6 +244,259 @@ export function measureBandwidth(o: BandwidthOptions): BandwidthResult {
     badSnapshots: sessions.reduce((a, s) => a + s.stats.badSnapshots, 0),
     inSync,
   };
+}
+
+// ------------------------------------------------------------------------------ 1b. codecs
+
+/** The three ways a room can code snapshots, side by side. */
+export const CODECS = ['full', 'byte delta', 'schema'] as const;
+export type CodecName = (typeof CODECS)[number];
+
+/** A scene of the codec table. */
+export interface CodecScene {
+  name: string;
+  game: AnyGameDefinition;
+  /** Clients (each a player). */
+  clients: number;
+  snapshotEvery: number;
+  /** Simulated ms before counting starts (joining, and a pile settling). */
+  warmupMs: number;
+  /** The position precision, for the table. */
+  precision: string;
+  /** Goal, bytes a second per client with headers. */
+  goal: number;
+  /** The bot that plays each client's seat (none: neutral inputs). */
+  bot?: (sim: Simulation, slot: number) => ButtonInput;
+}
+
+/** Survival kept at 64 live enemies: after every step the game spawns back up to 64. */
+class Survival64 extends SurvivalGame {
+  private readonly refillRng = new Random(64);
+  constructor(seed: number, players: number) {
+    super({ seed, players, waves: false, lives: 255 });
+    this.refill();
+  }
+  override step(inputs: readonly ButtonInput[]): void {
+    super.step(inputs);
+    this.refill();
+  }
+  private refill(): void {
+    while (this.state.enemies < 64) {
+      const edge = this.refillRng.int(4);
+      const along = this.refillRng.range(40, 560);
+      const x = edge === 0 ? 40 : edge === 1 ? 760 : along + 100;
+      const y = edge < 2 ? along : edge === 2 ? 40 : 560;
+      this.spawnEnemy(x, y, this.refillRng.range(140, 220));
+    }
+  }
+}
+
+/** Survival with 64 enemies, as a game (survival's schema and bots). */
+const survival64Game: AnyGameDefinition = {
+  ...survivalGame,
+  id: 'survival64',
+  create: (setup) => new Survival64(setup.seed, setup.players),
+};
+
+/** The codec table's scenes (the issue's four: where everything moves, and CTF). */
+export function codecScenes(quick: boolean): CodecScene[] {
+  return [
+    {
+      name: 'jostle, 11 bodies',
+      game: jostleGame(11),
+      clients: 2,
+      snapshotEvery: 3,
+      warmupMs: 2000,
+      precision: '1/256 u',
+      goal: 1.5 * 1024,
+    },
+    {
+      name: 'survival, 64 enemies',
+      game: survival64Game,
+      clients: 2,
+      snapshotEvery: 3,
+      warmupMs: 2000,
+      precision: '1/64 u',
+      goal: 6 * 1024,
+      bot: (sim, slot) => survivalGame.bot(sim as Game, slot),
+    },
+    {
+      name: 'CTF, 4 players',
+      game: ctfGame,
+      clients: 4,
+      snapshotEvery: 3,
+      warmupMs: 2000,
+      precision: '1/64 u',
+      goal: 2 * 1024,
+      bot: (sim, slot) => ctfGame.bot(sim as Game, slot),
+    },
+    {
+      name: `stirred pile, ${quick ? 300 : 900} bodies`,
+      game: stirredPileGame(quick ? 300 : 900),
+      clients: 1,
+      snapshotEvery: 1,
+      warmupMs: 6000,
+      precision: '1/512 m',
+      goal: 32 * 1024,
+    },
+  ];
+}
+
+export interface SceneResult {
+  /** Per client, server → client, bytes a second with WebSocket headers. */
+  downWs: number;
+  badSnapshots: number;
+  inSync: boolean;
+  /** The room's largest quantisation error, in precisions. */
+  maxError: number;
+  /** Share of the largest group's rows that changed from one snapshot to the next (schema). */
+  moving: number;
+}
+
+/** One scene under one codec: a room and its clients over simulated links, bytes counted. */
+export function measureScene(scene: CodecScene, codec: CodecName, seconds: number): SceneResult {
+  const scheduler = new EventScheduler(0);
+  const clock = scheduler.clock;
+  const game = scene.game;
+  const room = new StateSyncRoom({
+    game,
+    name: 'bench',
+    clock,
+    players: scene.clients,
+    seed: 5,
+    snapshotEvery: scene.snapshotEvery,
+    delta: codec !== 'full',
+    codec: codec === 'schema' ? 'schema' : 'bytes',
+    randomU32: seededU32(5),
+  });
+  const schema = game.stateSchema;
+  const history = new Map<number, Uint8Array>();
+  let moved = 0;
+  let rows = 0;
+  let last: Int32Array | undefined;
+  scheduler.every(4, () => {
+    const before = room.tick;
+    room.update(clock.now());
+    if (room.tick !== before && room.tick % scene.snapshotEvery === 0) {
+      const state = room.simulation.save();
+      history.set(room.tick, state);
+      if (codec === 'schema' && schema && counting) {
+        const words = schema.quantise(state);
+        if (last) {
+          const r = changedRows(schema, last, words);
+          moved += r.changed;
+          rows += r.rows;
+        }
+        last = words;
+      }
+    }
+  });
+  let counting = false;
+  const counters: Counter[] = [];
+  const sessions: StateSyncSession<ButtonInput, Simulation>[] = [];
+  for (let i = 0; i < scene.clients; i++) {
+    const link = new SimulatedLink({
+      scheduler,
+      seed: 7919 + i,
+      latencyMs: 50,
+      jitterMs: 10,
+      loss: 0,
+    });
+    const counter = new Counter(link.b);
+    counters.push(counter);
+    room.accept(counter);
+    let held: ButtonInput = 0;
+    const bot = scene.bot;
+    const session = new StateSyncSession<ButtonInput, Simulation>({
+      transport: link.a,
+      clock,
+      room: 'bench',
+      game: game as never,
+      localInput: bot
+        ? (tick, sim) => {
+            if (tick % BOT_EVERY === 0) held = bot(sim, session.welcome?.slot ?? 0);
+            return held;
+          }
+        : undefined,
+    });
+    sessions.push(session);
+    scheduler.every(STEP_MS, () => session.frame(clock.now()), 1 + i * 3.7);
+  }
+  scheduler.runUntil(scene.warmupMs);
+  counting = true;
+  for (const c of counters) c.counting = true;
+  scheduler.runFor(seconds * 1000);
+  let inSync = true;
+  for (const s of sessions) {
+    const mine = s.snapshotState;
+    const server = history.get(s.snapshotTick);
+    if (mine === undefined || server === undefined) {
+      inSync = false;
+      continue;
+    }
+    // With a schema the client's local columns are its own: compare what was sent.
+    const a = codec === 'schema' && schema ? schema.quantise(mine) : mine;
+    const b = codec === 'schema' && schema ? schema.quantise(server) : server;
+    if (a.length !== b.length || a.some((v, k) => v !== b[k])) inSync = false;
+  }
+  return {
+    downWs: counters.reduce((a, c) => a + c.wsOut, 0) / (scene.clients * seconds),
+    badSnapshots: sessions.reduce((a, s) => a + s.stats.badSnapshots, 0),
+    inSync,
+    maxError: room.stats.quantisationError,
+    moving: rows === 0 ? 0 : moved / rows,
+  };
+}
+
+/** Rows of the schema's largest group that differ between two states' words. */
+function changedRows(
+  schema: NonNullable<AnyGameDefinition['stateSchema']>,
+  a: Int32Array,
+  b: Int32Array,
+): { changed: number; rows: number } {
+  // Walk the groups as the codec does; count only the largest.
+  let w = 0;
+  let best = { changed: 0, rows: 0 };
+  for (const g of schema.groups) {
+    const n = typeof g.count === 'number' ? g.count : b[startOf(schema, b, g.count.column)]!;
+    let changed = 0;
+    const starts: number[] = [];
+    for (const s of g.columns) {
+      starts.push(w);
+      w += n * schema.sent[s]!.lanes;
+    }
+    for (let r = 0; r < n; r++) {
+      let differs = false;
+      for (const [k, s] of g.columns.entries()) {
+        const lanes = schema.sent[s]!.lanes;
+        for (let l = 0; l < lanes; l++) {
+          const at = starts[k]! + r * lanes + l;
+          if (a[at] !== b[at]) differs = true;
+        }
+      }
+      if (differs) changed++;
+    }
+    if (n > best.rows) best = { changed, rows: n };
+  }
+  return best;
+}
+
+/** The word index where sent column `column` starts in `words` (counts before it from the words). */
+function startOf(
+  schema: NonNullable<AnyGameDefinition['stateSchema']>,
+  words: Int32Array,
+  column: number,
+): number {
+  let w = 0;
+  for (const g of schema.groups) {
+    const n =
+      typeof g.count === 'number' ? g.count : words[startOf(schema, words, g.count.column)]!;
+    for (const s of g.columns) {
+      if (s === column) return w;
+      w += n * schema.sent[s]!.lanes;
+    }
+  }
+  throw new RangeError(`no sent column ${column}`);
 }
 
 // ------------------------------------------------------------------------------ 2. server CPU
@@ -301,7 +585,7 @@ interface ServerRig {
   ends: ServerEnd[][];
 }
 
-function serverRig(s: ServerScript, seed: number): ServerRig {
+function serverRig(s: ServerScript, seed: number, codec: 'schema' | 'bytes'): ServerRig {
   const clock = new ManualClock(0);
   const rooms: StateSyncRoom<Game>[] = [];
   const ends: ServerEnd[][] = [];
@@ -309,6 +593,7 @@ function serverRig(s: ServerScript, seed: number): ServerRig {
     const room = benchRoom(clock, seed, {
       snapshotEvery: s.load.snapshotEvery,
       tokenSeed: seed + r,
+      codec,
     });
     const e: ServerEnd[] = [];
     for (let p = 0; p < PLAYERS; p++) {
@@ -342,8 +627,9 @@ function serverTicks(rig: ServerRig, s: ServerScript, from: number, to: number):
 export function timeServer(
   s: ServerScript,
   seed: number,
+  codec: 'schema' | 'bytes' = 'schema',
 ): { ns: number; roomTicks: number; bytesPerRoomTick: number; filled: number } {
-  const rig = serverRig(s, seed);
+  const rig = serverRig(s, seed, codec);
   serverTicks(rig, s, 0, s.load.warmup);
   const before = rig.ends.flat().reduce((a, e) => a + e.bytes, 0);
   const t0 = process.hrtime.bigint();
@@ -488,7 +774,7 @@ const f = (x: number, d = 1) => x.toFixed(d);
 export default defineSuite({
   name: 'state-sync',
   description:
-    'State sync, CTF 4 players at 60 Hz: bytes/s per client (delta vs full), server CPU per room-tick, client reconcile cost',
+    'State sync: bytes/s per client (full, byte delta, schema codec) on CTF and on scenes where everything moves, server CPU per room-tick, client reconcile cost',
   run(ctx) {
     const quick = ctx.quick;
     const seconds = quick ? 3 : 20;
@@ -503,37 +789,31 @@ export default defineSuite({
     const rows: string[][] = [];
     const goals: string[] = [];
     for (const every of [1, 2, 3]) {
-      const full = measureBandwidth({
-        snapshotEvery: every,
-        delta: false,
-        seconds,
-        link,
-        seed: 11,
-      });
-      const delta = measureBandwidth({
-        snapshotEvery: every,
-        delta: true,
-        seconds,
-        link,
-        seed: 11,
-      });
-      if (!full.inSync || !delta.inSync || full.badSnapshots + delta.badSnapshots > 0) {
-        throw new Error(`snapshots ${every}: a client was not in step with the server`);
+      const run = (delta: boolean, codec: 'schema' | 'bytes') =>
+        measureBandwidth({ snapshotEvery: every, delta, codec, seconds, link, seed: 11 });
+      const full = run(false, 'bytes');
+      const delta = run(true, 'bytes');
+      const schema = run(true, 'schema');
+      for (const r of [full, delta, schema]) {
+        if (!r.inSync || r.badSnapshots > 0) {
+          throw new Error(`snapshots ${every}: a client was not in step with the server`);
+        }
       }
-      const ratio = delta.downWs / full.downWs;
+      const ratio = schema.downWs / full.downWs;
       rows.push([
         `${f(TICK_HZ / every, 0)} Hz`,
         kb(full.downWs),
         kb(delta.downWs),
+        kb(schema.downWs),
         `${f(100 * ratio)} %`,
         f(delta.meanSnapshotBytes, 0),
-        f(full.meanSnapshotBytes, 0),
-        kb(delta.upWs),
-        `${delta.fullSnapshots} + ${delta.deltaSnapshots}`,
+        f(schema.meanSnapshotBytes, 0),
+        kb(schema.upWs),
+        `${schema.fullSnapshots} + ${schema.deltaSnapshots}`,
       ]);
       goals.push(
-        `${f(TICK_HZ / every, 0)} Hz: delta ${f(100 * ratio)} % of full (goal ≤ 25 %: ${ratio <= 0.25 ? 'met' : 'NOT met'}), ` +
-          `${kb(delta.downWs)} KB/s (goal ≤ 4 KB/s: ${delta.downWs <= 4096 ? 'met' : 'NOT met'})`,
+        `${f(TICK_HZ / every, 0)} Hz: schema ${f(100 * ratio)} % of full, ${kb(schema.downWs)} KB/s ` +
+          `(byte deltas ${kb(delta.downWs)} KB/s)`,
       );
     }
     const lossy = measureBandwidth({
@@ -546,28 +826,75 @@ export default defineSuite({
     rows.push([
       '20 Hz, 5 % loss',
       '—',
+      '—',
       kb(lossy.downWs),
       '—',
-      f(lossy.meanSnapshotBytes, 0),
       '—',
+      f(lossy.meanSnapshotBytes, 0),
       kb(lossy.upWs),
       `${lossy.fullSnapshots} + ${lossy.deltaSnapshots}`,
     ]);
     ctx.table(
-      'Bandwidth per client, server → client (KB/s with WebSocket headers; 1 KB = 1024 B)',
+      'CTF bandwidth per client, server → client (KB/s with WebSocket headers; 1 KB = 1024 B)',
       [
         'snapshots',
         'full KB/s',
-        'delta KB/s',
-        'delta / full',
-        'delta msg B',
-        'full msg B',
+        'byte delta KB/s',
+        'schema KB/s',
+        'schema / full',
+        'byte delta msg B',
+        'schema msg B',
         'up KB/s',
         'full + delta sent',
       ],
       rows,
     );
     for (const g of goals) ctx.note(g);
+
+    // 1b. Codecs where everything moves.
+    const sceneRows: string[][] = [];
+    for (const scene of codecScenes(quick)) {
+      const results = CODECS.map((codec) => measureScene(scene, codec, quick ? 2 : seconds));
+      for (const [i, r] of results.entries()) {
+        if (r.badSnapshots > 0 || !r.inSync) {
+          throw new Error(`${scene.name}, ${CODECS[i]!}: a client was not in step with the server`);
+        }
+      }
+      const schema = results[2]!;
+      sceneRows.push([
+        scene.name,
+        `${f(TICK_HZ / scene.snapshotEvery, 0)} Hz`,
+        ...results.map((r) => kb(r.downWs)),
+        `${f((100 * schema.downWs) / results[1]!.downWs)} %`,
+        `≤ ${f(schema.maxError, 2)} × ${scene.precision}`,
+        `${f(100 * schema.moving)} %`,
+        `${kb(scene.goal)} ${schema.downWs <= scene.goal ? '✓' : '✗'}`,
+      ]);
+    }
+    ctx.table(
+      'Codecs side by side, bytes per client (KB/s with WebSocket headers), links 50 ± 10 ms',
+      [
+        'scene',
+        'snapshots',
+        'full',
+        'byte delta',
+        'schema',
+        'schema / byte delta',
+        'error (schema)',
+        'rows moving',
+        'goal',
+      ],
+      sceneRows,
+    );
+    ctx.note(
+      'full: every snapshot whole; byte delta: XOR runs of the save() bytes against the acknowledged ' +
+        "snapshot (the codec of games without a schema); schema: the game's state schema — quantised, " +
+        'per-entity change masks, positions predicted from velocities, exp-Golomb bits — against the ' +
+        'acknowledged snapshot. Error: the largest |server value − sent value| over every quantised ' +
+        "number sent, in units of its column's precision (the server then runs on the sent value, so " +
+        "client and server agree exactly: every client checks each snapshot's hash). Rows moving: " +
+        'the share of entity rows that differ from the snapshot one interval before.',
+    );
 
     // 2. Server CPU per room-tick.
     const load: ServerLoad = {
@@ -583,35 +910,30 @@ export default defineSuite({
     if (check.filled > 0)
       throw new Error(`the server filled ${check.filled} inputs: the script is late`);
     timeBare(script, 21);
-    const samples: number[][] = [[], []];
+    const samples: number[][] = [[], [], []];
     for (let round = 0; round < rounds; round++) {
       globalThis.gc?.();
-      for (const c of roundOrder(2, round)) {
-        const r = c === 0 ? timeBare(script, 21) : timeServer(script, 21);
+      for (const c of roundOrder(3, round)) {
+        const r =
+          c === 0 ? timeBare(script, 21) : timeServer(script, 21, c === 1 ? 'bytes' : 'schema');
         samples[c]!.push(r.ns / r.roomTicks);
       }
     }
-    const [bare, server] = summarize(['bare CTF step', 'state-sync room'], samples, 0);
-    const perTick = server!.ns.median;
+    const summary = summarize(
+      ['bare CTF step', 'state-sync room, byte deltas', 'state-sync room, schema'],
+      samples,
+      0,
+    );
     ctx.table(
       `Server CPU per room-tick, ${load.rooms} rooms of ${PLAYERS}, ${load.ticks} ticks, ${rounds} interleaved rounds (median)`,
       ['candidate', 'µs per room-tick', 'range µs', 'vs bare step', 'rooms per core at 60 Hz'],
-      [
-        [
-          bare!.name,
-          f(bare!.ns.median / 1000, 2),
-          `${f(bare!.ns.min / 1000, 2)}–${f(bare!.ns.max / 1000, 2)}`,
-          '1',
-          f(1e9 / (bare!.ns.median * TICK_HZ), 0),
-        ],
-        [
-          server!.name,
-          f(perTick / 1000, 2),
-          `${f(server!.ns.min / 1000, 2)}–${f(server!.ns.max / 1000, 2)}`,
-          `${f(server!.ratio!.median, 2)}× (${f(server!.ratio!.min, 2)}–${f(server!.ratio!.max, 2)})`,
-          f(1e9 / (perTick * TICK_HZ), 0),
-        ],
-      ],
+      summary.map((c, i) => [
+        c.name,
+        f(c.ns.median / 1000, 2),
+        `${f(c.ns.min / 1000, 2)}–${f(c.ns.max / 1000, 2)}`,
+        i === 0 ? '1' : `${f(c.ratio!.median, 2)}× (${f(c.ratio!.min, 2)}–${f(c.ratio!.max, 2)})`,
+        f(1e9 / (c.ns.median * TICK_HZ), 0),
+      ]),
     );
     ctx.note(
       `A room-tick: 4 input messages decoded and checked, one step, and every ${load.snapshotEvery}rd tick a view and a ` +

@@ -102,3 +102,11 @@ export * from './games/arena/index.js';
 export * from './games/ctf/index.js';
 export * from './games/survival/index.js';
 export * from './determinism/index.js';
+export {
+  JostleScene,
+  JOSTLE_SCHEMA,
+  JOSTLE_SIZE,
+  JOSTLE_MAX_SPEED,
+  jostleGame,
+} from './scenes/jostle.js';
+export { StirredPile, STIRRED_PILE_SCHEMA, stirredPileGame } from './scenes/stirred-pile.js';

@@ -9,6 +9,7 @@
 import type { ButtonInput } from './buttons.js';
 import type { InputSchema } from './input-schema.js';
 import type { Simulation } from './simulation.js';
+import { StateSchema } from './state-schema.js';
 
 /** How one run of a game starts: everything a replay header or a match needs to rebuild tick 0. */
 export interface GameSetup {
@@ -61,6 +62,14 @@ export interface GameDefinition<I = ButtonInput, S extends Simulation<I> = Simul
   isOver?(sim: S): boolean;
   /** A deterministic bot: `player`'s input for the next tick, reading (never stepping) `sim`. */
   bot?(sim: S, player: number): I;
+  /**
+   * What the game's `save()` bytes are, column by column, with the precision each number needs
+   * on a client ({@link defineStateSchema}). Optional: with one, state-sync rooms send each
+   * entity's changed fields as small integers — and snap their own world to what they sent, so
+   * the game's floats move in steps of the declared precision on the server. Does not change
+   * replays, lockstep or rollback.
+   */
+  readonly stateSchema?: StateSchema;
 }
 
 /** A game definition whose input type and simulation do not matter (registries, servers). */
@@ -102,6 +111,9 @@ export function defineGame<I, S extends Simulation<I>>(
     bad('input must be an input schema (defineInput, or BUTTON_WORD)');
   }
   if (typeof d.create !== 'function') bad('create(setup) is missing');
+  if (d.stateSchema !== undefined && !(d.stateSchema instanceof StateSchema)) {
+    bad('stateSchema must be made by defineStateSchema');
+  }
   return Object.freeze({ ...d });
 }
 

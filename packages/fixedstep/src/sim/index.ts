@@ -48,4 +48,14 @@ export type { CorrectionSmootherOptions } from './smoothing.js';
 export { defineGame, gameOptions, gameSetup, findGameById } from './game.js';
 export type { GameDefinition, GameSetup, AnyGameDefinition } from './game.js';
 export type { Simulation } from './simulation.js';
+export { defineStateSchema, StateSchema } from './state-schema.js';
+export type {
+  StateSchemaDefinition,
+  StateColumn,
+  StateColumnType,
+  StateColumnCount,
+  StateGroup,
+  SentColumn,
+  QuantiseReport,
+} from './state-schema.js';
 export { guardStep, guardSimulation } from './guard.js';

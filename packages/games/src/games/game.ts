@@ -6,6 +6,7 @@ import {
   type GameSetup,
   type InputSchema,
   type Simulation,
+  type StateSchema,
 } from 'fixedstep';
 import { decodeGameConfig, encodeGameConfig } from './config.js';
 
@@ -84,6 +85,7 @@ export function talkGame(
   buttons: Readonly<Record<string, number>>,
   create: (config: GameConfig) => Game,
   bot: Bot,
+  stateSchema?: StateSchema,
 ): RegisteredGame {
   const names = Object.entries(buttons)
     .sort((a, b) => a[1] - b[1])
@@ -121,6 +123,7 @@ export function talkGame(
     bot,
     encodeConfig: encodeGameConfig,
     decodeConfig,
+    ...(stateSchema ? { stateSchema } : {}),
   };
   return defineGame(definition) as RegisteredGame;
 }

@@ -24,6 +24,8 @@ import {
   type StateWelcomeMessage,
 } from '../state-sync/messages.js';
 import { applyDelta } from '../state-sync/delta.js';
+import { decodeSchemaDelta } from '../state-sync/schema-codec.js';
+import { StateSchema } from '../../sim/state-schema.js';
 import { LatenessWindow } from '../state-sync/render.js';
 import { SessionError, type SessionEvent, type SessionPhase } from './events.js';
 import { SessionLife } from './lifecycle.js';
@@ -86,8 +88,10 @@ export class StateSyncSession<I, S extends Simulation<I>> {
   private tickMs = 1000 / 60;
   private sim: S | undefined;
   private scratch: S | undefined;
-  /** Verified snapshots by tick: the delta bases. */
+  /** Verified snapshots by tick: the delta bases (and what `snapshotAt` returns). */
   private bases = new SnapshotRing(64);
+  /** Schema codec: the verified snapshots' words (as bytes) by tick: its delta bases. */
+  private wordBases = new SnapshotRing(64);
   private newest = -1;
   private pending: { tick: number; state: Uint8Array } | undefined;
   private appliedOnce = false;
@@ -162,6 +166,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       this.delayMs = options.renderDelay;
     }
     this.bases = new SnapshotRing(options.baseHistory ?? 64);
+    this.wordBases = new SnapshotRing(options.baseHistory ?? 64);
     this.issued = new InputRing(ISSUED_CAPACITY, this.words);
     this.ownWords = new Uint32Array(this.words);
     this.drawing = new StateSyncDrawing(options.render);
@@ -560,7 +565,55 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       return;
     }
     let state: Uint8Array;
-    if (m.base < 0) {
+    let words: Uint8Array | undefined;
+    if (m.codec === 'schema') {
+      const schema = this.game.stateSchema;
+      if (schema === undefined) {
+        this.fail(
+          `the room sends schema-coded snapshots and ${this.game.id} here has no stateSchema`,
+        );
+        return;
+      }
+      let base: Uint8Array | undefined;
+      if (m.base >= 0) {
+        base = this.wordBases.get(m.base);
+        if (base === undefined) {
+          this.badSnapshot(m, 'no-base', `no snapshot of tick ${m.base} here to apply a delta to`);
+          return;
+        }
+      }
+      let decoded: Int32Array;
+      try {
+        decoded = decodeSchemaDelta(
+          schema,
+          base && new Int32Array(base.buffer, base.byteOffset, base.length >> 2),
+          m.payload,
+          Math.min(schema.maxWords, m.size >> 2),
+          base ? (m.tick - m.base) / w.tickRate : 0,
+        );
+      } catch (e) {
+        if (!(e instanceof ProtocolError)) throw e;
+        this.badSnapshot(m, 'bad-delta', e.message);
+        return;
+      }
+      words = StateSchema.bytesOf(decoded);
+      if (words.length !== m.size || fnv1a64(words) !== m.hash) {
+        this.badSnapshot(
+          m,
+          'hash-mismatch',
+          `the state rebuilt for tick ${m.tick} does not have the server's hash (a damaged delta, or the wrong base)`,
+        );
+        return;
+      }
+      try {
+        // Local columns (not sent) come from this client's own world.
+        state = schema.merge(this.sim!.save(), decoded);
+      } catch (e) {
+        if (!(e instanceof RangeError)) throw e;
+        this.badSnapshot(m, 'unloadable', `the state does not fit the schema: ${e.message}`);
+        return;
+      }
+    } else if (m.base < 0) {
       state = m.payload;
     } else {
       const base = this.bases.get(m.base);
@@ -576,7 +629,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
         return;
       }
     }
-    if (fnv1a64(state) !== m.hash) {
+    if (words === undefined && fnv1a64(state) !== m.hash) {
       this.badSnapshot(
         m,
         'hash-mismatch',
@@ -603,6 +656,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       return;
     }
     this.bases.put(m.tick, state);
+    if (words !== undefined) this.wordBases.put(m.tick, words);
     this.newest = m.tick;
     this.pending = { tick: m.tick, state };
     if (m.base < 0) this.stats.fullSnapshots++;

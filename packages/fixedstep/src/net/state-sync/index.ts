@@ -16,6 +16,7 @@ export {
 export type {
   StateSyncKind,
   StateSyncLimits,
+  SnapshotCodec,
   ResyncReason,
   StateSyncMessage,
   JoinMessage,
@@ -27,6 +28,7 @@ export type {
   StateSnapshotMessage,
 } from './messages.js';
 export { encodeDelta, deltaBytes, applyDelta } from './delta.js';
+export { encodeSchemaDelta, decodeSchemaDelta, BitWriter, BitReader } from './schema-codec.js';
 export {
   StateSyncRoom,
   StateSyncMember,

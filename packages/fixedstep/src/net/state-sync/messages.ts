@@ -4,7 +4,8 @@
  *
  * Its header byte is of its own family (0x80), so neither the relay nor state sync mistakes the
  * other's messages. Version 2 declares the messages as data, shares the join and the error list
- * with the relay, and adds the room's invite token (spectators need it).
+ * with the relay, and adds the room's invite token (spectators need it). Version 3 adds the
+ * snapshot's codec: the game's bytes, or its state schema's words (`schema-codec.ts`).
  * @module
  */
 import {
@@ -24,7 +25,7 @@ import { bytes, oneOf, time, u32, u64, uint, type Field } from '../wire/fields.j
 import { defineProtocol } from '../wire/protocol.js';
 
 /** The state-sync protocol's version (byte 0 of every message is 0x80 | this). */
-export const STATE_SYNC_VERSION = 2;
+export const STATE_SYNC_VERSION = 3;
 
 /** Size bounds the decoder enforces before it allocates anything. */
 export interface StateSyncLimits {
@@ -59,6 +60,15 @@ export const DEFAULT_STATE_SYNC_LIMITS: Readonly<StateSyncLimits> = Object.freez
  */
 export type ResyncReason = 'bad-delta' | 'hash-mismatch' | 'no-base' | 'unloadable';
 const RESYNC_REASONS = ['bad-delta', 'hash-mismatch', 'no-base', 'unloadable'] as const;
+
+/**
+ * How a snapshot's payload is coded:
+ * - `'bytes'` — the game's `save()` bytes, whole or as XOR runs against the base (`delta.ts`);
+ * - `'schema'` — the game's state schema's words (`StateSchema.quantise`), as bits against the
+ *   base's words, or against nothing for a full one (`schema-codec.ts`).
+ */
+export type SnapshotCodec = 'bytes' | 'schema';
+const SNAPSHOT_CODECS = ['bytes', 'schema'] as const;
 
 // ------------------------------------------------------------------------------------ messages
 
@@ -149,11 +159,16 @@ export interface StateSnapshotMessage {
   inputAck: number;
   /** How many of your ticks the server stepped without your input (filled by the missing rule). */
   filled: number;
-  /** Byte length of the state. */
+  /** How `payload` is coded. */
+  codec: SnapshotCodec;
+  /** Byte length of the state (`'schema'`: of its words, 4 bytes each). */
   size: number;
-  /** FNV-1a 64 of the state's bytes: the client checks what it rebuilt against it. */
+  /** FNV-1a 64 of the state's bytes (`'schema'`: of its words): the client checks what it rebuilt against it. */
   hash: bigint;
-  /** The state's bytes (full), or the delta's runs (see `encodeDelta`). */
+  /**
+   * `'bytes'`: the state's bytes (full), or the delta's runs (see `encodeDelta`); `'schema'`: the
+   * bits of `encodeSchemaDelta`.
+   */
   payload: Uint8Array;
 }
 
@@ -251,15 +266,18 @@ export const STATE_SYNC_PROTOCOL = defineProtocol<StateSyncMessage, StateSyncLim
         sendDelayUs: uint(),
         inputAck: uint({ base: (m) => m.tick as number }),
         filled: uint(),
+        codec: oneOf(SNAPSHOT_CODECS),
         size: uint({ max: 'maxStateBytes' }),
         hash: u64(),
         // A delta may be a little longer than the state it codes.
         payload: bytes({ max: (l) => l.maxStateBytes! + 16 }),
       },
       check: (m) =>
-        m.base < 0 && m.payload.length !== m.size
+        m.codec === 'bytes' && m.base < 0 && m.payload.length !== m.size
           ? ['payload', `a full snapshot of ${m.payload.length} bytes says ${m.size}`]
-          : undefined,
+          : m.codec === 'schema' && m.size % 4 !== 0
+            ? ['size', `${m.size} bytes of schema words is not a whole number of words`]
+            : undefined,
     },
     pong: { code: 0x13, from: 'server', fields: PONG_FIELDS },
     error: { code: 0x14, from: 'server', fields: ERROR_FIELDS },

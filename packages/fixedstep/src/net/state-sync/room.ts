@@ -18,7 +18,9 @@ import { Member, Room } from '../room/room.js';
 import { newToken } from '../room/tokens.js';
 import type { Transport } from '../transport.js';
 import type { LeaveReason } from '../wire/common.js';
+import { StateSchema, type QuantiseReport } from '../../sim/state-schema.js';
 import { encodeDelta } from './delta.js';
+import { BitWriter, encodeSchemaDelta } from './schema-codec.js';
 import {
   DEFAULT_STATE_SYNC_LIMITS,
   STATE_SYNC_PROTOCOL,
@@ -79,6 +81,13 @@ export interface StateSyncRoomOptions<
    * snapshot whole (for comparisons: the benchmark's "full" column).
    */
   delta?: boolean;
+  /**
+   * How snapshots are coded: `'schema'` (the default when the game declares a
+   * {@link GameDefinition.stateSchema}) sends the schema's quantised words as bits — and snaps the
+   * room's world to them at every snapshot; `'bytes'` sends the game's `save()` bytes (whole, or as
+   * XOR runs against the base), the only choice for a game without a schema.
+   */
+  codec?: 'schema' | 'bytes';
   /** Interest management (default: everyone sees the whole `save()`). See {@link StateSyncView}. */
   view?: StateSyncView<S>;
   /** Snapshots kept per member as delta bases. Default {@link DEFAULT_BASE_HISTORY}. */
@@ -129,6 +138,12 @@ export interface StateSyncRoomStats {
   conflictingInputs: number;
   /** Resync requests. */
   resyncs: number;
+  /**
+   * Schema codec: the largest |value − sent value| of a quantised number so far, in units of its
+   * column's precision (at most 0.5), and the values clamped into their column's range.
+   */
+  quantisationError: number;
+  clampedValues: number;
   /** Connections dropped, by reason (a room serving on its own; in a server, the server's stats). */
   dropped: Partial<Record<string, number>>;
 }
@@ -159,6 +174,8 @@ interface SeatInputs {
 interface Settings {
   snapshotEvery: number;
   delta: boolean;
+  /** The game's state schema when snapshots are schema-coded. */
+  schema: StateSchema | undefined;
   baseHistory: number;
   maxAheadTicks: number;
   resyncIntervalMs: number;
@@ -212,6 +229,8 @@ export class StateSyncRoom<
     lateInputs: 0,
     conflictingInputs: 0,
     resyncs: 0,
+    quantisationError: 0,
+    clampedValues: 0,
     dropped: {},
   };
 
@@ -224,6 +243,7 @@ export class StateSyncRoom<
   private readonly row: unknown[];
   private readonly rowWords: Uint32Array;
   private readonly writer = new ByteWriter(4096);
+  private readonly bits = new BitWriter();
   private ctx: RoomContext<StateSyncMember, StateSyncMessage> | undefined;
   /** The host of a room serving on its own (made at its first connection). */
   private standalone: StateSyncServer | undefined;
@@ -265,6 +285,7 @@ export class StateSyncRoom<
         1 << 16,
       ),
       delta: options.delta ?? true,
+      schema: schemaOf(game, options.codec),
       baseHistory: positiveInt('baseHistory', options.baseHistory ?? DEFAULT_BASE_HISTORY, 4096),
       maxAheadTicks: positiveInt(
         'maxAheadTicks',
@@ -395,6 +416,7 @@ export class StateSyncRoom<
     });
     // The first snapshot goes at once: the client can draw the world before the next snapshot tick.
     const round = newRound();
+    this.snap();
     this.snapshotTo(m, this.viewFor(m.slot, round), now, round);
   }
 
@@ -483,16 +505,48 @@ export class StateSyncRoom<
 
   private snapshotAll(now: number): void {
     const round = newRound();
+    this.snap();
     for (const m of this.members()) this.snapshotTo(m, this.viewFor(m.slot, round), now, round);
+  }
+
+  /**
+   * Schema codec: set the world to what is sent — every quantised number to its multiple of the
+   * precision — so clients that load a snapshot start from the server's state exactly.
+   */
+  private snap(): void {
+    const schema = this.settings.schema;
+    if (schema === undefined) return;
+    const own = this.sim.save();
+    const report: QuantiseReport = { maxError: 0, clamped: 0 };
+    const words = schema.quantise(own, report);
+    this.sim.load(schema.merge(own, words));
+    if (report.maxError > this.stats.quantisationError) {
+      this.stats.quantisationError = report.maxError;
+    }
+    this.stats.clampedValues += report.clamped;
+  }
+
+  /** What is sent for a view: its bytes, or (schema codec) its schema words as bytes. */
+  private wireState(view: Uint8Array, round: SnapshotRound): Uint8Array {
+    const schema = this.settings.schema;
+    if (schema === undefined) return view;
+    let words = round.words.get(view);
+    if (words === undefined) {
+      words = StateSchema.bytesOf(schema.quantise(view));
+      round.words.set(view, words);
+    }
+    return words;
   }
 
   private snapshotTo(
     m: StateSyncMember,
-    state: Uint8Array,
+    view: Uint8Array,
     now: number,
     round: SnapshotRound,
   ): void {
     const tick = this.sim.tick;
+    const schema = this.settings.schema;
+    const state = this.wireState(view, round);
     let base: Uint8Array | undefined;
     let baseTick = -1;
     if (m.needsFull) {
@@ -509,17 +563,29 @@ export class StateSyncRoom<
       round.hashes.set(state, hash);
     }
     let payload = state;
-    if (base) {
+    if (base || schema) {
       let byBase = round.deltas.get(state);
       if (byBase === undefined) {
         byBase = new Map();
         round.deltas.set(state, byBase);
       }
-      let delta = byBase.get(base);
+      const key = base ?? NO_BASE;
+      let delta = byBase.get(key);
       if (delta === undefined) {
-        encodeDelta(base, state, this.writer.reset());
-        delta = this.writer.finish();
-        byBase.set(base, delta);
+        if (schema) {
+          encodeSchemaDelta(
+            schema,
+            base && wordsOf(base),
+            wordsOf(state),
+            this.bits.reset(),
+            base ? (tick - baseTick) / this.game.tickRate : 0,
+          );
+          delta = this.bits.finish();
+        } else {
+          encodeDelta(base!, state, this.writer.reset());
+          delta = this.writer.finish();
+        }
+        byBase.set(key, delta);
       }
       payload = delta;
     }
@@ -531,6 +597,7 @@ export class StateSyncRoom<
       sendDelayUs: Math.max(0, Math.round((now - (this.startAt + tick * this.tickMs)) * 1000)),
       inputAck: seat ? this.inputAck(seat) : tick,
       filled: seat?.filled ?? 0,
+      codec: schema ? 'schema' : 'bytes',
       size: state.length,
       hash,
       payload,
@@ -666,13 +733,42 @@ export class StateSyncRoom<
 /** What one snapshot tick computes once and shares among members: views, hashes, deltas. */
 interface SnapshotRound {
   views: Map<number, Uint8Array>;
+  /** Schema codec: by view, its words (as bytes). */
+  words: Map<Uint8Array, Uint8Array>;
   hashes: Map<Uint8Array, bigint>;
   /** By state, then by base: the delta's bytes. */
   deltas: Map<Uint8Array, Map<Uint8Array, Uint8Array>>;
 }
 
 function newRound(): SnapshotRound {
-  return { views: new Map(), hashes: new Map(), deltas: new Map() };
+  return { views: new Map(), words: new Map(), hashes: new Map(), deltas: new Map() };
+}
+
+/** The key of a full snapshot's payload among a round's deltas. */
+const NO_BASE = new Uint8Array(0);
+
+/** Schema words stored as bytes (a view of an Int32Array), as words again. */
+function wordsOf(bytes: Uint8Array): Int32Array {
+  return new Int32Array(bytes.buffer, bytes.byteOffset, bytes.length >> 2);
+}
+
+function schemaOf(
+  game: AnyGameDefinition,
+  codec: 'schema' | 'bytes' | undefined,
+): StateSchema | undefined {
+  if (codec === 'bytes') return undefined;
+  if (codec === 'schema' && game.stateSchema === undefined) {
+    throw new RangeError(
+      `StateSyncRoom: codec 'schema' needs a game with a stateSchema; ${game.id} has none`,
+    );
+  }
+  const given: unknown = codec;
+  if (given !== undefined && given !== 'schema') {
+    throw new RangeError(
+      `StateSyncRoom: codec must be 'schema' or 'bytes', got ${typeof given === 'string' ? given : typeof given}`,
+    );
+  }
+  return game.stateSchema;
 }
 
 function randomOf(options: { randomU32?: () => number }): () => number {

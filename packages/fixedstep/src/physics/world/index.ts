@@ -3,6 +3,8 @@ export type { StaticShape, WorldOptions } from './world.js';
 export { defaultWorldDef } from './def.js';
 export type { WorldDef, CcdMode, BodyOptions, CircleOptions, BoxOptions, Exact } from './def.js';
 export { WORLD_LIMITS } from './validate.js';
+export { worldStateColumns } from './snapshot-schema.js';
+export type { WorldStateSchemaOptions } from './snapshot-schema.js';
 export { worldKernelsAvailable } from './solver-kernels.js';
 export { minWallSize, maxSafeSpeed, tunnellingShare, checkTunnellingRule } from './rule.js';
 export type { TunnellingWarning } from './rule.js';

@@ -5,6 +5,7 @@ import {
   fnv1a64,
   isDown as isDown_,
   type ButtonInput,
+  type StateSchema,
 } from 'fixedstep';
 import {
   talkGame,
@@ -435,6 +436,7 @@ export function arenaDefinition(
   info: GameInfo,
   create: (config: GameConfig) => Game,
   bot: Bot,
+  stateSchema?: StateSchema,
 ): RegisteredGame {
-  return talkGame(info, ShooterButtons, create, bot);
+  return talkGame(info, ShooterButtons, create, bot, stateSchema);
 }

@@ -2,6 +2,8 @@ import type { Bot, RegisteredGame } from '../game.js';
 import { arenaBot, arenaDefinition } from '../arena/game.js';
 import { CTF_INFO, CtfGame } from './game.js';
 import { ctfBotInput } from './bot.js';
+import { CTF } from './layout.js';
+import { ctfStateSchema } from './state-schema.js';
 
 export { CTF_INFO, CtfGame, CtfState, FlagState, NO_CARRIER } from './game.js';
 export type { CtfOptions } from './game.js';
@@ -16,4 +18,5 @@ export const ctfGame: RegisteredGame = arenaDefinition(
   CTF_INFO,
   (config) => new CtfGame(config),
   ctfBot,
+  ctfStateSchema(CTF),
 );

@@ -2,6 +2,7 @@ import type { Bot, RegisteredGame } from '../game.js';
 import { arenaBot, arenaDefinition } from '../arena/game.js';
 import { SURVIVAL_INFO, SurvivalGame } from './game.js';
 import { survivalBotInput } from './bot.js';
+import { survivalStateSchema } from './state-schema.js';
 
 export { SURVIVAL_INFO, SurvivalGame, SurvivalState, WavePhase } from './game.js';
 export type { SurvivalOptions } from './game.js';
@@ -23,4 +24,5 @@ export const survivalGame: RegisteredGame = arenaDefinition(
   SURVIVAL_INFO,
   (config) => new SurvivalGame(config),
   survivalBot,
+  survivalStateSchema(),
 );
