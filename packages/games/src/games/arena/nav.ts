@@ -311,6 +311,9 @@ export class NavGrid {
     const cell = 2 * (row * this.cols + col);
     for (let rad = 1; rad <= 2; rad++) {
       let n = 0;
+      // The cheapest candidate as they come (of equals, the first): the search's first pick.
+      let least = Infinity;
+      let first = -1;
       if (onGrid) {
         for (let k = ringStart[cell + rad - 1]!, end = ringStart[cell + rad]!; k < end; k++) {
           const nd = ringNode[k]!;
@@ -318,9 +321,14 @@ export class NavGrid {
           if (rest === UNREACHABLE) continue;
           const ex = this.nodeX[nd]! - x;
           const ey = this.nodeY[nd]! - y;
+          const cost = Math.sqrt(ex * ex + ey * ey) * scale + rest;
           candidateNode[n] = nd;
-          candidateCost[n] = Math.sqrt(ex * ex + ey * ey) * scale + rest;
+          candidateCost[n] = cost;
           candidateSure[n] = ringSure[k]!;
+          if (cost < least) {
+            least = cost;
+            first = n;
+          }
           n++;
         }
       } else {
@@ -337,14 +345,19 @@ export class NavGrid {
             if (rest === UNREACHABLE) continue;
             const ex = this.nodeX[nd]! - x;
             const ey = this.nodeY[nd]! - y;
+            const cost = Math.sqrt(ex * ex + ey * ey) * scale + rest;
             candidateNode[n] = nd;
-            candidateCost[n] = Math.sqrt(ex * ex + ey * ey) * scale + rest;
+            candidateCost[n] = cost;
             candidateSure[n] = 0;
+            if (cost < least) {
+              least = cost;
+              first = n;
+            }
             n++;
           }
         }
       }
-      const nd = this.firstClear(q, 0, n);
+      const nd = this.firstClear(q, 0, n, first);
       if (nd >= 0) {
         out[0] = this.nodeX[nd]!;
         out[1] = this.nodeY[nd]!;
@@ -382,6 +395,16 @@ export class NavGrid {
       out[0] = this.memoNode[h]!;
       return out[0] >= 0;
     }
+    return this.searchNearest(from, at, h, out);
+  }
+
+  /**
+   * {@link nearestTo} when its memo does not hold the point (finite, hashed to `h`): the search,
+   * remembered. (Apart, so that the look-up above is small enough for V8 to inline.)
+   */
+  private searchNearest(from: Float64Array, at: number, h: number, out: Int32Array): boolean {
+    const x = from[at]!;
+    const y = from[at + 1]!;
     const col = Math.floor(x / this.spacing);
     const row = Math.floor(y / this.spacing);
     const ringStart = this.ringStart;
@@ -392,14 +415,22 @@ export class NavGrid {
     let found = -1;
     for (let rad = 1; rad <= 2 && found < 0; rad++) {
       let n = 0;
+      // The cheapest candidate as they come (of equals, the first): the search's first pick.
+      let least = Infinity;
+      let first = -1;
       if (onGrid) {
         for (let k = ringStart[cell + rad - 1]!, end = ringStart[cell + rad]!; k < end; k++) {
           const nd = ringNode[k]!;
           const ex = this.nodeX[nd]! - x;
           const ey = this.nodeY[nd]! - y;
+          const d2 = ex * ex + ey * ey;
           candidateNode[n] = nd;
-          candidateCost[n] = ex * ex + ey * ey;
+          candidateCost[n] = d2;
           candidateSure[n] = ringSure[k]!;
+          if (d2 < least) {
+            least = d2;
+            first = n;
+          }
           n++;
         }
       } else {
@@ -413,14 +444,19 @@ export class NavGrid {
             if (nd < 0) continue;
             const ex = this.nodeX[nd]! - x;
             const ey = this.nodeY[nd]! - y;
+            const d2 = ex * ex + ey * ey;
             candidateNode[n] = nd;
-            candidateCost[n] = ex * ex + ey * ey;
+            candidateCost[n] = d2;
             candidateSure[n] = 0;
+            if (d2 < least) {
+              least = d2;
+              first = n;
+            }
             n++;
           }
         }
       }
-      found = this.firstClear(from, at, n);
+      found = this.firstClear(from, at, n, first);
     }
     this.memoX[h] = x;
     this.memoY[h] = y;
@@ -434,22 +470,16 @@ export class NavGrid {
    * reach in a straight line from the point in `from[at]`, `from[at + 1]` — of equals, the
    * first — or -1. Tries them cheapest first, so it answers what a scan keeping the cheapest
    * reachable one would, with fewer line tests (none for a candidate marked in `candidateSure`:
-   * reachable from anywhere in the cell). Uses up the candidates.
+   * reachable from anywhere in the cell). `first` is the cheapest of all (of equals, the first;
+   * -1 when n is 0), which the caller found while writing them. Uses up the candidates.
    */
-  private firstClear(from: Float64Array, at: number, n: number): number {
+  private firstClear(from: Float64Array, at: number, n: number, first: number): number {
     const x = from[at]!;
     const y = from[at + 1]!;
     const walls = this.walls;
     const wq = walls.query;
+    let pick = first;
     for (;;) {
-      let pick = -1;
-      let least = Infinity;
-      for (let k = 0; k < n; k++) {
-        if (candidateNode[k]! >= 0 && candidateCost[k]! < least) {
-          least = candidateCost[k]!;
-          pick = k;
-        }
-      }
       if (pick < 0) return -1;
       const nd = candidateNode[pick]!;
       candidateNode[pick] = -1;
@@ -459,6 +489,15 @@ export class NavGrid {
       wq[2] = this.nodeX[nd]!;
       wq[3] = this.nodeY[nd]!;
       if (walls.clearQuery(this.clearance)) return nd;
+      // The next cheapest of those left.
+      pick = -1;
+      let least = Infinity;
+      for (let k = 0; k < n; k++) {
+        if (candidateNode[k]! >= 0 && candidateCost[k]! < least) {
+          least = candidateCost[k]!;
+          pick = k;
+        }
+      }
     }
   }
 }

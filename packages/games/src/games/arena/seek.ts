@@ -76,12 +76,10 @@ export function nearestVisible(
   const y = py[from]!;
   // Those in range, then the nearest first: the first in sight is the one (of equals, the first
   // in slot order) — what keeping the nearest in sight while going through them all would find,
-  // with fewer line-of-sight tests.
+  // with fewer line-of-sight tests. Mostly none is in range: this part is small enough for V8 to
+  // inline into a bot, the rest is apart.
   const limit = range * range;
-  if (nearIndex.length < alive.length) {
-    nearIndex = new Int32Array(alive.length);
-    nearD2 = new Float64Array(alive.length);
-  }
+  if (nearIndex.length < alive.length) growNear(alive.length);
   const index = nearIndex;
   const d2s = nearD2;
   let n = 0;
@@ -98,6 +96,39 @@ export function nearestVisible(
     d2s[n] = d2;
     n++;
   }
+  if (n === 0) {
+    out[0] = limit;
+    return -1;
+  }
+  return nearestInSight(walls, px, py, from, limit, clearance, xs, ys, out, n);
+}
+
+/** Makes the scratch of {@link nearestVisible} hold `length` bodies. */
+function growNear(length: number): void {
+  nearIndex = new Int32Array(length);
+  nearD2 = new Float64Array(length);
+}
+
+/**
+ * {@link nearestVisible}'s second part: of the `n` bodies in range (`nearIndex`, `nearD2`), the
+ * nearest in sight from (`px[from]`, `py[from]`); `limit` is the squared range.
+ */
+function nearestInSight(
+  walls: Walls,
+  px: Float64Array,
+  py: Float64Array,
+  from: number,
+  limit: number,
+  clearance: number,
+  xs: Float64Array,
+  ys: Float64Array,
+  out: Float64Array,
+  n: number,
+): number {
+  const x = px[from]!;
+  const y = py[from]!;
+  const index = nearIndex;
+  const d2s = nearD2;
   for (;;) {
     let pick = -1;
     let least = limit;

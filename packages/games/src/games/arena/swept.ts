@@ -49,23 +49,7 @@ export function pointRoundedBox(reg: Float64Array): boolean {
   const ey = hh + radius;
   const ax = px < 0 ? -px : px;
   const ay = py < 0 ? -py : py;
-  if (ax < ex && ay < ey) {
-    if (radius > 0 && ax > hw && ay > hh) {
-      reg[0] = px - (px > 0 ? hw : -hw);
-      reg[1] = py - (py > 0 ? hh : -hh);
-      return pointCircle(reg);
-    }
-    // Overlapping: the minimum-translation normal; a hit at once unless moving out.
-    let nx = 0;
-    let ny = 0;
-    if (ax > hw) nx = px >= 0 ? 1 : -1;
-    else if (ay > hh) ny = py >= 0 ? 1 : -1;
-    else if (ex - ax <= ey - ay) nx = px >= 0 ? 1 : -1;
-    else ny = py >= 0 ? 1 : -1;
-    if (nx * dx + ny * dy >= 0) return false;
-    reg[7] = 0;
-    return true;
-  }
+  if (ax < ex && ay < ey) return startsInside(reg);
   let tin = 0;
   let tout = 1;
   let axis = 0; // 1: entered through an x face, 2: through a y face
@@ -112,6 +96,39 @@ export function pointRoundedBox(reg: Float64Array): boolean {
     }
   }
   reg[7] = tin;
+  return true;
+}
+
+/**
+ * {@link pointRoundedBox} when the point starts inside the grown box (its square corners
+ * included): the rare case, apart so that the common one is small enough for V8 to inline.
+ */
+function startsInside(reg: Float64Array): boolean {
+  const px = reg[0]!;
+  const py = reg[1]!;
+  const dx = reg[2]!;
+  const dy = reg[3]!;
+  const hw = reg[4]!;
+  const hh = reg[5]!;
+  const radius = reg[6]!;
+  const ex = hw + radius;
+  const ey = hh + radius;
+  const ax = px < 0 ? -px : px;
+  const ay = py < 0 ? -py : py;
+  if (radius > 0 && ax > hw && ay > hh) {
+    reg[0] = px - (px > 0 ? hw : -hw);
+    reg[1] = py - (py > 0 ? hh : -hh);
+    return pointCircle(reg);
+  }
+  // Overlapping: the minimum-translation normal; a hit at once unless moving out.
+  let nx = 0;
+  let ny = 0;
+  if (ax > hw) nx = px >= 0 ? 1 : -1;
+  else if (ay > hh) ny = py >= 0 ? 1 : -1;
+  else if (ex - ax <= ey - ay) nx = px >= 0 ? 1 : -1;
+  else ny = py >= 0 ? 1 : -1;
+  if (nx * dx + ny * dy >= 0) return false;
+  reg[7] = 0;
   return true;
 }
 

@@ -68,7 +68,7 @@ export class WallGrid {
   private readonly rects: readonly Rect[];
   /**
    * The pairs' cache, 4 numbers an entry so that a look-up reads one cache line: the pair's key
-   * (`from × cells + to`; -1: empty), its mask ({@link pairMaskOf}), and the radii for which every
+   * (`from × cells + to`; -1: empty), its mask (see {@link fillPair}), and the radii for which every
    * move between the two cells surely touches a wall of it, in 1/256 units: a circle of radius r
    * with `lo < 256 r < hi` moving in a straight line from anywhere in the first cell to anywhere
    * in the second touches one, with {@link SLACK} to spare ({@link blockOf}, lo rounded up and hi
@@ -141,7 +141,7 @@ export class WallGrid {
 
   /**
    * The walls that a circle of radius up to {@link GRID_MAX_RADIUS} moving from anywhere in cell
-   * `from` to anywhere in cell `to` can touch (and more): {@link pairMaskOf}, remembered.
+   * `from` to anywhere in cell `to` can touch (and more), remembered (see {@link fillPair}).
    */
   pairMask(from: number, to: number): number {
     return this.pairs[this.pairSlot(from, to) + 1]!;
@@ -154,9 +154,38 @@ export class WallGrid {
   pairSlot(from: number, to: number): number {
     const key = from * this.cells + to;
     const slot = (Math.imul(key, 0x9e3779b1) >>> (32 - PAIR_CACHE_BITS)) << 2;
+    if (this.pairs[slot] === key) return slot;
+    return this.fillPair(from, to, key, slot);
+  }
+
+  /**
+   * {@link pairSlot} when the entry holds another pair: fills it with this one. Apart from the
+   * look-up, and in one piece with the mask's loop: V8 inlines only small functions, and this rare
+   * path inlined into the queries would use up what V8 inlines there.
+   */
+  private fillPair(from: number, to: number, key: number, slot: number): number {
     const pairs = this.pairs;
-    if (pairs[slot] === key) return slot;
-    const m = this.pairMaskOf(from, to);
+    // The mask: the walls that a segment from anywhere in cell `from` to anywhere in cell `to` can
+    // come within GRID_MAX_RADIUS of (and more). Every such segment lies within half a cell (along
+    // each axis) of the segment joining the two cells' centres — the set of them is that segment
+    // grown by the square of a cell — so it can come that near a wall only if the centres' segment
+    // meets the wall's box grown by the reach plus half a cell. Liang–Barsky against that box
+    // grown by one more unit, so its own rounding cannot leave a wall out.
+    const cols = this.cols;
+    const half = this.cell / 2;
+    const x0 = this.originX + (from % cols) * this.cell + half;
+    const y0 = this.originY + Math.floor(from / cols) * this.cell + half;
+    const dx = this.originX + (to % cols) * this.cell + half - x0;
+    const dy = this.originY + Math.floor(to / cols) * this.cell + half - y0;
+    const grow = REACH + half + SLACK;
+    const rects = this.rects;
+    let m = 0;
+    for (let i = 0; i < rects.length; i++) {
+      const r = rects[i]!;
+      if (segmentMeetsBox(x0, y0, dx, dy, r.x0 - grow, r.y0 - grow, r.x1 + grow, r.y1 + grow)) {
+        m |= 1 << i;
+      }
+    }
     this.blockOf(from, to, m);
     // Radii beyond 32 matter to no query of the grid (at most GRID_MAX_RADIUS).
     const lo = Math.ceil(Math.min(this.block[0]!, 32) * 256);
@@ -216,33 +245,6 @@ export class WallGrid {
     }
     this.block[0] = lo;
     this.block[1] = hi;
-  }
-
-  /**
-   * The walls that a segment from anywhere in cell `from` to anywhere in cell `to` can come within
-   * {@link GRID_MAX_RADIUS} of (and more). Every such segment lies within half a cell (along
-   * each axis) of the segment joining the two cells' centres — the set of them is that segment
-   * grown by the square of a cell — so it can come that near a wall only if the centres' segment
-   * meets the wall's box grown by the reach plus half a cell. Liang–Barsky against that box grown
-   * by one more unit, so its own rounding cannot leave a wall out.
-   */
-  private pairMaskOf(from: number, to: number): number {
-    const cols = this.cols;
-    const half = this.cell / 2;
-    const x0 = this.originX + (from % cols) * this.cell + half;
-    const y0 = this.originY + Math.floor(from / cols) * this.cell + half;
-    const dx = this.originX + (to % cols) * this.cell + half - x0;
-    const dy = this.originY + Math.floor(to / cols) * this.cell + half - y0;
-    const grow = REACH + half + SLACK;
-    const rects = this.rects;
-    let m = 0;
-    for (let i = 0; i < rects.length; i++) {
-      const r = rects[i]!;
-      if (segmentMeetsBox(x0, y0, dx, dy, r.x0 - grow, r.y0 - grow, r.x1 + grow, r.y1 + grow)) {
-        m |= 1 << i;
-      }
-    }
-    return m;
   }
 }
 

@@ -220,19 +220,13 @@ export class Walls {
 
   /** {@link clear} from `query[0]`, `query[1]` to `query[2]`, `query[3]`. */
   clearQuery(r: number): boolean {
-    const q = this.query;
-    const x0 = q[0]!;
-    const y0 = q[1]!;
-    const x1 = q[2]!;
-    const y1 = q[3]!;
-    const dx = x1 - x0;
-    const dy = y1 - y0;
-    let walls: number;
     const grid = this.grid;
-    if (grid === null || !(r <= GRID_MAX_RADIUS)) return this.sweepAll(x0, y0, dx, dy, r) < 0;
+    if (grid === null || !(r <= GRID_MAX_RADIUS)) return this.clearAll(r);
+    const q = this.query;
     const from = grid.cellOf(q, 0);
     const to = grid.cellOf(q, 2);
-    if (from < 0 || to < 0) return this.sweepAll(x0, y0, dx, dy, r) < 0;
+    if (from < 0 || to < 0) return this.clearAll(r);
+    let walls: number;
     if (from === to) {
       walls = grid.masks[from]!;
     } else {
@@ -245,10 +239,12 @@ export class Walls {
     }
     // `sweep(…) < 0`, stopping at the first wall touched.
     const move = this.move;
+    const x0 = q[0]!;
+    const y0 = q[1]!;
     move[0] = x0;
     move[1] = y0;
-    move[2] = dx;
-    move[3] = dy;
+    move[2] = q[2]! - x0;
+    move[3] = q[3]! - y0;
     for (let m = walls; m !== 0; m &= m - 1) {
       if (this.touches(31 - Math.clz32(m & -m), r) && this.reg[U]! >= 0) return false;
     }
@@ -293,6 +289,18 @@ export class Walls {
       if (this.crossesWall(i)) return true;
     }
     return false;
+  }
+
+  /**
+   * {@link clearQuery} by the all-walls loop. (Apart, as are the other rare paths of the hot
+   * queries: V8 inlines a function only up to a size, and a query inlined into its caller saves a
+   * call per query.)
+   */
+  private clearAll(r: number): boolean {
+    const q = this.query;
+    const x0 = q[0]!;
+    const y0 = q[1]!;
+    return this.sweepAll(x0, y0, q[2]! - x0, q[3]! - y0, r) < 0;
   }
 
   /** Writes the registers `query[0…3]` for a register form (the plain forms' first step). */
