@@ -504,6 +504,8 @@ export class StateSyncRoom<
   }
 
   private snapshotAll(now: number): void {
+    // Nobody to send to: nothing to quantise (the world runs on unsnapped until someone joins).
+    if (this.members().next().done === true) return;
     const round = newRound();
     this.snap();
     for (const m of this.members()) this.snapshotTo(m, this.viewFor(m.slot, round), now, round);
