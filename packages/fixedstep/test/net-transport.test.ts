@@ -138,6 +138,39 @@ describe('SimulatedLink', () => {
     expect(link.b.isOpen).toBe(false);
   });
 
+  it('retransmits a lost message of a stream a round trip later, and holds everything behind it', () => {
+    const scheduler = new EventScheduler();
+    const link = new SimulatedLink({
+      scheduler,
+      latencyMs: 50,
+      loss: 0.2,
+      ordered: true,
+      retransmit: true,
+    });
+    const arrived: number[] = [];
+    const order: number[] = [];
+    link.b.onMessage((m) => {
+      order.push(m[0]!);
+      arrived[m[0]!] = scheduler.now;
+    });
+    // One message every 10 ms.
+    for (let i = 0; i < 200; i++)
+      scheduler.at(i * 10, () => {
+        link.a.send(Uint8Array.of(i));
+      });
+    scheduler.runUntil(10_000);
+    // Nothing is lost, nothing overtakes.
+    expect(order).toEqual(Array.from({ length: 200 }, (_, i) => i));
+    expect(link.stats[0].lost).toBeGreaterThan(20);
+    const delays = arrived.map((t, i) => t - i * 10);
+    // A lost one waits a round trip (100 ms) more, at least; ones behind it wait with it.
+    expect(Math.max(...delays)).toBeGreaterThanOrEqual(150);
+    expect(delays.filter((d) => d > 50).length).toBeGreaterThan(link.stats[0].lost);
+    expect(() => new SimulatedLink({ scheduler, retransmit: true })).toThrow(
+      /retransmit needs ordered/,
+    );
+  });
+
   it('changes conditions per direction', () => {
     const scheduler = new EventScheduler();
     const link = new SimulatedLink({ scheduler, latencyMs: 10 });

@@ -220,6 +220,8 @@ describe('the server is the authority', () => {
       sendDelayUs: 0,
       inputAck: 1,
       filled: 0,
+      late: 0,
+      slack: 0,
       codec: 'bytes',
       size: state.length,
       hash: fnv1a64(state),

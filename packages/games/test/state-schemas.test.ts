@@ -193,3 +193,77 @@ function run(
     bytes,
   };
 }
+
+describe('late inputs in state sync', () => {
+  /** Four CTF bots over a 100 ± 30 ms, 5 % loss stream (TCP's head-of-line blocking), 20 s. */
+  function lateness(lead: 'auto' | number): {
+    late: number;
+    issued: number;
+    events: number;
+    lead: number;
+    roomLate: number;
+  } {
+    const scheduler = new EventScheduler(0);
+    const clock = scheduler.clock;
+    const rng = new Random(6);
+    const room = new StateSyncRoom({
+      game: ctfGame,
+      name: 'late',
+      clock,
+      players: 4,
+      seed: 3,
+      randomU32: () => rng.nextU32(),
+    });
+    scheduler.every(4, () => room.update(clock.now()));
+    const sessions: StateSyncSession<ButtonInput, Game>[] = [];
+    let events = 0;
+    for (let i = 0; i < 4; i++) {
+      const link = new SimulatedLink({
+        scheduler,
+        seed: 40 + i,
+        latencyMs: 100,
+        jitterMs: 30,
+        loss: 0.05,
+        ordered: true,
+        retransmit: true,
+      });
+      room.accept(link.b);
+      const own: { session?: StateSyncSession<ButtonInput, Game> } = {};
+      const session = new StateSyncSession<ButtonInput, Game>({
+        transport: link.a,
+        clock,
+        room: 'late',
+        game: ctfGame,
+        lead,
+        localInput: (_t, sim) => ctfGame.bot(sim, own.session?.welcome?.slot ?? 0),
+        onEvent: (e) => {
+          if (e.type === 'late-inputs') events++;
+        },
+      });
+      own.session = session;
+      sessions.push(session);
+      scheduler.every(1000 / 60, () => session.frame(clock.now()), 1 + i * 3.7);
+    }
+    scheduler.runUntil(20_000);
+    return {
+      late: sessions.reduce((a, s) => a + s.stats.lateInputs, 0),
+      issued: sessions.reduce((a, s) => a + s.stats.issuedInputs, 0),
+      events,
+      lead: Math.max(...sessions.map((s) => s.stats.lead)),
+      roomLate: room.stats.lateInputs,
+    };
+  }
+
+  it('are counted per client, reported as events, and an automatic lead cuts them to a fraction of a fixed one', () => {
+    const fixed = lateness(8);
+    const auto = lateness('auto');
+    // The server's per-seat count reaches the client: every late input is an event's worth.
+    expect(fixed.late).toBeGreaterThan(0.2 * fixed.issued);
+    expect(fixed.events).toBeGreaterThan(10);
+    expect(auto.late).toBeLessThan(fixed.late / 5);
+    expect(auto.lead).toBeGreaterThan(8);
+    // The room's count (what /metrics adds up) is the clients' sum, but for the last snapshot's news.
+    expect(fixed.roomLate).toBeGreaterThanOrEqual(fixed.late);
+    expect(fixed.roomLate - fixed.late).toBeLessThan(0.05 * fixed.late);
+  });
+});

@@ -147,6 +147,15 @@ export interface SimulatedLinkOptions extends Partial<LinkConditions> {
    * false: messages may overtake each other, like UDP datagrams.
    */
   ordered?: boolean;
+  /**
+   * With `ordered`: a lost message is not lost but sent again a round trip later (`2 × latency`:
+   * TCP's fast retransmit, once the messages behind it come back as duplicate acknowledgements),
+   * doubled for each further loss of it — and everything behind it waits (head-of-line blocking):
+   * loss as TCP makes a steadily sending game feel it, on simulated time. A sender with nothing
+   * behind the loss would wait for the retransmission timeout instead (≥ 200 ms; the loss
+   * harness's TCP proxy models that case). Default false.
+   */
+  retransmit?: boolean;
 }
 
 /** Counters of one direction of a {@link SimulatedLink}. */
@@ -201,10 +210,15 @@ export class SimulatedLink {
   private readonly lastDelivery: [number, number] = [-Infinity, -Infinity];
   private readonly scheduler: EventScheduler;
   private readonly ordered: boolean;
+  private readonly retransmit: boolean;
 
   constructor(options: SimulatedLinkOptions) {
     this.scheduler = options.scheduler;
     this.ordered = options.ordered ?? false;
+    this.retransmit = options.retransmit ?? false;
+    if (this.retransmit && !this.ordered) {
+      throw new RangeError('SimulatedLink: retransmit needs ordered (a stream)');
+    }
     const seed = options.seed ?? 1;
     this.rng = [new Random(seed), new Random((seed ^ 0x5bd1e995) >>> 0)];
     const c: LinkConditions = {
@@ -242,11 +256,19 @@ export class SimulatedLink {
     const rng = this.rng[from];
     const lost = c.loss > 0 && rng.next() < c.loss;
     const jitter = c.jitterMs > 0 ? (rng.next() * 2 - 1) * c.jitterMs : 0;
+    let resend = 0;
     if (lost) {
       stats.lost++;
-      return;
+      if (!this.retransmit) return;
+      // Sent again a round trip later, doubled for each further loss of it.
+      let rto = 2 * c.latencyMs;
+      resend = rto;
+      while (rng.next() < c.loss) {
+        rto *= 2;
+        resend += rto;
+      }
     }
-    let at = this.scheduler.now + Math.max(0, c.latencyMs + jitter);
+    let at = this.scheduler.now + resend + Math.max(0, c.latencyMs + jitter);
     if (this.ordered) at = Math.max(at, this.lastDelivery[from]);
     this.lastDelivery[from] = at;
     const to = this.ends[from === 0 ? 1 : 0];

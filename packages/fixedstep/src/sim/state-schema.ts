@@ -153,6 +153,8 @@ export class StateSchema {
   private readonly columns: readonly Column[];
   /** Byte-order column index of each sent column. */
   private readonly sentToColumn: readonly number[];
+  /** The one layout of a schema whose counts are all constants. */
+  private readonly fixed: Layout | undefined;
 
   /** Use {@link defineStateSchema}. */
   constructor(definition: StateSchemaDefinition) {
@@ -337,6 +339,11 @@ export class StateSchema {
     this.groups = groups;
     this.maxWords = maxWords;
     this.sentToColumn = sentToColumn;
+    if (patched.every((c) => typeof c.count === 'number')) {
+      let bytes = 0;
+      for (const c of patched) bytes += (c.count as number) * c.size;
+      this.fixed = this.layoutOf(new Uint8Array(bytes), undefined);
+    }
   }
 
   /**
@@ -435,10 +442,26 @@ export class StateSchema {
    * Where each column is: from a state's bytes (byte offsets and counts), or from its words
    * (counts and word starts). Checks sizes and counts; RangeError on a mismatch.
    */
-  private layout(
-    state: Uint8Array | undefined,
-    words: Int32Array | undefined,
-  ): { counts: number[]; offsets: number[]; wordStart: number[]; words: number } {
+  private layout(state: Uint8Array | undefined, words: Int32Array | undefined): Layout {
+    // A schema without counts taken from the state has one layout: work it out once.
+    if (this.fixed !== undefined) {
+      const f = this.fixed;
+      if (state && state.length !== f.bytes) {
+        throw new RangeError(
+          `state schema: the state has ${state.length} bytes, the schema describes ${f.bytes}`,
+        );
+      }
+      if (words && words.length !== f.words) {
+        throw new RangeError(
+          `state schema: ${words.length} words, the layout they describe has ${f.words}`,
+        );
+      }
+      return f;
+    }
+    return this.layoutOf(state, words);
+  }
+
+  private layoutOf(state: Uint8Array | undefined, words: Int32Array | undefined): Layout {
     const cols = this.columns;
     const counts: number[] = new Array<number>(cols.length).fill(0);
     const offsets: number[] = new Array<number>(cols.length).fill(0);
@@ -505,8 +528,18 @@ export class StateSchema {
         `state schema: ${words.length} words, the layout they describe has ${w}`,
       );
     }
-    return { counts, offsets, wordStart, words: w };
+    return { counts, offsets, wordStart, words: w, bytes: at };
   }
+}
+
+/** Where each column is in a state's bytes and words. */
+interface Layout {
+  counts: number[];
+  offsets: number[];
+  wordStart: number[];
+  /** Words of the state, and bytes (from a state's bytes; 0 from words). */
+  words: number;
+  bytes: number;
 }
 
 function sameCount(a: Column['count'], b: Column['count']): boolean {

@@ -17,11 +17,15 @@ import { emptyLinkStats, type LinkStats } from './link-stats.js';
  * What a state-sync session tells its owner: the events every session shares
  * ({@link SessionEvent}: welcome, running, error, closed) and its own:
  * - `bad-snapshot` — a snapshot could not be used (nothing was applied); a whole one was asked
- *   for.
+ *   for;
+ * - `late-inputs` — the server says more of our inputs came after their tick was stepped (it used
+ *   its missing-input rule instead); `late` is the total so far. With `lead: 'auto'` the session
+ *   runs further ahead.
  */
 export type StateSyncEvent =
   | SessionEvent<StateWelcomeMessage>
-  | { type: 'bad-snapshot'; reason: ResyncReason; message: string; tick: number };
+  | { type: 'bad-snapshot'; reason: ResyncReason; message: string; tick: number }
+  | { type: 'late-inputs'; late: number; tick: number };
 
 /** Options of a {@link StateSyncSession}. */
 export interface StateSyncSessionOptions<I, S extends Simulation<I>> {
@@ -135,6 +139,15 @@ export interface StateSyncSessionStats extends LinkStats {
   starvedFrames: number;
   /** Of our ticks, how many the server stepped without our input (it says so in snapshots). */
   filledInputs: number;
+  /** Of those, the inputs that did come, after their tick (late; the server counts them). */
+  lateInputs: number;
+  /** Inputs issued (ticks this player had an input for). */
+  issuedInputs: number;
+  /**
+   * The fewest ticks by which our inputs reached the server before their tick was stepped, in the
+   * newest snapshot's report (negative: late by that many).
+   */
+  slack: number;
   /** Ticks predicted ahead of the server clock now; render delay now (ms); measured jitter (ms). */
   lead: number;
   renderDelayMs: number;
@@ -160,6 +173,9 @@ export function emptyStateSyncStats(): StateSyncSessionStats {
     stallFrames: 0,
     starvedFrames: 0,
     filledInputs: 0,
+    lateInputs: 0,
+    issuedInputs: 0,
+    slack: 0,
     lead: 0,
     renderDelayMs: 0,
     jitterMs: 0,

@@ -15,6 +15,7 @@ import type { ErrorMessage } from '../wire/common.js';
 import type { Transport } from '../transport.js';
 import {
   DEFAULT_STATE_SYNC_LIMITS,
+  MAX_SLACK,
   decodeStateSyncMessage,
   encodeStateSyncMessage,
   type ResyncReason,
@@ -38,6 +39,10 @@ import {
 } from './state-sync-options.js';
 
 const ISSUED_CAPACITY = 512;
+/** Inputs should reach the server at least this many ticks before their tick is stepped. */
+const SLACK_TARGET = 1;
+/** Most ticks `lead: 'auto'` adds for lateness (a stream's retransmission stalls need many). */
+const MAX_LEAD_EXTRA = 45;
 const MAX_INPUT_WINDOW = DEFAULT_STATE_SYNC_LIMITS.maxInputTicks;
 
 /**
@@ -117,6 +122,10 @@ export class StateSyncSession<I, S extends Simulation<I>> {
   private leadExtra = 0;
   private lastFilled = 0;
   private lastFillAt = -Infinity;
+  /** The lowest slack the server reported since the last frame (Infinity: none). */
+  private lowSlack = Infinity;
+  /** No more lead for lateness before this time (the last increase has not shown yet). */
+  private holdLeadUntil = -Infinity;
   private delayMs = -1;
   private lastDelayAt = -Infinity;
 
@@ -405,6 +414,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     }
     this.issued.set(t, words);
     this.issueNext = t + 1;
+    this.stats.issuedInputs++;
     this.newInputs = true;
   }
 
@@ -449,12 +459,22 @@ export class StateSyncSession<I, S extends Simulation<I>> {
 
   private adaptLead(now: number): void {
     if (this.autoLead) {
-      if (this.stats.filledInputs > this.lastFilled) {
-        // The server stepped a tick without our input: it came too late. Run a tick further ahead.
-        this.lastFilled = this.stats.filledInputs;
-        if (now - this.lastFillAt > 100) this.leadExtra = Math.min(10, this.leadExtra + 1);
+      const low = this.lowSlack;
+      this.lowSlack = Infinity;
+      const filled = this.stats.filledInputs > this.lastFilled;
+      this.lastFilled = this.stats.filledInputs;
+      if (filled || low < SLACK_TARGET) {
+        // An input came too late (the server filled it) or too close to its tick: run further
+        // ahead — by as many ticks as it was short — and wait a round trip for that to show.
+        if (now >= this.holdLeadUntil) {
+          const short = low < SLACK_TARGET ? SLACK_TARGET - low : 1;
+          this.leadExtra = Math.min(MAX_LEAD_EXTRA, this.leadExtra + short);
+          this.holdLeadUntil =
+            now + this.clockSync.rttHigh + this.welcomeMsg!.snapshotEvery * this.tickMs;
+        }
         this.lastFillAt = now;
       } else if (this.leadExtra > 0 && now - this.lastFillAt > 5000) {
+        // Five seconds with every input early enough: a tick less.
         this.leadExtra--;
         this.lastFillAt = now;
       }
@@ -560,6 +580,14 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     if (!w || !scratch) return;
     if (m.inputAck > this.serverInputAck) this.serverInputAck = m.inputAck;
     if (m.filled > this.stats.filledInputs) this.stats.filledInputs = m.filled;
+    if (m.late > this.stats.lateInputs) {
+      this.stats.lateInputs = m.late;
+      this.life.emit({ type: 'late-inputs', late: m.late, tick: m.tick });
+    }
+    if (m.slack < MAX_SLACK) {
+      this.stats.slack = m.slack;
+      if (m.slack < this.lowSlack) this.lowSlack = m.slack;
+    }
     if (m.tick <= this.newest) {
       this.stats.staleSnapshots++;
       return;

@@ -8,6 +8,7 @@
 export {
   STATE_SYNC_VERSION,
   STATE_SYNC_PROTOCOL,
+  MAX_SLACK,
   DEFAULT_STATE_SYNC_LIMITS,
   encodeStateSyncMessage,
   decodeStateSyncMessage,

@@ -61,6 +61,9 @@ export const DEFAULT_STATE_SYNC_LIMITS: Readonly<StateSyncLimits> = Object.freez
 export type ResyncReason = 'bad-delta' | 'hash-mismatch' | 'no-base' | 'unloadable';
 const RESYNC_REASONS = ['bad-delta', 'hash-mismatch', 'no-base', 'unloadable'] as const;
 
+/** The bound of a snapshot's `slack` (ticks either way). */
+export const MAX_SLACK = 255;
+
 /**
  * How a snapshot's payload is coded:
  * - `'bytes'` — the game's `save()` bytes, whole or as XOR runs against the base (`delta.ts`);
@@ -159,6 +162,14 @@ export interface StateSnapshotMessage {
   inputAck: number;
   /** How many of your ticks the server stepped without your input (filled by the missing rule). */
   filled: number;
+  /** Of those, how many inputs came later (late: dropped). */
+  late: number;
+  /**
+   * The fewest ticks by which your inputs that arrived since your previous snapshot came before
+   * their tick was stepped (negative: late by that many), within ±{@link MAX_SLACK};
+   * {@link MAX_SLACK} when none arrived.
+   */
+  slack: number;
   /** How `payload` is coded. */
   codec: SnapshotCodec;
   /** Byte length of the state (`'schema'`: of its words, 4 bytes each). */
@@ -266,6 +277,8 @@ export const STATE_SYNC_PROTOCOL = defineProtocol<StateSyncMessage, StateSyncLim
         sendDelayUs: uint(),
         inputAck: uint({ base: (m) => m.tick as number }),
         filled: uint(),
+        late: uint(),
+        slack: uint({ min: -MAX_SLACK, max: MAX_SLACK }),
         codec: oneOf(SNAPSHOT_CODECS),
         size: uint({ max: 'maxStateBytes' }),
         hash: u64(),

@@ -23,6 +23,7 @@ import { encodeDelta } from './delta.js';
 import { BitWriter, encodeSchemaDelta } from './schema-codec.js';
 import {
   DEFAULT_STATE_SYNC_LIMITS,
+  MAX_SLACK,
   STATE_SYNC_PROTOCOL,
   type StateSyncLimits,
   type StateSyncMessage,
@@ -166,6 +167,10 @@ interface SeatInputs {
   /** Whether it sent an input since it (re)joined: only an active player's input is filled from its last. */
   active: boolean;
   filled: number;
+  /** Of the filled ticks, the inputs that came later. */
+  late: number;
+  /** The fewest ticks an input arrived ahead of its tick since the last snapshot ({@link MAX_SLACK}: none). */
+  slack: number;
   /** Per tick modulo {@link PENDING_TICKS}: the tick whose input was filled there (a later arrival is late). */
   filledTicks: Float64Array;
 }
@@ -311,6 +316,8 @@ export class StateSyncRoom<
         last: new Uint32Array(this.words),
         active: false,
         filled: 0,
+        late: 0,
+        slack: MAX_SLACK,
         filledTicks: new Float64Array(PENDING_TICKS).fill(-1),
       });
     }
@@ -416,7 +423,7 @@ export class StateSyncRoom<
     });
     // The first snapshot goes at once: the client can draw the world before the next snapshot tick.
     const round = newRound();
-    this.snap();
+    this.snap(round);
     this.snapshotTo(m, this.viewFor(m.slot, round), now, round);
   }
 
@@ -507,7 +514,7 @@ export class StateSyncRoom<
     // Nobody to send to: nothing to quantise (the world runs on unsnapped until someone joins).
     if (this.members().next().done === true) return;
     const round = newRound();
-    this.snap();
+    this.snap(round);
     for (const m of this.members()) this.snapshotTo(m, this.viewFor(m.slot, round), now, round);
   }
 
@@ -515,13 +522,20 @@ export class StateSyncRoom<
    * Schema codec: set the world to what is sent — every quantised number to its multiple of the
    * precision — so clients that load a snapshot start from the server's state exactly.
    */
-  private snap(): void {
+  private snap(round: SnapshotRound): void {
     const schema = this.settings.schema;
     if (schema === undefined) return;
     const own = this.sim.save();
     const report: QuantiseReport = { maxError: 0, clamped: 0 };
     const words = schema.quantise(own, report);
-    this.sim.load(schema.merge(own, words));
+    const snapped = schema.merge(own, words);
+    this.sim.load(snapped);
+    // Without a view everyone sees the whole state: what the world was set to, and its words
+    // (what a client's merge gives back) — no second save and quantise.
+    if (this.options.view === undefined) {
+      round.views.set(-2, snapped);
+      round.words.set(snapped, StateSchema.bytesOf(words));
+    }
     if (report.maxError > this.stats.quantisationError) {
       this.stats.quantisationError = report.maxError;
     }
@@ -599,12 +613,15 @@ export class StateSyncRoom<
       sendDelayUs: Math.max(0, Math.round((now - (this.startAt + tick * this.tickMs)) * 1000)),
       inputAck: seat ? this.inputAck(seat) : tick,
       filled: seat?.filled ?? 0,
+      late: seat?.late ?? 0,
+      slack: seat ? Math.max(-MAX_SLACK, Math.min(MAX_SLACK, seat.slack)) : MAX_SLACK,
       codec: schema ? 'schema' : 'bytes',
       size: state.length,
       hash,
       payload,
     });
     this.ctx!.sendBytes(m, bytes);
+    if (seat) seat.slack = MAX_SLACK;
     this.stats.snapshotBytes += bytes.length;
     if (base) {
       this.stats.deltaSnapshots++;
@@ -704,6 +721,8 @@ export class StateSyncRoom<
         if (s.filledTicks[t % PENDING_TICKS] === t) {
           s.filledTicks[t % PENDING_TICKS] = -1;
           this.stats.lateInputs++;
+          s.late++;
+          if (t - now < s.slack) s.slack = t - now;
         }
         continue;
       }
@@ -717,6 +736,8 @@ export class StateSyncRoom<
         continue;
       }
       s.pending.set(t, inputs, k * words);
+      // A first arrival: how early it came (0: in time for the next step, just).
+      if (t - now < s.slack) s.slack = t - now;
     }
     s.active = true;
     // A player who sends inputs plays: the room is not idle.

@@ -228,17 +228,29 @@ export function encodeSchemaDelta(
 ): void {
   const b = starts(schema, base);
   const n = starts(schema, next);
-  /** The value the decoder expects of a word: the base's, moved by its rate. */
-  const expected = (s: number, r: number, l: number, baseCount: number): number => {
-    if (r >= baseCount) return 0;
-    const col = schema.sent[s]!;
-    const was = base![b.col[s]! + r * col.lanes + l]!;
-    if (col.rate < 0) return was;
-    return predict(was, base![b.col[col.rate]! + r]!, col.rateScale, seconds);
-  };
+  // What the decoder will start from, word for word in `next`'s layout: the base's (0 for rows it
+  // did not have), moved by its rate. Then a row changed where `next` differs from it.
+  const expected = scratchWords(next.length);
+  for (const [gi, g] of schema.groups.entries()) {
+    const rows = Math.min(n.rows[gi]!, b.rows[gi]!);
+    for (const s of g.columns) {
+      const col = schema.sent[s]!;
+      const from = b.col[s]!;
+      const to = n.col[s]!;
+      const words = n.rows[gi]! * col.lanes;
+      const kept = rows * col.lanes;
+      if (kept > 0) expected.set(base!.subarray(from, from + kept), to);
+      expected.fill(0, to + kept, to + words);
+      if (col.rate >= 0) {
+        const rate = b.col[col.rate]!;
+        for (let r = 0; r < rows; r++) {
+          expected[to + r] = predict(expected[to + r]!, base![rate + r]!, col.rateScale, seconds);
+        }
+      }
+    }
+  }
   for (const [gi, g] of schema.groups.entries()) {
     const count = n.rows[gi]!;
-    const baseCount = b.rows[gi]!;
     grow(count);
     const rows = scratch.rows;
     let changed = 0;
@@ -246,8 +258,9 @@ export function encodeSchemaDelta(
       let differs = false;
       for (const s of g.columns) {
         const lanes = schema.sent[s]!.lanes;
-        for (let l = 0; l < lanes && !differs; l++) {
-          if (next[n.col[s]! + r * lanes + l]! !== expected(s, r, l, baseCount)) differs = true;
+        const at = n.col[s]! + r * lanes;
+        for (let l = 0; l < lanes; l++) {
+          if (next[at + l] !== expected[at + l]) differs = true;
         }
         if (differs) break;
       }
@@ -258,13 +271,13 @@ export function encodeSchemaDelta(
     if (count > 1) writeRows(out, rows, changed, count);
     for (const s of g.columns) {
       const lanes = schema.sent[s]!.lanes;
+      const start = n.col[s]!;
       for (let l = 0; l < lanes; l++) {
         const zig = scratch.zig;
         let nonZero = 0;
         for (let i = 0; i < changed; i++) {
-          const r = rows[i]!;
-          const v = next[n.col[s]! + r * lanes + l]!;
-          const z = zigzag((v - expected(s, r, l, baseCount)) | 0);
+          const at = start + rows[i]! * lanes + l;
+          const z = zigzag((next[at]! - expected[at]!) | 0);
           zig[i] = z;
           if (z !== 0) nonZero++;
         }
@@ -274,6 +287,17 @@ export function encodeSchemaDelta(
       }
     }
   }
+}
+
+/** A reused scratch vector of at least `n` words (the encoder's expected words). */
+let expectedScratch = new Int32Array(1024);
+function scratchWords(n: number): Int32Array {
+  if (expectedScratch.length < n) {
+    let m = expectedScratch.length;
+    while (m < n) m *= 2;
+    expectedScratch = new Int32Array(m);
+  }
+  return expectedScratch;
 }
 
 /** The changed rows of a group of `count`: a bitmap, or the gaps — whichever is shorter. */
