@@ -15,8 +15,8 @@ import {
 } from 'fixedstep';
 import { wallMarksSetting } from '../src/physics/world/broad-phase.js';
 import { solverKernelsSetting } from '../src/physics/world/solver-kernels.js';
-import { BROAD_PHASE_KERNELS_WASM } from '../src/physics/world/broad-phase-wasm.js';
-import { SOLVER_KERNELS_WASM } from '../src/physics/world/solver-wasm.js';
+import { BROAD_PHASE_WASM } from '../src/physics/world/broad-phase-wasm.js';
+import { CONTACT_SOLVER_WASM } from '../src/physics/world/contact-solver-wasm.js';
 import { KERNELS, assembleKernels, kernelsModule } from '../../../scripts/wasm.mjs';
 
 // Golden hashes over what the solver's speed work touches: big piles (long contact chains),
@@ -102,8 +102,8 @@ describe('golden hashes of the solver', () => {
 
 describe('the solver kernels', () => {
   it.each([
-    ['solver.wat', 'solver-wasm.ts', () => SOLVER_KERNELS_WASM],
-    ['broad-phase.wat', 'broad-phase-wasm.ts', () => BROAD_PHASE_KERNELS_WASM],
+    ['contact-solver.wat', 'contact-solver-wasm.ts', () => CONTACT_SOLVER_WASM],
+    ['broad-phase.wat', 'broad-phase-wasm.ts', () => BROAD_PHASE_WASM],
   ] as const)(
     'are %s, assembled: the committed bytes are not stale, and under 4 KB',
     async (wat, ts, committed) => {

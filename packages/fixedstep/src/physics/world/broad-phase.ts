@@ -11,13 +11,21 @@
  *
  * Once the world's WebAssembly kernels run (they start in a step with many contacts; see
  * `solver-kernels.ts`), the grid is built there (`gridBounds`, `gridCells` in broad-phase.wat), and
- * in a world of circles only so is the body–body pass (`circlePairs`): the same cells, order and
- * arithmetic, so the same contacts to the bit (a test runs both), in about half the time. They use
- * the world's kernel memory, which the solvers lay out afresh after them.
+ * in a world of circles only so is the body–body pass (`bodyPairs`): the same cells, order and
+ * arithmetic, so the same contacts to the bit (a test runs both), in about half the time. Each
+ * export has the name of the function here it twins. They use the world's kernel memory (its
+ * layout in `kernel-layout.ts`), which the solvers lay out afresh after them.
  */
 import { BodyFlag, type BodyStore } from './body.js';
 import { ContactOverflow, type ContactList } from './contacts.js';
 import type { WorldDef } from './def.js';
+import {
+  BOUNDS_FLAGS,
+  BOUNDS_MAX_X,
+  BOUNDS_MAX_Y,
+  BOUNDS_MIN_X,
+  BOUNDS_MIN_Y,
+} from './kernel-layout.js';
 import { boxBox, boxSegment, circleBox, circleCircle, circleSegment } from './manifold.js';
 import type { KernelMemory } from './solver-kernels.js';
 import { WallKind, staticRef, type StaticStore } from './statics.js';
@@ -62,6 +70,9 @@ export class Grid {
   kernelItemsAt = 0;
   kernelFlagsAt = 0;
   kernelEnd = 0;
+  /** The bounds record (kernel-layout.ts) when {@link gridBounds} runs in JavaScript. */
+  private readonly boundsF64 = new Float64Array((BOUNDS_FLAGS + 8) >>> 3);
+  private readonly boundsI32 = new Int32Array(this.boundsF64.buffer);
 
   /** Room for `capacity` bodies (and the cells a grid of them may use). */
   resize(capacity: number): void {
@@ -90,51 +101,31 @@ export class Grid {
     const columns = 8 * ((n + 1) & ~1);
     const yAt = columns;
     const boundsAt = 4 * columns;
-    const cellOfAt = boundsAt + 40;
+    const cellOfAt = boundsAt + BOUNDS_FLAGS + 8;
     const itemsAt = cellOfAt + columns / 2;
     const startAt = itemsAt + columns / 2;
     const cursorAt = startAt + 4 * (budget + 2);
     const flagsAt = cursorAt + 4 * (budget + 1);
     const kernels = n > 0 ? work.kernelsWith(flagsAt + n) : null;
-    let minX = Infinity;
-    let minY = Infinity;
-    let maxX = -Infinity;
-    let maxY = -Infinity;
+    // The bounds record (kernel-layout.ts) in the kernel memory, or in the grid's own when the
+    // JavaScript twin writes it.
+    let f64 = this.boundsF64;
+    let i32 = this.boundsI32;
+    let at = 0;
     if (kernels) {
-      const f64 = work.f64;
-      f64.set(bodies.x.subarray(0, n), 0);
-      f64.set(bodies.y.subarray(0, n), yAt >>> 3);
+      work.f64.set(bodies.x.subarray(0, n), 0);
+      work.f64.set(bodies.y.subarray(0, n), yAt >>> 3);
       new Uint8Array(work.memory, flagsAt, n).set(bodies.flags.subarray(0, n));
       kernels.gridBounds(n, 0, yAt, flagsAt, cellOfAt, boundsAt);
-      const b = boundsAt >>> 3;
-      minX = f64[b]!;
-      minY = f64[b + 1]!;
-      maxX = f64[b + 2]!;
-      maxY = f64[b + 3]!;
-      this.flagUnion = work.i32[(boundsAt + 32) >>> 2]!;
-    } else {
-      const flags = bodies.flags;
-      const x = bodies.x;
-      const y = bodies.y;
-      const cellOf = this.cellOf;
-      let union = 0;
-      for (let i = 0; i < n; i++) {
-        const f = flags[i]!;
-        union |= f;
-        if (f === 0) {
-          cellOf[i] = -1;
-          continue;
-        }
-        const a = x[i]!;
-        const b = y[i]!;
-        cellOf[i] = 0;
-        if (a < minX) minX = a;
-        if (a > maxX) maxX = a;
-        if (b < minY) minY = b;
-        if (b > maxY) maxY = b;
-      }
-      this.flagUnion = union;
-    }
+      f64 = work.f64;
+      i32 = work.i32;
+      at = boundsAt;
+    } else gridBounds(n, bodies.x, bodies.y, bodies.flags, this.cellOf, f64, i32, 0);
+    let minX = f64[(at + BOUNDS_MIN_X) >>> 3]!;
+    let minY = f64[(at + BOUNDS_MIN_Y) >>> 3]!;
+    const maxX = f64[(at + BOUNDS_MAX_X) >>> 3]!;
+    const maxY = f64[(at + BOUNDS_MAX_Y) >>> 3]!;
+    this.flagUnion = i32[(at + BOUNDS_FLAGS) >>> 2]!;
     let spanX = maxX - minX;
     let spanY = maxY - minY;
     // Positions so far apart that the span overflows (finite ones beyond ±8.9e307 m, which only a
@@ -206,11 +197,11 @@ export class Grid {
       this.kernelEnd = (flagsAt + n + 7) & ~7;
       return;
     }
-    this.sort(bodies, cells);
+    this.gridCells(bodies, cells);
   }
 
   /** The counting sort of {@link build} in JavaScript: cells, their starts, the ids in cell order. */
-  private sort(bodies: BodyStore, cells: number): void {
+  private gridCells(bodies: BodyStore, cells: number): void {
     const n = bodies.slotCount;
     const x = bodies.x;
     const y = bodies.y;
@@ -295,6 +286,48 @@ export class Grid {
 }
 
 /**
+ * {@link Grid.build}'s first pass: the bounds of the live bodies' centres and every flag or-ed, in
+ * the bounds record at byte `at` of `f64` / `i32` (one buffer; see kernel-layout.ts); `cellOf`
+ * gets −1 for a free slot, else 0.
+ */
+function gridBounds(
+  n: number,
+  x: Float64Array,
+  y: Float64Array,
+  flags: Uint8Array,
+  cellOf: Int32Array,
+  f64: Float64Array,
+  i32: Int32Array,
+  at: number,
+): void {
+  let minX = Infinity;
+  let minY = Infinity;
+  let maxX = -Infinity;
+  let maxY = -Infinity;
+  let union = 0;
+  for (let i = 0; i < n; i++) {
+    const f = flags[i]!;
+    union |= f;
+    if (f === 0) {
+      cellOf[i] = -1;
+      continue;
+    }
+    const a = x[i]!;
+    const b = y[i]!;
+    cellOf[i] = 0;
+    if (a < minX) minX = a;
+    if (a > maxX) maxX = a;
+    if (b < minY) minY = b;
+    if (b > maxY) maxY = b;
+  }
+  f64[(at + BOUNDS_MIN_X) >>> 3] = minX;
+  f64[(at + BOUNDS_MIN_Y) >>> 3] = minY;
+  f64[(at + BOUNDS_MAX_X) >>> 3] = maxX;
+  f64[(at + BOUNDS_MAX_Y) >>> 3] = maxY;
+  i32[(at + BOUNDS_FLAGS) >>> 2] = union;
+}
+
+/**
  * Whether steps mark the cells near walls (true); tests switch it off to compare the bits.
  * @internal
  */
@@ -323,14 +356,13 @@ export function findContacts(
   work: KernelMemory,
 ): void {
   contacts.count = 0;
-  if (!circlePairsInKernel(grid, bodies, contacts, work))
-    bodyPairs(grid, bodies, statics, contacts);
+  if (!bodyPairsInKernel(grid, bodies, contacts, work)) bodyPairs(grid, bodies, statics, contacts);
   contacts.bodyPairCount = contacts.count;
   wallPairs(grid, bodies, statics, contacts, gravityPending, def);
 }
 
 /**
- * The body–body pass of `findContacts` in WebAssembly (`circlePairs` in broad-phase.wat: the same
+ * The body–body pass of `findContacts` in WebAssembly (`bodyPairs` in broad-phase.wat: the same
  * cells, order and arithmetic), for a world of circles only whose grid was built in the kernel
  * memory this step: it reads the positions, cell starts and items where `Grid.build` left them,
  * with the half widths, inverse masses and flags copied in (a wake between two calls changes the
@@ -338,7 +370,7 @@ export function findContacts(
  * changed nothing, when it does not apply. Throws {@link ContactOverflow} where `contacts.add`
  * would.
  */
-function circlePairsInKernel(
+function bodyPairsInKernel(
   grid: Grid,
   bodies: BodyStore,
   contacts: ContactList,
@@ -363,7 +395,7 @@ function circlePairsInKernel(
     f64.set(bodies.halfWidth.subarray(0, n), (2 * columns) >>> 3);
     f64.set(bodies.solverInverseMass.subarray(0, n), (3 * columns) >>> 3);
     new Uint8Array(work.memory, flagsAt, n).set(bodies.flags.subarray(0, n));
-    const count = kernels.circlePairs(
+    const count = kernels.bodyPairs(
       0,
       columns,
       2 * columns,

@@ -1,11 +1,12 @@
-;; The broad phase's loops (broad-phase.ts has the same in JavaScript, which give the same bits):
-;; the grid's bounds and counting sort, and the body–body pairs of a world of circles. A module of
-;; its own beside solver.wat (the two share one memory), so each stays under the 4 KB a browser
+;; The broad phase's loops; broad-phase.ts has each in JavaScript under the same name (gridBounds,
+;; gridCells, bodyPairs), which give the same bits: the grid's bounds and counting sort, and the
+;; body–body pairs of a world of circles. A module of its own beside contact-solver.wat (the two
+;; share one memory, laid out as kernel-layout.ts says), so each stays under the 4 KB a browser
 ;; compiles synchronously on its main thread.
 (module
   (import "env" "memory" (memory 1))
 
-  ;; Grid.build's first pass (broad-phase.ts): the bounds of the live bodies' centres (the columns
+  ;; Grid.build's first pass (gridBounds in broad-phase.ts): the bounds of the live bodies' centres (the columns
   ;; at $x, $y, f64, and $flags, u8, by body) into 4 f64 at $out (min x, min y, max x, max y), each
   ;; compared as the JavaScript compares (`if (v < min) min = v`), then every flag or-ed (i32);
   ;; $cellOf (i32 by body) gets −1 for a free slot, else 0.
@@ -35,13 +36,13 @@
             (local.set $maxY (select (local.get $b) (local.get $maxY) (f64.gt (local.get $b) (local.get $maxY))))))
         (local.set $i (i32.add (local.get $i) (i32.const 1)))
         (br $body)))
-    (f64.store (local.get $out) (local.get $minX))
-    (f64.store offset=8 (local.get $out) (local.get $minY))
-    (f64.store offset=16 (local.get $out) (local.get $maxX))
-    (f64.store offset=24 (local.get $out) (local.get $maxY))
-    (i32.store offset=32 (local.get $out) (local.get $union)))
+    (f64.store offset={{BOUNDS_MIN_X}} (local.get $out) (local.get $minX))
+    (f64.store offset={{BOUNDS_MIN_Y}} (local.get $out) (local.get $minY))
+    (f64.store offset={{BOUNDS_MAX_X}} (local.get $out) (local.get $maxX))
+    (f64.store offset={{BOUNDS_MAX_Y}} (local.get $out) (local.get $maxY))
+    (i32.store offset={{BOUNDS_FLAGS}} (local.get $out) (local.get $union)))
 
-  ;; Grid.build's counting sort: each live body's cell, floor((x − minX)·inv) + floor((y − minY)·inv)
+  ;; Grid.build's counting sort (Grid.gridCells): each live body's cell, floor((x − minX)·inv) + floor((y − minY)·inv)
   ;; · cols, into $cellOf; the cells' starts (i32, $cells + 1 of them) at $start; the body ids in cell
   ;; order, id order within a cell, at $items; $cursor is scratch ($cells of i32).
   (func (export "gridCells") (param $n i32) (param $x i32) (param $y i32) (param $cellOf i32)
@@ -92,12 +93,12 @@
         (local.set $i (i32.add (local.get $i) (i32.const 1)))
         (br $body))))
 
-  ;; The body–body pairs of a world of circles only, as broad-phase.ts's findContacts finds them
+  ;; The body–body pairs of a world of circles only, as broad-phase.ts's bodyPairs finds them
   ;; (same cells, same order, same arithmetic). Bodies by id in columns of f64 at $x, $y, $hw (the
   ;; radius), $im (solver inverse mass) and u8 at $flags; the grid's cellStart and cellItems (i32). Contacts
   ;; out in columns of $room from $out: bodyA, bodyB (i32), then nx, ny, separation (f64), lower id
   ;; first. Returns the count, or -1 when contact number $room was due (its two bodies at $out − 8).
-  (func (export "circlePairs") (param $x i32) (param $y i32) (param $hw i32)
+  (func (export "bodyPairs") (param $x i32) (param $y i32) (param $hw i32)
         (param $im i32) (param $flags i32) (param $start i32) (param $items i32)
         (param $rows i32) (param $cols i32) (param $out i32) (param $room i32) (result i32)
     (local $cy i32) (local $cx i32) (local $c i32) (local $s i32) (local $e i32)
@@ -174,8 +175,8 @@
                               (br_if $skip (i32.and
                                 (i32.and (f64.eq (local.get $ii) (f64.const 0))
                                          (f64.eq (f64.load (i32.add (local.get $im) (local.get $pj))) (f64.const 0)))
-                                (i32.or (i32.eqz (i32.and (i32.or (local.get $fi) (local.get $fj)) (i32.const 16)))
-                                        (i32.eqz (i32.and (i32.or (local.get $fi) (local.get $fj)) (i32.const 8))))))
+                                (i32.or (i32.eqz (i32.and (i32.or (local.get $fi) (local.get $fj)) (i32.const {{BODY_ASLEEP}})))
+                                        (i32.eqz (i32.and (i32.or (local.get $fi) (local.get $fj)) (i32.const {{BODY_KINEMATIC}}))))))
                               ;; circleCircle
                               (local.set $d (f64.sqrt (local.get $d2)))
                               (if (f64.gt (local.get $d) (f64.const 0))
