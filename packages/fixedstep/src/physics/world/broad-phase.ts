@@ -9,6 +9,17 @@
  * are a linear scan over the bodies near a wall (the grid marks their cells). Each candidate pair
  * goes to `manifold.ts`.
  *
+ * The grid's array covers the bodies' bounds with at most `4 × slots + 64` cells, its cells
+ * doubled until it does. When one body is far from the rest, that doubling crowds the others into
+ * a few cells (a 2,000-circle pile with one tiny body 5 km away: some 40 times the pairs to test). So
+ * when the doubled grid is crowded ({@link CROWDED}), the grid is *hashed* instead: cells as wide
+ * as the bodies again, each cell (column, row) in bucket `hash(column, row)` of a table of about
+ * two buckets a body, bodies sorted by bucket, then id; pairs in bucket order, then id order,
+ * each body meeting the bodies of its own cell after it and of the cells east, north-west, north
+ * and north-east of it (a bucket's bodies filtered by their cell). Both grids are functions of
+ * the current state only. Code that walks cells (the sweeps in `ccd.ts`) asks {@link Grid.hashed}
+ * and looks a cell up with {@link bucketOf}.
+ *
  * Once the world's WebAssembly kernels run (they start in a step with many contacts; see
  * `solver-kernels.ts`), the grid is built there (`gridBounds`, `gridCells` in broad-phase.wat), and
  * in a world of circles only so is the body–body pass (`bodyPairs`): the same cells, order and
@@ -61,6 +72,17 @@ export class Grid {
   /** Whether {@link nearWall} holds this step's marks (false: test every body against the walls). */
   wallMarks = false;
   /**
+   * Whether this step's grid is hashed (see the file comment): then a "cell" of
+   * {@link cellStart}, {@link cellOf} is a bucket — {@link bucketOf} of a cell's column and row —
+   * and {@link cols} and {@link rows} only bound the columns and rows the bodies are in.
+   */
+  hashed = false;
+  /** Buckets − 1 of the hashed grid (a power of two, minus one). */
+  bucketMask = 0;
+  /** By body: its cell's column and row in the hashed grid. */
+  cellX = new Int32Array(0);
+  cellY = new Int32Array(0);
+  /**
    * Where {@link build} left its columns in the kernel memory this step, for the circle pass
    * (byte offsets; see `build`), or `inKernel` false: built in JavaScript, or no grid.
    */
@@ -78,6 +100,8 @@ export class Grid {
   resize(capacity: number): void {
     this.cellOf = new Int32Array(capacity);
     this.cellItems = new Int32Array(capacity);
+    this.cellX = new Int32Array(capacity);
+    this.cellY = new Int32Array(capacity);
     const maxCells = 4 * capacity + 64;
     this.cellStart = new Int32Array(maxCells + 2);
     this.cellCursor = new Int32Array(maxCells + 1);
@@ -87,7 +111,8 @@ export class Grid {
   /**
    * Sorts the live bodies into cells over their bounds. The cell is twice the largest half extent
    * (or `cellSize` if larger), doubled until the grid has at most `4 × slots + 64` cells — a
-   * budget from the slot count (state), not the capacity (history).
+   * budget from the slot count (state), not the capacity (history). If it had to double and is
+   * then {@link CROWDED}, the bodies go into the hashed grid instead (see the file comment).
    */
   build(bodies: BodyStore, def: Readonly<WorldDef>, work: KernelMemory): void {
     const n = bodies.slotCount;
@@ -98,6 +123,7 @@ export class Grid {
     // and the flags or-ed (i32, 8 bytes), cellOf, items (i32), start (budget + 2), cursor
     // (budget + 1), flags (u8) — which the circle pass then reads where they are.
     this.inKernel = false;
+    this.hashed = false;
     const columns = 8 * ((n + 1) & ~1);
     const yAt = columns;
     const boundsAt = 4 * columns;
@@ -151,7 +177,8 @@ export class Grid {
       return;
     }
     const twice = 2 * bodies.largestHalfExtent;
-    let h = def.cellSize > twice ? def.cellSize : twice;
+    const base = def.cellSize > twice ? def.cellSize : twice;
+    let h = base;
     let inv = 1 / h;
     let cols = Math.floor(spanX * inv) + 1;
     let rows = Math.floor(spanY * inv) + 1;
@@ -195,9 +222,78 @@ export class Grid {
       this.kernelItemsAt = itemsAt;
       this.kernelFlagsAt = flagsAt;
       this.kernelEnd = (flagsAt + n + 7) & ~7;
-      return;
+    } else this.gridCells(bodies, cells);
+    if (h !== base && !oneCell && hashedGridSetting.enabled && this.crowded(cells, n))
+      this.hashCells(bodies, base, spanX, spanY);
+  }
+
+  /**
+   * Whether the grid's cells hold more than {@link CROWDED} bodies per body, summed over cells as
+   * count² (pairs tested grow with it), plus 64 for small worlds.
+   */
+  private crowded(cells: number, n: number): boolean {
+    const start = this.cellStart;
+    let sum = 0;
+    for (let c = 0; c < cells; c++) {
+      const count = start[c + 1]! - start[c]!;
+      sum += count * count;
     }
-    this.gridCells(bodies, cells);
+    return sum > CROWDED * n + 64;
+  }
+
+  /**
+   * The hashed grid (see the file comment) over the bounds already found: cells of `base` (doubled
+   * only while the columns or rows would not fit {@link HASHED_MAX_CELLS}), each body's column and
+   * row, a counting sort of the bodies by bucket in id order. In JavaScript whether or not the
+   * kernels run (the body–body pass then runs here too).
+   */
+  private hashCells(bodies: BodyStore, base: number, spanX: number, spanY: number): void {
+    const n = bodies.slotCount;
+    let h = base;
+    let inv = 1 / h;
+    while (spanX * inv >= HASHED_MAX_CELLS || spanY * inv >= HASHED_MAX_CELLS) {
+      h *= 2;
+      inv = 1 / h;
+    }
+    let buckets = 2;
+    while (buckets < 2 * n) buckets *= 2;
+    const mask = buckets - 1;
+    this.hashed = true;
+    this.inKernel = false;
+    this.bucketMask = mask;
+    this.cellSize = h;
+    this.inverseCellSize = inv;
+    const cols = Math.floor(spanX * inv) + 1;
+    this.cols = cols;
+    this.rows = Math.floor(spanY * inv) + 1;
+    const flags = bodies.flags;
+    const x = bodies.x;
+    const y = bodies.y;
+    const minX = this.minX;
+    const minY = this.minY;
+    const cellOf = this.cellOf;
+    const cellX = this.cellX;
+    const cellY = this.cellY;
+    const start = this.cellStart;
+    const cursor = this.cellCursor;
+    const items = this.cellItems;
+    start.fill(0, 0, buckets + 1);
+    for (let i = 0; i < n; i++) {
+      if (flags[i] === 0) continue;
+      const cx = Math.floor((x[i]! - minX) * inv);
+      const cy = Math.floor((y[i]! - minY) * inv);
+      const b = bucketOf(cx, cy, cols, mask);
+      cellX[i] = cx;
+      cellY[i] = cy;
+      cellOf[i] = b;
+      start[b + 1]!++;
+    }
+    for (let b = 0; b < buckets; b++) {
+      const s = start[b]!;
+      start[b + 1] = start[b + 1]! + s;
+      cursor[b] = s;
+    }
+    for (let i = 0; i < n; i++) if (flags[i] !== 0) items[cursor[cellOf[i]!]!++] = i;
   }
 
   /** The counting sort of {@link build} in JavaScript: cells, their starts, the ids in cell order. */
@@ -251,7 +347,11 @@ export class Grid {
     const rows = this.rows;
     const count = statics.count;
     if (cols === 0 || count === 0 || !wallMarksSetting.enabled) return;
-    const cells = cols * rows;
+    // A hashed grid marks the bucket of each cell near a wall: a body in a marked bucket may be
+    // far from every wall (it is tested, as it would be anyway), one in an unmarked bucket is not.
+    const hashed = this.hashed;
+    const mask = this.bucketMask;
+    const cells = hashed ? mask + 1 : cols * rows;
     const inv = this.inverseCellSize;
     const minX = this.minX;
     const minY = this.minY;
@@ -277,7 +377,12 @@ export class Grid {
           area += (toX - fromX + 1) * (toY - fromY + 1);
           continue;
         }
-        for (let cy = fromY; cy <= toY; cy++) mark.fill(1, cy * cols + fromX, cy * cols + toX + 1);
+        if (hashed) {
+          for (let cy = fromY; cy <= toY; cy++)
+            for (let cx = fromX; cx <= toX; cx++) mark[bucketOf(cx, cy, cols, mask)] = 1;
+        } else
+          for (let cy = fromY; cy <= toY; cy++)
+            mark.fill(1, cy * cols + fromX, cy * cols + toX + 1);
       }
       if (pass === 0 && area > cells) return;
     }
@@ -333,8 +438,41 @@ function gridBounds(
  */
 export const wallMarksSetting = { enabled: true };
 
+/**
+ * Whether a crowded doubled grid is hashed (true); the outlier benchmark switches it off to show
+ * the grid before, side by side.
+ * @internal
+ */
+export const hashedGridSetting = { enabled: true };
+
 /** Cells of margin around a wall's box in {@link Grid.markWalls} (one would do; two for rounding). */
 const WALL_MARGIN = 2;
+
+/**
+ * When a grid that had to double its cells to fit its budget is crowded: its cells' counts squared
+ * sum to more than this many per body (plus 64). At the bodies' own cell size a settled pile sums
+ * to about 1.8 per body; each doubling puts about four times the bodies in a cell. The hashed grid
+ * finds its pairs in JavaScript only (the kernels' pair pass walks the array grid), so it waits
+ * until the array grid tests several times the pairs: a 2,000-circle pile with a body 500 m away
+ * (doubled twice, 13–20) keeps the array grid, 5 km away (70) is hashed. The talk's bullet room
+ * (doubled once, bodies spread out) stays at 2.7 at most: its grid, and so its pair order and
+ * golden hashes, are unchanged.
+ */
+const CROWDED = 16;
+
+/**
+ * Columns or rows a hashed grid may span (cells double beyond; a body's column and row are i32,
+ * and a sweep's cell range stays exact).
+ */
+const HASHED_MAX_CELLS = 1 << 30;
+
+/**
+ * The bucket of the hashed grid's cell (`cx`, `cy`): an integer hash of the two, masked (`mask`:
+ * a power of two, minus one). The same in every engine (Math.imul is exact).
+ */
+export function bucketOf(cx: number, cy: number, cols: number, mask: number): number {
+  return (Math.imul(cy, cols) + cx) & mask;
+}
 
 /**
  * Every contact of this step into `contacts`: body–body pairs through the grid (cell order, then
@@ -356,7 +494,9 @@ export function findContacts(
   work: KernelMemory,
 ): void {
   contacts.count = 0;
-  if (!bodyPairsInKernel(grid, bodies, contacts, work)) bodyPairs(grid, bodies, statics, contacts);
+  if (grid.hashed) hashedBodyPairs(grid, bodies, statics, contacts);
+  else if (!bodyPairsInKernel(grid, bodies, contacts, work))
+    bodyPairs(grid, bodies, statics, contacts);
   contacts.bodyPairCount = contacts.count;
   wallPairs(grid, bodies, statics, contacts, gravityPending, def);
 }
@@ -492,6 +632,76 @@ function bodyPairs(
             else if ((fi & BOX) === 0) circleBox(contacts, i, j, i, j, 1, bodies, statics);
             else circleBox(contacts, i, j, j, i, -1, bodies, statics);
           }
+        }
+      }
+    }
+  }
+}
+
+/**
+ * The body–body contacts through the hashed grid: bucket order, then id order; each body meets
+ * the bodies after it in its own cell, then those of the cells east, north-west, north and
+ * north-east of it (each bucket's bodies filtered by their cell).
+ */
+function hashedBodyPairs(
+  grid: Grid,
+  bodies: BodyStore,
+  statics: StaticStore,
+  contacts: ContactList,
+): void {
+  const cols = grid.cols;
+  const rows = grid.rows;
+  const mask = grid.bucketMask;
+  const start = grid.cellStart;
+  const items = grid.cellItems;
+  const cellX = grid.cellX;
+  const cellY = grid.cellY;
+  const flags = bodies.flags;
+  const x = bodies.x;
+  const y = bodies.y;
+  const hw = bodies.halfWidth;
+  const hh = bodies.halfHeight;
+  const im = bodies.solverInverseMass;
+  for (let b = 0; b <= mask; b++) {
+    const e = start[b + 1]!;
+    for (let k = start[b]!; k < e; k++) {
+      const i = items[k]!;
+      const fi = flags[i]!;
+      const xi = x[i]!;
+      const yi = y[i]!;
+      const wi = hw[i]!;
+      const hi = hh[i]!;
+      const ii = im[i]!;
+      const cx = cellX[i]!;
+      const cy = cellY[i]!;
+      // Cell 0: its own, from the next body on; 1–4: east, north-west, north, north-east.
+      for (let q = 0; q < 5; q++) {
+        const qx = q === 0 ? cx : q === 1 ? cx + 1 : cx + q - 3;
+        const qy = q < 2 ? cy : cy + 1;
+        if (qx < 0 || qx >= cols || qy >= rows) continue;
+        const bucket = q === 0 ? b : bucketOf(qx, qy, cols, mask);
+        const from = q === 0 ? k + 1 : start[bucket]!;
+        const to = start[bucket + 1]!;
+        for (let m = from; m < to; m++) {
+          const j = items[m]!;
+          if (cellX[j] !== qx || cellY[j] !== qy) continue;
+          const dx = xi - x[j]!;
+          const dy = yi - y[j]!;
+          const sumW = wi + hw[j]!;
+          const sumH = hi + hh[j]!;
+          if (dx >= sumW || dx <= -sumW || dy >= sumH || dy <= -sumH) continue;
+          const fj = flags[j]!;
+          // Both immovable here: skip — unless a kinematic body touches a sleeping one.
+          if (
+            ii === 0 &&
+            im[j] === 0 &&
+            (((fi | fj) & ASLEEP) === 0 || ((fi | fj) & KINEMATIC) === 0)
+          )
+            continue;
+          if (((fi | fj) & BOX) === 0) circleCircle(contacts, i, j, dx, dy, sumW);
+          else if ((fi & fj & BOX) !== 0) boxBox(contacts, i, j, bodies, statics);
+          else if ((fi & BOX) === 0) circleBox(contacts, i, j, i, j, 1, bodies, statics);
+          else circleBox(contacts, i, j, j, i, -1, bodies, statics);
         }
       }
     }
