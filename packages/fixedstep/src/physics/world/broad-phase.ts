@@ -17,7 +17,7 @@
  * two buckets a body, bodies sorted by bucket, then id; pairs in bucket order, then id order,
  * each body meeting the bodies of its own cell after it and of the cells east, north-west, north
  * and north-east of it (a bucket's bodies filtered by their cell). Both grids are functions of
- * the current state only. Code that walks cells (the sweeps in `ccd.ts`) asks {@link Grid.hashed}
+ * the current state only, and both run in WebAssembly too. Code that walks cells (the sweeps in `ccd.ts`) asks {@link Grid.hashed}
  * and looks a cell up with {@link bucketOf}.
  *
  * Once the world's WebAssembly kernels run (they start in a step with many contacts; see
@@ -245,7 +245,7 @@ export class Grid {
    * The hashed grid (see the file comment) over the bounds already found: cells of `base` (doubled
    * only while the columns or rows would not fit {@link HASHED_MAX_CELLS}), each body's column and
    * row, a counting sort of the bodies by bucket in id order. In JavaScript whether or not the
-   * kernels run (the body–body pass then runs here too).
+   * kernels run (their pair pass copies these columns in).
    */
   private hashCells(bodies: BodyStore, base: number, spanX: number, spanY: number): void {
     const n = bodies.slotCount;
@@ -451,14 +451,13 @@ const WALL_MARGIN = 2;
 /**
  * When a grid that had to double its cells to fit its budget is crowded: its cells' counts squared
  * sum to more than this many per body (plus 64). At the bodies' own cell size a settled pile sums
- * to about 1.8 per body; each doubling puts about four times the bodies in a cell. The hashed grid
- * finds its pairs in JavaScript only (the kernels' pair pass walks the array grid), so it waits
- * until the array grid tests several times the pairs: a 2,000-circle pile with a body 500 m away
- * (doubled twice, 13–20) keeps the array grid, 5 km away (70) is hashed. The talk's bullet room
- * (doubled once, bodies spread out) stays at 2.7 at most: its grid, and so its pair order and
- * golden hashes, are unchanged.
+ * to about 1.8 per body; each doubling puts about four times the bodies in a cell, so past this
+ * the array grid tests several times the pairs a hashed grid at the bodies' size does (a
+ * 2,000-circle pile with a body 500 m away: 13–20, 5 km away: 70). The talk's bullet room (doubled
+ * once, bodies spread out) stays at 2.7 at most: its grid, and so its pair order and golden
+ * hashes, are unchanged.
  */
-const CROWDED = 16;
+const CROWDED = 4;
 
 /**
  * Columns or rows a hashed grid may span (cells double beyond; a body's column and row are i32,
@@ -494,19 +493,20 @@ export function findContacts(
   work: KernelMemory,
 ): void {
   contacts.count = 0;
-  if (grid.hashed) hashedBodyPairs(grid, bodies, statics, contacts);
-  else if (!bodyPairsInKernel(grid, bodies, contacts, work))
-    bodyPairs(grid, bodies, statics, contacts);
+  if (bodyPairsInKernel(grid, bodies, contacts, work)) {
+    // The kernels found them (a world of circles).
+  } else if (grid.hashed) hashedBodyPairs(grid, bodies, statics, contacts);
+  else bodyPairs(grid, bodies, statics, contacts);
   contacts.bodyPairCount = contacts.count;
   wallPairs(grid, bodies, statics, contacts, gravityPending, def);
 }
 
 /**
- * The body–body pass of `findContacts` in WebAssembly (`bodyPairs` in broad-phase.wat: the same
- * cells, order and arithmetic), for a world of circles only whose grid was built in the kernel
- * memory this step: it reads the positions, cell starts and items where `Grid.build` left them,
- * with the half widths, inverse masses and flags copied in (a wake between two calls changes the
- * last two). Puts the contacts in `contacts` (from 0) and returns true. Returns false, having
+ * The body–body pass of `findContacts` in WebAssembly (`bodyPairs`, or `hashedBodyPairs` for the
+ * hashed grid, in broad-phase.wat: the same cells, order and arithmetic), for a world of circles
+ * only once the kernels run: the array grid's pass reads the positions, cell starts and items where
+ * `Grid.build` left them, with the half widths, inverse masses and flags copied in (a wake between
+ * two calls changes the last two); the hashed grid's copies in all its columns. Puts the contacts in `contacts` (from 0) and returns true. Returns false, having
  * changed nothing, when it does not apply. Throws {@link ContactOverflow} where `contacts.add`
  * would.
  */
@@ -516,13 +516,22 @@ function bodyPairsInKernel(
   contacts: ContactList,
   work: KernelMemory,
 ): boolean {
-  if (!grid.inKernel || (grid.flagUnion & BOX) !== 0) return false;
+  const hashed = grid.hashed;
+  if ((grid.flagUnion & BOX) !== 0 || !(hashed ? work.kernels : grid.inKernel)) return false;
   const n = bodies.slotCount;
-  const columns = grid.kernelColumns;
-  const flagsAt = grid.kernelFlagsAt;
+  // The array grid left its columns in the kernel memory; the hashed grid's (built in JavaScript)
+  // are copied in: x, y, half widths, inverse masses (f64 columns of `columns` bytes), the
+  // buckets' starts, the items, each body's column and row (i32), the flags (u8).
+  const columns = hashed ? 8 * ((n + 1) & ~1) : grid.kernelColumns;
+  const buckets = grid.bucketMask + 1;
+  const startAt = hashed ? 4 * columns : grid.kernelStartAt;
+  const itemsAt = hashed ? startAt + 4 * (buckets + 1) : grid.kernelItemsAt;
+  const cellXAt = itemsAt + 4 * n;
+  const cellYAt = cellXAt + 4 * n;
+  const flagsAt = hashed ? cellYAt + 4 * n : grid.kernelFlagsAt;
   // After the grid's columns: 8 bytes for an overflow's bodies, then the contacts' five columns
   // of `room`.
-  const outAt = grid.kernelEnd + 8;
+  const outAt = (hashed ? (flagsAt + n + 7) & ~7 : grid.kernelEnd) + 8;
   const limit = contacts.limit;
   let room = Math.min(limit, Math.max(contacts.capacity, 4 * n));
   for (;;) {
@@ -535,19 +544,44 @@ function bodyPairsInKernel(
     f64.set(bodies.halfWidth.subarray(0, n), (2 * columns) >>> 3);
     f64.set(bodies.solverInverseMass.subarray(0, n), (3 * columns) >>> 3);
     new Uint8Array(work.memory, flagsAt, n).set(bodies.flags.subarray(0, n));
-    const count = kernels.bodyPairs(
-      0,
-      columns,
-      2 * columns,
-      3 * columns,
-      flagsAt,
-      grid.kernelStartAt,
-      grid.kernelItemsAt,
-      grid.rows,
-      grid.cols,
-      outAt,
-      room,
-    );
+    let count: number;
+    if (hashed) {
+      f64.set(bodies.x.subarray(0, n), 0);
+      f64.set(bodies.y.subarray(0, n), columns >>> 3);
+      i32.set(grid.cellStart.subarray(0, buckets + 1), startAt >>> 2);
+      i32.set(grid.cellItems.subarray(0, grid.cellStart[buckets]), itemsAt >>> 2);
+      i32.set(grid.cellX.subarray(0, n), cellXAt >>> 2);
+      i32.set(grid.cellY.subarray(0, n), cellYAt >>> 2);
+      count = kernels.hashedBodyPairs(
+        0,
+        columns,
+        2 * columns,
+        3 * columns,
+        flagsAt,
+        startAt,
+        itemsAt,
+        cellXAt,
+        cellYAt,
+        grid.bucketMask,
+        grid.rows,
+        grid.cols,
+        outAt,
+        room,
+      );
+    } else
+      count = kernels.bodyPairs(
+        0,
+        columns,
+        2 * columns,
+        3 * columns,
+        flagsAt,
+        startAt,
+        itemsAt,
+        grid.rows,
+        grid.cols,
+        outAt,
+        room,
+      );
     if (count < 0) {
       if (room < limit) {
         room = Math.min(limit, 2 * room);

@@ -93,6 +93,23 @@ export interface SolverKernels {
     order: number,
     visits: number,
   ): void;
+  /** broad-phase.ts's hashedBodyPairs for a world of circles only. */
+  hashedBodyPairs(
+    x: number,
+    y: number,
+    halfWidth: number,
+    inverseMass: number,
+    flags: number,
+    start: number,
+    items: number,
+    cellX: number,
+    cellY: number,
+    mask: number,
+    rows: number,
+    cols: number,
+    out: number,
+    room: number,
+  ): number;
   /** broad-phase.ts's bodyPairs for a world of circles only. */
   bodyPairs(
     x: number,
@@ -158,6 +175,7 @@ export function solverKernels(): SolverKernels | undefined {
       iterateVelocities: e.iterateVelocities,
       iteratePositions: e.iteratePositions,
       bodyPairs: e.bodyPairs,
+      hashedBodyPairs: e.hashedBodyPairs,
       planVisits: e.planVisits,
       preparePositions: e.preparePositions,
       velocitiesIn: e.velocitiesIn,
