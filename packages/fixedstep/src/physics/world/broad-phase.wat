@@ -93,7 +93,8 @@
         (local.set $i (i32.add (local.get $i) (i32.const 1)))
         (br $body))))
 
-  ;; One pair of circles of bodyPairs / hashedBodyPairs that passed the distance test: skipped (both
+  ;; One pair of circles of hashedBodyPairs that passed the distance test (bodyPairs has the same
+  ;; inline: a call there cost a few per cent of a rollback): skipped (both
   ;; immovable), or its contact (circleCircle) into the columns at $out as contact number $count.
   ;; Returns the new count (the same when skipped), or -1 when contact number $room was due (its two
   ;; bodies at $out − 8).
@@ -156,9 +157,11 @@
     (local $cy i32) (local $cx i32) (local $c i32) (local $s i32) (local $e i32)
     (local $sameRowEnd i32) (local $upStart i32) (local $upEnd i32) (local $up i32)
     (local $k i32) (local $m i32) (local $to i32) (local $pass i32)
-    (local $i i32) (local $j i32) (local $pi i32) (local $pj i32) (local $fi i32) (local $count i32)
+    (local $i i32) (local $j i32) (local $pi i32) (local $pj i32) (local $fi i32) (local $fj i32)
+    (local $count i32) (local $q i32) (local $r i32)
     (local $xi f64) (local $yi f64) (local $wi f64) (local $ii f64)
-    (local $dx f64) (local $dy f64) (local $sumW f64) (local $d2 f64)
+    (local $dx f64) (local $dy f64) (local $sumW f64) (local $d2 f64) (local $d f64)
+    (local $nx f64) (local $ny f64) (local $sep f64)
     (block $rowsDone
       (loop $row
         (br_if $rowsDone (i32.ge_s (local.get $cy) (local.get $rows)))
@@ -220,11 +223,46 @@
                               ;; d² < sumW² pass its box test (|dx| ≥ sumW gives dx² ≥ sumW², so
                               ;; d² ≥ sumW², rounding being monotonic), and positions are finite.
                               (br_if $skip (f64.ge (local.get $d2) (f64.mul (local.get $sumW) (local.get $sumW))))
-                              (local.set $count (call $pair (local.get $i) (local.get $j) (local.get $fi) (local.get $ii)
-                                (local.get $pj) (local.get $im) (local.get $flags) (local.get $dx) (local.get $dy)
-                                (local.get $sumW) (local.get $d2) (local.get $count) (local.get $out) (local.get $room)))
-                              (br_if $skip (i32.ge_s (local.get $count) (i32.const 0)))
-                              (return (i32.const -1)))
+                              (local.set $fj (i32.load8_u (i32.add (local.get $flags) (local.get $j))))
+                              ;; Both immovable: skip — unless a kinematic body touches a sleeping one.
+                              (br_if $skip (i32.and
+                                (i32.and (f64.eq (local.get $ii) (f64.const 0))
+                                         (f64.eq (f64.load (i32.add (local.get $im) (local.get $pj))) (f64.const 0)))
+                                (i32.or (i32.eqz (i32.and (i32.or (local.get $fi) (local.get $fj)) (i32.const {{BODY_ASLEEP}})))
+                                        (i32.eqz (i32.and (i32.or (local.get $fi) (local.get $fj)) (i32.const {{BODY_KINEMATIC}}))))))
+                              ;; circleCircle
+                              (local.set $d (f64.sqrt (local.get $d2)))
+                              (if (f64.gt (local.get $d) (f64.const 0))
+                                (then
+                                  (local.set $nx (f64.div (local.get $dx) (local.get $d)))
+                                  (local.set $ny (f64.div (local.get $dy) (local.get $d)))
+                                  (local.set $sep (f64.sub (local.get $d) (local.get $sumW))))
+                                (else
+                                  (local.set $nx (f64.const 0))
+                                  (local.set $ny (f64.const 1))
+                                  (local.set $sep (f64.neg (local.get $sumW)))))
+                              (if (i32.eq (local.get $count) (local.get $room))
+                                (then
+                                  (i32.store offset=0 (i32.sub (local.get $out) (i32.const 8)) (local.get $i))
+                                  (i32.store offset=4 (i32.sub (local.get $out) (i32.const 8)) (local.get $j))
+                                  (return (i32.const -1))))
+                              ;; Columns: bodyA at $out, bodyB 4·room on, then nx, ny, separation 8·room apart.
+                              (local.set $q (i32.add (local.get $out) (i32.shl (local.get $count) (i32.const 2))))
+                              (local.set $r (i32.add (i32.add (local.get $out) (i32.shl (local.get $room) (i32.const 3)))
+                                                     (i32.shl (local.get $count) (i32.const 3))))
+                              (local.set $count (i32.add (local.get $count) (i32.const 1)))
+                              (if (i32.lt_s (local.get $j) (local.get $i))
+                                (then
+                                  (i32.store (local.get $q) (local.get $j))
+                                  (i32.store (i32.add (local.get $q) (i32.shl (local.get $room) (i32.const 2))) (local.get $i))
+                                  (f64.store (local.get $r) (f64.neg (local.get $nx)))
+                                  (f64.store (i32.add (local.get $r) (i32.shl (local.get $room) (i32.const 3))) (f64.neg (local.get $ny))))
+                                (else
+                                  (i32.store (local.get $q) (local.get $i))
+                                  (i32.store (i32.add (local.get $q) (i32.shl (local.get $room) (i32.const 2))) (local.get $j))
+                                  (f64.store (local.get $r) (local.get $nx))
+                                  (f64.store (i32.add (local.get $r) (i32.shl (local.get $room) (i32.const 3))) (local.get $ny))))
+                              (f64.store (i32.add (local.get $r) (i32.shl (local.get $room) (i32.const 4))) (local.get $sep)))
                             (local.set $m (i32.add (local.get $m) (i32.const 1)))
                             (br $candidate)))
                         (local.set $pass (i32.add (local.get $pass) (i32.const 1)))
