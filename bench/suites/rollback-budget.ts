@@ -4,8 +4,15 @@
  * same scene (`circlesInBoxScene(N)`: circles falling into a box, settled into a pile; sleeping
  * off in both, since a sleeping pile costs nothing; Rapier's bodies rotate, the own world's do
  * not). Per N: µs to save a tick, to load one, to step 8 ticks, and a whole rollback as
- * `RollbackSession` does it — load the confirmed tick, then 8 × (step + save). Then the largest N
- * whose rollback fits in 4 ms (a quarter of a 60 Hz frame), searched by bisection on N.
+ * `RollbackSession` does it — load the confirmed tick, then 8 × (step + save); for two piles: the
+ * settled one (120 ticks after the top row landed) and the livelier one (30 ticks after: more
+ * motion, more contacts changing, the pile the search below uses). Then the largest N whose
+ * rollback fits in 4 ms (a quarter of a 60 Hz frame), searched by bisection on N.
+ *
+ * **Outliers**: the own world's rollback of the same pile with one tiny body 500 m away, with the
+ * grid before (cells doubled until the whole span fits the budget, crowding the pile) and now
+ * (the crowded grid hashed at the bodies' size; see broad-phase.ts), side by side with the pile
+ * alone.
  *
  * The own world is used only through its public API (see {@link ownWorld}): `load()`, `step()`,
  * and `saveInto` a buffer kept per tick, as `RollbackSession` saves a simulation that has
@@ -26,6 +33,8 @@ import type { ComparisonSection } from '../lib/report.js';
 import { median } from '../lib/stats.js';
 import { defineSuite, type SuiteContext } from '../lib/suite.js';
 import { settleSteps } from '../peers/checks.js';
+// The switch a test or this benchmark flips to run the grid as it was before (internal).
+import { hashedGridSetting } from '../../packages/fixedstep/src/physics/world/broad-phase.js';
 
 const SEED = 0xb0d1e5;
 /** Ticks a rollback re-simulates. */
@@ -34,6 +43,13 @@ export const DEPTH = 8;
 export const BUDGET_MS = 4;
 const SIZES = [100, 500, 2000];
 const QUICK_SIZES = [100, 500];
+/** Ticks the two piles settle after the top row has landed: settled, and livelier. */
+const PILES = [
+  { base: 120, name: 'settled' },
+  { base: 30, name: 'livelier' },
+] as const;
+/** Where the outlier is: one circle of 2 cm, this far to the right of the pile. Metres. */
+const OUTLIER_X = 5000;
 
 /** One world under test: the operations a rollback needs. */
 export interface RollbackWorld {
@@ -277,12 +293,67 @@ async function run(ctx: SuiteContext): Promise<void> {
   );
   const rows: string[][] = [];
   for (const n of sizes) {
-    const worlds = [settled(ownWorld, n), settled(rapierWorld, n), settled(bare, n)];
+    for (const pile of PILES) {
+      const worlds = [
+        settled(ownWorld, n, pile.base),
+        settled(rapierWorld, n, pile.base),
+        settled(bare, n, pile.base),
+      ];
+      rows.push(...budgetRows(ctx, n, pile, worlds));
+      for (const w of worlds) w.dispose();
+    }
+  }
+  ctx.table(
+    `The rollback budget: µs per operation (medians of the sections above)`,
+    [
+      'N',
+      'pile',
+      'world',
+      'bytes/body',
+      'save µs',
+      'load µs',
+      `${DEPTH} steps µs`,
+      'rollback µs',
+      `≤ ${BUDGET_MS} ms`,
+      'vs own',
+    ],
+    rows,
+  );
+  outliers(ctx, sizes[sizes.length - 1]!);
+  if (ctx.quick) {
+    ctx.note('Quick run: no search for the largest N (npm run bench -- rollback-budget does it).');
+    return;
+  }
+  const reps = 15;
+  const found = [ownWorld, rapierWorld].map((make) => ({
+    name: make === ownWorld ? 'fixedstep PhysicsWorld' : `Rapier ${rapierVersion()}`,
+    ...largestWithin(make, BUDGET_MS, 16_000, reps),
+  }));
+  ctx.table(
+    `The largest N whose ${DEPTH}-tick rollback takes ≤ ${BUDGET_MS} ms on the livelier pile (bisection to 5 %; the fastest of ${reps} rollbacks per probe decides, the median in brackets)`,
+    ['world', 'largest N', 'probes (N: ms)'],
+    found.map((f) => [
+      f.name,
+      String(f.n),
+      f.probes.map(([n, min, med]) => `${n}: ${min.toFixed(2)} (${med.toFixed(2)})`).join(', '),
+    ]),
+  );
+}
+
+/** One size and pile: the four sections side by side, and the table's rows for them. */
+function budgetRows(
+  ctx: SuiteContext,
+  n: number,
+  pile: (typeof PILES)[number],
+  worlds: RollbackWorld[],
+): string[][] {
+  const rows: string[][] = [];
+  {
     const bytes = worlds.map((w) => w.save().length);
     const ops = worlds.map(operations);
     const section = (what: 'save' | 'load' | 'steps' | 'rollback', title: string) =>
       ctx.compare(
-        `N = ${n}: ${title}`,
+        `N = ${n}, ${pile.name} pile: ${title}`,
         ops.map((o) => o[what]),
         { unit: what === 'steps' ? `${DEPTH} steps` : what },
       );
@@ -296,6 +367,7 @@ async function run(ctx: SuiteContext): Promise<void> {
     for (const [i, w] of worlds.entries()) {
       rows.push([
         String(n),
+        pile.name,
         w.name,
         (bytes[i]! / n).toFixed(0),
         us(save, i).toFixed(1),
@@ -306,39 +378,61 @@ async function run(ctx: SuiteContext): Promise<void> {
         i === 0 ? '' : formatRatio(us(rollback, i) / us(rollback, 0)),
       ]);
     }
-    for (const w of worlds) w.dispose();
   }
-  ctx.table(
-    `The rollback budget: µs per operation (medians of the sections above)`,
+  return rows;
+}
+
+/** `circlesInBoxScene(n)` with one circle of 2 cm at {@link OUTLIER_X} m, resting on a ledge (5 km: the pile's grid doubles its cells three times). */
+function outlierScene(n: number): PhysicsScene {
+  const scene = circlesInBoxScene(n, SEED);
+  return {
+    ...scene,
+    walls: [...scene.walls, { x: OUTLIER_X, y: 0, halfWidth: 1, halfHeight: 0.5 }],
+    bodies: [...scene.bodies, { x: OUTLIER_X, y: 0.52, vx: 0, vy: 0, radius: 0.02 }],
+  };
+}
+
+/**
+ * The own world's rollback of the livelier pile of `n` circles, alone and with one far tiny body:
+ * with the grid before (`hashedGridSetting` off while it runs) and now.
+ */
+function outliers(ctx: SuiteContext, n: number): void {
+  const pile = settled(ownWorld, n, 30);
+  const scene = outlierScene(n);
+  const far = ownWorld(scene);
+  for (let k = 0; k < settleSteps(scene, 30); k++) far.step();
+  const before = ownWorld(scene);
+  before.load(far.save());
+  const rollback = (world: RollbackWorld, name: string, hashed: boolean): Candidate => {
+    const op = operations(world).rollback;
+    return {
+      name,
+      run(ops) {
+        hashedGridSetting.enabled = hashed;
+        try {
+          return op.run(ops);
+        } finally {
+          hashedGridSetting.enabled = true;
+        }
+      },
+    };
+  };
+  const section = ctx.compare(
+    `Outliers, N = ${n} (livelier pile): roll back ${DEPTH} ticks with one 2 cm circle ${OUTLIER_X} m away`,
     [
-      'N',
-      'world',
-      'bytes/body',
-      'save µs',
-      'load µs',
-      `${DEPTH} steps µs`,
-      'rollback µs',
-      `≤ ${BUDGET_MS} ms`,
-      'vs own',
+      rollback(pile, 'the pile alone', true),
+      rollback(before, `+ far body, grid before (cells doubled to fit the span)`, false),
+      rollback(far, '+ far body, grid now (crowded grid hashed)', true),
     ],
-    rows,
+    { unit: 'rollback' },
   );
-  if (ctx.quick) {
-    ctx.note('Quick run: no search for the largest N (npm run bench -- rollback-budget does it).');
-    return;
-  }
-  const reps = 15;
-  const found = [ownWorld, rapierWorld].map((make) => ({
-    name: make === ownWorld ? 'fixedstep PhysicsWorld' : `Rapier ${rapierVersion()}`,
-    ...largestWithin(make, BUDGET_MS, 16_000, reps),
-  }));
   ctx.table(
-    `The largest N whose ${DEPTH}-tick rollback takes ≤ ${BUDGET_MS} ms (bisection to 5 %; the fastest of ${reps} rollbacks per probe decides, the median in brackets)`,
-    ['world', 'largest N', 'probes (N: ms)'],
-    found.map((f) => [
-      f.name,
-      String(f.n),
-      f.probes.map(([n, min, med]) => `${n}: ${min.toFixed(2)} (${med.toFixed(2)})`).join(', '),
+    `Outliers: the ${DEPTH}-tick rollback of ${n} circles with one far tiny body, µs (medians of the section above)`,
+    ['world', 'rollback µs', 'vs the pile alone'],
+    section.candidates.map((c, i) => [
+      c.name,
+      us(section, i).toFixed(0),
+      formatRatio(us(section, i) / us(section, 0)),
     ]),
   );
 }

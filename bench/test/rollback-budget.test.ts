@@ -90,18 +90,29 @@ describe('rollback-budget suite', () => {
       allocOpsPerChunk: 1,
     };
     const { sections, comparisons } = await quickRun(suite, plan);
-    expect(comparisons).toHaveLength(8);
+    // 4 operations × 2 sizes × 2 piles, then the outliers' section.
+    expect(comparisons).toHaveLength(17);
     expect(comparisons.every((c) => c.candidates.length === 3)).toBe(true);
-    const table = sections.find((s): s is TableSection => s.kind === 'table')!;
-    expect(table.rows.map((r) => `${r[0]!} ${r[1]!}`)).toEqual([
-      '100 fixedstep PhysicsWorld',
-      '100 Rapier 0.20.0 (deterministic)',
-      '100 Rapier 0.20.0 bare snapshots',
-      '500 fixedstep PhysicsWorld',
-      '500 Rapier 0.20.0 (deterministic)',
-      '500 Rapier 0.20.0 bare snapshots',
-    ]);
+    const tables = sections.filter((s): s is TableSection => s.kind === 'table');
+    const table = tables[0]!;
+    const worlds = [
+      'fixedstep PhysicsWorld',
+      'Rapier 0.20.0 (deterministic)',
+      'Rapier 0.20.0 bare snapshots',
+    ];
+    expect(table.rows.map((r) => `${r[0]!} ${r[1]!} ${r[2]!}`)).toEqual(
+      ['100', '500'].flatMap((n) =>
+        ['settled', 'livelier'].flatMap((pile) => worlds.map((w) => `${n} ${pile} ${w}`)),
+      ),
+    );
     // Rapier's snapshot is ~1.5 KB a body, the own world's ~0.1 KB.
-    expect(Number(table.rows[1]![2])).toBeGreaterThan(Number(table.rows[0]![2]) * 5);
+    expect(Number(table.rows[1]![3])).toBeGreaterThan(Number(table.rows[0]![3]) * 5);
+    // The outliers' table: the pile alone, then with a far body before and now.
+    const outliers = tables[1]!;
+    expect(outliers.rows.map((r) => r[0])).toEqual([
+      'the pile alone',
+      '+ far body, grid before (cells doubled to fit the span)',
+      '+ far body, grid now (crowded grid hashed)',
+    ]);
   });
 });

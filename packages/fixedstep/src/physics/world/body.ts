@@ -6,13 +6,15 @@
  * A freed slot is cleared to zeros and the next body takes the lowest free slot, so the state
  * after any history of creations and removals depends only on which slots hold what.
  */
+import { BODY_ASLEEP, BODY_KINEMATIC } from './kernel-layout.js';
 
 /**
  * Flag bits of {@link BodyStore.flags}; a slot whose flags are 0 is free.
  *
  * Files whose hot loops test flags copy the bits they need into module constants
  * (`const { BOX } = BodyFlag;`): V8 folds a module's own constants into optimised code but
- * loads an imported binding on every use, which cost 4 % of a step.
+ * loads an imported binding on every use, which cost 4 % of a step. The WebAssembly kernels test
+ * KINEMATIC and ASLEEP too: their values come from `kernel-layout.ts`.
  */
 export const BodyFlag = Object.freeze({
   /** A live body. */
@@ -22,9 +24,9 @@ export const BodyFlag = Object.freeze({
   /** Always swept with continuous detection (unless the world's ccd is `'off'`). */
   BULLET: 4,
   /** Infinite mass: moves with its velocity, pushes dynamic bodies, ignores walls and gravity. */
-  KINEMATIC: 8,
+  KINEMATIC: BODY_KINEMATIC,
   /** Sleeping: not moved, and pairs of sleeping bodies are not even looked at. */
-  ASLEEP: 16,
+  ASLEEP: BODY_ASLEEP,
 });
 /** Every flag a snapshot may hold. */
 export const KNOWN_FLAGS = 31;

@@ -9,15 +9,34 @@
  * are a linear scan over the bodies near a wall (the grid marks their cells). Each candidate pair
  * goes to `manifold.ts`.
  *
+ * The grid's array covers the bodies' bounds with at most `4 × slots + 64` cells, its cells
+ * doubled until it does. When one body is far from the rest, that doubling crowds the others into
+ * a few cells (a 2,000-circle pile with one tiny body 5 km away: some 40 times the pairs to test). So
+ * when the doubled grid is crowded ({@link CROWDED}), the grid is *hashed* instead: cells as wide
+ * as the bodies again, each cell (column, row) in bucket `hash(column, row)` of a table of about
+ * two buckets a body, bodies sorted by bucket, then id; pairs in bucket order, then id order,
+ * each body meeting the bodies of its own cell after it and of the cells east, north-west, north
+ * and north-east of it (a bucket's bodies filtered by their cell). Both grids are functions of
+ * the current state only, and both run in WebAssembly too. Code that walks cells (the sweeps in `ccd.ts`) asks {@link Grid.hashed}
+ * and looks a cell up with {@link bucketOf}.
+ *
  * Once the world's WebAssembly kernels run (they start in a step with many contacts; see
  * `solver-kernels.ts`), the grid is built there (`gridBounds`, `gridCells` in broad-phase.wat), and
- * in a world of circles only so is the body–body pass (`circlePairs`): the same cells, order and
- * arithmetic, so the same contacts to the bit (a test runs both), in about half the time. They use
- * the world's kernel memory, which the solvers lay out afresh after them.
+ * in a world of circles only so is the body–body pass (`bodyPairs`): the same cells, order and
+ * arithmetic, so the same contacts to the bit (a test runs both), in about half the time. Each
+ * export has the name of the function here it twins. They use the world's kernel memory (its
+ * layout in `kernel-layout.ts`), which the solvers lay out afresh after them.
  */
 import { BodyFlag, type BodyStore } from './body.js';
 import { ContactOverflow, type ContactList } from './contacts.js';
 import type { WorldDef } from './def.js';
+import {
+  BOUNDS_FLAGS,
+  BOUNDS_MAX_X,
+  BOUNDS_MAX_Y,
+  BOUNDS_MIN_X,
+  BOUNDS_MIN_Y,
+} from './kernel-layout.js';
 import { boxBox, boxSegment, circleBox, circleCircle, circleSegment } from './manifold.js';
 import type { KernelMemory } from './solver-kernels.js';
 import { WallKind, staticRef, type StaticStore } from './statics.js';
@@ -53,6 +72,17 @@ export class Grid {
   /** Whether {@link nearWall} holds this step's marks (false: test every body against the walls). */
   wallMarks = false;
   /**
+   * Whether this step's grid is hashed (see the file comment): then a "cell" of
+   * {@link cellStart}, {@link cellOf} is a bucket — {@link bucketOf} of a cell's column and row —
+   * and {@link cols} and {@link rows} only bound the columns and rows the bodies are in.
+   */
+  hashed = false;
+  /** Buckets − 1 of the hashed grid (a power of two, minus one). */
+  bucketMask = 0;
+  /** By body: its cell's column and row in the hashed grid. */
+  cellX = new Int32Array(0);
+  cellY = new Int32Array(0);
+  /**
    * Where {@link build} left its columns in the kernel memory this step, for the circle pass
    * (byte offsets; see `build`), or `inKernel` false: built in JavaScript, or no grid.
    */
@@ -62,11 +92,16 @@ export class Grid {
   kernelItemsAt = 0;
   kernelFlagsAt = 0;
   kernelEnd = 0;
+  /** The bounds record (kernel-layout.ts) when {@link gridBounds} runs in JavaScript. */
+  private readonly boundsF64 = new Float64Array((BOUNDS_FLAGS + 8) >>> 3);
+  private readonly boundsI32 = new Int32Array(this.boundsF64.buffer);
 
   /** Room for `capacity` bodies (and the cells a grid of them may use). */
   resize(capacity: number): void {
     this.cellOf = new Int32Array(capacity);
     this.cellItems = new Int32Array(capacity);
+    this.cellX = new Int32Array(capacity);
+    this.cellY = new Int32Array(capacity);
     const maxCells = 4 * capacity + 64;
     this.cellStart = new Int32Array(maxCells + 2);
     this.cellCursor = new Int32Array(maxCells + 1);
@@ -76,7 +111,8 @@ export class Grid {
   /**
    * Sorts the live bodies into cells over their bounds. The cell is twice the largest half extent
    * (or `cellSize` if larger), doubled until the grid has at most `4 × slots + 64` cells — a
-   * budget from the slot count (state), not the capacity (history).
+   * budget from the slot count (state), not the capacity (history). If it had to double and is
+   * then {@link CROWDED}, the bodies go into the hashed grid instead (see the file comment).
    */
   build(bodies: BodyStore, def: Readonly<WorldDef>, work: KernelMemory): void {
     const n = bodies.slotCount;
@@ -87,54 +123,35 @@ export class Grid {
     // and the flags or-ed (i32, 8 bytes), cellOf, items (i32), start (budget + 2), cursor
     // (budget + 1), flags (u8) — which the circle pass then reads where they are.
     this.inKernel = false;
+    this.hashed = false;
     const columns = 8 * ((n + 1) & ~1);
     const yAt = columns;
     const boundsAt = 4 * columns;
-    const cellOfAt = boundsAt + 40;
+    const cellOfAt = boundsAt + BOUNDS_FLAGS + 8;
     const itemsAt = cellOfAt + columns / 2;
     const startAt = itemsAt + columns / 2;
     const cursorAt = startAt + 4 * (budget + 2);
     const flagsAt = cursorAt + 4 * (budget + 1);
     const kernels = n > 0 ? work.kernelsWith(flagsAt + n) : null;
-    let minX = Infinity;
-    let minY = Infinity;
-    let maxX = -Infinity;
-    let maxY = -Infinity;
+    // The bounds record (kernel-layout.ts) in the kernel memory, or in the grid's own when the
+    // JavaScript twin writes it.
+    let f64 = this.boundsF64;
+    let i32 = this.boundsI32;
+    let at = 0;
     if (kernels) {
-      const f64 = work.f64;
-      f64.set(bodies.x.subarray(0, n), 0);
-      f64.set(bodies.y.subarray(0, n), yAt >>> 3);
+      work.f64.set(bodies.x.subarray(0, n), 0);
+      work.f64.set(bodies.y.subarray(0, n), yAt >>> 3);
       new Uint8Array(work.memory, flagsAt, n).set(bodies.flags.subarray(0, n));
       kernels.gridBounds(n, 0, yAt, flagsAt, cellOfAt, boundsAt);
-      const b = boundsAt >>> 3;
-      minX = f64[b]!;
-      minY = f64[b + 1]!;
-      maxX = f64[b + 2]!;
-      maxY = f64[b + 3]!;
-      this.flagUnion = work.i32[(boundsAt + 32) >>> 2]!;
-    } else {
-      const flags = bodies.flags;
-      const x = bodies.x;
-      const y = bodies.y;
-      const cellOf = this.cellOf;
-      let union = 0;
-      for (let i = 0; i < n; i++) {
-        const f = flags[i]!;
-        union |= f;
-        if (f === 0) {
-          cellOf[i] = -1;
-          continue;
-        }
-        const a = x[i]!;
-        const b = y[i]!;
-        cellOf[i] = 0;
-        if (a < minX) minX = a;
-        if (a > maxX) maxX = a;
-        if (b < minY) minY = b;
-        if (b > maxY) maxY = b;
-      }
-      this.flagUnion = union;
-    }
+      f64 = work.f64;
+      i32 = work.i32;
+      at = boundsAt;
+    } else gridBounds(n, bodies.x, bodies.y, bodies.flags, this.cellOf, f64, i32, 0);
+    let minX = f64[(at + BOUNDS_MIN_X) >>> 3]!;
+    let minY = f64[(at + BOUNDS_MIN_Y) >>> 3]!;
+    const maxX = f64[(at + BOUNDS_MAX_X) >>> 3]!;
+    const maxY = f64[(at + BOUNDS_MAX_Y) >>> 3]!;
+    this.flagUnion = i32[(at + BOUNDS_FLAGS) >>> 2]!;
     let spanX = maxX - minX;
     let spanY = maxY - minY;
     // Positions so far apart that the span overflows (finite ones beyond ±8.9e307 m, which only a
@@ -160,7 +177,8 @@ export class Grid {
       return;
     }
     const twice = 2 * bodies.largestHalfExtent;
-    let h = def.cellSize > twice ? def.cellSize : twice;
+    const base = def.cellSize > twice ? def.cellSize : twice;
+    let h = base;
     let inv = 1 / h;
     let cols = Math.floor(spanX * inv) + 1;
     let rows = Math.floor(spanY * inv) + 1;
@@ -204,13 +222,82 @@ export class Grid {
       this.kernelItemsAt = itemsAt;
       this.kernelFlagsAt = flagsAt;
       this.kernelEnd = (flagsAt + n + 7) & ~7;
-      return;
+    } else this.gridCells(bodies, cells);
+    if (h !== base && !oneCell && hashedGridSetting.enabled && this.crowded(cells, n))
+      this.hashCells(bodies, base, spanX, spanY);
+  }
+
+  /**
+   * Whether the grid's cells hold more than {@link CROWDED} bodies per body, summed over cells as
+   * count² (pairs tested grow with it), plus 64 for small worlds.
+   */
+  private crowded(cells: number, n: number): boolean {
+    const start = this.cellStart;
+    let sum = 0;
+    for (let c = 0; c < cells; c++) {
+      const count = start[c + 1]! - start[c]!;
+      sum += count * count;
     }
-    this.sort(bodies, cells);
+    return sum > CROWDED * n + 64;
+  }
+
+  /**
+   * The hashed grid (see the file comment) over the bounds already found: cells of `base` (doubled
+   * only while the columns or rows would not fit {@link HASHED_MAX_CELLS}), each body's column and
+   * row, a counting sort of the bodies by bucket in id order. In JavaScript whether or not the
+   * kernels run (their pair pass copies these columns in).
+   */
+  private hashCells(bodies: BodyStore, base: number, spanX: number, spanY: number): void {
+    const n = bodies.slotCount;
+    let h = base;
+    let inv = 1 / h;
+    while (spanX * inv >= HASHED_MAX_CELLS || spanY * inv >= HASHED_MAX_CELLS) {
+      h *= 2;
+      inv = 1 / h;
+    }
+    let buckets = 2;
+    while (buckets < 2 * n) buckets *= 2;
+    const mask = buckets - 1;
+    this.hashed = true;
+    this.inKernel = false;
+    this.bucketMask = mask;
+    this.cellSize = h;
+    this.inverseCellSize = inv;
+    const cols = Math.floor(spanX * inv) + 1;
+    this.cols = cols;
+    this.rows = Math.floor(spanY * inv) + 1;
+    const flags = bodies.flags;
+    const x = bodies.x;
+    const y = bodies.y;
+    const minX = this.minX;
+    const minY = this.minY;
+    const cellOf = this.cellOf;
+    const cellX = this.cellX;
+    const cellY = this.cellY;
+    const start = this.cellStart;
+    const cursor = this.cellCursor;
+    const items = this.cellItems;
+    start.fill(0, 0, buckets + 1);
+    for (let i = 0; i < n; i++) {
+      if (flags[i] === 0) continue;
+      const cx = Math.floor((x[i]! - minX) * inv);
+      const cy = Math.floor((y[i]! - minY) * inv);
+      const b = bucketOf(cx, cy, cols, mask);
+      cellX[i] = cx;
+      cellY[i] = cy;
+      cellOf[i] = b;
+      start[b + 1]!++;
+    }
+    for (let b = 0; b < buckets; b++) {
+      const s = start[b]!;
+      start[b + 1] = start[b + 1]! + s;
+      cursor[b] = s;
+    }
+    for (let i = 0; i < n; i++) if (flags[i] !== 0) items[cursor[cellOf[i]!]!++] = i;
   }
 
   /** The counting sort of {@link build} in JavaScript: cells, their starts, the ids in cell order. */
-  private sort(bodies: BodyStore, cells: number): void {
+  private gridCells(bodies: BodyStore, cells: number): void {
     const n = bodies.slotCount;
     const x = bodies.x;
     const y = bodies.y;
@@ -260,7 +347,11 @@ export class Grid {
     const rows = this.rows;
     const count = statics.count;
     if (cols === 0 || count === 0 || !wallMarksSetting.enabled) return;
-    const cells = cols * rows;
+    // A hashed grid marks the bucket of each cell near a wall: a body in a marked bucket may be
+    // far from every wall (it is tested, as it would be anyway), one in an unmarked bucket is not.
+    const hashed = this.hashed;
+    const mask = this.bucketMask;
+    const cells = hashed ? mask + 1 : cols * rows;
     const inv = this.inverseCellSize;
     const minX = this.minX;
     const minY = this.minY;
@@ -286,7 +377,12 @@ export class Grid {
           area += (toX - fromX + 1) * (toY - fromY + 1);
           continue;
         }
-        for (let cy = fromY; cy <= toY; cy++) mark.fill(1, cy * cols + fromX, cy * cols + toX + 1);
+        if (hashed) {
+          for (let cy = fromY; cy <= toY; cy++)
+            for (let cx = fromX; cx <= toX; cx++) mark[bucketOf(cx, cy, cols, mask)] = 1;
+        } else
+          for (let cy = fromY; cy <= toY; cy++)
+            mark.fill(1, cy * cols + fromX, cy * cols + toX + 1);
       }
       if (pass === 0 && area > cells) return;
     }
@@ -295,13 +391,87 @@ export class Grid {
 }
 
 /**
+ * {@link Grid.build}'s first pass: the bounds of the live bodies' centres and every flag or-ed, in
+ * the bounds record at byte `at` of `f64` / `i32` (one buffer; see kernel-layout.ts); `cellOf`
+ * gets −1 for a free slot, else 0.
+ */
+function gridBounds(
+  n: number,
+  x: Float64Array,
+  y: Float64Array,
+  flags: Uint8Array,
+  cellOf: Int32Array,
+  f64: Float64Array,
+  i32: Int32Array,
+  at: number,
+): void {
+  let minX = Infinity;
+  let minY = Infinity;
+  let maxX = -Infinity;
+  let maxY = -Infinity;
+  let union = 0;
+  for (let i = 0; i < n; i++) {
+    const f = flags[i]!;
+    union |= f;
+    if (f === 0) {
+      cellOf[i] = -1;
+      continue;
+    }
+    const a = x[i]!;
+    const b = y[i]!;
+    cellOf[i] = 0;
+    if (a < minX) minX = a;
+    if (a > maxX) maxX = a;
+    if (b < minY) minY = b;
+    if (b > maxY) maxY = b;
+  }
+  f64[(at + BOUNDS_MIN_X) >>> 3] = minX;
+  f64[(at + BOUNDS_MIN_Y) >>> 3] = minY;
+  f64[(at + BOUNDS_MAX_X) >>> 3] = maxX;
+  f64[(at + BOUNDS_MAX_Y) >>> 3] = maxY;
+  i32[(at + BOUNDS_FLAGS) >>> 2] = union;
+}
+
+/**
  * Whether steps mark the cells near walls (true); tests switch it off to compare the bits.
  * @internal
  */
 export const wallMarksSetting = { enabled: true };
 
+/**
+ * Whether a crowded doubled grid is hashed (true); the outlier benchmark switches it off to show
+ * the grid before, side by side.
+ * @internal
+ */
+export const hashedGridSetting = { enabled: true };
+
 /** Cells of margin around a wall's box in {@link Grid.markWalls} (one would do; two for rounding). */
 const WALL_MARGIN = 2;
+
+/**
+ * When a grid that had to double its cells to fit its budget is crowded: its cells' counts squared
+ * sum to more than this many per body (plus 64). At the bodies' own cell size a settled pile sums
+ * to about 1.8 per body; each doubling puts about four times the bodies in a cell, so past this
+ * the array grid tests several times the pairs a hashed grid at the bodies' size does (a
+ * 2,000-circle pile with a body 500 m away: 13–20, 5 km away: 70). The talk's bullet room (doubled
+ * once, bodies spread out) stays at 2.7 at most: its grid, and so its pair order and golden
+ * hashes, are unchanged.
+ */
+const CROWDED = 4;
+
+/**
+ * Columns or rows a hashed grid may span (cells double beyond; a body's column and row are i32,
+ * and a sweep's cell range stays exact).
+ */
+const HASHED_MAX_CELLS = 1 << 30;
+
+/**
+ * The bucket of the hashed grid's cell (`cx`, `cy`): an integer hash of the two, masked (`mask`:
+ * a power of two, minus one). The same in every engine (Math.imul is exact).
+ */
+export function bucketOf(cx: number, cy: number, cols: number, mask: number): number {
+  return (Math.imul(cy, cols) + cx) & mask;
+}
 
 /**
  * Every contact of this step into `contacts`: body–body pairs through the grid (cell order, then
@@ -323,34 +493,45 @@ export function findContacts(
   work: KernelMemory,
 ): void {
   contacts.count = 0;
-  if (!circlePairsInKernel(grid, bodies, contacts, work))
-    bodyPairs(grid, bodies, statics, contacts);
+  if (bodyPairsInKernel(grid, bodies, contacts, work)) {
+    // The kernels found them (a world of circles).
+  } else if (grid.hashed) hashedBodyPairs(grid, bodies, statics, contacts);
+  else bodyPairs(grid, bodies, statics, contacts);
   contacts.bodyPairCount = contacts.count;
   wallPairs(grid, bodies, statics, contacts, gravityPending, def);
 }
 
 /**
- * The body–body pass of `findContacts` in WebAssembly (`circlePairs` in broad-phase.wat: the same
- * cells, order and arithmetic), for a world of circles only whose grid was built in the kernel
- * memory this step: it reads the positions, cell starts and items where `Grid.build` left them,
- * with the half widths, inverse masses and flags copied in (a wake between two calls changes the
- * last two). Puts the contacts in `contacts` (from 0) and returns true. Returns false, having
+ * The body–body pass of `findContacts` in WebAssembly (`bodyPairs`, or `hashedBodyPairs` for the
+ * hashed grid, in broad-phase.wat: the same cells, order and arithmetic), for a world of circles
+ * only once the kernels run: the array grid's pass reads the positions, cell starts and items where
+ * `Grid.build` left them, with the half widths, inverse masses and flags copied in (a wake between
+ * two calls changes the last two); the hashed grid's copies in all its columns. Puts the contacts in `contacts` (from 0) and returns true. Returns false, having
  * changed nothing, when it does not apply. Throws {@link ContactOverflow} where `contacts.add`
  * would.
  */
-function circlePairsInKernel(
+function bodyPairsInKernel(
   grid: Grid,
   bodies: BodyStore,
   contacts: ContactList,
   work: KernelMemory,
 ): boolean {
-  if (!grid.inKernel || (grid.flagUnion & BOX) !== 0) return false;
+  const hashed = grid.hashed;
+  if ((grid.flagUnion & BOX) !== 0 || !(hashed ? work.kernels : grid.inKernel)) return false;
   const n = bodies.slotCount;
-  const columns = grid.kernelColumns;
-  const flagsAt = grid.kernelFlagsAt;
+  // The array grid left its columns in the kernel memory; the hashed grid's (built in JavaScript)
+  // are copied in: x, y, half widths, inverse masses (f64 columns of `columns` bytes), the
+  // buckets' starts, the items, each body's column and row (i32), the flags (u8).
+  const columns = hashed ? 8 * ((n + 1) & ~1) : grid.kernelColumns;
+  const buckets = grid.bucketMask + 1;
+  const startAt = hashed ? 4 * columns : grid.kernelStartAt;
+  const itemsAt = hashed ? startAt + 4 * (buckets + 1) : grid.kernelItemsAt;
+  const cellXAt = itemsAt + 4 * n;
+  const cellYAt = cellXAt + 4 * n;
+  const flagsAt = hashed ? cellYAt + 4 * n : grid.kernelFlagsAt;
   // After the grid's columns: 8 bytes for an overflow's bodies, then the contacts' five columns
   // of `room`.
-  const outAt = grid.kernelEnd + 8;
+  const outAt = (hashed ? (flagsAt + n + 7) & ~7 : grid.kernelEnd) + 8;
   const limit = contacts.limit;
   let room = Math.min(limit, Math.max(contacts.capacity, 4 * n));
   for (;;) {
@@ -363,19 +544,44 @@ function circlePairsInKernel(
     f64.set(bodies.halfWidth.subarray(0, n), (2 * columns) >>> 3);
     f64.set(bodies.solverInverseMass.subarray(0, n), (3 * columns) >>> 3);
     new Uint8Array(work.memory, flagsAt, n).set(bodies.flags.subarray(0, n));
-    const count = kernels.circlePairs(
-      0,
-      columns,
-      2 * columns,
-      3 * columns,
-      flagsAt,
-      grid.kernelStartAt,
-      grid.kernelItemsAt,
-      grid.rows,
-      grid.cols,
-      outAt,
-      room,
-    );
+    let count: number;
+    if (hashed) {
+      f64.set(bodies.x.subarray(0, n), 0);
+      f64.set(bodies.y.subarray(0, n), columns >>> 3);
+      i32.set(grid.cellStart.subarray(0, buckets + 1), startAt >>> 2);
+      i32.set(grid.cellItems.subarray(0, grid.cellStart[buckets]), itemsAt >>> 2);
+      i32.set(grid.cellX.subarray(0, n), cellXAt >>> 2);
+      i32.set(grid.cellY.subarray(0, n), cellYAt >>> 2);
+      count = kernels.hashedBodyPairs(
+        0,
+        columns,
+        2 * columns,
+        3 * columns,
+        flagsAt,
+        startAt,
+        itemsAt,
+        cellXAt,
+        cellYAt,
+        grid.bucketMask,
+        grid.rows,
+        grid.cols,
+        outAt,
+        room,
+      );
+    } else
+      count = kernels.bodyPairs(
+        0,
+        columns,
+        2 * columns,
+        3 * columns,
+        flagsAt,
+        startAt,
+        itemsAt,
+        grid.rows,
+        grid.cols,
+        outAt,
+        room,
+      );
     if (count < 0) {
       if (room < limit) {
         room = Math.min(limit, 2 * room);
@@ -460,6 +666,76 @@ function bodyPairs(
             else if ((fi & BOX) === 0) circleBox(contacts, i, j, i, j, 1, bodies, statics);
             else circleBox(contacts, i, j, j, i, -1, bodies, statics);
           }
+        }
+      }
+    }
+  }
+}
+
+/**
+ * The body–body contacts through the hashed grid: bucket order, then id order; each body meets
+ * the bodies after it in its own cell, then those of the cells east, north-west, north and
+ * north-east of it (each bucket's bodies filtered by their cell).
+ */
+function hashedBodyPairs(
+  grid: Grid,
+  bodies: BodyStore,
+  statics: StaticStore,
+  contacts: ContactList,
+): void {
+  const cols = grid.cols;
+  const rows = grid.rows;
+  const mask = grid.bucketMask;
+  const start = grid.cellStart;
+  const items = grid.cellItems;
+  const cellX = grid.cellX;
+  const cellY = grid.cellY;
+  const flags = bodies.flags;
+  const x = bodies.x;
+  const y = bodies.y;
+  const hw = bodies.halfWidth;
+  const hh = bodies.halfHeight;
+  const im = bodies.solverInverseMass;
+  for (let b = 0; b <= mask; b++) {
+    const e = start[b + 1]!;
+    for (let k = start[b]!; k < e; k++) {
+      const i = items[k]!;
+      const fi = flags[i]!;
+      const xi = x[i]!;
+      const yi = y[i]!;
+      const wi = hw[i]!;
+      const hi = hh[i]!;
+      const ii = im[i]!;
+      const cx = cellX[i]!;
+      const cy = cellY[i]!;
+      // Cell 0: its own, from the next body on; 1–4: east, north-west, north, north-east.
+      for (let q = 0; q < 5; q++) {
+        const qx = q === 0 ? cx : q === 1 ? cx + 1 : cx + q - 3;
+        const qy = q < 2 ? cy : cy + 1;
+        if (qx < 0 || qx >= cols || qy >= rows) continue;
+        const bucket = q === 0 ? b : bucketOf(qx, qy, cols, mask);
+        const from = q === 0 ? k + 1 : start[bucket]!;
+        const to = start[bucket + 1]!;
+        for (let m = from; m < to; m++) {
+          const j = items[m]!;
+          if (cellX[j] !== qx || cellY[j] !== qy) continue;
+          const dx = xi - x[j]!;
+          const dy = yi - y[j]!;
+          const sumW = wi + hw[j]!;
+          const sumH = hi + hh[j]!;
+          if (dx >= sumW || dx <= -sumW || dy >= sumH || dy <= -sumH) continue;
+          const fj = flags[j]!;
+          // Both immovable here: skip — unless a kinematic body touches a sleeping one.
+          if (
+            ii === 0 &&
+            im[j] === 0 &&
+            (((fi | fj) & ASLEEP) === 0 || ((fi | fj) & KINEMATIC) === 0)
+          )
+            continue;
+          if (((fi | fj) & BOX) === 0) circleCircle(contacts, i, j, dx, dy, sumW);
+          else if ((fi & fj & BOX) !== 0) boxBox(contacts, i, j, bodies, statics);
+          else if ((fi & BOX) === 0) circleBox(contacts, i, j, i, j, 1, bodies, statics);
+          else circleBox(contacts, i, j, j, i, -1, bodies, statics);
         }
       }
     }

@@ -20,7 +20,7 @@
  * approximation or by the push-out of a crowded contact), just on the side it started from.
  */
 import { BodyFlag, type BodyStore } from './body.js';
-import type { Grid } from './broad-phase.js';
+import { bucketOf, type Grid } from './broad-phase.js';
 import type { WorldDef } from './def.js';
 import { wakeIsland } from './island.js';
 import { WallKind, staticRef, type StaticStore } from './statics.js';
@@ -354,6 +354,28 @@ export class ContinuousSolver {
         const r1 = clampInt(Math.floor((hiY - grid.minY) * inv), 0, grid.rows - 1);
         if ((c1 - c0 + 1) * (r1 - r0 + 1) > bodies.slotCount) {
           for (let j = 0; j < bodies.slotCount; j++) this.sweepAgainst(i, j);
+        } else if (grid.hashed) {
+          // The same cells in the same order, each from its bucket.
+          const start = grid.cellStart;
+          const items = grid.cellItems;
+          const cellX = grid.cellX;
+          const cellY = grid.cellY;
+          const mask = grid.bucketMask;
+          const cols = grid.cols;
+          for (let r = r0; r <= r1; r++) {
+            for (let c = c0; c <= c1; c++) {
+              const b = bucketOf(c, r, cols, mask);
+              const e = start[b + 1]!;
+              for (let m = start[b]!; m < e; m++) {
+                const j = items[m]!;
+                if (cellX[j] !== c || cellY[j] !== r) continue;
+                const ax = startX[j]!;
+                const ay = startY[j]!;
+                if (ax < loX || ax > hiX || ay < loY || ay > hiY) continue;
+                this.sweepAgainst(i, j);
+              }
+            }
+          }
         } else {
           const start = grid.cellStart;
           const items = grid.cellItems;

@@ -66,34 +66,46 @@
  * serve both kinds.
  *
  * The sweeps run over one working memory in visiting order (velocities, positions, then 64 bytes
- * per visit), in WebAssembly (`solver.wat`; the broad phase's loops are in `broad-phase.wat`)
- * where it can run, else in the JavaScript loops below: the same IEEE-754 operations in the same
- * order, so the same bits (a test runs both).
+ * per visit, laid out in `kernel-layout.ts`), in WebAssembly (`contact-solver.wat`; the broad
+ * phase's loops are in `broad-phase.wat`) where it can run, else in the JavaScript loops below:
+ * the same IEEE-754 operations in the same order, so the same bits (a test runs both). Each
+ * WebAssembly export has the name of the JavaScript function it twins (`warmStart`,
+ * `iterateVelocities`, `iteratePositions`, `planVisits`, `preparePositions`, `velocitiesIn` …).
  */
 import type { BodyStore } from './body.js';
 import type { ContactList, WarmStartCache } from './contacts.js';
 import type { WorldDef } from './def.js';
+import * as layout from './kernel-layout.js';
 import { KernelMemory, type SolverKernels } from './solver-kernels.js';
 
-// The working memory of one step's solvers (bytes; see "Visiting order" in the file comment):
-// velocities (vx, vy: 16 bytes per body, then per wall stand-in), positions (the motion since the
-// contacts were found, movedX and movedY, then x, y: 32 bytes each), then the visits, 64 bytes
-// each, in visiting order.
+// The working memory of one step's solvers (see "Visiting order" in the file comment and
+// kernel-layout.ts): velocities (vx, vy per body, then per wall stand-in), positions (the motion
+// since the contacts were found, movedX and movedY, then x, y), then the visits in visiting order.
+// Copied into this module's own constants, which V8 folds into the hot loops (an imported binding
+// is loaded on every use).
 /** Bytes per visit. */
-const VISIT_BYTES = 64;
-// f64 offsets in a visit. For the position solver, SEPARATION replaces NORMAL_MASS and the inverse
-// masses are read again (continuous detection may have woken bodies since).
-const NORMAL_X = 0;
-const NORMAL_Y = 1;
-const NORMAL_MASS = 2;
-const SEPARATION = 2;
-const INVERSE_MASS_A = 3;
-const INVERSE_MASS_B = 4;
-const NORMAL_IMPULSE = 5;
-const TANGENT_IMPULSE = 6;
-// i32 offsets in a visit: the byte offsets of A's and B's velocities in the working memory.
-const VELOCITY_A = 14;
-const VELOCITY_B = 15;
+const VISIT_BYTES = layout.VISIT_BYTES;
+/** A body id shifted by these is its velocity's, and its positions', byte offset. */
+const VELOCITY_SHIFT = layout.VELOCITY_SHIFT;
+const POSITION_SHIFT = layout.POSITION_SHIFT;
+/** A velocity's byte offset shifted right by this is the f64 index of the body's positions. */
+const VELOCITY_TO_POSITION = 3 - (POSITION_SHIFT - VELOCITY_SHIFT);
+// f64 indices in a visit (from its first f64). For the position solver, SEPARATION replaces
+// NORMAL_MASS and the inverse masses are read again (continuous detection may have woken bodies
+// since).
+const NORMAL_X = layout.VISIT_NORMAL_X >>> 3;
+const NORMAL_Y = layout.VISIT_NORMAL_Y >>> 3;
+const NORMAL_MASS = layout.VISIT_NORMAL_MASS >>> 3;
+const SEPARATION = layout.VISIT_SEPARATION >>> 3;
+const INVERSE_MASS_A = layout.VISIT_INVERSE_MASS_A >>> 3;
+const INVERSE_MASS_B = layout.VISIT_INVERSE_MASS_B >>> 3;
+const NORMAL_IMPULSE = layout.VISIT_NORMAL_IMPULSE >>> 3;
+const TANGENT_IMPULSE = layout.VISIT_TANGENT_IMPULSE >>> 3;
+// i32 indices in a visit (from twice its first f64's): the byte offsets of A's and B's velocities.
+const VELOCITY_A = layout.VISIT_VELOCITY_A >>> 2;
+const VELOCITY_B = layout.VISIT_VELOCITY_B >>> 2;
+/** Where x, y start in a body's positions, as an f64 index. */
+const POSITION_XY = layout.POSITION_XY >>> 3;
 
 /**
  * The order in which the solvers visit this step's contacts, over the world's kernel memory (see
@@ -136,8 +148,8 @@ export class SolverSchedule extends KernelMemory {
     this.count = count;
     this.pairs = pairs;
     this.slots = slots;
-    this.positionsAt = 16 * all;
-    this.visitsAt = 48 * all;
+    this.positionsAt = all << VELOCITY_SHIFT;
+    this.visitsAt = this.positionsAt + (all << POSITION_SHIFT);
     // After the visits, room for the WebAssembly plan's inputs and scratch (see planInKernel).
     const cached = cache.count;
     // (solvePositions' columns, 12 bytes a contact and 40 a body, fit in the same room.)
@@ -151,8 +163,8 @@ export class SolverSchedule extends KernelMemory {
     }
     if (this.lastWave.length < slots)
       this.lastWave = new Int32Array(Math.max(slots, 2 * this.lastWave.length));
-    if (kernels && !restitution) this.planInKernel(kernels, contacts, cache, bodies);
-    else this.planHere(contacts, cache, bodies, restitution);
+    if (kernels && !restitution) this.planVisitsInKernel(kernels, contacts, cache, bodies);
+    else this.planVisits(contacts, cache, bodies, restitution);
     const f64 = this.f64;
     const vx = bodies.vx;
     const vy = bodies.vy;
@@ -163,21 +175,16 @@ export class SolverSchedule extends KernelMemory {
       f64.set(vx.subarray(0, slots), vxAt >>> 3);
       f64.set(vy.subarray(0, slots), vyAt >>> 3);
       kernels.velocitiesIn(slots, all - slots, vxAt, vyAt);
-      return;
-    }
-    for (let i = 0; i < slots; i++) {
-      f64[2 * i] = vx[i]!;
-      f64[2 * i + 1] = vy[i]!;
-    }
-    f64.fill(0, 2 * slots, 2 * all);
+    } else velocitiesIn(f64, slots, all - slots, vx, vy);
   }
 
   /**
-   * {@link plan} in WebAssembly (`plan` in solver.wat, the same steps and arithmetic): the
+   * {@link planVisits} in WebAssembly (`planVisits` in contact-solver.wat, the same steps and
+   * arithmetic): the
    * contacts' columns, the inverse masses and the cache copied in after the visits, the visiting
    * order copied back.
    */
-  private planInKernel(
+  private planVisitsInKernel(
     kernels: SolverKernels,
     contacts: ContactList,
     cache: WarmStartCache,
@@ -213,7 +220,7 @@ export class SolverSchedule extends KernelMemory {
     i32.set(cache.head.subarray(0, slots), headAt >>> 2);
     i32.set(cache.next.subarray(0, cached), nextAt >>> 2);
     i32.set(cache.bodyB, cachedBAt >>> 2);
-    kernels.plan(
+    kernels.planVisits(
       count,
       this.pairs,
       slots,
@@ -236,8 +243,11 @@ export class SolverSchedule extends KernelMemory {
     this.order.set(i32.subarray(orderAt >>> 2, (orderAt >>> 2) + count));
   }
 
-  /** {@link plan} in JavaScript (with `restitution`, also the normal masses and approach speeds). */
-  private planHere(
+  /**
+   * {@link plan}'s waves and visits in JavaScript (with `restitution`, also the normal masses and
+   * approach speeds).
+   */
+  private planVisits(
     contacts: ContactList,
     cache: WarmStartCache,
     bodies: BodyStore,
@@ -301,12 +311,12 @@ export class SolverSchedule extends KernelMemory {
         const ib = inverseMass[b]!;
         mass = 1 / (ia + ib);
         f64[o + INVERSE_MASS_B] = ib;
-        i32[2 * o + VELOCITY_B] = 16 * b;
+        i32[2 * o + VELOCITY_B] = b << VELOCITY_SHIFT;
         if (restitution) approachSpeed[k] = (vx[a]! - vx[b]!) * nx + (vy[a]! - vy[b]!) * ny;
       } else {
         mass = 1 / ia;
         f64[o + INVERSE_MASS_B] = 0;
-        i32[2 * o + VELOCITY_B] = 16 * (slots + k - pairs);
+        i32[2 * o + VELOCITY_B] = (slots + k - pairs) << VELOCITY_SHIFT;
         if (restitution) approachSpeed[k] = vx[a]! * nx + vy[a]! * ny;
       }
       if (restitution) normalMass[k] = mass;
@@ -325,8 +335,52 @@ export class SolverSchedule extends KernelMemory {
       f64[o + INVERSE_MASS_A] = ia;
       f64[o + NORMAL_IMPULSE] = jn;
       f64[o + TANGENT_IMPULSE] = jt;
-      i32[2 * o + VELOCITY_A] = 16 * a;
+      i32[2 * o + VELOCITY_A] = a << VELOCITY_SHIFT;
     }
+  }
+}
+
+/**
+ * Velocities in: each body's (vx, vy) interleaved from byte 0, then the `standIns` wall stand-ins
+ * at 0.
+ */
+function velocitiesIn(
+  f64: Float64Array,
+  slots: number,
+  standIns: number,
+  vx: Float64Array,
+  vy: Float64Array,
+): void {
+  for (let i = 0; i < slots; i++) {
+    f64[2 * i] = vx[i]!;
+    f64[2 * i + 1] = vy[i]!;
+  }
+  f64.fill(0, 2 * slots, 2 * (slots + standIns));
+}
+
+/**
+ * Velocities and impulses out: the velocities from byte 0 into `vx`, `vy` (by body); each visit's
+ * impulses into `normalImpulse`, `tangentImpulse` by contact (`order`: each visit's).
+ */
+function velocitiesOut(
+  f64: Float64Array,
+  first: number,
+  count: number,
+  slots: number,
+  order: Int32Array,
+  vx: Float64Array,
+  vy: Float64Array,
+  normalImpulse: Float64Array,
+  tangentImpulse: Float64Array,
+): void {
+  for (let i = 0; i < slots; i++) {
+    vx[i] = f64[2 * i]!;
+    vy[i] = f64[2 * i + 1]!;
+  }
+  for (let s = 0, o = first; s < count; s++, o += 8) {
+    const k = order[s]!;
+    normalImpulse[k] = f64[o + NORMAL_IMPULSE]!;
+    tangentImpulse[k] = f64[o + TANGENT_IMPULSE]!;
   }
 }
 
@@ -415,8 +469,8 @@ function iteratePositions(
   for (let it = 0; it < iterations; it++) {
     for (let o = first; o < end; o += 8) {
       // movedX, movedY, x, y of A and B: 32 bytes a body, twice a velocity's 16.
-      const a = positions + (i32[2 * o + VELOCITY_A]! >>> 2);
-      const b = positions + (i32[2 * o + VELOCITY_B]! >>> 2);
+      const a = positions + (i32[2 * o + VELOCITY_A]! >>> VELOCITY_TO_POSITION);
+      const b = positions + (i32[2 * o + VELOCITY_B]! >>> VELOCITY_TO_POSITION);
       const nx = f64[o + NORMAL_X]!;
       const ny = f64[o + NORMAL_Y]!;
       const movedAx = f64[a]!;
@@ -432,12 +486,12 @@ function iteratePositions(
       const pb = correction * ib;
       f64[a] = movedAx + pa * nx;
       f64[a + 1] = movedAy + pa * ny;
-      f64[a + 2] = f64[a + 2]! + pa * nx;
-      f64[a + 3] = f64[a + 3]! + pa * ny;
+      f64[a + POSITION_XY] = f64[a + POSITION_XY]! + pa * nx;
+      f64[a + POSITION_XY + 1] = f64[a + POSITION_XY + 1]! + pa * ny;
       f64[b] = movedBx - pb * nx;
       f64[b + 1] = movedBy - pb * ny;
-      f64[b + 2] = f64[b + 2]! - pb * nx;
-      f64[b + 3] = f64[b + 3]! - pb * ny;
+      f64[b + POSITION_XY] = f64[b + POSITION_XY]! - pb * nx;
+      f64[b + POSITION_XY + 1] = f64[b + POSITION_XY + 1]! - pb * ny;
     }
   }
 }
@@ -466,7 +520,7 @@ export function solveVelocities(
   const kernels = schedule.kernels;
   if (kernels) {
     kernels.warmStart(schedule.visitsAt, count);
-    kernels.velocities(schedule.visitsAt, count, def.velocityIterations, def.friction);
+    kernels.iterateVelocities(schedule.visitsAt, count, def.velocityIterations, def.friction);
   } else {
     warmStart(f64, i32, first, count);
     iterateVelocities(f64, i32, first, count, def.velocityIterations, def.friction);
@@ -491,17 +545,7 @@ export function solveVelocities(
     vy.set(f64.subarray(vyAt >>> 3, (vyAt >>> 3) + n));
     normalImpulse.set(f64.subarray(normalAt >>> 3, (normalAt >>> 3) + count));
     tangentImpulse.set(f64.subarray(tangentAt >>> 3, (tangentAt >>> 3) + count));
-  } else {
-    for (let i = 0; i < n; i++) {
-      vx[i] = f64[2 * i]!;
-      vy[i] = f64[2 * i + 1]!;
-    }
-    for (let s = 0, o = first; s < count; s++, o += 8) {
-      const k = order[s]!;
-      normalImpulse[k] = f64[o + NORMAL_IMPULSE]!;
-      tangentImpulse[k] = f64[o + TANGENT_IMPULSE]!;
-    }
-  }
+  } else velocitiesOut(f64, first, count, n, order, vx, vy, normalImpulse, tangentImpulse);
   if (!(e > 0)) return;
 
   // Restitution: once, for contacts that approached faster than the threshold.
@@ -587,34 +631,13 @@ export function solvePositions(
     f64.set(startX.subarray(0, n), startXAt >>> 3);
     f64.set(startY.subarray(0, n), startYAt >>> 3);
     kernels.positionsIn(n, all - n, schedule.positionsAt, xAt, yAt, startXAt, startYAt);
-    kernels.positionsPrep(schedule.visitsAt, count, pairs, orderAt, separationAt, inverseMassAt);
+    kernels.preparePositions(schedule.visitsAt, count, pairs, orderAt, separationAt, inverseMassAt);
   } else {
-    // How far each body has moved since its contacts were found, then where it is (a free slot's
-    // values are never read: it has no contact).
-    for (let i = 0, p = positions; i < n; i++, p += 4) {
-      const px = x[i]!;
-      const py = y[i]!;
-      f64[p] = px - startX[i]!;
-      f64[p + 1] = py - startY[i]!;
-      f64[p + 2] = px;
-      f64[p + 3] = py;
-    }
-    f64.fill(0, positions + 4 * n, positions + 4 * all);
-    for (let s = 0, o = first; s < count; s++, o += 8) {
-      const k = order[s]!;
-      f64[o + SEPARATION] = separation[k]!;
-      if (k < pairs) {
-        f64[o + INVERSE_MASS_A] = inverseMass[i32[2 * o + VELOCITY_A]! >>> 4]!;
-        f64[o + INVERSE_MASS_B] = inverseMass[i32[2 * o + VELOCITY_B]! >>> 4]!;
-      } else {
-        // A wall takes the whole correction: (C / (1 + 0)) · 1 is C exactly.
-        f64[o + INVERSE_MASS_A] = 1;
-        f64[o + INVERSE_MASS_B] = 0;
-      }
-    }
+    positionsIn(f64, n, all - n, positions, x, y, startX, startY);
+    preparePositions(f64, i32, first, count, pairs, order, separation, inverseMass);
   }
   if (kernels)
-    kernels.positions(
+    kernels.iteratePositions(
       schedule.visitsAt,
       count,
       schedule.positionsAt,
@@ -639,8 +662,75 @@ export function solvePositions(
     y.set(f64.subarray(yAt >>> 3, (yAt >>> 3) + n));
     return;
   }
-  for (let i = 0, p = positions; i < n; i++, p += 4) {
-    x[i] = f64[p + 2]!;
-    y[i] = f64[p + 3]!;
+  positionsOut(f64, n, positions, x, y);
+}
+
+/**
+ * Positions in: for each of the `slots` bodies from f64 index `at`, how far it has moved since its
+ * contacts were found (x − startX, y − startY), then where it is; the `standIns` wall stand-ins
+ * after them at 0 (a free slot's values are never read: it has no contact).
+ */
+function positionsIn(
+  f64: Float64Array,
+  slots: number,
+  standIns: number,
+  at: number,
+  x: Float64Array,
+  y: Float64Array,
+  startX: Float64Array,
+  startY: Float64Array,
+): void {
+  const stride = 1 << (POSITION_SHIFT - 3);
+  for (let i = 0, p = at; i < slots; i++, p += stride) {
+    const px = x[i]!;
+    const py = y[i]!;
+    f64[p] = px - startX[i]!;
+    f64[p + 1] = py - startY[i]!;
+    f64[p + POSITION_XY] = px;
+    f64[p + POSITION_XY + 1] = py;
+  }
+  f64.fill(0, at + stride * slots, at + stride * (slots + standIns));
+}
+
+/**
+ * The position solver's visits: each visit's separation (by contact; `order` gives each visit's)
+ * and the inverse masses again — 1 and 0 for a wall, whose correction is whole.
+ */
+function preparePositions(
+  f64: Float64Array,
+  i32: Int32Array,
+  first: number,
+  count: number,
+  pairs: number,
+  order: Int32Array,
+  separation: Float64Array,
+  inverseMass: Float64Array,
+): void {
+  for (let s = 0, o = first; s < count; s++, o += 8) {
+    const k = order[s]!;
+    f64[o + SEPARATION] = separation[k]!;
+    if (k < pairs) {
+      f64[o + INVERSE_MASS_A] = inverseMass[i32[2 * o + VELOCITY_A]! >>> VELOCITY_SHIFT]!;
+      f64[o + INVERSE_MASS_B] = inverseMass[i32[2 * o + VELOCITY_B]! >>> VELOCITY_SHIFT]!;
+    } else {
+      // A wall takes the whole correction: (C / (1 + 0)) · 1 is C exactly.
+      f64[o + INVERSE_MASS_A] = 1;
+      f64[o + INVERSE_MASS_B] = 0;
+    }
+  }
+}
+
+/** Positions out: each body's x and y from its positions at f64 index `at` on into `x`, `y`. */
+function positionsOut(
+  f64: Float64Array,
+  slots: number,
+  at: number,
+  x: Float64Array,
+  y: Float64Array,
+): void {
+  const stride = 1 << (POSITION_SHIFT - 3);
+  for (let i = 0, p = at; i < slots; i++, p += stride) {
+    x[i] = f64[p + POSITION_XY]!;
+    y[i] = f64[p + POSITION_XY + 1]!;
   }
 }

@@ -1,15 +1,16 @@
 /**
- * The WebAssembly twins of the world's inner loops — the contact solver's (solver.wat, bytes in
- * solver-wasm.ts) and the broad phase's (broad-phase.wat, in broad-phase-wasm.ts), two modules
- * over one memory: compiled once, on first use, synchronously (each under 4 KB, which every
+ * The WebAssembly twins of the world's inner loops — the contact solver's (contact-solver.wat,
+ * bytes in contact-solver-wasm.ts) and the broad phase's (broad-phase.wat, in broad-phase-wasm.ts),
+ * two modules over one memory laid out as kernel-layout.ts says, each export named after the
+ * JavaScript function it twins in contact-solver.ts or broad-phase.ts: compiled once, on first use, synchronously (each under 4 KB, which every
  * Chromium allows on its main thread — recent desktop builds allow 8 MB, some WebViews still only
  * 4 KB; a test holds both there). Where WebAssembly is missing or refused (a
  * Content-Security-Policy without `wasm-unsafe-eval`) or lacks the 128-bit SIMD the velocity sweep
  * uses (Chrome before 91, Firefox before 89, Safari before 16.4), {@link solverKernels} returns
  * undefined and the solver runs its JavaScript loops, which give the same bits.
  */
-import { BROAD_PHASE_KERNELS_WASM } from './broad-phase-wasm.js';
-import { SOLVER_KERNELS_WASM } from './solver-wasm.js';
+import { BROAD_PHASE_WASM } from './broad-phase-wasm.js';
+import { CONTACT_SOLVER_WASM } from './contact-solver-wasm.js';
 
 /** An instance of the kernels over one memory. Offsets are bytes into that memory. */
 export interface SolverKernels {
@@ -19,8 +20,8 @@ export interface SolverKernels {
    */
   readonly memory: { readonly buffer: ArrayBuffer; grow(pages: number): number };
   warmStart(first: number, count: number): void;
-  velocities(first: number, count: number, iterations: number, friction: number): void;
-  positions(
+  iterateVelocities(first: number, count: number, iterations: number, friction: number): void;
+  iteratePositions(
     first: number,
     count: number,
     positions: number,
@@ -64,7 +65,7 @@ export interface SolverKernels {
     normalImpulse: number,
     tangentImpulse: number,
   ): void;
-  positionsPrep(
+  preparePositions(
     first: number,
     count: number,
     pairs: number,
@@ -72,7 +73,7 @@ export interface SolverKernels {
     separation: number,
     inverseMass: number,
   ): void;
-  plan(
+  planVisits(
     count: number,
     pairs: number,
     slots: number,
@@ -92,7 +93,25 @@ export interface SolverKernels {
     order: number,
     visits: number,
   ): void;
-  circlePairs(
+  /** broad-phase.ts's hashedBodyPairs for a world of circles only. */
+  hashedBodyPairs(
+    x: number,
+    y: number,
+    halfWidth: number,
+    inverseMass: number,
+    flags: number,
+    start: number,
+    items: number,
+    cellX: number,
+    cellY: number,
+    mask: number,
+    rows: number,
+    cols: number,
+    out: number,
+    room: number,
+  ): number;
+  /** broad-phase.ts's bodyPairs for a world of circles only. */
+  bodyPairs(
     x: number,
     y: number,
     halfWidth: number,
@@ -137,10 +156,7 @@ export function solverKernels(): SolverKernels | undefined {
     try {
       compiled =
         typeof WebAssembly === 'object'
-          ? [
-              new WebAssembly.Module(SOLVER_KERNELS_WASM),
-              new WebAssembly.Module(BROAD_PHASE_KERNELS_WASM),
-            ]
+          ? [new WebAssembly.Module(CONTACT_SOLVER_WASM), new WebAssembly.Module(BROAD_PHASE_WASM)]
           : null;
     } catch {
       compiled = null;
@@ -156,11 +172,12 @@ export function solverKernels(): SolverKernels | undefined {
     return {
       memory,
       warmStart: e.warmStart,
-      velocities: e.velocities,
-      positions: e.positions,
-      circlePairs: e.circlePairs,
-      plan: e.plan,
-      positionsPrep: e.positionsPrep,
+      iterateVelocities: e.iterateVelocities,
+      iteratePositions: e.iteratePositions,
+      bodyPairs: e.bodyPairs,
+      hashedBodyPairs: e.hashedBodyPairs,
+      planVisits: e.planVisits,
+      preparePositions: e.preparePositions,
       velocitiesIn: e.velocitiesIn,
       positionsIn: e.positionsIn,
       positionsOut: e.positionsOut,

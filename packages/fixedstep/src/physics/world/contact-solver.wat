@@ -1,9 +1,11 @@
-;; The contact solver's inner loops (contact-solver.ts has the same three in JavaScript, which give
-;; the same bits: the same IEEE-754 operations in the same order, and `select` exactly where the
-;; JavaScript branches). Everything lives in the imported memory, laid out as SolverSchedule
-;; describes: velocities (vx, vy) 16 bytes a body, positions (movedX, movedY, x, y) 32 bytes a body,
-;; visits 64 bytes each — nx, ny, normal mass (the separation for positions), inverse masses of A
-;; and B, normal and tangent impulse (f64), then the byte offsets of A's and B's velocities (i32).
+;; The contact solver's inner loops; contact-solver.ts has each in JavaScript under the same name
+;; (warmStart, iterateVelocities, iteratePositions, planVisits, preparePositions, velocitiesIn/Out,
+;; positionsIn/Out), which give the same bits: the same IEEE-754 operations in the same order, and
+;; `select` exactly where the JavaScript branches. Everything lives in the imported memory, laid out
+;; as kernel-layout.ts says (scripts/wasm.mjs puts its values in the placeholders): velocities
+;; (vx, vy) a body, positions (movedX, movedY, x, y) a body, visits of VISIT_BYTES each — nx, ny,
+;; normal mass (the separation for positions), inverse masses of A and B, normal and tangent impulse
+;; (f64), then the byte offsets of A's and B's velocities (i32).
 (module
   (import "env" "memory" (memory 1))
 
@@ -12,25 +14,25 @@
     (local $end i32) (local $a i32) (local $b i32)
     (local $jn f64) (local $jt f64) (local $nx f64) (local $ny f64)
     (local $px f64) (local $py f64) (local $ia f64) (local $ib f64)
-    (local.set $end (i32.add (local.get $p) (i32.shl (local.get $count) (i32.const 6))))
+    (local.set $end (i32.add (local.get $p) (i32.shl (local.get $count) (i32.const {{VISIT_SHIFT}}))))
     (block $done
       (loop $visit
         (br_if $done (i32.ge_u (local.get $p) (local.get $end)))
-        (local.set $jn (f64.load offset=40 (local.get $p)))
-        (local.set $jt (f64.load offset=48 (local.get $p)))
+        (local.set $jn (f64.load offset={{VISIT_NORMAL_IMPULSE}} (local.get $p)))
+        (local.set $jt (f64.load offset={{VISIT_TANGENT_IMPULSE}} (local.get $p)))
         (if (i32.eqz (i32.and (f64.eq (local.get $jn) (f64.const 0))
                               (f64.eq (local.get $jt) (f64.const 0))))
           (then
-            (local.set $a (i32.load offset=56 (local.get $p)))
-            (local.set $b (i32.load offset=60 (local.get $p)))
-            (local.set $nx (f64.load (local.get $p)))
-            (local.set $ny (f64.load offset=8 (local.get $p)))
+            (local.set $a (i32.load offset={{VISIT_VELOCITY_A}} (local.get $p)))
+            (local.set $b (i32.load offset={{VISIT_VELOCITY_B}} (local.get $p)))
+            (local.set $nx (f64.load offset={{VISIT_NORMAL_X}} (local.get $p)))
+            (local.set $ny (f64.load offset={{VISIT_NORMAL_Y}} (local.get $p)))
             (local.set $px (f64.sub (f64.mul (local.get $jn) (local.get $nx))
                                     (f64.mul (local.get $jt) (local.get $ny))))
             (local.set $py (f64.add (f64.mul (local.get $jn) (local.get $ny))
                                     (f64.mul (local.get $jt) (local.get $nx))))
-            (local.set $ia (f64.load offset=24 (local.get $p)))
-            (local.set $ib (f64.load offset=32 (local.get $p)))
+            (local.set $ia (f64.load offset={{VISIT_INVERSE_MASS_A}} (local.get $p)))
+            (local.set $ib (f64.load offset={{VISIT_INVERSE_MASS_B}} (local.get $p)))
             (f64.store (local.get $a)
               (f64.add (f64.load (local.get $a)) (f64.mul (local.get $px) (local.get $ia))))
             (f64.store offset=8 (local.get $a)
@@ -39,7 +41,7 @@
               (f64.sub (f64.load (local.get $b)) (f64.mul (local.get $px) (local.get $ib))))
             (f64.store offset=8 (local.get $b)
               (f64.sub (f64.load offset=8 (local.get $b)) (f64.mul (local.get $py) (local.get $ib))))))
-        (local.set $p (i32.add (local.get $p) (i32.const 64)))
+        (local.set $p (i32.add (local.get $p) (i32.const {{VISIT_BYTES}})))
         (br $visit))))
 
   ;; `iterations` sweeps of sequential impulses over `count` visits from byte `first`. Two visits
@@ -50,7 +52,7 @@
   ;; lane, no fused operations), and the dot products add lane 0 and lane 1 in the JavaScript's
   ;; order. The impulse is P = λ·(nx, ny) + τ·(−ny, nx): lane 0 adds −(τ·ny), which is subtracting
   ;; τ·ny.
-  (func (export "velocities") (param $first i32) (param $count i32) (param $iterations i32) (param $mu f64)
+  (func (export "iterateVelocities") (param $first i32) (param $count i32) (param $iterations i32) (param $mu f64)
     (local $p i32) (local $end i32) (local $it i32) (local $a i32) (local $b i32)
     (local $n v128) (local $swapped v128) (local $va v128) (local $vb v128) (local $rel v128)
     (local $q v128) (local $impulse v128) (local $mass f64)
@@ -62,7 +64,7 @@
     (local $rX v128) (local $rY v128) (local $nN v128) (local $nT v128) (local $dN2 v128) (local $dT2 v128)
     (local $f v128) (local $pX v128) (local $pY v128) (local $muV v128)
     (local.set $muV (f64x2.splat (local.get $mu)))
-    (local.set $end (i32.add (local.get $first) (i32.shl (local.get $count) (i32.const 6))))
+    (local.set $end (i32.add (local.get $first) (i32.shl (local.get $count) (i32.const {{VISIT_SHIFT}}))))
     (block $done
       (loop $iteration
         (br_if $done (i32.ge_u (local.get $it) (local.get $iterations)))
@@ -70,32 +72,32 @@
         (block $swept
           (loop $visit
             (br_if $swept (i32.ge_u (local.get $p) (local.get $end)))
-            (local.set $a (i32.load offset=56 (local.get $p)))
-            (local.set $b (i32.load offset=60 (local.get $p)))
+            (local.set $a (i32.load offset={{VISIT_VELOCITY_A}} (local.get $p)))
+            (local.set $b (i32.load offset={{VISIT_VELOCITY_B}} (local.get $p)))
             ;; Two visits in a row that share no body commute: do them side by side, visit p in
             ;; lane 0 and visit p + 64 in lane 1, each lane the very operations of one visit below.
-            (if (i32.lt_u (i32.add (local.get $p) (i32.const 64)) (local.get $end))
+            (if (i32.lt_u (i32.add (local.get $p) (i32.const {{VISIT_BYTES}})) (local.get $end))
               (then
-                (local.set $a1 (i32.load offset=120 (local.get $p)))
-                (local.set $b1 (i32.load offset=124 (local.get $p)))
+                (local.set $a1 (i32.load offset={{VISIT_BYTES + VISIT_VELOCITY_A}} (local.get $p)))
+                (local.set $b1 (i32.load offset={{VISIT_BYTES + VISIT_VELOCITY_B}} (local.get $p)))
                 (if (i32.eqz (i32.or (i32.or (i32.eq (local.get $a1) (local.get $a)) (i32.eq (local.get $a1) (local.get $b)))
                                      (i32.or (i32.eq (local.get $b1) (local.get $a)) (i32.eq (local.get $b1) (local.get $b)))))
                   (then
                     ;; Transpose the two visits' fields into (visit 0, visit 1) lanes.
-                    (local.set $lo (v128.load (local.get $p)))
-                    (local.set $hi (v128.load offset=64 (local.get $p)))
+                    (local.set $lo (v128.load offset={{VISIT_NORMAL_X}} (local.get $p)))
+                    (local.set $hi (v128.load offset={{VISIT_BYTES + VISIT_NORMAL_X}} (local.get $p)))
                     (local.set $nX (i8x16.shuffle 0 1 2 3 4 5 6 7 16 17 18 19 20 21 22 23 (local.get $lo) (local.get $hi)))
                     (local.set $nY (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $lo) (local.get $hi)))
-                    (local.set $lo (v128.load offset=16 (local.get $p)))
-                    (local.set $hi (v128.load offset=80 (local.get $p)))
+                    (local.set $lo (v128.load offset={{VISIT_NORMAL_MASS}} (local.get $p)))
+                    (local.set $hi (v128.load offset={{VISIT_BYTES + VISIT_NORMAL_MASS}} (local.get $p)))
                     (local.set $m (i8x16.shuffle 0 1 2 3 4 5 6 7 16 17 18 19 20 21 22 23 (local.get $lo) (local.get $hi)))
                     (local.set $iA (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $lo) (local.get $hi)))
-                    (local.set $lo (v128.load offset=32 (local.get $p)))
-                    (local.set $hi (v128.load offset=96 (local.get $p)))
+                    (local.set $lo (v128.load offset={{VISIT_INVERSE_MASS_B}} (local.get $p)))
+                    (local.set $hi (v128.load offset={{VISIT_BYTES + VISIT_INVERSE_MASS_B}} (local.get $p)))
                     (local.set $iB (i8x16.shuffle 0 1 2 3 4 5 6 7 16 17 18 19 20 21 22 23 (local.get $lo) (local.get $hi)))
                     (local.set $jN (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $lo) (local.get $hi)))
-                    (local.set $jT (f64x2.replace_lane 1 (f64x2.splat (f64.load offset=48 (local.get $p)))
-                                                        (f64.load offset=112 (local.get $p))))
+                    (local.set $jT (f64x2.replace_lane 1 (f64x2.splat (f64.load offset={{VISIT_TANGENT_IMPULSE}} (local.get $p)))
+                                                        (f64.load offset={{VISIT_BYTES + VISIT_TANGENT_IMPULSE}} (local.get $p))))
                     (local.set $lo (v128.load (local.get $a)))
                     (local.set $hi (v128.load (local.get $a1)))
                     (local.set $vaX (i8x16.shuffle 0 1 2 3 4 5 6 7 16 17 18 19 20 21 22 23 (local.get $lo) (local.get $hi)))
@@ -124,10 +126,10 @@
                                         (f64x2.lt (local.get $nT) (f64x2.neg (local.get $f))))
                         (f64x2.gt (local.get $nT) (local.get $f))))
                     (local.set $dT2 (f64x2.sub (local.get $nT) (local.get $jT)))
-                    (v128.store64_lane offset=40 0 (local.get $p) (local.get $nN))
-                    (v128.store64_lane offset=104 1 (local.get $p) (local.get $nN))
-                    (v128.store64_lane offset=48 0 (local.get $p) (local.get $nT))
-                    (v128.store64_lane offset=112 1 (local.get $p) (local.get $nT))
+                    (v128.store64_lane offset={{VISIT_NORMAL_IMPULSE}} 0 (local.get $p) (local.get $nN))
+                    (v128.store64_lane offset={{VISIT_BYTES + VISIT_NORMAL_IMPULSE}} 1 (local.get $p) (local.get $nN))
+                    (v128.store64_lane offset={{VISIT_TANGENT_IMPULSE}} 0 (local.get $p) (local.get $nT))
+                    (v128.store64_lane offset={{VISIT_BYTES + VISIT_TANGENT_IMPULSE}} 1 (local.get $p) (local.get $nT))
                     ;; P = (dN·nx + dT·(−ny), dN·ny + dT·nx)
                     (local.set $pX (f64x2.add (f64x2.mul (local.get $dN2) (local.get $nX))
                                               (f64x2.mul (local.get $dT2) (f64x2.neg (local.get $nY)))))
@@ -141,29 +143,29 @@
                     (v128.store (local.get $a1) (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $vaX) (local.get $vaY)))
                     (v128.store (local.get $b) (i8x16.shuffle 0 1 2 3 4 5 6 7 16 17 18 19 20 21 22 23 (local.get $vbX) (local.get $vbY)))
                     (v128.store (local.get $b1) (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $vbX) (local.get $vbY)))
-                    (local.set $p (i32.add (local.get $p) (i32.const 128)))
+                    (local.set $p (i32.add (local.get $p) (i32.const {{2 * VISIT_BYTES}})))
                     (br $visit)))))
-            (local.set $n (v128.load (local.get $p)))
+            (local.set $n (v128.load offset={{VISIT_NORMAL_X}} (local.get $p)))
             ;; (ny, nx)
             (local.set $swapped (i8x16.shuffle 8 9 10 11 12 13 14 15 0 1 2 3 4 5 6 7
                                   (local.get $n) (local.get $n)))
-            (local.set $mass (f64.load offset=16 (local.get $p)))
+            (local.set $mass (f64.load offset={{VISIT_NORMAL_MASS}} (local.get $p)))
             (local.set $va (v128.load (local.get $a)))
             (local.set $vb (v128.load (local.get $b)))
             (local.set $rel (f64x2.sub (local.get $va) (local.get $vb)))
             ;; Normal: λ' = max(0, λ − vn·mN), as `if (λ' < 0) λ' = 0`; vn = rvx·nx + rvy·ny.
             (local.set $q (f64x2.mul (local.get $rel) (local.get $n)))
-            (local.set $oldN (f64.load offset=40 (local.get $p)))
+            (local.set $oldN (f64.load offset={{VISIT_NORMAL_IMPULSE}} (local.get $p)))
             (local.set $newN (f64.sub (local.get $oldN)
               (f64.mul (f64.add (f64x2.extract_lane 0 (local.get $q)) (f64x2.extract_lane 1 (local.get $q)))
                        (local.get $mass))))
             (local.set $newN (select (f64.const 0) (local.get $newN)
                                      (f64.lt (local.get $newN) (f64.const 0))))
             (local.set $dN (f64.sub (local.get $newN) (local.get $oldN)))
-            (f64.store offset=40 (local.get $p) (local.get $newN))
+            (f64.store offset={{VISIT_NORMAL_IMPULSE}} (local.get $p) (local.get $newN))
             ;; Friction: τ' = clamp(τ − vt·mN, ±μλ'); vt = rvy·nx − rvx·ny.
             (local.set $q (f64x2.mul (local.get $rel) (local.get $swapped)))
-            (local.set $oldT (f64.load offset=48 (local.get $p)))
+            (local.set $oldT (f64.load offset={{VISIT_TANGENT_IMPULSE}} (local.get $p)))
             (local.set $maxF (f64.mul (local.get $mu) (local.get $newN)))
             (local.set $newT (f64.sub (local.get $oldT)
               (f64.mul (f64.sub (f64x2.extract_lane 1 (local.get $q)) (f64x2.extract_lane 0 (local.get $q)))
@@ -174,7 +176,7 @@
                         (f64.lt (local.get $newT) (f64.neg (local.get $maxF))))
                 (f64.gt (local.get $newT) (local.get $maxF))))
             (local.set $dT (f64.sub (local.get $newT) (local.get $oldT)))
-            (f64.store offset=48 (local.get $p) (local.get $newT))
+            (f64.store offset={{VISIT_TANGENT_IMPULSE}} (local.get $p) (local.get $newT))
             ;; P = (dN·nx − dT·ny, dN·ny + dT·nx): dN·n + dT·(−ny, nx).
             (local.set $impulse
               (f64x2.add (f64x2.mul (f64x2.splat (local.get $dN)) (local.get $n))
@@ -183,11 +185,11 @@
                                               (v128.const i64x2 0x8000000000000000 0)))))
             (v128.store (local.get $a)
               (f64x2.add (local.get $va)
-                         (f64x2.mul (local.get $impulse) (f64x2.splat (f64.load offset=24 (local.get $p))))))
+                         (f64x2.mul (local.get $impulse) (f64x2.splat (f64.load offset={{VISIT_INVERSE_MASS_A}} (local.get $p))))))
             (v128.store (local.get $b)
               (f64x2.sub (local.get $vb)
-                         (f64x2.mul (local.get $impulse) (f64x2.splat (f64.load offset=32 (local.get $p))))))
-            (local.set $p (i32.add (local.get $p) (i32.const 64)))
+                         (f64x2.mul (local.get $impulse) (f64x2.splat (f64.load offset={{VISIT_INVERSE_MASS_B}} (local.get $p))))))
+            (local.set $p (i32.add (local.get $p) (i32.const {{VISIT_BYTES}})))
             (br $visit)))
         (local.set $it (i32.add (local.get $it) (i32.const 1)))
         (br $iteration))))
@@ -196,12 +198,12 @@
   ;; (movedX, movedY) is one f64x2 and its (x, y) the next, and so is a normal: every lane does what
   ;; the JavaScript does to that component (no fused operations), and the predicted separation adds
   ;; lane 0, then lane 1, as the JavaScript does.
-  (func (export "positions") (param $first i32) (param $count i32) (param $positions i32)
+  (func (export "iteratePositions") (param $first i32) (param $count i32) (param $positions i32)
         (param $iterations i32) (param $slop f64) (param $beta f64)
     (local $p i32) (local $end i32) (local $it i32) (local $a i32) (local $b i32)
     (local $n v128) (local $movedA v128) (local $movedB v128) (local $q v128) (local $push v128)
     (local $s f64) (local $ia f64) (local $ib f64) (local $c f64)
-    (local.set $end (i32.add (local.get $first) (i32.shl (local.get $count) (i32.const 6))))
+    (local.set $end (i32.add (local.get $first) (i32.shl (local.get $count) (i32.const {{VISIT_SHIFT}}))))
     (block $done
       (loop $iteration
         (br_if $done (i32.ge_u (local.get $it) (local.get $iterations)))
@@ -209,30 +211,30 @@
         (block $swept
           (loop $visit
             (br_if $swept (i32.ge_u (local.get $p) (local.get $end)))
-            ;; 32 bytes a body here, twice a velocity's 16.
-            (local.set $a (i32.add (local.get $positions) (i32.shl (i32.load offset=56 (local.get $p)) (i32.const 1))))
-            (local.set $b (i32.add (local.get $positions) (i32.shl (i32.load offset=60 (local.get $p)) (i32.const 1))))
-            (local.set $n (v128.load (local.get $p)))
+            ;; A position's offset is a velocity's shifted by POSITION_SHIFT − VELOCITY_SHIFT.
+            (local.set $a (i32.add (local.get $positions) (i32.shl (i32.load offset={{VISIT_VELOCITY_A}} (local.get $p)) (i32.const {{POSITION_SHIFT - VELOCITY_SHIFT}}))))
+            (local.set $b (i32.add (local.get $positions) (i32.shl (i32.load offset={{VISIT_VELOCITY_B}} (local.get $p)) (i32.const {{POSITION_SHIFT - VELOCITY_SHIFT}}))))
+            (local.set $n (v128.load offset={{VISIT_NORMAL_X}} (local.get $p)))
             (local.set $movedA (v128.load (local.get $a)))
             (local.set $movedB (v128.load (local.get $b)))
             ;; s = s0 + (ΔAx − ΔBx)·nx + (ΔAy − ΔBy)·ny
             (local.set $q (f64x2.mul (f64x2.sub (local.get $movedA) (local.get $movedB)) (local.get $n)))
-            (local.set $s (f64.add (f64.add (f64.load offset=16 (local.get $p)) (f64x2.extract_lane 0 (local.get $q)))
+            (local.set $s (f64.add (f64.add (f64.load offset={{VISIT_SEPARATION}} (local.get $p)) (f64x2.extract_lane 0 (local.get $q)))
                                    (f64x2.extract_lane 1 (local.get $q))))
             (if (i32.eqz (f64.ge (local.get $s) (f64.neg (local.get $slop))))
               (then
-                (local.set $ia (f64.load offset=24 (local.get $p)))
-                (local.set $ib (f64.load offset=32 (local.get $p)))
+                (local.set $ia (f64.load offset={{VISIT_INVERSE_MASS_A}} (local.get $p)))
+                (local.set $ib (f64.load offset={{VISIT_INVERSE_MASS_B}} (local.get $p)))
                 (local.set $c (f64.div (f64.mul (f64.neg (f64.add (local.get $s) (local.get $slop))) (local.get $beta))
                                        (f64.add (local.get $ia) (local.get $ib))))
                 ;; A moves by (c·ia)·n, B by −(c·ib)·n: its motion and its position alike.
                 (local.set $push (f64x2.mul (f64x2.splat (f64.mul (local.get $c) (local.get $ia))) (local.get $n)))
                 (v128.store (local.get $a) (f64x2.add (local.get $movedA) (local.get $push)))
-                (v128.store offset=16 (local.get $a) (f64x2.add (v128.load offset=16 (local.get $a)) (local.get $push)))
+                (v128.store offset={{POSITION_XY}} (local.get $a) (f64x2.add (v128.load offset={{POSITION_XY}} (local.get $a)) (local.get $push)))
                 (local.set $push (f64x2.mul (f64x2.splat (f64.mul (local.get $c) (local.get $ib))) (local.get $n)))
                 (v128.store (local.get $b) (f64x2.sub (local.get $movedB) (local.get $push)))
-                (v128.store offset=16 (local.get $b) (f64x2.sub (v128.load offset=16 (local.get $b)) (local.get $push)))))
-            (local.set $p (i32.add (local.get $p) (i32.const 64)))
+                (v128.store offset={{POSITION_XY}} (local.get $b) (f64x2.sub (v128.load offset={{POSITION_XY}} (local.get $b)) (local.get $push)))))
+            (local.set $p (i32.add (local.get $p) (i32.const {{VISIT_BYTES}})))
             (br $visit)))
         (local.set $it (i32.add (local.get $it) (i32.const 1)))
         (br $iteration))))
@@ -243,7 +245,7 @@
   ;; cache's head (i32) by body; its next, bodyB (i32), normal and tangent impulses (f64) by entry.
   ;; Scratch: $lastWave by body, $waveOf by contact, $waveStart by wave (count + 2 of them).
   ;; Writes the visiting order at $order (i32) and the visits at $visits.
-  (func (export "plan") (param $count i32) (param $pairs i32) (param $slots i32)
+  (func (export "planVisits") (param $count i32) (param $pairs i32) (param $slots i32)
         (param $bodyA i32) (param $bodyB i32) (param $nx i32) (param $ny i32) (param $im i32)
         (param $head i32) (param $next i32) (param $cachedB i32) (param $cachedN i32) (param $cachedT i32)
         (param $lastWave i32) (param $waveOf i32) (param $waveStart i32) (param $order i32)
@@ -296,19 +298,19 @@
         (i32.store (i32.add (local.get $order) (i32.shl (local.get $s) (i32.const 2))) (local.get $k))
         (local.set $a (i32.load (i32.add (local.get $bodyA) (i32.shl (local.get $k) (i32.const 2)))))
         (local.set $b (i32.load (i32.add (local.get $bodyB) (i32.shl (local.get $k) (i32.const 2)))))
-        (local.set $p (i32.add (local.get $visits) (i32.shl (local.get $s) (i32.const 6))))
+        (local.set $p (i32.add (local.get $visits) (i32.shl (local.get $s) (i32.const {{VISIT_SHIFT}}))))
         (local.set $ia (f64.load (i32.add (local.get $im) (i32.shl (local.get $a) (i32.const 3)))))
         (if (i32.lt_s (local.get $k) (local.get $pairs))
           (then
             (local.set $ib (f64.load (i32.add (local.get $im) (i32.shl (local.get $b) (i32.const 3)))))
             (local.set $mass (f64.div (f64.const 1) (f64.add (local.get $ia) (local.get $ib))))
-            (f64.store offset=32 (local.get $p) (local.get $ib))
-            (i32.store offset=60 (local.get $p) (i32.shl (local.get $b) (i32.const 4))))
+            (f64.store offset={{VISIT_INVERSE_MASS_B}} (local.get $p) (local.get $ib))
+            (i32.store offset={{VISIT_VELOCITY_B}} (local.get $p) (i32.shl (local.get $b) (i32.const {{VELOCITY_SHIFT}}))))
           (else
             (local.set $mass (f64.div (f64.const 1) (local.get $ia)))
-            (f64.store offset=32 (local.get $p) (f64.const 0))
-            (i32.store offset=60 (local.get $p)
-              (i32.shl (i32.sub (i32.add (local.get $slots) (local.get $k)) (local.get $pairs)) (i32.const 4)))))
+            (f64.store offset={{VISIT_INVERSE_MASS_B}} (local.get $p) (f64.const 0))
+            (i32.store offset={{VISIT_VELOCITY_B}} (local.get $p)
+              (i32.shl (i32.sub (i32.add (local.get $slots) (local.get $k)) (local.get $pairs)) (i32.const {{VELOCITY_SHIFT}})))))
         ;; Last step's impulses for the same pair: the first entry of A's chain with B.
         (local.set $jn (f64.const 0))
         (local.set $jt (f64.const 0))
@@ -324,40 +326,40 @@
             (local.set $w (i32.load (i32.add (local.get $next) (i32.shl (local.get $w) (i32.const 2)))))
             (br $chain)))
         (local.set $q (i32.shl (local.get $k) (i32.const 3)))
-        (f64.store (local.get $p) (f64.load (i32.add (local.get $nx) (local.get $q))))
-        (f64.store offset=8 (local.get $p) (f64.load (i32.add (local.get $ny) (local.get $q))))
-        (f64.store offset=16 (local.get $p) (local.get $mass))
-        (f64.store offset=24 (local.get $p) (local.get $ia))
-        (f64.store offset=40 (local.get $p) (local.get $jn))
-        (f64.store offset=48 (local.get $p) (local.get $jt))
-        (i32.store offset=56 (local.get $p) (i32.shl (local.get $a) (i32.const 4)))
+        (f64.store offset={{VISIT_NORMAL_X}} (local.get $p) (f64.load (i32.add (local.get $nx) (local.get $q))))
+        (f64.store offset={{VISIT_NORMAL_Y}} (local.get $p) (f64.load (i32.add (local.get $ny) (local.get $q))))
+        (f64.store offset={{VISIT_NORMAL_MASS}} (local.get $p) (local.get $mass))
+        (f64.store offset={{VISIT_INVERSE_MASS_A}} (local.get $p) (local.get $ia))
+        (f64.store offset={{VISIT_NORMAL_IMPULSE}} (local.get $p) (local.get $jn))
+        (f64.store offset={{VISIT_TANGENT_IMPULSE}} (local.get $p) (local.get $jt))
+        (i32.store offset={{VISIT_VELOCITY_A}} (local.get $p) (i32.shl (local.get $a) (i32.const {{VELOCITY_SHIFT}})))
         (local.set $k (i32.add (local.get $k) (i32.const 1)))
         (br $visit))))
 
   ;; solvePositions' preparation of the visits: each visit's separation (from the column at $sep,
   ;; by contact; $order gives the contact of each visit) over its normal mass, and the inverse
   ;; masses again from the column at $im (by body) — 1 and 0 for a wall, whose correction is whole.
-  (func (export "positionsPrep") (param $first i32) (param $count i32) (param $pairs i32)
+  (func (export "preparePositions") (param $first i32) (param $count i32) (param $pairs i32)
         (param $order i32) (param $sep i32) (param $im i32)
     (local $s i32) (local $p i32) (local $k i32)
     (block $done
       (loop $visit
         (br_if $done (i32.ge_s (local.get $s) (local.get $count)))
-        (local.set $p (i32.add (local.get $first) (i32.shl (local.get $s) (i32.const 6))))
+        (local.set $p (i32.add (local.get $first) (i32.shl (local.get $s) (i32.const {{VISIT_SHIFT}}))))
         (local.set $k (i32.load (i32.add (local.get $order) (i32.shl (local.get $s) (i32.const 2)))))
-        (f64.store offset=16 (local.get $p)
+        (f64.store offset={{VISIT_SEPARATION}} (local.get $p)
           (f64.load (i32.add (local.get $sep) (i32.shl (local.get $k) (i32.const 3)))))
         (if (i32.lt_s (local.get $k) (local.get $pairs))
           (then
-            ;; A velocity's byte offset is 16 a body; an inverse mass's is 8.
-            (f64.store offset=24 (local.get $p)
-              (f64.load (i32.add (local.get $im) (i32.shr_u (i32.load offset=56 (local.get $p)) (i32.const 1)))))
-            (f64.store offset=32 (local.get $p)
-              (f64.load (i32.add (local.get $im) (i32.shr_u (i32.load offset=60 (local.get $p)) (i32.const 1))))))
+            ;; A velocity's byte offset, shifted to an inverse mass's (8 bytes a body).
+            (f64.store offset={{VISIT_INVERSE_MASS_A}} (local.get $p)
+              (f64.load (i32.add (local.get $im) (i32.shr_u (i32.load offset={{VISIT_VELOCITY_A}} (local.get $p)) (i32.const {{VELOCITY_SHIFT - 3}})))))
+            (f64.store offset={{VISIT_INVERSE_MASS_B}} (local.get $p)
+              (f64.load (i32.add (local.get $im) (i32.shr_u (i32.load offset={{VISIT_VELOCITY_B}} (local.get $p)) (i32.const {{VELOCITY_SHIFT - 3}}))))))
           (else
-            (f64.store offset=24 (local.get $p) (f64.const 1))
-            (f64.store offset=32 (local.get $p) (f64.const 0))))
-        (local.set $s (i32.add (local.get $s) (i32.const 1)))
+            (f64.store offset={{VISIT_INVERSE_MASS_A}} (local.get $p) (f64.const 1))
+            (f64.store offset={{VISIT_INVERSE_MASS_B}} (local.get $p) (f64.const 0))))
+        (local.set $s (i32.add (local.get $s) (i32.const {{VELOCITY_SHIFT - 3}})))
         (br $visit))))
 
   ;; Velocities in: the columns at $vx, $vy (f64 by body) interleaved from byte 0, and the $standIns
@@ -368,11 +370,11 @@
       (loop $body
         (br_if $done (i32.ge_s (local.get $i) (local.get $slots)))
         (local.set $p (i32.shl (local.get $i) (i32.const 3)))
-        (f64.store (i32.shl (local.get $p) (i32.const 1)) (f64.load (i32.add (local.get $vx) (local.get $p))))
-        (f64.store offset=8 (i32.shl (local.get $p) (i32.const 1)) (f64.load (i32.add (local.get $vy) (local.get $p))))
+        (f64.store (i32.shl (local.get $p) (i32.const {{VELOCITY_SHIFT - 3}})) (f64.load (i32.add (local.get $vx) (local.get $p))))
+        (f64.store offset=8 (i32.shl (local.get $p) (i32.const {{VELOCITY_SHIFT - 3}})) (f64.load (i32.add (local.get $vy) (local.get $p))))
         (local.set $i (i32.add (local.get $i) (i32.const 1)))
         (br $body)))
-    (memory.fill (i32.shl (local.get $slots) (i32.const 4)) (i32.const 0) (i32.shl (local.get $standIns) (i32.const 4))))
+    (memory.fill (i32.shl (local.get $slots) (i32.const {{VELOCITY_SHIFT}})) (i32.const 0) (i32.shl (local.get $standIns) (i32.const {{VELOCITY_SHIFT}}))))
 
   ;; Velocities and impulses out: the velocities from byte 0 into the columns at $vx, $vy (by
   ;; body); each visit's impulses into the columns at $jn, $jt by contact ($order: each visit's).
@@ -383,17 +385,17 @@
       (loop $body
         (br_if $done (i32.ge_s (local.get $i) (local.get $slots)))
         (local.set $p (i32.shl (local.get $i) (i32.const 3)))
-        (f64.store (i32.add (local.get $vx) (local.get $p)) (f64.load (i32.shl (local.get $p) (i32.const 1))))
-        (f64.store (i32.add (local.get $vy) (local.get $p)) (f64.load offset=8 (i32.shl (local.get $p) (i32.const 1))))
+        (f64.store (i32.add (local.get $vx) (local.get $p)) (f64.load (i32.shl (local.get $p) (i32.const {{VELOCITY_SHIFT - 3}}))))
+        (f64.store (i32.add (local.get $vy) (local.get $p)) (f64.load offset=8 (i32.shl (local.get $p) (i32.const {{VELOCITY_SHIFT - 3}}))))
         (local.set $i (i32.add (local.get $i) (i32.const 1)))
         (br $body)))
     (block $visitsDone
       (loop $visit
         (br_if $visitsDone (i32.ge_s (local.get $s) (local.get $count)))
-        (local.set $p (i32.add (local.get $first) (i32.shl (local.get $s) (i32.const 6))))
+        (local.set $p (i32.add (local.get $first) (i32.shl (local.get $s) (i32.const {{VISIT_SHIFT}}))))
         (local.set $k (i32.shl (i32.load (i32.add (local.get $order) (i32.shl (local.get $s) (i32.const 2)))) (i32.const 3)))
-        (f64.store (i32.add (local.get $jn) (local.get $k)) (f64.load offset=40 (local.get $p)))
-        (f64.store (i32.add (local.get $jt) (local.get $k)) (f64.load offset=48 (local.get $p)))
+        (f64.store (i32.add (local.get $jn) (local.get $k)) (f64.load offset={{VISIT_NORMAL_IMPULSE}} (local.get $p)))
+        (f64.store (i32.add (local.get $jt) (local.get $k)) (f64.load offset={{VISIT_TANGENT_IMPULSE}} (local.get $p)))
         (local.set $s (i32.add (local.get $s) (i32.const 1)))
         (br $visit))))
 
@@ -412,12 +414,12 @@
         (local.set $py (f64.load (i32.add (local.get $y) (local.get $q))))
         (f64.store (local.get $p) (f64.sub (local.get $px) (f64.load (i32.add (local.get $sx) (local.get $q)))))
         (f64.store offset=8 (local.get $p) (f64.sub (local.get $py) (f64.load (i32.add (local.get $sy) (local.get $q)))))
-        (f64.store offset=16 (local.get $p) (local.get $px))
-        (f64.store offset=24 (local.get $p) (local.get $py))
-        (local.set $p (i32.add (local.get $p) (i32.const 32)))
+        (f64.store offset={{POSITION_XY}} (local.get $p) (local.get $px))
+        (f64.store offset={{POSITION_XY + 8}} (local.get $p) (local.get $py))
+        (local.set $p (i32.add (local.get $p) (i32.const {{POSITION_BYTES}})))
         (local.set $i (i32.add (local.get $i) (i32.const 1)))
         (br $body)))
-    (memory.fill (local.get $p) (i32.const 0) (i32.shl (local.get $standIns) (i32.const 5))))
+    (memory.fill (local.get $p) (i32.const 0) (i32.shl (local.get $standIns) (i32.const {{POSITION_SHIFT}}))))
 
   ;; Positions out: each body's x and y from the 32 bytes a body from $at into the columns at $x, $y.
   (func (export "positionsOut") (param $slots i32) (param $at i32) (param $x i32) (param $y i32)
@@ -427,9 +429,9 @@
       (loop $body
         (br_if $done (i32.ge_s (local.get $i) (local.get $slots)))
         (local.set $q (i32.shl (local.get $i) (i32.const 3)))
-        (f64.store (i32.add (local.get $x) (local.get $q)) (f64.load offset=16 (local.get $p)))
-        (f64.store (i32.add (local.get $y) (local.get $q)) (f64.load offset=24 (local.get $p)))
-        (local.set $p (i32.add (local.get $p) (i32.const 32)))
+        (f64.store (i32.add (local.get $x) (local.get $q)) (f64.load offset={{POSITION_XY}} (local.get $p)))
+        (f64.store (i32.add (local.get $y) (local.get $q)) (f64.load offset={{POSITION_XY + 8}} (local.get $p)))
+        (local.set $p (i32.add (local.get $p) (i32.const {{POSITION_BYTES}})))
         (local.set $i (i32.add (local.get $i) (i32.const 1)))
         (br $body))))
 )
