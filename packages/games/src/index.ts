@@ -110,3 +110,16 @@ export {
   jostleGame,
 } from './scenes/jostle.js';
 export { StirredPile, STIRRED_PILE_SCHEMA, stirredPileGame } from './scenes/stirred-pile.js';
+export {
+  Gallery,
+  GALLERY_INPUT,
+  GALLERY_SCHEMA,
+  GALLERY_LANES,
+  GALLERY_WIDTH,
+  GALLERY_HIT_RADIUS,
+  GALLERY_MAX_REWIND,
+  galleryGame,
+} from './scenes/gallery.js';
+export type { GalleryShot } from './scenes/gallery.js';
+export { runGalleryMatch } from './scenes/gallery-match.js';
+export type { GalleryMatchOptions, GalleryMatchResult } from './scenes/gallery-match.js';

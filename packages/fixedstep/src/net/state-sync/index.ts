@@ -54,4 +54,6 @@ export type {
   StateSyncServerEvent,
 } from './server.js';
 export { SnapshotTimeline, PredictionSmoother, LatenessWindow } from './render.js';
+export { LagHistory } from './lag.js';
+export type { LagHistoryOptions } from './lag.js';
 export type { StateSyncRender } from './render.js';
