@@ -378,7 +378,8 @@ export class QueryIndex {
 
   /** Walls, then bodies through the grid, into `best*` or `hits`. */
   private cast(walls: boolean): void {
-    if (this.dx === 0 && this.dy === 0) return;
+    // A translation whose square underflows (shorter than ~1e-154 m) hits nothing.
+    if (this.dx * this.dx + this.dy * this.dy === 0) return;
     const s = this.statics;
     // Walls have the default filter.
     if (walls && (this.qMask & DEFAULT_CATEGORY_BITS) !== 0 && this.qCategory !== 0) {
@@ -433,6 +434,7 @@ export class QueryIndex {
       tA = Math.max(tA, Math.min(t1, t2));
       tB = Math.min(tB, Math.max(t1, t2));
     }
+    if (!(tA <= tB)) return; // misses the grid
     const xMajor = (dx < 0 ? -dx : dx) >= (dy < 0 ? -dy : dy);
     const p0 = xMajor ? ox : oy;
     const dp = xMajor ? dx : dy;
@@ -457,7 +459,7 @@ export class QueryIndex {
     tB += epsT;
     if (tA < 0) tA = 0;
     if (tB > 1) tB = 1;
-    if (tA > tB) return;
+    if (!(tA <= tB)) return;
     const forward = dp > 0;
     const pa = p0 + tA * dp;
     const pb = p0 + tB * dp;
