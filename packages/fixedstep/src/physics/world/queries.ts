@@ -102,6 +102,9 @@ export class QueryIndex {
   private cellStart = new Int32Array(1);
   private items = new Int32Array(0);
   private cursor = new Int32Array(0);
+  /** By body, while building: its first cell, and how many more columns (high 4 bits) and rows. */
+  private first = new Int32Array(0);
+  private span = new Uint8Array(0);
   /** By body: the query that last tested it. */
   private mark = new Int32Array(0);
   private stamp = 0;
@@ -214,29 +217,48 @@ export class QueryIndex {
     const start = this.cellStart;
     start.fill(0, 0, cells + 1);
     // Count, then place: every body in each cell its box touches, ids ascending within a cell.
-    for (let pass = 0; pass < 2; pass++) {
-      const items = this.items;
-      const cursor = this.cursor;
-      for (let i = 0; i < n; i++) {
-        if (flags[i] === 0) continue;
-        const c0 = this.colOf(x[i]! - hw[i]!);
-        const c1 = this.colOf(x[i]! + hw[i]!);
-        const r0 = this.rowOf(y[i]! - hh[i]!);
-        const r1 = this.rowOf(y[i]! + hh[i]!);
-        for (let r = r0; r <= r1; r++)
-          for (let c = c0; c <= c1; c++) {
-            if (pass === 0) start[r * cols + c + 1]!++;
-            else items[cursor[r * cols + c]!++] = i;
-          }
-      }
-      if (pass === 0) {
-        for (let c = 0; c < cells; c++) {
-          start[c + 1] = start[c + 1]! + start[c]!;
-          cursor[c] = start[c]!;
-        }
-        if (this.items.length < start[cells]!)
-          this.items = new Int32Array(Math.max(start[cells]!, 2 * this.items.length));
-      }
+    // (Inline clamps and locals: this runs on the first query after every step.)
+    if (this.first.length < n) {
+      this.first = new Int32Array(b.capacity);
+      this.span = new Uint8Array(b.capacity);
+    }
+    const first = this.first;
+    const span = this.span;
+    const lastCol = cols - 1;
+    const lastRow = rows - 1;
+    for (let i = 0; i < n; i++) {
+      if (flags[i] === 0) continue;
+      const w = hw[i]!;
+      const v = hh[i]!;
+      let c0 = Math.floor((x[i]! - w - minX) * inv);
+      let c1 = Math.floor((x[i]! + w - minX) * inv);
+      let r0 = Math.floor((y[i]! - v - minY) * inv);
+      let r1 = Math.floor((y[i]! + v - minY) * inv);
+      c0 = c0 < 0 ? 0 : c0 > lastCol ? lastCol : c0;
+      c1 = c1 < 0 ? 0 : c1 > lastCol ? lastCol : c1;
+      r0 = r0 < 0 ? 0 : r0 > lastRow ? lastRow : r0;
+      r1 = r1 < 0 ? 0 : r1 > lastRow ? lastRow : r1;
+      const c = r0 * cols + c0;
+      first[i] = c;
+      span[i] = ((c1 - c0) << 4) | (r1 - r0);
+      for (let r = 0; r <= r1 - r0; r++)
+        for (let k = 0; k <= c1 - c0; k++) start[c + r * cols + k + 1]!++;
+    }
+    const cursor = this.cursor;
+    for (let c = 0; c < cells; c++) {
+      start[c + 1] = start[c + 1]! + start[c]!;
+      cursor[c] = start[c]!;
+    }
+    if (this.items.length < start[cells]!)
+      this.items = new Int32Array(Math.max(start[cells]!, 2 * this.items.length));
+    const items = this.items;
+    for (let i = 0; i < n; i++) {
+      if (flags[i] === 0) continue;
+      const c = first[i]!;
+      const sx = span[i]! >> 4;
+      const sy = span[i]! & 15;
+      for (let r = 0; r <= sy; r++)
+        for (let k = 0; k <= sx; k++) items[cursor[c + r * cols + k]!++] = i;
     }
   }
 
