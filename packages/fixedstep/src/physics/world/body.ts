@@ -27,9 +27,23 @@ export const BodyFlag = Object.freeze({
   KINEMATIC: BODY_KINEMATIC,
   /** Sleeping: not moved, and pairs of sleeping bodies are not even looked at. */
   ASLEEP: BODY_ASLEEP,
+  /**
+   * A sensor (Box2D's `isSensor`): found by overlaps, never touched — no contact, no sweep hit,
+   * no push-out, with bodies or walls. Its overlaps make sensor events (`events.ts`).
+   */
+  SENSOR: 32,
 });
-/** Every flag a snapshot may hold. */
+/** Every flag a version 1 snapshot may hold. */
 export const KNOWN_FLAGS = 31;
+/** Every flag a version 2 snapshot may hold (version 1's and {@link BodyFlag.SENSOR}). */
+export const KNOWN_FLAGS_V2 = 63;
+
+/** Box2D's `B2_DEFAULT_CATEGORY_BITS`: a body's category unless it is given one. */
+export const DEFAULT_CATEGORY_BITS = 0x0001;
+/** Box2D's `B2_DEFAULT_MASK_BITS` (32 bits here): a body collides with every category. */
+export const DEFAULT_MASK_BITS = 0xffffffff;
+
+const { SENSOR } = BodyFlag;
 
 /**
  * The bodies, a structure of typed arrays by body id (see the file comment). The world checks
@@ -63,6 +77,18 @@ export class BodyStore {
   restTime = new Float64Array(0);
   /** The island a sleeping body fell asleep with: its lowest body id (0 while awake). */
   island = new Int32Array(0);
+  // Collision filter (Box2D's `b2Filter`; see `filter.ts`): state, saved by a version 2 snapshot.
+  // A free slot holds zeros; a new body gets the defaults.
+  /** Which categories the body is in (bits). */
+  categoryBits = new Uint32Array(0);
+  /** Which categories it collides with (bits). */
+  maskBits = new Uint32Array(0);
+  /** Same non-zero group: positive always collides, negative never (overrides the bits). */
+  groupIndex = new Int32Array(0);
+  /** Live bodies whose filter is not the default one. */
+  filteredCount = 0;
+  /** Live sensors. */
+  sensorCount = 0;
 
   // Per step (scratch, never saved).
   /** Where each body was at the start of the step (where the grid put it). */
@@ -112,6 +138,10 @@ export class BodyStore {
     this.halfWidth[id] = halfWidth;
     this.halfHeight[id] = halfHeight;
     this.inverseMass[id] = inverseMass;
+    this.categoryBits[id] = DEFAULT_CATEGORY_BITS;
+    this.maskBits[id] = DEFAULT_MASK_BITS;
+    this.groupIndex[id] = 0;
+    if ((flags & SENSOR) !== 0) this.sensorCount++;
     this.liveCount++;
     const large = halfWidth > halfHeight ? halfWidth : halfHeight;
     const small = halfWidth < halfHeight ? halfWidth : halfHeight;
@@ -125,6 +155,11 @@ export class BodyStore {
     const h = this.halfHeight[id]!;
     const wasExtreme =
       Math.max(w, h) >= this.largestHalfExtent || Math.min(w, h) <= this.thinnestHalfExtent;
+    if ((this.flags[id]! & SENSOR) !== 0) this.sensorCount--;
+    if (!this.hasDefaultFilter(id)) this.filteredCount--;
+    this.categoryBits[id] = 0;
+    this.maskBits[id] = 0;
+    this.groupIndex[id] = 0;
     this.flags[id] = 0;
     this.x[id] = 0;
     this.y[id] = 0;
@@ -137,6 +172,39 @@ export class BodyStore {
     this.liveCount--;
     while (this.slotCount > 0 && this.flags[this.slotCount - 1] === 0) this.slotCount--;
     if (wasExtreme) this.recomputeExtents();
+  }
+
+  /** Whether a live body's filter is the default one (category 1, every mask bit, group 0). */
+  hasDefaultFilter(id: number): boolean {
+    return (
+      this.categoryBits[id] === DEFAULT_CATEGORY_BITS &&
+      this.maskBits[id] === DEFAULT_MASK_BITS &&
+      this.groupIndex[id] === 0
+    );
+  }
+
+  /** Sets a live body's filter (values checked by the caller), keeping {@link filteredCount}. */
+  setFilter(id: number, categoryBits: number, maskBits: number, groupIndex: number): void {
+    const was = this.hasDefaultFilter(id);
+    this.categoryBits[id] = categoryBits;
+    this.maskBits[id] = maskBits;
+    this.groupIndex[id] = groupIndex;
+    const is = this.hasDefaultFilter(id);
+    if (was !== is) this.filteredCount += is ? -1 : 1;
+  }
+
+  /** {@link filteredCount} and {@link sensorCount} from scratch (after a load). */
+  recountFeatures(): void {
+    let filtered = 0;
+    let sensors = 0;
+    for (let i = 0; i < this.slotCount; i++) {
+      const f = this.flags[i]!;
+      if (f === 0) continue;
+      if ((f & SENSOR) !== 0) sensors++;
+      if (!this.hasDefaultFilter(i)) filtered++;
+    }
+    this.filteredCount = filtered;
+    this.sensorCount = sensors;
   }
 
   /** {@link largestHalfExtent} and {@link thinnestHalfExtent} from scratch. */
@@ -156,7 +224,10 @@ export class BodyStore {
 
   /** Room for `capacity` slots: state columns keep their contents, scratch starts over. */
   grow(capacity: number): void {
-    const keep = <T extends Float64Array | Int32Array | Uint8Array>(a: T, b: T): T => {
+    const keep = <T extends Float64Array | Int32Array | Uint32Array | Uint8Array>(
+      a: T,
+      b: T,
+    ): T => {
       b.set(a.subarray(0, Math.min(a.length, capacity)));
       return b;
     };
@@ -170,6 +241,9 @@ export class BodyStore {
     this.inverseMass = keep(this.inverseMass, new Float64Array(capacity));
     this.restTime = keep(this.restTime, new Float64Array(capacity));
     this.island = keep(this.island, new Int32Array(capacity));
+    this.categoryBits = keep(this.categoryBits, new Uint32Array(capacity));
+    this.maskBits = keep(this.maskBits, new Uint32Array(capacity));
+    this.groupIndex = keep(this.groupIndex, new Int32Array(capacity));
     this.startX = new Float64Array(capacity);
     this.startY = new Float64Array(capacity);
     this.startVx = new Float64Array(capacity);

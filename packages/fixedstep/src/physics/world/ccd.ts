@@ -23,10 +23,11 @@ import { BodyFlag, type BodyStore } from './body.js';
 import { bucketOf, type Grid } from './broad-phase.js';
 import type { WorldDef } from './def.js';
 import { wakeIsland } from './island.js';
+import { bodiesCollide, collidesWithWalls } from './filter.js';
 import { WallKind, staticRef, type StaticStore } from './statics.js';
 import { hitBoxSegment, hitPointCapsule, hitPointCircle, hitPointRoundedBox } from './swept.js';
 
-const { ASLEEP, BOX, BULLET } = BodyFlag;
+const { ASLEEP, BOX, BULLET, SENSOR } = BodyFlag;
 const { SEGMENT } = WallKind;
 
 /** How many times one body may be swept in one step (its own sweep, then once more if struck). */
@@ -207,7 +208,7 @@ export class ContinuousSolver {
           fast = d2 > lim * lim;
         }
       }
-      if (fast) {
+      if (fast && (f & SENSOR) === 0) {
         queue[queued++] = i;
         state[i] = WAITING;
         sweeps[i] = 1;
@@ -336,7 +337,7 @@ export class ContinuousSolver {
       this.qMinY = minY;
       this.qMaxX = maxX;
       this.qMaxY = maxY;
-      if (ia > 0) this.findWallHit();
+      if (ia > 0 && this.hitsWalls(i)) this.findWallHit();
 
       // Bodies whose path stays within `reach` of their grid position, through the grid…
       if (!wallsOnly && grid.cols > 0) {
@@ -539,6 +540,7 @@ export class ContinuousSolver {
     const bodies = this.bodies;
     const t0 = this.pathTime[j]!;
     if (this.state[j] !== WAITING || bodies.inverseMass[j] === 0 || tHit <= t0) return true;
+    if (!this.hitsWalls(j)) return true;
     const pathStartX = bodies.pathStartX;
     const pathStartY = bodies.pathStartY;
     const ex = bodies.x[j]! - pathStartX[j]!;
@@ -626,6 +628,12 @@ export class ContinuousSolver {
     this.track(j);
   }
 
+  /** Whether body `i` may hit walls (`filter.ts`: not a sensor, a mask with the walls' bit). */
+  private hitsWalls(i: number): boolean {
+    const bodies = this.bodies;
+    return bodies.filteredCount + bodies.sensorCount === 0 || collidesWithWalls(bodies, i);
+  }
+
   /** Time of impact of body `i`'s motion `q*` against body `j`'s path, into `hit*`. */
   private sweepAgainst(i: number, j: number): void {
     if (j === i) return;
@@ -641,6 +649,7 @@ export class ContinuousSolver {
     const ia = bodies.inverseMass[i]!;
     const ib = bodies.inverseMass[j]!;
     if (ia === 0 && ib === 0) return;
+    if (bodies.filteredCount + bodies.sensorCount > 0 && !bodiesCollide(bodies, i, j)) return;
     const pathStartX = bodies.pathStartX;
     const pathStartY = bodies.pathStartY;
     const pjx = bodies.x[j]! - pathStartX[j]!;
@@ -722,6 +731,7 @@ export class ContinuousSolver {
     for (let i = 0; i < n; i++) {
       const f = flags[i]!;
       if (f === 0 || inverseMass[i] === 0 || (!all && (f & BULLET) === 0)) continue;
+      if (!this.hitsWalls(i)) continue;
       const p0x = startX[i]!;
       const p0y = startY[i]!;
       let p1x = x[i]!;

@@ -1,3 +1,5 @@
+import type { BodyFilter } from './filter.js';
+
 /**
  * How fast bodies are moved with continuous collision detection (CCD):
  * - `'auto'` — bodies flagged `bullet`, and any body whose step `speed × timeStep` exceeds its own
@@ -144,6 +146,17 @@ export interface BodyOptions {
    * dynamic bodies. Default false.
    */
   kinematic?: boolean;
+  /**
+   * A sensor: collides with nothing, reports overlaps as sensor events (see
+   * {@link PhysicsWorld.setSensor}). Default false.
+   */
+  sensor?: boolean;
+  /**
+   * Collision filter: category, mask and group (Box2D's `b2Filter`; see
+   * {@link PhysicsWorld.setFilter}). Fields left out take the defaults: category 0x0001, mask
+   * 0xFFFFFFFF, group 0.
+   */
+  filter?: Partial<BodyFilter>;
 }
 
 /** A dynamic circle. */

@@ -5,6 +5,10 @@ export type { WorldDef, CcdMode, BodyOptions, CircleOptions, BoxOptions, Exact }
 export { WORLD_LIMITS } from './validate.js';
 export { worldStateColumns } from './snapshot-schema.js';
 export type { WorldStateSchemaOptions } from './snapshot-schema.js';
+export { defaultFilter } from './filter.js';
+export type { BodyFilter } from './filter.js';
+export type { QueryFilter, RayFilter, RayHit } from './queries.js';
+export type { SensorEvent, ContactEvent, StepEvents } from './events.js';
 export { worldKernelsAvailable } from './solver-kernels.js';
 export { minWallSize, maxSafeSpeed, tunnellingShare, checkTunnellingRule } from './rule.js';
 export type { TunnellingWarning } from './rule.js';

@@ -3,7 +3,8 @@
  * `snapshot.ts`'s format (version 1), with bodies' positions, velocities and rest times quantised
  * (a sleeping body's island and rest time go with its flags: the world checks they agree), and the
  * solver's warm-start cache kept local — each side keeps its own, a client's from its prediction.
- * A test holds it to the format on random worlds.
+ * It describes version 1, the snapshot of a world without filters or sensors (a world that uses
+ * them writes version 2, which it refuses with a message naming the extra bytes).
  * @module
  */
 import type { StateColumn } from '../../sim/state-schema.js';

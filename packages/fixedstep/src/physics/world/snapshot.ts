@@ -1,11 +1,11 @@
 /**
  * The world's snapshot (Box2D's `world_snapshot.c`): the whole state as canonical bytes, and back.
  *
- * ## Format (version 1, little-endian, floats canonical: −0 as +0, one NaN)
+ * ## Format (versions 1 and 2, little-endian, floats canonical: −0 as +0, one NaN)
  *
  * | bytes | what |
  * | --- | --- |
- * | 4 + 4 | magic `"FSPW"` (0x57505346), version 1 |
+ * | 4 + 4 | magic `"FSPW"` (0x57505346), version (1 or 2) |
  * | 8 | tick (f64, an integer) |
  * | 11 × 8 | def: gravityX, gravityY, timeStep, restitution, restitutionThreshold, friction, linearSlop, positionCorrection, cellSize, sleepSpeed, timeToSleep |
  * | 3 × 4 | def: velocityIterations, positionIterations, maxCcdIterations (u32) |
@@ -13,6 +13,15 @@
  * | 4 | walls W (u32), then per wall: kind (u8: 0 segment, 1 box) and its 4 parameters (f64) |
  * | 4 | body slots N (u32), then columns of N: flags (u8); x, y, vx, vy, halfWidth, halfHeight, inverseMass, restTime (f64); island (i32) |
  * | 4 | warm-start entries C (u32), then columns of C: bodyA, bodyB (i32; a wall as −1 − id), normalImpulse, tangentImpulse (f64) |
+ * | | *version 2 only:* |
+ * | 3 × 4N | columns of N: categoryBits, maskBits (u32), groupIndex (i32) — a free slot's all 0 |
+ * | 4 | sensor overlaps O (u32), then columns of O: sensor, visitor (i32), sorted by sensor then visitor |
+ *
+ * Version 2 adds what filters and sensors need (`filter.ts`, `events.ts`), and a body flag
+ * (`BodyFlag.SENSOR`). A world with no sensor, no body with a filter other than the default and no
+ * sensor overlap writes version 1 — the same bytes, so the same hashes, as before version 2
+ * existed — and version 2 otherwise (a version 2 snapshot that could be version 1 is refused as
+ * not canonical). Both load; an older world refuses version 2 with "unsupported snapshot version 2".
  *
  * `def.maxContacts` is not in it (it never changes a step that completes).
  *
@@ -27,19 +36,31 @@
  * value from typed views of it, and only then copies them into the world.
  */
 import { ByteWriter } from '../../det/bytes.js';
-import { BodyFlag, KNOWN_FLAGS, type BodyStore } from './body.js';
+import {
+  BodyFlag,
+  DEFAULT_CATEGORY_BITS,
+  DEFAULT_MASK_BITS,
+  KNOWN_FLAGS,
+  KNOWN_FLAGS_V2,
+  type BodyStore,
+} from './body.js';
 import { CACHE_ENTRY_BYTES, type WarmStartCache } from './contacts.js';
 import { CCD_MODES, type WorldDef } from './def.js';
+import type { SensorOverlaps } from './events.js';
 import { WallKind, type StaticStore } from './statics.js';
 import { WORLD_LIMITS, checkDef, show } from './validate.js';
 
-const { ALIVE, ASLEEP, BOX, KINEMATIC } = BodyFlag;
+const { ALIVE, ASLEEP, BOX, KINEMATIC, SENSOR } = BodyFlag;
 const { SEGMENT, BOX: STATIC_BOX } = WallKind;
 
 /** The first four bytes of a world snapshot: "FSPW" (0x57505346, little-endian u32). */
 export const SNAPSHOT_MAGIC = 0x57505346;
-/** The snapshot format this world writes and reads. */
+/** The snapshot format of a world with no filter, sensor or sensor overlap (see the file comment). */
 export const SNAPSHOT_VERSION = 1;
+/** The snapshot format of a world with filters or sensors: version 1 and the filter section. */
+export const SNAPSHOT_VERSION_FILTERS = 2;
+/** Bytes per body slot of version 2's filter columns. */
+const FILTER_BYTES = 12;
 /** Bytes up to and including the wall count. */
 const HEADER_BYTES = 122;
 /** Offset of the wall count. */
@@ -61,17 +82,32 @@ export interface WorldState {
   statics: StaticStore;
   bodies: BodyStore;
   cache: WarmStartCache;
+  overlaps: SensorOverlaps;
 }
 
-/** Bytes of the snapshot of a world with these counts. */
-export function snapshotSize(walls: number, slots: number, cacheEntries: number): number {
+/** Whether a world's snapshot is version 2 (it has a filter, a sensor or a sensor overlap). */
+export function needsVersion2(bodies: BodyStore, overlaps: SensorOverlaps): boolean {
+  return bodies.filteredCount + bodies.sensorCount + overlaps.count > 0;
+}
+
+/**
+ * Bytes of the snapshot of a world with these counts; `overlaps` is −1 for version 1, else the
+ * sensor overlap count of version 2.
+ */
+export function snapshotSize(
+  walls: number,
+  slots: number,
+  cacheEntries: number,
+  overlaps = -1,
+): number {
   return (
     HEADER_BYTES +
     WALL_BYTES * walls +
     4 +
     BODY_BYTES * slots +
     4 +
-    CACHE_ENTRY_BYTES * cacheEntries
+    CACHE_ENTRY_BYTES * cacheEntries +
+    (overlaps < 0 ? 0 : FILTER_BYTES * slots + 4 + 8 * overlaps)
   );
 }
 
@@ -82,7 +118,10 @@ export function snapshotSize(walls: number, slots: number, cacheEntries: number)
  */
 export function writeCanonical(w: ByteWriter, s: WorldState): void {
   const d = s.def;
-  w.u32(SNAPSHOT_MAGIC).u32(SNAPSHOT_VERSION).f64(s.tick);
+  const v2 = needsVersion2(s.bodies, s.overlaps);
+  w.u32(SNAPSHOT_MAGIC)
+    .u32(v2 ? SNAPSHOT_VERSION_FILTERS : SNAPSHOT_VERSION)
+    .f64(s.tick);
   w.f64(d.gravityX).f64(d.gravityY).f64(d.timeStep).f64(d.restitution);
   w.f64(d.restitutionThreshold).f64(d.friction).f64(d.linearSlop).f64(d.positionCorrection);
   w.f64(d.cellSize).f64(d.sleepSpeed).f64(d.timeToSleep);
@@ -108,6 +147,14 @@ export function writeCanonical(w: ByteWriter, s: WorldState): void {
   w.ints(c.bodyB.subarray(0, wc));
   w.f64s(c.normalImpulse.subarray(0, wc));
   w.f64s(c.tangentImpulse.subarray(0, wc));
+  if (!v2) return;
+  w.ints(b.categoryBits.subarray(0, n));
+  w.ints(b.maskBits.subarray(0, n));
+  w.ints(b.groupIndex.subarray(0, n));
+  const o = s.overlaps;
+  w.u32(o.count);
+  w.ints(o.sensor.subarray(0, o.count));
+  w.ints(o.visitor.subarray(0, o.count));
 }
 
 /** Typed views of a whole buffer, made once per buffer (again if it was resized). */
@@ -198,11 +245,12 @@ export class SnapshotWriter {
     const data = v.data;
     const base = out.byteOffset;
     const d = s.def;
+    const v2 = needsVersion2(s.bodies, s.overlaps);
     let p = base;
     // Scalars through the DataView directly (V8 boxes a double passed to a helper it does not
     // inline), each `+ 0` so a −0 is written +0; the def and the walls never hold a NaN (checked).
     data.setUint32(p, SNAPSHOT_MAGIC, true);
-    data.setUint32(p + 4, SNAPSHOT_VERSION, true);
+    data.setUint32(p + 4, v2 ? SNAPSHOT_VERSION_FILTERS : SNAPSHOT_VERSION, true);
     data.setFloat64(p + 8, s.tick + 0, true);
     p += 16;
     data.setFloat64(p, d.gravityX + 0, true);
@@ -252,8 +300,27 @@ export class SnapshotWriter {
     p += 4;
     bytes.set(c.image, p);
     p += c.image.length;
+    if (v2) p = writeVersion2(bytes, data, p, s);
     return p - base;
   }
+}
+
+/** Version 2's section at `p` (little-endian platform); returns where it ends. */
+function writeVersion2(bytes: Uint8Array, data: DataView, p: number, s: WorldState): number {
+  const b = s.bodies;
+  const n = b.slotCount;
+  // Byte views of the columns (three small objects per save, only in worlds with filters).
+  for (const column of [b.categoryBits, b.maskBits, b.groupIndex]) {
+    bytes.set(new Uint8Array(column.buffer, column.byteOffset, 4 * n), p);
+    p += 4 * n;
+  }
+  const o = s.overlaps;
+  data.setUint32(p, o.count, true);
+  p += 4;
+  for (let k = 0; k < o.count; k++) data.setInt32(p + 4 * k, o.sensor[k]!, true);
+  p += 4 * o.count;
+  for (let k = 0; k < o.count; k++) data.setInt32(p + 4 * k, o.visitor[k]!, true);
+  return p + 4 * o.count;
 }
 
 /** Swaps the byte order of `count` values of `width` bytes at `p` (a big-endian platform). */
@@ -303,6 +370,10 @@ export class SnapshotReader {
   private cacheIdsAt = 0;
   /** f64 index of the cache's normal impulses (tangent impulses follow). */
   private cacheImpulsesAt = 0;
+  /** Version 2: byte offset of the filter columns (−1 for version 1), the overlaps' count and offset. */
+  private filtersAt = -1;
+  private overlapCount = 0;
+  private overlapsAt = 0;
   /** Whether a −0 was read (then values are copied one by one, with `+ 0`). */
   private negativeZero = false;
   // Views of the body columns in staging for the last slot count and offset (a rollback loop
@@ -356,7 +427,8 @@ export class SnapshotReader {
     this.need(8, 'the header');
     if (data.getUint32(this.p, true) !== SNAPSHOT_MAGIC) this.fail('not a physics world snapshot');
     const version = data.getUint32(this.p + 4, true);
-    if (version !== SNAPSHOT_VERSION) this.fail(`unsupported snapshot version ${version}`);
+    if (version !== SNAPSHOT_VERSION && version !== SNAPSHOT_VERSION_FILTERS)
+      this.fail(`unsupported snapshot version ${version} (this world reads versions 1 and 2)`);
     this.p += 8;
     this.need(HEADER_BYTES - 8, 'the header');
     const tick = data.getFloat64(this.p, true);
@@ -388,7 +460,16 @@ export class SnapshotReader {
       swapBytes(staging, columnsAt * 8, BODY_F64_COLUMNS * slots, 8);
       swapBytes(staging, islandAt * 4, slots, 4);
     }
-    this.checkBodies(staging, flagsAt, f64, columnsAt, i32, islandAt, slots);
+    this.checkBodies(
+      staging,
+      flagsAt,
+      f64,
+      columnsAt,
+      i32,
+      islandAt,
+      slots,
+      version === SNAPSHOT_VERSION ? KNOWN_FLAGS : KNOWN_FLAGS_V2,
+    );
 
     const cacheCount = data.getUint32(this.p, true);
     this.p += 4;
@@ -398,6 +479,20 @@ export class SnapshotReader {
     this.p += 8 * cacheCount;
     let impulsesAt = this.p;
     this.p += 16 * cacheCount;
+    let filtersAt = -1;
+    let overlapCount = 0;
+    let overlapsAt = 0;
+    if (version === SNAPSHOT_VERSION_FILTERS) {
+      this.need(FILTER_BYTES * slots + 4, 'filters', slots);
+      filtersAt = this.p;
+      this.p += FILTER_BYTES * slots;
+      overlapCount = data.getUint32(this.p, true);
+      this.p += 4;
+      this.need(8 * overlapCount, 'sensor overlaps', overlapCount);
+      overlapsAt = this.p;
+      this.p += 8 * overlapCount;
+      this.checkVersion2(staging, flagsAt, slots, filtersAt, overlapsAt, overlapCount);
+    }
     if (this.p !== this.end) this.fail(`${this.end - this.p} bytes after the end of the snapshot`);
     if ((impulsesAt & 7) !== 0) {
       // Move the impulse columns 4 bytes on, to an 8-byte boundary (staging has the room).
@@ -433,6 +528,64 @@ export class SnapshotReader {
     this.cacheCount = cacheCount;
     this.cacheIdsAt = cacheIdsAt;
     this.cacheImpulsesAt = cacheImpulsesAt;
+    this.filtersAt = filtersAt;
+    this.overlapCount = overlapCount;
+    this.overlapsAt = overlapsAt;
+  }
+
+  /**
+   * Version 2's section: a free slot's filter all 0; each overlap a sensor and a live body that is
+   * not one, in strictly ascending order; and something that needs version 2 (else it is not
+   * canonical). Reads through the DataView (the section may sit at any offset).
+   */
+  private checkVersion2(
+    staging: Uint8Array,
+    flagsAt: number,
+    n: number,
+    at: number,
+    overlapsAt: number,
+    count: number,
+  ): void {
+    const data = this.views.data;
+    let needed = count > 0;
+    for (let i = 0; i < n; i++) {
+      const f = staging[flagsAt + i]!;
+      const category = data.getUint32(at + 4 * i, true);
+      const mask = data.getUint32(at + 4 * (n + i), true);
+      const group = data.getInt32(at + 4 * (2 * n + i), true);
+      if (f === 0) {
+        if (category !== 0 || mask !== 0 || group !== 0)
+          this.fail(`body ${i}: a free slot's filter must be all zeros`);
+        continue;
+      }
+      if (
+        (f & SENSOR) !== 0 ||
+        category !== DEFAULT_CATEGORY_BITS ||
+        mask !== DEFAULT_MASK_BITS ||
+        group !== 0
+      )
+        needed = true;
+    }
+    let lastSensor = -1;
+    let lastVisitor = -1;
+    for (let k = 0; k < count; k++) {
+      const s = data.getInt32(overlapsAt + 4 * k, true);
+      const v = data.getInt32(overlapsAt + 4 * (count + k), true);
+      const fs = s >= 0 && s < n ? staging[flagsAt + s]! : 0;
+      const fv = v >= 0 && v < n ? staging[flagsAt + v]! : 0;
+      if (!((fs & SENSOR) !== 0 && fv !== 0 && (fv & SENSOR) === 0))
+        this.fail(
+          `sensor overlap ${k}: ${s} must be a sensor and ${v} a live body that is not one`,
+        );
+      if (!(s > lastSensor || (s === lastSensor && v > lastVisitor)))
+        this.fail(`sensor overlap ${k}: not in ascending order (not canonical)`);
+      lastSensor = s;
+      lastVisitor = v;
+    }
+    if (!needed)
+      this.fail(
+        'a version 2 snapshot with no filter, sensor or sensor overlap (not canonical: that is version 1)',
+      );
   }
 
   /**
@@ -544,6 +697,7 @@ export class SnapshotReader {
     i32: Int32Array,
     islandAt: number,
     n: number,
+    knownFlags: number,
   ): void {
     const minSize = WORLD_LIMITS.minSize;
     const maxSize = WORLD_LIMITS.maxSize;
@@ -581,7 +735,7 @@ export class SnapshotReader {
         continue;
       }
       if (
-        (f & ~KNOWN_FLAGS) !== 0 ||
+        (f & ~knownFlags) !== 0 ||
         (f & ALIVE) === 0 ||
         (f & (ASLEEP | KINEMATIC)) === (ASLEEP | KINEMATIC)
       )
@@ -663,6 +817,55 @@ export class SnapshotReader {
     }
   }
 
+  /**
+   * The filters and sensor overlaps: version 2's, or the defaults (version 1). Leaves free slots
+   * (up to `previous`, the slots in use before) all zeros.
+   */
+  private commitVersion2(bodies: BodyStore, overlaps: SensorOverlaps, previous: number): void {
+    const n = this.slots;
+    const flags = bodies.flags;
+    const category = bodies.categoryBits;
+    const mask = bodies.maskBits;
+    const group = bodies.groupIndex;
+    const at = this.filtersAt;
+    if (at < 0) {
+      // Fills, then zeros for the free slots (usually none): a rollback loads at copy speed.
+      category.fill(DEFAULT_CATEGORY_BITS, 0, n);
+      mask.fill(DEFAULT_MASK_BITS, 0, n);
+      group.fill(0, 0, n);
+      if (this.liveCount < n)
+        for (let i = 0; i < n; i++) {
+          if (flags[i] !== 0) continue;
+          category[i] = 0;
+          mask[i] = 0;
+        }
+      overlaps.setCount(0);
+    } else {
+      const data = this.views.data;
+      for (let i = 0; i < n; i++) {
+        category[i] = data.getUint32(at + 4 * i, true);
+        mask[i] = data.getUint32(at + 4 * (n + i), true);
+        group[i] = data.getInt32(at + 4 * (2 * n + i), true);
+      }
+      const count = this.overlapCount;
+      overlaps.setCount(count);
+      const p = this.overlapsAt;
+      for (let k = 0; k < count; k++) {
+        overlaps.sensor[k] = data.getInt32(p + 4 * k, true);
+        overlaps.visitor[k] = data.getInt32(p + 4 * (count + k), true);
+      }
+    }
+    if (previous > n) {
+      category.fill(0, n, previous);
+      mask.fill(0, n, previous);
+      group.fill(0, n, previous);
+    }
+    if (at < 0) {
+      bodies.filteredCount = 0;
+      bodies.sensorCount = 0;
+    } else bodies.recountFeatures();
+  }
+
   /** Views of the body columns in staging, made again only when their place or size changed. */
   private makeViews(): void {
     const buffer = this.staging.buffer;
@@ -685,7 +888,12 @@ export class SnapshotReader {
    * Puts what {@link read} checked into the world's stores; the caller has made room for
    * {@link slots} bodies. Values are copied with `+ 0`, so a −0 in the bytes becomes +0.
    */
-  commit(bodies: BodyStore, statics: StaticStore, cache: WarmStartCache): void {
+  commit(
+    bodies: BodyStore,
+    statics: StaticStore,
+    cache: WarmStartCache,
+    overlaps: SensorOverlaps,
+  ): void {
     const staging = this.staging;
     const { data, f64, i32 } = this.views;
     if (!this.sameWalls) {
@@ -746,6 +954,7 @@ export class SnapshotReader {
     bodies.liveCount = this.liveCount;
     bodies.sleepingCount = this.sleepingCount;
     bodies.recomputeExtents();
+    this.commitVersion2(bodies, overlaps, previous);
 
     const count = this.cacheCount;
     cache.resize(count);
@@ -769,6 +978,7 @@ export class SnapshotReader {
 }
 
 /** `dst[0, n) = src[at, at + n) + 0` (−0 becomes +0). */
+
 function copyColumn(dst: Float64Array, src: Float64Array, at: number, n: number): void {
   for (let i = 0; i < n; i++) dst[i] = src[at + i]! + 0;
 }

@@ -143,7 +143,17 @@ export function checkKeys(
 }
 
 /** The options every body takes, whatever its shape. */
-const BODY_KEYS = ['x', 'y', 'vx', 'vy', 'density', 'bullet', 'kinematic'] as const;
+const BODY_KEYS = [
+  'x',
+  'y',
+  'vx',
+  'vy',
+  'density',
+  'bullet',
+  'kinematic',
+  'sensor',
+  'filter',
+] as const;
 /** The options of {@link PhysicsWorld.createCircle}. */
 export const CIRCLE_KEYS: ReadonlySet<string> = new Set([...BODY_KEYS, 'radius']);
 /** The options of {@link PhysicsWorld.createBox}. */

@@ -6,6 +6,14 @@ import { ContinuousSolver } from './ccd.js';
 import { SolverSchedule, solvePositions, solveVelocities } from './contact-solver.js';
 import { ContactList, ContactOverflow, WarmStartCache } from './contacts.js';
 import {
+  ContactEvents,
+  SensorOverlaps,
+  type ContactEvent,
+  type SensorEvent,
+  type StepEvents,
+} from './events.js';
+import { checkFilter, defaultFilter, filterContacts, type BodyFilter } from './filter.js';
+import {
   defaultWorldDef,
   type BodyOptions,
   type BoxOptions,
@@ -14,10 +22,12 @@ import {
   type WorldDef,
 } from './def.js';
 import { Islands, WakeLog, wakeByNewContacts, wakeIsland } from './island.js';
+import { QueryIndex, type QueryFilter, type RayFilter, type RayHit } from './queries.js';
 import { RuleCheck, type TunnellingWarning } from './rule.js';
 import {
   SnapshotReader,
   SnapshotWriter,
+  needsVersion2,
   snapshotSize,
   writeCanonical,
   type WorldState,
@@ -40,8 +50,9 @@ import {
 } from './validate.js';
 import type { ByteWriter } from '../../det/bytes.js';
 
-const { ALIVE, ASLEEP, BOX, BULLET, KINEMATIC } = BodyFlag;
+const { ALIVE, ASLEEP, BOX, BULLET, KINEMATIC, SENSOR } = BodyFlag;
 const { SEGMENT, BOX: STATIC_BOX } = WallKind;
+const DEFAULT_FILTER: Readonly<BodyFilter> = Object.freeze(defaultFilter());
 
 /** A static wall, as returned by {@link PhysicsWorld.getStatic}. */
 export type StaticShape =
@@ -55,6 +66,13 @@ export interface WorldOptions {
    * `WORLD_LIMITS.maxCapacity` (at least 16 are allocated). Default 256.
    */
   capacity?: number;
+  /**
+   * Compute contact begin/end events every step ({@link PhysicsWorld.contactEvents}). Default
+   * false: they cost a pass over the contacts and the warm-start cache per step (about 3 % of a
+   * 2,000-body pile's step). Not part of the state: the events are a function of the state, so
+   * switching them on changes no result.
+   */
+  contactEvents?: boolean;
 }
 
 /**
@@ -122,6 +140,10 @@ export class PhysicsWorld implements Simulation<unknown> {
   private readonly writer = new SnapshotWriter();
   private readonly reader = new SnapshotReader();
   private hashBuffer = new Uint8Array(4096);
+  private readonly queries = new QueryIndex(this.bodies, this.statics);
+  private readonly overlaps = new SensorOverlaps();
+  private readonly contactLog = new ContactEvents();
+  private readonly contactEventsOn: boolean;
 
   /**
    * A world from a (partial) def; missing fields take {@link defaultWorldDef}'s values. Throws a
@@ -133,9 +155,17 @@ export class PhysicsWorld implements Simulation<unknown> {
     if (typeof options !== 'object')
       throw new TypeError('new PhysicsWorld: options must be an object');
     for (const key in options) {
-      if (key !== 'capacity')
-        throw new TypeError(`new PhysicsWorld: unknown option "${key}"; the only one is capacity`);
+      if (key !== 'capacity' && key !== 'contactEvents')
+        throw new TypeError(
+          `new PhysicsWorld: unknown option "${key}"; the options are capacity, contactEvents`,
+        );
     }
+    const contactEvents: unknown = options.contactEvents ?? false;
+    if (typeof contactEvents !== 'boolean')
+      throw new TypeError(
+        `new PhysicsWorld: contactEvents must be true or false, got ${show(contactEvents)}`,
+      );
+    this.contactEventsOn = contactEvents;
     const capacity: unknown = options.capacity ?? 256;
     if (!(
       typeof capacity === 'number' &&
@@ -228,6 +258,20 @@ export class PhysicsWorld implements Simulation<unknown> {
   isKinematic(id: number): boolean {
     return (this.body(id, 'isKinematic') & KINEMATIC) !== 0;
   }
+  /** Whether a body is a sensor (Box2D's `b2Shape_IsSensor`; see {@link setSensor}). */
+  isSensor(id: number): boolean {
+    return (this.body(id, 'isSensor') & SENSOR) !== 0;
+  }
+  /** A body's collision filter (a fresh object; see {@link setFilter}). */
+  getFilter(id: number): BodyFilter {
+    this.body(id, 'getFilter');
+    const b = this.bodies;
+    return {
+      categoryBits: b.categoryBits[id]!,
+      maskBits: b.maskBits[id]!,
+      groupIndex: b.groupIndex[id]!,
+    };
+  }
   /** A body's speed, m/s. */
   speed(id: number): number {
     this.body(id, 'speed');
@@ -313,6 +357,9 @@ export class PhysicsWorld implements Simulation<unknown> {
     wakeIsland(this.bodies, id); // what rested on it must fall
     this.bodies.destroy(id);
     this.cache.forget(id, this.bodies.slotCount);
+    this.overlaps.forget(id);
+    this.contactLog.clearBody(id);
+    this.queries.fresh = false;
   }
 
   /** Whether a body is sleeping (see {@link WorldDef.enableSleep}). */
@@ -340,6 +387,7 @@ export class PhysicsWorld implements Simulation<unknown> {
     wakeIsland(this.bodies, id);
     this.bodies.x[id] = x + 0; // + 0: −0 becomes +0 (the state stays canonical)
     this.bodies.y[id] = y + 0;
+    this.queries.fresh = false;
   }
 
   /**
@@ -394,6 +442,43 @@ export class PhysicsWorld implements Simulation<unknown> {
   }
 
   /**
+   * Makes a body a sensor or not (Box2D's `isSensor`). A sensor collides with nothing — no
+   * contact, no sweep, no push-out, with bodies or walls: it moves by its velocity (and gravity,
+   * unless kinematic) straight through everything — and reports the bodies it overlaps as
+   * {@link sensorEvents} (sensors do not see sensors; their filters apply). A pickup zone is a
+   * kinematic sensor. Part of the state. Turning a sensor off forgets its overlaps without end
+   * events. Wakes the body.
+   */
+  setSensor(id: number, sensor: boolean): void {
+    const f = this.body(id, 'setSensor');
+    if (typeof sensor !== 'boolean')
+      throw new TypeError(
+        `PhysicsWorld.setSensor: body ${id}: sensor must be true or false, got ${show(sensor)}`,
+      );
+    if (sensor === ((f & SENSOR) !== 0)) return;
+    wakeIsland(this.bodies, id);
+    this.bodies.flags[id] = sensor ? f | SENSOR : f & ~SENSOR;
+    this.bodies.sensorCount += sensor ? 1 : -1;
+    if (!sensor) this.overlaps.forget(id);
+  }
+
+  /**
+   * Sets a body's collision filter (Box2D's `b2Shape_SetFilter`): the fields given change, the
+   * others stay. Two bodies collide when they share a non-zero `groupIndex` and it is positive
+   * (negative: never), else when each one's `categoryBits` has a bit of the other's `maskBits`.
+   * Walls have the default filter (category 0x0001): a mask without bit 1 passes through them.
+   * Part of the state; takes effect from the next step (a pair already touching ends its contact
+   * there). Throws a RangeError (TypeError for a wrong type or an unknown field) naming the field,
+   * changing nothing. Wakes the body.
+   */
+  setFilter<T extends Partial<BodyFilter>>(id: number, filter: Exact<T, BodyFilter>): void {
+    this.body(id, 'setFilter');
+    const f = checkFilter('setFilter', id, filter, this.getFilter(id));
+    wakeIsland(this.bodies, id);
+    this.bodies.setFilter(id, f.categoryBits, f.maskBits, f.groupIndex);
+  }
+
+  /**
    * Adds a static wall segment (zero thickness, two-sided) from `a` to `b` (metres, each within
    * ±`WORLD_LIMITS.maxCoordinate`); returns its id. Wakes every sleeping body.
    */
@@ -445,6 +530,100 @@ export class PhysicsWorld implements Simulation<unknown> {
     return this.rule.warnings(this._def);
   }
 
+  // ---------------------------------------------------------------- queries
+
+  /**
+   * The closest place where the ray from `origin` along `translation` hits a body or a static wall
+   * (Box2D's `b2World_CastRayClosest`), or null. Metres; the hit's `fraction` in [0, 1] is how far
+   * along the translation. Circles, boxes, segments and static boxes, where they are now (between
+   * steps). Ties go to bodies before walls, then the lower id; a ray that starts inside a shape
+   * does not hit it; sensors are skipped unless `filter.sensors`. Deterministic: the answer is a
+   * function of the state and the arguments (a `filter.predicate` must be too). Fast in big
+   * worlds: a grid of its own, rebuilt on the first query after bodies moved, then only the cells
+   * along the ray. Throws a RangeError (TypeError for a wrong type) for a coordinate beyond
+   * ±`WORLD_LIMITS.maxCoordinate` (translation ±2e9) or a bad filter.
+   */
+  castRayClosest(
+    originX: number,
+    originY: number,
+    translationX: number,
+    translationY: number,
+    filter?: RayFilter,
+  ): RayHit | null {
+    return this.queries.castRayClosest(originX, originY, translationX, translationY, filter);
+  }
+
+  /**
+   * Every place where the ray hits a body or wall (Box2D's `b2World_CastRay` collecting them all),
+   * sorted by fraction, then bodies before walls, then id. One hit per shape: where the ray
+   * enters it. Otherwise as {@link castRayClosest}.
+   */
+  castRay(
+    originX: number,
+    originY: number,
+    translationX: number,
+    translationY: number,
+    filter?: RayFilter,
+  ): RayHit[] {
+    return this.queries.castRay(originX, originY, translationX, translationY, filter);
+  }
+
+  /**
+   * The bodies whose shape touches the box `[minX, maxX] × [minY, maxY]` (touching counts), in
+   * ascending id (Box2D's `b2World_OverlapAABB`, but exact for circles). Walls are not reported.
+   * Sensors only with `filter.sensors`. Metres.
+   */
+  overlapAABB(
+    minX: number,
+    minY: number,
+    maxX: number,
+    maxY: number,
+    filter?: QueryFilter,
+  ): number[] {
+    return this.queries.overlapAABB(minX, minY, maxX, maxY, filter);
+  }
+
+  /** The bodies whose shape touches the circle, in ascending id; as {@link overlapAABB}. */
+  overlapCircle(x: number, y: number, radius: number, filter?: QueryFilter): number[] {
+    return this.queries.overlapCircle(x, y, radius, filter);
+  }
+
+  /** The bodies that contain the point (on the edge counts), in ascending id; as {@link overlapAABB}. */
+  overlapPoint(x: number, y: number, filter?: QueryFilter): number[] {
+    return this.queries.overlapPoint(x, y, filter);
+  }
+
+  // ---------------------------------------------------------------- events
+
+  /**
+   * The sensors' overlap events of the last step (Box2D's `b2World_GetSensorEvents`): `begin`,
+   * bodies that overlap a sensor now and did not at the end of the step before; `end`, the
+   * reverse. Each sorted by sensor id, then visitor id. What the sensors overlap is part of the
+   * state, so a world loaded from a snapshot reports the very same events. Empty after a load or
+   * when nothing changed. The arrays are the world's: read them, do not change them.
+   */
+  sensorEvents(): StepEvents<SensorEvent> {
+    return this.overlaps.events;
+  }
+
+  /**
+   * The contact events of the last step (Box2D's `b2World_GetContactEvents`): `begin`, pairs (of
+   * bodies, or a body and a wall) touching now that did not touch the step before; `end`, the
+   * reverse. Sorted by `bodyA`, then bodies before walls, then id. Needs
+   * `new PhysicsWorld(def, { contactEvents: true })` (otherwise always empty). A pair that falls
+   * asleep touching stays touching (no end, and no begin when it wakes). Empty after a load.
+   */
+  contactEvents(): StepEvents<ContactEvent> {
+    return this.contactLog.events;
+  }
+
+  /** The sensors' overlaps at the end of the step (see `events.ts`), when there is anything to track. */
+  private updateSensors(): void {
+    if (this.bodies.sensorCount > 0 || this.overlaps.count > 0)
+      this.overlaps.update(this.bodies, this.queries);
+    else this.overlaps.quiet();
+  }
+
   // ---------------------------------------------------------------- stepping
 
   /**
@@ -462,6 +641,8 @@ export class PhysicsWorld implements Simulation<unknown> {
       this.ccd.sweptCount = 0;
       if (this.cache.count > 0) this.cache.clear(bodies.slotCount);
       this.rule.wasBroken = false;
+      this.contactLog.quiet();
+      this.updateSensors();
       this._tick++;
       return;
     }
@@ -471,6 +652,7 @@ export class PhysicsWorld implements Simulation<unknown> {
     this.grid.build(bodies, def, this.schedule);
     this.grid.markWalls(this.statics);
     this.findContactsOrUndo(def);
+    if (this.contactEventsOn) this.contactLog.diff(this.contacts, this.cache, bodies);
     this.solverStep(def);
 
     this.ccd.integratePositions(def);
@@ -479,6 +661,9 @@ export class PhysicsWorld implements Simulation<unknown> {
     solvePositions(this.contacts, bodies, def, this.schedule);
     if (def.ccd !== 'off' && this.statics.count > 0) this.ccd.guardWalls(def.ccd === 'auto');
     this.islands.update(bodies, this.contacts, def, this._tick);
+    this.queries.fresh = false;
+    if (this.contactEventsOn) this.contactLog.remember(bodies);
+    this.updateSensors();
     this._tick++;
 
     if (this.onTunnellingWarning !== null) this.rule.afterStep(def, this.onTunnellingWarning);
@@ -540,14 +725,17 @@ export class PhysicsWorld implements Simulation<unknown> {
     log.count = 0;
     try {
       findContacts(this.grid, bodies, this.statics, this.contacts, true, def, this.schedule);
+      if (bodies.filteredCount + bodies.sensorCount > 0) filterContacts(this.contacts, bodies);
       this.integrateVelocities(def, sleepers);
       gravityDone = true;
       if (sleepers) {
         log.recording = true;
         const woke = wakeByNewContacts(bodies, this.contacts, this.cache, log);
         log.recording = false;
-        if (woke)
+        if (woke) {
           findContacts(this.grid, bodies, this.statics, this.contacts, false, def, this.schedule);
+          if (bodies.filteredCount + bodies.sensorCount > 0) filterContacts(this.contacts, bodies);
+        }
       }
     } catch (e) {
       log.recording = false;
@@ -585,7 +773,13 @@ export class PhysicsWorld implements Simulation<unknown> {
 
   /** Bytes of the current snapshot: what {@link save} returns, what {@link saveInto} needs. */
   get snapshotSize(): number {
-    return snapshotSize(this.statics.count, this.bodies.slotCount, this.cache.count);
+    const v2 = needsVersion2(this.bodies, this.overlaps);
+    return snapshotSize(
+      this.statics.count,
+      this.bodies.slotCount,
+      this.cache.count,
+      v2 ? this.overlaps.count : -1,
+    );
   }
 
   /** The whole state as canonical bytes (a new array; see {@link saveInto} to reuse one). */
@@ -634,6 +828,7 @@ export class PhysicsWorld implements Simulation<unknown> {
     statics: this.statics,
     bodies: this.bodies,
     cache: this.cache,
+    overlaps: this.overlaps,
   };
 
   private state(): WorldState {
@@ -659,10 +854,13 @@ export class PhysicsWorld implements Simulation<unknown> {
     if (reader.slots > this.bodies.capacity) this.grow(reader.slots);
     this._def = reader.def!;
     this._tick = reader.tick;
-    reader.commit(this.bodies, this.statics, this.cache);
+    reader.commit(this.bodies, this.statics, this.cache, this.overlaps);
     this.contacts.count = 0;
     this.contacts.bodyPairCount = 0;
     this.rule.wasBroken = false;
+    this.queries.fresh = false;
+    this.contactLog.quiet();
+    this.contactLog.remember(this.bodies);
   }
 
   // ---------------------------------------------------------------- internals
@@ -696,11 +894,23 @@ export class PhysicsWorld implements Simulation<unknown> {
     checkDensity(method, id, density);
     checkFlag(method, id, 'bullet', o.bullet);
     checkFlag(method, id, 'kinematic', o.kinematic);
+    checkFlag(method, id, 'sensor', o.sensor);
+    const filter =
+      o.filter === undefined ? null : checkFilter(method, id, o.filter, DEFAULT_FILTER);
     if (id >= this.bodies.capacity) this.grow(this.bodies.capacity * 2);
     const kinematic = o.kinematic === true;
-    const flags = ALIVE | shape | (o.bullet === true ? BULLET : 0) | (kinematic ? KINEMATIC : 0);
+    const flags =
+      ALIVE |
+      shape |
+      (o.bullet === true ? BULLET : 0) |
+      (kinematic ? KINEMATIC : 0) |
+      (o.sensor === true ? SENSOR : 0);
     const inverseMass = kinematic ? 0 : 1 / (density * area);
     this.bodies.create(id, flags, o.x + 0, o.y + 0, vx + 0, vy + 0, w, h, inverseMass);
+    if (filter !== null)
+      this.bodies.setFilter(id, filter.categoryBits, filter.maskBits, filter.groupIndex);
+    this.contactLog.clearBody(id);
+    this.queries.fresh = false;
     return id;
   }
 
@@ -717,6 +927,8 @@ export class PhysicsWorld implements Simulation<unknown> {
     this.islands.resize(capacity);
     this.wakeLog.resize(capacity);
     this.cache.growBodies(capacity);
+    this.queries.resize(capacity);
+    this.contactLog.resize(capacity);
     if (this.contacts.capacity < 4 * capacity) this.contacts.grow(4 * capacity);
     if (this.cache.capacity < 4 * capacity) this.cache.grow(4 * capacity);
   }
