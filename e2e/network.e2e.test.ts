@@ -159,6 +159,27 @@ describe('chapter 6, network', () => {
     expect(phone.problems).toEqual([]);
     await phone.context.close();
   });
+
+  it('shows lag compensation: the server confirms the shots that hit on screen when it judges them as seen', async () => {
+    const page = await lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    const problems = watch(page);
+    await page.goto(`${lab.server.url}#/network`);
+    const panel = page.getByTestId('net-lag');
+    await panel.scrollIntoViewIfNeeded();
+    await page.getByTestId('lag-run').click();
+    await expect
+      .poll(async () => (await readouts(page))['readout-lag-confirmed-compensated'], {
+        timeout: 30_000,
+      })
+      .not.toBe('');
+    const r = await readouts(page);
+    expect(num(r, 'lag-screen-hits')).toBeGreaterThan(50);
+    expect(num(r, 'lag-confirmed-compensated')).toBeGreaterThanOrEqual(0.99);
+    expect(num(r, 'lag-confirmed-plain')).toBeLessThan(0.2);
+    await panel.screenshot({ path: path.join(shots, 'network-lag.png') });
+    expect(problems).toEqual([]);
+    await page.close();
+  });
 });
 
 describe('chapter 6, play online', () => {

@@ -20,6 +20,7 @@ import {
 import { OnlinePanel } from './network-online.js';
 import { StateOnlinePanel } from './network-state-online.js';
 import { TransportsPanel } from './network-transports.js';
+import { LagPanel } from './network-lag.js';
 import {
   ABOUT,
   BENCH_INTRO,
@@ -81,6 +82,7 @@ class NetworkChapter {
     const online = shell.own(new OnlinePanel());
     const stateOnline = shell.own(new StateOnlinePanel());
     const transports = shell.own(new TransportsPanel());
+    const lag = shell.own(new LagPanel());
     shell.append(
       h(
         'p',
@@ -102,6 +104,7 @@ class NetworkChapter {
         this.buildComparison(),
         transports.el,
       ),
+      lag.el,
       stateOnline.el,
       online.el,
     );
