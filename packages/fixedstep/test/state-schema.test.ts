@@ -197,6 +197,26 @@ describe('state schemas', () => {
     expect(Array.from(SCHEMA.quantise(merged))).toEqual(Array.from(words));
   });
 
+  it("leave a local: 'zero' column at zero in a merged state, whatever the other state held", () => {
+    const schema = defineStateSchema({
+      columns: [
+        { name: 'n', type: 'u8' },
+        { name: 'x', type: 'f64', count: 2, group: 'e', precision: 1 / 4, min: -9, max: 9 },
+        { name: 'vx', type: 'f64', count: 2, local: 'zero' },
+      ],
+    });
+    const w = new ByteWriter(64);
+    w.u8(3).f64(1.3).f64(-2).f64(5).f64(-6);
+    const own = w.finish();
+    const merged = schema.merge(own, schema.quantise(own));
+    const r = new DataView(merged.buffer);
+    expect([r.getUint8(0), r.getFloat64(1, true), r.getFloat64(9, true)]).toEqual([3, 1.25, -2]);
+    expect([r.getFloat64(17, true), r.getFloat64(25, true)]).toEqual([0, 0]);
+    expect(() =>
+      defineStateSchema({ columns: [{ name: 'a', type: 'u8', local: 'yes' as never }] }),
+    ).toThrow(/local must be true, false or 'zero'/);
+  });
+
   it('clamp values outside the range, and count them', () => {
     const report = { maxError: 0, clamped: 0 };
     const words = SCHEMA.quantise(

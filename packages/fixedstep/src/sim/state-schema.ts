@@ -61,8 +61,13 @@ export interface StateColumn {
    * `> 0`).
    */
   rounding?: 'nearest' | 'away';
-  /** Not sent, not in the hash: each side keeps its own. Default false. */
-  local?: boolean;
+  /**
+   * Not sent, not in the hash: each side keeps its own (`true`), or the state a side loads has 0
+   * here (`'zero'`: a value the game's step works out afresh before it reads it, such as a
+   * velocity steered anew every tick — zero is always a value the game's `load` takes). Default
+   * false.
+   */
+  local?: boolean | 'zero';
   /**
    * A quantised column only: the name of a quantised column of the same group that is this one's
    * rate of change per second (a position's velocity). The codec then sends the difference from
@@ -134,6 +139,8 @@ interface Column {
   readonly size: number;
   readonly count: number | { column: number; times: number; max: number };
   readonly local: boolean;
+  /** A local column that a merged state has zeros in. */
+  readonly zero: boolean;
   /** Index among the sent columns (-1: local). */
   readonly sent: number;
   readonly precision: number;
@@ -181,7 +188,11 @@ export class StateSchema {
       if (byName.has(c.name)) bad(`${at}: the name is used twice`);
       const size = (SIZES as Partial<Record<string, number>>)[c.type];
       if (size === undefined) bad(`${at}: type must be one of ${Object.keys(SIZES).join(', ')}`);
-      const local = c.local === true;
+      const localValue: unknown = c.local;
+      if (localValue !== undefined && typeof localValue !== 'boolean' && localValue !== 'zero') {
+        bad(`${at}: local must be true, false or 'zero'`);
+      }
+      const local = localValue === true || localValue === 'zero';
       let count: Column['count'] = 1;
       if (typeof c.count === 'number') {
         if (!Number.isInteger(c.count) || c.count < 0 || c.count > MAX_COUNT) {
@@ -241,6 +252,7 @@ export class StateSchema {
         size: size!,
         count,
         local,
+        zero: localValue === 'zero',
         sent: -1,
         precision,
         qmin,
@@ -409,7 +421,9 @@ export class StateSchema {
     let at = 0;
     for (const [ci, c] of this.columns.entries()) {
       const n = counts[ci]!;
-      if (c.local) {
+      if (c.zero) {
+        // Left as the zeros the buffer was made with.
+      } else if (c.local) {
         const from = mine.offsets[ci]!;
         const bytes = Math.min(n, mine.counts[ci]!) * c.size;
         out.set(own.subarray(from, from + bytes), at);

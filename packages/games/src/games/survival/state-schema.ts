@@ -46,8 +46,13 @@ export function survivalStateSchema(): StateSchema {
       { name: 'kills', type: 'u32', count: n, group: 'players' },
       { name: 'enemyAlive', type: 'u8', count: cap, group: 'enemies' },
       { name: 'enemySerial', type: 'u32', count: cap, group: 'enemies' },
-      ...positions('e', 'enemies', cap, size, true),
-      ...velocities('e', 'enemies', cap, fastest),
+      ...positions('e', 'enemies', cap, size),
+      // Every step steers each enemy afresh (toward the nearest player) before it moves: its
+      // velocity is never read before it is set, so it is not sent and loads as 0.
+      ...velocities('e', 'enemyMotion', cap, fastest).map((c) => ({
+        ...c,
+        local: 'zero' as const,
+      })),
       quantised('espeed', 'enemies', cap, VELOCITY_PRECISION, 0, fastest),
       { name: 'eslide', type: 'i8', count: cap, group: 'enemies' },
     ],
