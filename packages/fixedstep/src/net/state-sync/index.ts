@@ -29,7 +29,13 @@ export type {
   StateSnapshotMessage,
 } from './messages.js';
 export { encodeDelta, deltaBytes, applyDelta } from './delta.js';
-export { encodeSchemaDelta, decodeSchemaDelta, BitWriter, BitReader } from './schema-codec.js';
+export {
+  encodeSchemaDelta,
+  decodeSchemaDelta,
+  predictedWords,
+  BitWriter,
+  BitReader,
+} from './schema-codec.js';
 export {
   StateSyncRoom,
   StateSyncMember,
@@ -55,5 +61,7 @@ export type {
 } from './server.js';
 export { SnapshotTimeline, PredictionSmoother, LatenessWindow } from './render.js';
 export { LagHistory } from './lag.js';
+export { PriorityAccumulator } from './priority.js';
+export type { Limited } from './priority.js';
 export type { LagHistoryOptions } from './lag.js';
 export type { StateSyncRender } from './render.js';

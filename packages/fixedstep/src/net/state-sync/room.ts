@@ -21,6 +21,7 @@ import type { LeaveReason } from '../wire/common.js';
 import { StateSchema, type QuantiseReport } from '../../sim/state-schema.js';
 import { encodeDelta } from './delta.js';
 import { BitWriter, encodeSchemaDelta } from './schema-codec.js';
+import { PriorityAccumulator } from './priority.js';
 import {
   DEFAULT_STATE_SYNC_LIMITS,
   MAX_SLACK,
@@ -89,6 +90,14 @@ export interface StateSyncRoomOptions<
    * XOR runs against the base), the only choice for a game without a schema.
    */
   codec?: 'schema' | 'bytes';
+  /**
+   * Schema codec: the most payload bytes of one snapshot to one member. A delta that is larger
+   * sends only the entities (rows of the schema's largest group) that waited longest — a priority
+   * accumulator per member — and the rest as the client predicts them (moved by their rates), so
+   * they catch up in later snapshots. E.g. 533 for 32 KB/s at 60 snapshots a second. Default: no
+   * budget.
+   */
+  maxSnapshotBytes?: number;
   /** Interest management (default: everyone sees the whole `save()`). See {@link StateSyncView}. */
   view?: StateSyncView<S>;
   /** Snapshots kept per member as delta bases. Default {@link DEFAULT_BASE_HISTORY}. */
@@ -139,6 +148,8 @@ export interface StateSyncRoomStats {
   conflictingInputs: number;
   /** Resync requests. */
   resyncs: number;
+  /** Entity rows left out of snapshots by the byte budget (sent as predicted). */
+  deferredRows: number;
   /**
    * Schema codec: the largest |value − sent value| of a quantised number so far, in units of its
    * column's precision (at most 0.5), and the values clamped into their column's range.
@@ -157,6 +168,8 @@ export class StateSyncMember extends Member {
   sent = new SnapshotRing(1);
   needsFull = true;
   lastFullAt = -Infinity;
+  /** Its rows' priorities under a byte budget. */
+  readonly priority = new PriorityAccumulator();
 }
 
 interface SeatInputs {
@@ -181,6 +194,7 @@ interface Settings {
   delta: boolean;
   /** The game's state schema when snapshots are schema-coded. */
   schema: StateSchema | undefined;
+  maxSnapshotBytes: number;
   baseHistory: number;
   maxAheadTicks: number;
   resyncIntervalMs: number;
@@ -234,6 +248,7 @@ export class StateSyncRoom<
     lateInputs: 0,
     conflictingInputs: 0,
     resyncs: 0,
+    deferredRows: 0,
     quantisationError: 0,
     clampedValues: 0,
     dropped: {},
@@ -291,6 +306,11 @@ export class StateSyncRoom<
       ),
       delta: options.delta ?? true,
       schema: schemaOf(game, options.codec),
+      maxSnapshotBytes: positiveInt(
+        'maxSnapshotBytes',
+        options.maxSnapshotBytes ?? 1 << 30,
+        1 << 30,
+      ),
       baseHistory: positiveInt('baseHistory', options.baseHistory ?? DEFAULT_BASE_HISTORY, 4096),
       maxAheadTicks: positiveInt(
         'maxAheadTicks',
@@ -562,7 +582,7 @@ export class StateSyncRoom<
   ): void {
     const tick = this.sim.tick;
     const schema = this.settings.schema;
-    const state = this.wireState(view, round);
+    let state = this.wireState(view, round);
     let base: Uint8Array | undefined;
     let baseTick = -1;
     if (m.needsFull) {
@@ -570,6 +590,24 @@ export class StateSyncRoom<
     } else if (this.settings.delta && m.ack >= 0 && m.ack < tick) {
       base = m.sent.get(m.ack);
       if (base) baseTick = m.ack;
+    }
+    let limited: Uint8Array | undefined;
+    if (schema && base && this.settings.maxSnapshotBytes < 1 << 30) {
+      // Within the member's byte budget: what it will hold is its own.
+      const l = m.priority.limit(
+        schema,
+        wordsOf(base),
+        wordsOf(state),
+        (tick - baseTick) / this.game.tickRate,
+        this.settings.maxSnapshotBytes,
+        tick,
+        baseTick,
+      );
+      if (l.deferred > 0) {
+        state = StateSchema.bytesOf(l.words);
+        limited = l.payload;
+        this.stats.deferredRows += l.deferred;
+      }
     }
     m.sent.put(tick, state);
     // Members that see the same bytes and acknowledged the same base share the work.
@@ -579,7 +617,9 @@ export class StateSyncRoom<
       round.hashes.set(state, hash);
     }
     let payload = state;
-    if (base || schema) {
+    if (limited) {
+      payload = limited;
+    } else if (base || schema) {
       let byBase = round.deltas.get(state);
       if (byBase === undefined) {
         byBase = new Map();

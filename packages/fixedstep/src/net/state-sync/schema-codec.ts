@@ -196,7 +196,7 @@ function grow(n: number): void {
 }
 
 /** Where each sent column's words start, and each group's row count, for a state's words. */
-function starts(
+export function starts(
   schema: StateSchema,
   words: Int32Array | undefined,
 ): { col: number[]; rows: number[] } {
@@ -226,29 +226,8 @@ export function encodeSchemaDelta(
   out: BitWriter,
   seconds = 0,
 ): void {
-  const b = starts(schema, base);
   const n = starts(schema, next);
-  // What the decoder will start from, word for word in `next`'s layout: the base's (0 for rows it
-  // did not have), moved by its rate. Then a row changed where `next` differs from it.
-  const expected = scratchWords(next.length);
-  for (const [gi, g] of schema.groups.entries()) {
-    const rows = Math.min(n.rows[gi]!, b.rows[gi]!);
-    for (const s of g.columns) {
-      const col = schema.sent[s]!;
-      const from = b.col[s]!;
-      const to = n.col[s]!;
-      const words = n.rows[gi]! * col.lanes;
-      const kept = rows * col.lanes;
-      if (kept > 0) expected.set(base!.subarray(from, from + kept), to);
-      expected.fill(0, to + kept, to + words);
-      if (col.rate >= 0) {
-        const rate = b.col[col.rate]!;
-        for (let r = 0; r < rows; r++) {
-          expected[to + r] = predict(expected[to + r]!, base![rate + r]!, col.rateScale, seconds);
-        }
-      }
-    }
-  }
+  const expected = predictInto(schema, base, next, seconds, scratchWords(next.length));
   for (const [gi, g] of schema.groups.entries()) {
     const count = n.rows[gi]!;
     grow(count);
@@ -287,6 +266,49 @@ export function encodeSchemaDelta(
       }
     }
   }
+}
+
+/**
+ * What a decoder starts from, word for word in `next`'s layout: `base`'s words (0 for rows it did
+ * not have), moved by their rates over `seconds`. A row whose words equal these costs nothing.
+ */
+export function predictedWords(
+  schema: StateSchema,
+  base: Int32Array | undefined,
+  next: Int32Array,
+  seconds: number,
+): Int32Array {
+  return predictInto(schema, base, next, seconds, new Int32Array(next.length));
+}
+
+function predictInto(
+  schema: StateSchema,
+  base: Int32Array | undefined,
+  next: Int32Array,
+  seconds: number,
+  expected: Int32Array,
+): Int32Array {
+  const b = starts(schema, base);
+  const n = starts(schema, next);
+  for (const [gi, g] of schema.groups.entries()) {
+    const rows = Math.min(n.rows[gi]!, b.rows[gi]!);
+    for (const s of g.columns) {
+      const col = schema.sent[s]!;
+      const from = b.col[s]!;
+      const to = n.col[s]!;
+      const words = n.rows[gi]! * col.lanes;
+      const kept = rows * col.lanes;
+      if (kept > 0) expected.set(base!.subarray(from, from + kept), to);
+      expected.fill(0, to + kept, to + words);
+      if (col.rate >= 0) {
+        const rate = b.col[col.rate]!;
+        for (let r = 0; r < rows; r++) {
+          expected[to + r] = predict(expected[to + r]!, base![rate + r]!, col.rateScale, seconds);
+        }
+      }
+    }
+  }
+  return expected;
 }
 
 /** A reused scratch vector of at least `n` words (the encoder's expected words). */

@@ -1,0 +1,123 @@
+/**
+ * A per-client byte budget for schema-coded snapshots, with Glenn Fiedler's priority accumulator
+ * (*State Synchronization*): when a snapshot's delta would be larger than the budget, only the
+ * rows of the largest group (the entities: bodies, enemies) that waited longest go in it; every
+ * other changed row is sent as the client will predict it anyway — its acknowledged value moved by
+ * its rate (dead reckoning) — which costs nothing, and its priority grows by one for the next
+ * snapshot. Rows of the other groups (the head, scores, players) always go. The client holds what
+ * it was sent, so its hash check and its next base still agree with the server's copy of it.
+ *
+ * A delta is against the snapshot the client acknowledged, so a row sent after that base is sent
+ * again in every snapshot until the client acknowledges one that has it — left out, it would fall
+ * back to the base's prediction. Those rows go first; the budget left goes to the rows that waited
+ * longest.
+ * @module
+ */
+import type { StateSchema } from '../../sim/state-schema.js';
+import { BitWriter, encodeSchemaDelta, predictedWords, starts } from './schema-codec.js';
+
+/** What {@link PriorityAccumulator.limit} decided. */
+export interface Limited {
+  /** The words the client will hold (what is hashed and kept as its base). */
+  words: Int32Array;
+  /** Their delta's bits. */
+  payload: Uint8Array;
+  /** Changed rows left out (sent as predicted). */
+  deferred: number;
+}
+
+/** One client's priorities: how long each row of the largest group has waited. */
+export class PriorityAccumulator {
+  private waited = new Float64Array(0);
+  /**
+   * Per row: the tick of the snapshot that refreshed it by priority (-1: none). Until the client
+   * acknowledges that snapshot or a later one, the row is in flight.
+   */
+  private sentAt = new Float64Array(0);
+  private readonly bits = new BitWriter();
+
+  /**
+   * The words to send for `next` against `base` within `budget` bytes of payload (or `next`
+   * itself when its delta fits). Without a base (a full snapshot) nothing is left out.
+   */
+  limit(
+    schema: StateSchema,
+    base: Int32Array | undefined,
+    next: Int32Array,
+    seconds: number,
+    budget: number,
+    tick: number,
+    baseTick: number,
+  ): Limited {
+    const encode = (words: Int32Array): Uint8Array => {
+      encodeSchemaDelta(schema, base, words, this.bits.reset(), seconds);
+      return this.bits.finish();
+    };
+    const whole = encode(next);
+    if (whole.length <= budget || base === undefined) {
+      // Every row goes: each is now as good as sent.
+      this.sentAt.fill(tick);
+      return { words: next, payload: whole, deferred: 0 };
+    }
+    // The largest group: where the entities are.
+    let gi = 0;
+    const n = starts(schema, next);
+    for (let g = 1; g < schema.groups.length; g++) if (n.rows[g]! > n.rows[gi]!) gi = g;
+    const group = schema.groups[gi]!;
+    const rows = n.rows[gi]!;
+    const expected = predictedWords(schema, base, next, seconds);
+    const changed: number[] = [];
+    for (let r = 0; r < rows; r++) {
+      for (const s of group.columns) {
+        const lanes = schema.sent[s]!.lanes;
+        const at = n.col[s]! + r * lanes;
+        let differs = false;
+        for (let l = 0; l < lanes; l++) if (next[at + l] !== expected[at + l]) differs = true;
+        if (differs) {
+          changed.push(r);
+          break;
+        }
+      }
+    }
+    if (this.waited.length !== rows) {
+      this.waited = new Float64Array(rows);
+      this.sentAt = new Float64Array(rows).fill(-1);
+    }
+    for (const r of changed) this.waited[r]! += 1;
+    // In flight (sent after the base) first, then the longest waiting; ties by row.
+    const flying = (r: number): number => (this.sentAt[r]! > baseTick ? 1 : 0);
+    changed.sort((a, b) => flying(b) - flying(a) || this.waited[b]! - this.waited[a]! || a - b);
+    const build = (keep: number): Int32Array => {
+      const words = next.slice();
+      for (let i = keep; i < changed.length; i++) {
+        const r = changed[i]!;
+        for (const s of group.columns) {
+          const lanes = schema.sent[s]!.lanes;
+          const at = n.col[s]! + r * lanes;
+          for (let l = 0; l < lanes; l++) words[at + l] = expected[at + l]!;
+        }
+      }
+      return words;
+    };
+    // What the rest costs with no row of the group in it, and a row on average.
+    const floor = encode(build(0)).length;
+    const perRow = (whole.length - floor) / Math.max(1, changed.length);
+    let keep = Math.max(0, Math.min(changed.length, Math.floor((budget - floor) / perRow)));
+    let words = build(keep);
+    let payload = encode(words);
+    // The estimate is an average: shrink until it fits (the rows in flight first are kept longest).
+    for (let tries = 0; payload.length > budget && keep > 0 && tries < 8; tries++) {
+      const scaled = Math.floor((keep * (budget - floor)) / (payload.length - floor));
+      keep = Math.max(0, Math.min(keep - 1, scaled));
+      words = build(keep);
+      payload = encode(words);
+    }
+    for (let i = 0; i < keep; i++) {
+      const r = changed[i]!;
+      // A resend of a row in flight keeps its refresh's tick: acknowledged, it is in the base.
+      if (!(this.sentAt[r]! > baseTick)) this.sentAt[r] = tick;
+      this.waited[r] = 0;
+    }
+    return { words, payload, deferred: changed.length - keep };
+  }
+}
