@@ -60,6 +60,11 @@ describe('chapter 6, network', () => {
     expect(num(r, 'compare-statesync-down')).toBeGreaterThan(num(r, 'compare-lockstep-down'));
     expect(num(r, 'compare-lockstep-corrections')).toBe(0);
     expect(await page.getByTestId('when-to-use').textContent()).toContain('State sync when');
+    // Under it, the bench's rows over real WebRTC and real TCP, labelled as the bench's.
+    const measured = page.getByTestId('net-measured');
+    expect(await measured.textContent()).toContain('Measured by the benchmark, not in this page');
+    expect(await measured.locator('tbody tr').count()).toBe(6);
+    expect(await measured.locator('tbody tr').first().textContent()).toContain('WebRTC');
     await page.screenshot({ path: path.join(shots, 'network.png'), fullPage: true });
     expect(problems).toEqual([]);
     await page.close();

@@ -171,6 +171,8 @@ export interface TransportSummary {
   latencyP50: number;
   latencyP99: number;
   latencySamples: number;
+  /** The same per direction: player `from`'s input changes on player `to`'s screen. */
+  latencyByDirection?: { from: number; to: number; p50: number; p99: number; n: number }[];
   stalls: number;
   stallFrames: number;
   rollbacks: number;
@@ -181,6 +183,8 @@ export interface TransportSummary {
   bytesPerSecond: { slot: number; up: number; down: number }[];
   /** Bytes per second on the wire of the impaired link, per direction (proxy counters; UDP payloads incl. TURN/DTLS/SCTP headers, or TCP payload incl. WebSocket framing). */
   wireBytesPerSecond: { up: number; down: number } | undefined;
+  /** Datagrams (UDP) or segments (TCP model) per second on the impaired link, per direction. */
+  wirePacketsPerSecond?: { up: number; down: number };
   lossSeen: number;
 }
 
@@ -192,7 +196,21 @@ export function summarize(
   wire?: WireCounts,
 ): TransportSummary {
   const lat: number[] = [];
-  for (const a of reports) for (const b of reports) if (a !== b) lat.push(...latencies(a, b));
+  const byDirection: NonNullable<TransportSummary['latencyByDirection']> = [];
+  for (const a of reports) {
+    for (const b of reports) {
+      if (a === b) continue;
+      const l = latencies(a, b);
+      lat.push(...l);
+      byDirection.push({
+        from: a.slot,
+        to: b.slot,
+        p50: percentile(l, 50),
+        p99: percentile(l, 99),
+        n: l.length,
+      });
+    }
+  }
   const depths: Record<number, number> = {};
   let maxDepth = 0;
   for (const r of reports) {
@@ -213,6 +231,7 @@ export function summarize(
     latencyP50: percentile(lat, 50),
     latencyP99: percentile(lat, 99),
     latencySamples: lat.length,
+    latencyByDirection: byDirection,
     stalls: reports.reduce((n, r) => n + r.stalls, 0),
     stallFrames: reports.reduce((n, r) => n + r.stallFrames, 0),
     rollbacks: reports.reduce((n, r) => n + r.rollbacks, 0),
@@ -225,6 +244,14 @@ export function summarize(
     })),
     wireBytesPerSecond:
       wire && seconds > 0 ? { up: wire.up / seconds, down: wire.down / seconds } : undefined,
+    ...(wire && seconds > 0
+      ? {
+          wirePacketsPerSecond: {
+            up: wire.packetsUp / seconds,
+            down: wire.packetsDown / seconds,
+          },
+        }
+      : {}),
     lossSeen:
       wire && wire.packetsUp + wire.packetsDown > 0
         ? (wire.lostUp + wire.lostDown) / (wire.packetsUp + wire.packetsDown)
@@ -267,6 +294,11 @@ export function comparisonTable(rows: readonly TransportSummary[]): string {
     'input-to-screen p50 / p99 (ms)',
     (r) => `${fmt(r.latencyP50)} / ${fmt(r.latencyP99)} (n = ${r.latencySamples})`,
   );
+  row('… per direction, P→P: p50 / p99', (r) =>
+    (r.latencyByDirection ?? [])
+      .map((d) => `P${d.from + 1}→P${d.to + 1} ${fmt(d.p50)} / ${fmt(d.p99)}`)
+      .join('; '),
+  );
   row('stalls (stalled frames)', (r) => `${r.stalls} (${r.stallFrames})`);
   row('rollbacks, deepest', (r) => `${r.rollbacks}, ${r.maxDepth}`);
   row('rollback depths', (r) => depthBuckets(r.depths));
@@ -276,6 +308,11 @@ export function comparisonTable(rows: readonly TransportSummary[]): string {
   row('wire B/s of the impaired link, up / down', (r) =>
     r.wireBytesPerSecond
       ? `${fmt(r.wireBytesPerSecond.up)} / ${fmt(r.wireBytesPerSecond.down)}`
+      : '–',
+  );
+  row('wire packets/s of the impaired link, up / down', (r) =>
+    r.wirePacketsPerSecond
+      ? `${fmt(r.wirePacketsPerSecond.up)} / ${fmt(r.wirePacketsPerSecond.down)}`
       : '–',
   );
   row('packets lost (UDP) or retransmitted (TCP model)', (r) => `${fmt(r.lossSeen * 100, 1)} %`);

@@ -50,7 +50,8 @@ describe('a 10-minute match at 100 ms ± 30 ms and 5 % loss', () => {
     expect(r.room!.desyncs).toHaveLength(0);
     for (const c of r.clients.filter((x) => x.kind === 'rollback')) {
       expect(c.tick).toBe(36_000);
-      expect(c.stats.rollbacks).toBeGreaterThan(300);
+      // Confirmed ticks come in groups over a datagram link: one rollback may mend several ticks.
+      expect(c.stats.rollbacks).toBeGreaterThan(200);
       expect(c.stats.maxRollbackDepth).toBeLessThanOrEqual(30);
       expect(c.stats.stalls).toBeLessThan(10);
       // No input lag beyond the 1-tick local delay; ahead of the server by ~half an RTT.

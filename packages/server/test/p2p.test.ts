@@ -159,11 +159,13 @@ describe('peer-to-peer fallback: no direct route, the game goes through the serv
       unreliableChannel: { ordered: false, maxRetransmits: 1 },
     });
     expect(link.via).toBe('server');
-    // The joiner asked for the unreliable channel it was told to (werift needs this, see docs).
-    expect(UnreachablePeerConnection.created).toEqual([
-      ['fixedstep-u', { ordered: false, maxRetransmits: 1 }],
-      ['fixedstep-r', { ordered: true }],
-    ]);
+    // The joiner, then the host on its offer, made both channels themselves (negotiated on streams
+    // 0 and 1), the unreliable one as they were told to (werift needs this, see docs).
+    const both = [
+      ['fixedstep-u', { ordered: false, maxRetransmits: 1, negotiated: true, id: 0 }],
+      ['fixedstep-r', { ordered: true, negotiated: true, id: 1 }],
+    ];
+    expect(UnreachablePeerConnection.created).toEqual([...both, ...both]);
     await until(() => sessions.every((s) => s.isFinished), 'the end of the match');
     const hashes = sessions.map((s) => s.hashAt(ticks));
     expect(hashes[0]).toBeDefined();

@@ -21,6 +21,7 @@ import { OnlinePanel } from './network-online.js';
 import { StateOnlinePanel } from './network-state-online.js';
 import { TransportsPanel } from './network-transports.js';
 import { LagPanel } from './network-lag.js';
+import { MEASURED_MODELS_COMMAND, measuredModels } from './measured-models.js';
 import {
   ABOUT,
   BENCH_INTRO,
@@ -205,6 +206,7 @@ class NetworkChapter {
           h('tbody', {}, rows),
         ),
       ),
+      this.buildMeasured(),
       h(
         'dl',
         { class: 'net-needs' },
@@ -218,6 +220,77 @@ class NetworkChapter {
         'ul',
         { class: 'net-when', 'data-testid': 'when-to-use' },
         WHEN_TO_USE.map((w) => h('li', {}, h('strong', {}, `${ABOUT[w.mode].title}: `), w.text)),
+      ),
+    );
+  }
+
+  /**
+   * The same models over real transports — WebRTC through TURN and the kernel's TCP, on the loss
+   * harness's link — as the benchmark measured them (a page cannot make those links): recorded
+   * numbers, labelled as such.
+   */
+  private buildMeasured(): HTMLElement {
+    const m = measuredModels();
+    const ms = (x: number) => (Number.isFinite(x) ? fmt.millis(x) : '—');
+    return h(
+      'div',
+      { class: 'net-compare-wrap', 'data-testid': 'net-measured' },
+      h(
+        'p',
+        { class: 'section-intro' },
+        `Measured by the benchmark, not in this page: player 2 on a real link of ${m.results[0]?.link.latencyMs ?? '?'} ± ${m.results[0]?.link.jitterMs ?? '?'} ms each way with ${100 * (m.results[0]?.link.loss ?? 0)} % loss (the loss harness), player 1 on the machine running the room, ${m.seconds} s of each model (${MEASURED_MODELS_COMMAND}, ${m.date.slice(0, 10)}). Bytes are player 2's messages; “wire” is what crossed its link, headers and acknowledgements included.`,
+      ),
+      h(
+        'table',
+        { class: 'data-table net-compare-table' },
+        h(
+          'thead',
+          {},
+          h(
+            'tr',
+            {},
+            [
+              'Transport, model',
+              'Up / down, B/s',
+              'Wire up / down, B/s',
+              'Input → own screen',
+              'Input → other screen',
+              'Render delay',
+              'Corrections seen',
+            ].map((t) => h('th', { scope: 'col' }, t)),
+          ),
+        ),
+        h(
+          'tbody',
+          {},
+          m.results.flatMap((r) =>
+            r.rows.map((row) =>
+              h(
+                'tr',
+                {},
+                h('th', { scope: 'row' }, `${r.transport}: ${ABOUT[row.model].title}`),
+                h(
+                  'td',
+                  {},
+                  `${fmt.count(Math.round(row.upBytesPerSecond))} / ${fmt.count(Math.round(row.downBytesPerSecond))}`,
+                ),
+                h(
+                  'td',
+                  {},
+                  `${fmt.count(Math.round(row.wireUpBytesPerSecond))} / ${fmt.count(Math.round(row.wireDownBytesPerSecond))}`,
+                ),
+                h('td', {}, ms(row.ownLatencyMs)),
+                h('td', {}, ms(row.otherLatencyMs)),
+                h('td', {}, row.model === 'statesync' ? ms(row.renderDelayMs) : '—'),
+                h(
+                  'td',
+                  {},
+                  `${fmt.count(row.corrections)} (up to ${row.largestCorrection.toFixed(1)} units)`,
+                ),
+              ),
+            ),
+          ),
+        ),
       ),
     );
   }

@@ -2,7 +2,11 @@
  * The relay protocol (lockstep and rollback through `/ws/<room>`): its messages, declared once.
  * docs/network.md has the table; {@link RELAY_PROTOCOL} encodes and decodes them.
  *
- * Version 5 sends the server's messages to one connection in a flush as one WebSocket frame (a
+ * Version 6 lets a client send a batch frame too (its messages of one frame — inputs, ack, clock
+ * probe, hash — as one datagram), and over a datagram transport both sides send in paced groups
+ * of ticks with a bounded redundancy window ({@link INPUT_DATAGRAM_EVERY},
+ * {@link CONFIRMED_DATAGRAM_EVERY}, {@link REDUNDANT_TICKS}); the
+ * messages themselves are version 5's. Version 5 sends the server's messages to one connection in a flush as one WebSocket frame (a
  * batch frame, type byte 0x1f: each message's length, then its bytes) and tells each connection
  * the room's network rate in its welcome (`sendEvery`: confirmed ticks go out in groups of that
  * many, and a player sends its inputs in groups of that many too). Version 4 declares the messages as data (`net/wire`): one error list with the other protocols,
@@ -46,10 +50,47 @@ import {
 import { defineProtocol } from '../wire/protocol.js';
 
 /** The relay protocol's version (byte 0 of every message is this, its family being 0x00). */
-export const PROTOCOL_VERSION = 5;
+export const PROTOCOL_VERSION = 6;
 
-/** The type byte of a batch frame (several server messages in one frame; version 5 on). */
+/**
+ * The type byte of a batch frame: several messages in one frame (the server's since version 5, a
+ * client's since version 6).
+ */
 export const BATCH_TYPE = 0x1f;
+
+/**
+ * Over a datagram transport (WebRTC's unreliable channel, a simulated lossy link) a player sends its
+ * new inputs in groups of at most this many ticks, and a changed input at once. Each datagram costs
+ * ~70 bytes of DTLS, SCTP and TURN headers plus, often, an SCTP acknowledgement of as many bytes
+ * back: at a datagram a tick that was 8–12 KB/s a direction for 1–3 KB/s of messages. Inputs cannot
+ * wait much longer: the rollback lead sends a tick's input about one one-way trip before the relay
+ * needs it, with one or two ticks to spare, and a held input the relay must wait for delays every
+ * other player's input of that tick. 2 (30 Hz at 60 Hz): a lost datagram costs two ticks.
+ */
+export const INPUT_DATAGRAM_EVERY = 2;
+
+/**
+ * Over a datagram transport the relay sends confirmed ticks in groups of at most this many, and a
+ * tick whose row changed (someone's input changed: what a player must see soon) at once and again
+ * with the next tick, so one lost datagram costs a tick, not a group. Unchanged ticks only confirm
+ * what the receiver predicted: 4 (15 Hz at 60 Hz) keeps its prediction window (30 ticks) far off.
+ */
+export const CONFIRMED_DATAGRAM_EVERY = 4;
+
+/**
+ * Over a datagram transport, the most ticks a message repeats that were already sent and are not
+ * yet acknowledged (the redundancy window), besides the new ones: each tick rides in about
+ * `REDUNDANT_TICKS / INPUT_DATAGRAM_EVERY` datagrams before it is only resent when the peer's ack stops
+ * moving. 12 ticks (200 ms) outlasts the relay's deadline for a late input (100 ms) past the lead.
+ */
+export const REDUNDANT_TICKS = 12;
+
+/**
+ * The largest batch frame a client sends over a datagram transport: one UDP datagram with the
+ * DTLS, SCTP and TURN headers on a 1280-byte path (the data channel's `maxUnreliableBytes`, 1100,
+ * less some room). Larger batches go as several frames.
+ */
+export const MAX_DATAGRAM_BYTES = 1000;
 
 /**
  * Most u32 words of one player's input per tick, on the wire: `confirmed` packs players and words

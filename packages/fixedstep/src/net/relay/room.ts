@@ -9,7 +9,13 @@ import type { HostedGame } from '../room/game-join.js';
 import { Member, Room, type MemberInit } from '../room/room.js';
 import type { LeaveReason } from '../wire/common.js';
 import { DesyncDetector, type DesyncRecord } from './forensics.js';
-import { encodeMessage, type NetMessage, type ProtocolLimits } from './messages.js';
+import {
+  CONFIRMED_DATAGRAM_EVERY,
+  REDUNDANT_TICKS,
+  encodeMessage,
+  type NetMessage,
+  type ProtocolLimits,
+} from './messages.js';
 
 /** The relay's own settings (besides the room core's). */
 export interface RelaySettings {
@@ -43,6 +49,8 @@ export class RelayMember extends Member {
    * holds (the next message may be XOR-coded against that row); -1 when there is none.
    */
   deltaFrom = -1;
+  /** Datagrams: the last message carried a changed input; send again with the next tick. */
+  repeatChange = false;
   /**
    * Request ids it may answer (snapshot / hashes). An entry stays after its request timed out — a
    * late answer is ignored, not punished — and only the last 16 are kept.
@@ -536,6 +544,10 @@ export class RelayRoom extends Room<RelayMember> {
     if (c.sentUpTo < c.ack) c.sentUpTo = c.ack;
     const rewind = c.ack < c.sentUpTo && now - c.ackMovedAt > (c.reliable ? 1000 : 250);
     if (!(newest > c.sentUpTo || rewind)) return;
+    if (!c.reliable && !rewind && newest - c.ack <= maxTicks) {
+      this.flushDatagram(c, newest, now);
+      return;
+    }
     // The network rate: new ticks wait until there are `sendEvery` of them, or the first has
     // waited that many ticks' time (a stalled room, the end of a match).
     const every = this.relay.sendEvery;
@@ -581,6 +593,48 @@ export class RelayRoom extends Room<RelayMember> {
       if (c.reliable) c.deltaFrom = from;
     }
     c.sentUpTo = Math.max(c.sentUpTo, from);
+  }
+
+  /**
+   * A member on a datagram transport: new ticks in groups of {@link CONFIRMED_DATAGRAM_EVERY} (or the room's
+   * `sendEvery`, if larger), a tick whose row changed at once and again with the next tick, each
+   * message repeating at most {@link REDUNDANT_TICKS} sent but unacknowledged ticks (a rewind to the
+   * ack resends the rest when the ack stops moving).
+   */
+  private flushDatagram(c: RelayMember, newest: number, now: number): void {
+    const pace = Math.max(this.relay.sendEvery, CONFIRMED_DATAGRAM_EVERY);
+    const lanes = this.players * this.words;
+    let changed = false;
+    for (let t = Math.max(c.sentUpTo, 1); t < newest && !changed; t++) {
+      for (let p = 0; p < lanes; p++) {
+        if (this.log.get(t, p) !== this.log.get(t - 1, p)) {
+          changed = true;
+          break;
+        }
+      }
+    }
+    const due =
+      changed ||
+      c.repeatChange ||
+      newest - c.sentUpTo >= pace ||
+      this.state !== 'running' ||
+      now >= this.startAt! + (c.sentUpTo + pace) * this.tickMs;
+    if (!due) return;
+    c.repeatChange = changed && pace > 2;
+    const from = Math.max(c.ack, c.sentUpTo - REDUNDANT_TICKS);
+    const n = newest - from;
+    const inputs = new Uint32Array(n * lanes);
+    for (let i = 0; i < n; i++) this.log.copy(from + i, inputs, i * lanes);
+    this.send(c, {
+      type: 'confirmed',
+      inputAck: c.slot < 0 ? newest : Math.max(this.inputAck(c), newest),
+      tick: from,
+      players: this.players,
+      words: this.words,
+      inputs,
+      delta: false,
+    });
+    c.sentUpTo = newest;
   }
 
   /** The next tick the relay needs an input from `c` for. */

@@ -516,6 +516,25 @@ export abstract class RoomHost<
       );
       return;
     }
+    // A client may send a batch frame too (a protocol that has them): several messages of one
+    // frame — over a datagram transport, one packet instead of several.
+    let parts: Uint8Array[];
+    try {
+      parts = this.protocol.split(bytes);
+    } catch (error) {
+      if (!(error instanceof ProtocolError)) throw error;
+      this.drop(m, refusalCode(error, bytes, this.protocol.header), error.message);
+      return;
+    }
+    for (const part of parts) {
+      this.onMessageBytes(m, part, now);
+      // A message may have closed it (a refusal, a leave): the rest of the frame is not read.
+      if (isClosed(m)) return;
+    }
+  }
+
+  private onMessageBytes(m: M, bytes: Uint8Array, now: number): void {
+    if (isClosed(m)) return;
     let message: Msg;
     try {
       message = this.protocol.decode(bytes, this.decodeOptions());
@@ -691,4 +710,9 @@ export abstract class RoomHost<
     this.stats.waitingRooms = waiting;
     this.stats.members = members;
   }
+}
+
+/** Whether a member's connection is closed (read afresh: a handler may have closed it). */
+function isClosed(m: Member): boolean {
+  return m.state === 'closed';
 }

@@ -12,7 +12,10 @@ import type { Clock } from '../../time/drivers.js';
 import { ClockSync } from '../clock-sync.js';
 import { InputRing, SnapshotRing } from '../history.js';
 import {
+  INPUT_DATAGRAM_EVERY,
   DEFAULT_PROTOCOL_LIMITS,
+  MAX_DATAGRAM_BYTES,
+  REDUNDANT_TICKS,
   RELAY_PROTOCOL,
   decodeMessage,
   encodeMessage,
@@ -46,6 +49,12 @@ const MAX_INPUT_WINDOW = DEFAULT_PROTOCOL_LIMITS.maxInputTicks;
  * when frames stop (a background tab): the relay drops members that stay silent.
  */
 const KEEPALIVE_MS = 1000;
+/**
+ * Over datagrams, a relay input ack that has not moved for this long means a tick fell out of the
+ * redundancy window unheard: the next message repeats everything from the ack (the relay rewinds
+ * its confirmed ticks after the same time).
+ */
+const ACK_STUCK_MS = 250;
 const CONFIRMED_CAPACITY = 4096;
 const ISSUED_CAPACITY = 512;
 
@@ -101,8 +110,9 @@ export abstract class NetSession<I = ButtonInput> {
   protected issued: InputRing;
   protected issueFrom = 0;
   protected issueNext = 0;
-  /** The next tick the server needs an input from us for. */
+  /** The next tick the server needs an input from us for, and when it last moved. */
   protected serverInputAck = 0;
+  private serverInputAckAt = -Infinity;
 
   /** Snapshots of confirmed (lockstep) or recent (rollback) ticks. */
   protected ring = new SnapshotRing(1);
@@ -127,6 +137,13 @@ export abstract class NetSession<I = ButtonInput> {
   private readonly hello: NetMessage;
   private hidden = false;
   private helloSentAt = -Infinity;
+  /** Messages of the frame being run, sent together at its end (one batch frame). */
+  private outbox: Uint8Array[] = [];
+  private holding = false;
+  /** A newly issued input differs from the tick before it: send it at once (datagrams). */
+  private changePending = false;
+  /** The last send carried a change: send again with the next tick (datagrams). */
+  private repeatPending = false;
 
   constructor(options: NetSessionOptions<I>, role: 'player' | 'spectator') {
     this.options = options;
@@ -265,6 +282,17 @@ export abstract class NetSession<I = ButtonInput> {
    */
   frame(now = this.clock.now()): number {
     if (this.life.phase === 'closed') return 0;
+    // Everything this frame sends — inputs, ack, clock probe, hashes — goes as one frame.
+    this.holding = true;
+    try {
+      return this.runFrame(now);
+    } finally {
+      this.holding = false;
+      this.sendOutbox();
+    }
+  }
+
+  private runFrame(now: number): number {
     this.stats.frames++;
     if (now >= this.nextPingAt && !this.hidden) this.ping(now);
     // The handshake survives a lossy link: hello is repeated until welcomed, and a waiting
@@ -354,6 +382,14 @@ export abstract class NetSession<I = ButtonInput> {
       } else {
         this.scratch.fill(0);
       }
+      if (!this.reliable && !this.changePending && this.issued.has(t - 1) && t > this.issueFrom) {
+        for (let k = 0; k < this.words; k++) {
+          if (this.issued.get(t - 1, k) !== this.scratch[k]) {
+            this.changePending = true;
+            break;
+          }
+        }
+      }
       this.issued.set(t, this.scratch);
       this.issueNext++;
       this.newInputs = true;
@@ -393,7 +429,33 @@ export abstract class NetSession<I = ButtonInput> {
     this.stats.messagesSent++;
     this.stats.bytesSent += bytes.length;
     this.lastSendAt = this.clock.now();
-    this.transport.send(bytes);
+    if (this.holding) this.outbox.push(bytes);
+    else this.transport.send(bytes);
+  }
+
+  /**
+   * Sends the frame's messages: one batch frame, or several of at most {@link MAX_DATAGRAM_BYTES}
+   * over a datagram transport (a larger message goes alone).
+   */
+  private sendOutbox(): void {
+    const out = this.outbox;
+    if (out.length === 0) return;
+    this.outbox = [];
+    if (!this.transport.isOpen) return;
+    const limit = this.reliable ? Infinity : MAX_DATAGRAM_BYTES;
+    let group: Uint8Array[] = [];
+    let size = 2;
+    for (const b of out) {
+      const grown = size + b.length + 3;
+      if (group.length > 0 && grown > limit) {
+        this.transport.send(RELAY_PROTOCOL.frame(group));
+        group = [];
+        size = 2;
+      }
+      group.push(b);
+      size += b.length + 3;
+    }
+    this.transport.send(RELAY_PROTOCOL.frame(group));
   }
 
   // ---------------------------------------------------------------------------- receiving
@@ -539,7 +601,10 @@ export abstract class NetSession<I = ButtonInput> {
         m.inputs[i] = (m.inputs[i]! ^ base[i % lanes]!) >>> 0;
       }
     }
-    if (m.inputAck > this.serverInputAck) this.serverInputAck = m.inputAck;
+    if (m.inputAck > this.serverInputAck) {
+      this.serverInputAck = m.inputAck;
+      this.serverInputAckAt = now;
+    }
     const lanes = m.players * m.words;
     const n = m.inputs.length / lanes;
     const keepFrom = this.keepInputsFrom();
@@ -609,39 +674,82 @@ export abstract class NetSession<I = ButtonInput> {
 
   private flushInputs(now: number): void {
     if (this.slot < 0 || this.welcomeMsg === undefined) return;
-    // Over a stream each input goes once; otherwise the window from the relay's input ack is
-    // repeated (a lost message costs nothing but the next).
+    if (this.reliable ? this.flushStreamInputs(now) : this.flushDatagramInputs(now)) {
+      this.newInputs = false;
+      this.lastInputSendAt = now;
+      this.lastAckSent = this.confirmedEnd;
+      this.lastAckSendAt = now;
+    }
+  }
+
+  /**
+   * Over a stream each input goes once, new ones in groups of the room's network rate
+   * (`sendEvery` ticks).
+   */
+  private flushStreamInputs(now: number): boolean {
     const from = Math.max(
       this.serverInputAck,
       this.issueNext - MAX_INPUT_WINDOW,
       this.issueFrom,
-      this.reliable ? this.inputsSentTo : 0,
+      this.inputsSentTo,
     );
-    if (from >= this.issueNext) return;
-    // New inputs go at once — in groups of the room's network rate (`sendEvery` ticks) over a
-    // stream; unacknowledged ones are resent every 50 ms (they may have been lost).
-    if (!this.newInputs && now - this.lastInputSendAt < 50) return;
-    const every = this.welcomeMsg.sendEvery;
+    if (from >= this.issueNext) return false;
+    if (!this.newInputs && now - this.lastInputSendAt < 50) return false;
+    const every = this.welcomeMsg!.sendEvery;
     if (this.newInputs && every > 1 && this.issueNext - this.inputsSentTo < every) {
-      if (now - this.lastInputSendAt < every * this.tickMs) return;
+      if (now - this.lastInputSendAt < every * this.tickMs) return false;
     }
+    this.sendInputs(from);
+    return true;
+  }
+
+  /**
+   * Over datagrams: new ticks in groups of {@link INPUT_DATAGRAM_EVERY} (or the room's `sendEvery`,
+   * if larger), a changed input at once (and again with the next tick when groups are longer than
+   * two ticks); each message repeats at most
+   * {@link REDUNDANT_TICKS} ticks that were sent before and are not acknowledged. When nothing new
+   * is issued (a stall), the whole unacknowledged window is resent every group's time.
+   */
+  private flushDatagramInputs(now: number): boolean {
+    const pace = Math.max(this.welcomeMsg!.sendEvery, INPUT_DATAGRAM_EVERY);
+    const oldest = Math.max(this.serverInputAck, this.issueNext - MAX_INPUT_WINDOW, this.issueFrom);
+    if (oldest >= this.issueNext) return false;
+    let from = oldest;
+    // The relay's ack stopped moving: a tick fell out of the window unheard, resend from the ack.
+    const stuck = now - this.serverInputAckAt >= ACK_STUCK_MS;
+    if (this.newInputs) {
+      const due =
+        this.changePending ||
+        this.repeatPending ||
+        this.issueNext - this.inputsSentTo >= pace ||
+        now - this.lastInputSendAt >= pace * this.tickMs;
+      if (!due) return false;
+      if (!stuck) {
+        from = Math.max(oldest, Math.min(this.inputsSentTo, this.issueNext) - REDUNDANT_TICKS);
+      }
+    } else if (now - this.lastInputSendAt < Math.max(50, pace * this.tickMs)) {
+      return false;
+    }
+    this.repeatPending = this.changePending && pace > 2;
+    this.changePending = false;
+    this.sendInputs(from);
+    return true;
+  }
+
+  private sendInputs(from: number): void {
     this.inputsSentTo = this.issueNext;
     const w = this.words;
     const inputs = new Uint32Array((this.issueNext - from) * w);
     for (let t = from; t < this.issueNext; t++) this.issued.copy(t, inputs, (t - from) * w);
     this.send({
       type: 'input',
-      room: this.welcomeMsg.room,
+      room: this.welcomeMsg!.room,
       player: this.slot,
       ack: this.confirmedEnd,
       tick: from,
       words: w,
       inputs,
     });
-    this.newInputs = false;
-    this.lastInputSendAt = now;
-    this.lastAckSent = this.confirmedEnd;
-    this.lastAckSendAt = now;
   }
 
   private flushAck(now: number): void {
@@ -651,7 +759,7 @@ export abstract class NetSession<I = ButtonInput> {
     // A playing player's ack rides on its inputs; at a network rate below the tick rate, it does
     // not go alone in between (that would be a frame per confirmed group again).
     if (
-      w.sendEvery > 1 &&
+      (w.sendEvery > 1 || !this.reliable) &&
       this.slot >= 0 &&
       this.life.phase === 'running' &&
       now - this.lastAckSendAt < 200

@@ -9,7 +9,15 @@ export { dataChannelTransport } from './data-channel.js';
 export { SignallingHub, SIGNAL_WAITING_TTL_MS } from './hub.js';
 export type { SignallingHubOptions, SignallingStats } from './hub.js';
 export type { DataChannelTransportOptions } from './data-channel.js';
-export { SignalClient, PeerHost, joinPeer, UNRELIABLE_LABEL, RELIABLE_LABEL } from './peer.js';
+export {
+  SignalClient,
+  PeerHost,
+  joinPeer,
+  UNRELIABLE_LABEL,
+  RELIABLE_LABEL,
+  UNRELIABLE_STREAM,
+  RELIABLE_STREAM,
+} from './peer.js';
 export type {
   PeerToPeerOptions,
   PeerLink,

@@ -11,7 +11,6 @@ import {
 import { ProtocolError } from '../wire/error.js';
 import type {
   DataChannelInitLike,
-  DataChannelEventLike,
   DataChannelLike,
   IceCandidateEventLike,
   IceCandidateLike,
@@ -23,6 +22,15 @@ import type {
 export const UNRELIABLE_LABEL = 'fixedstep-u';
 /** Label of the reliable, ordered channel (large messages, in chunks). */
 export const RELIABLE_LABEL = 'fixedstep-r';
+/**
+ * The SCTP streams of the two channels. Both peers create both channels as `negotiated` on these
+ * streams rather than the joiner announcing them (DCEP): each side then sends by its own
+ * `ordered`/`maxRetransmits`. With DCEP, werift 0.24 announces `{ ordered: false, maxRetransmits:
+ * n }` as *ordered* (its channel type byte drops the unordered bit), so a werift host sent the
+ * game's datagrams ordered: one loss held every later message until it was retransmitted.
+ */
+export const UNRELIABLE_STREAM = 0;
+export const RELIABLE_STREAM = 1;
 
 /**
  * The signalling connection's client end: encodes and decodes {@link SignalMessage}s on a
@@ -98,6 +106,8 @@ export class SignalClient {
  * each side, so it is reliable and ordered, with TCP's head-of-line blocking.
  */
 class TunnelTransport extends BaseTransport {
+  /** A WebSocket each way: every message arrives, in order (or the tunnel closes). */
+  readonly reliable = true;
   constructor(
     private readonly signal: SignalClient,
     private readonly peer: number,
@@ -160,12 +170,14 @@ export interface PeerToPeerOptions {
   /** Options of the data channel transport. */
   dataChannel?: DataChannelTransportOptions;
   /**
-   * How the joiner creates the unreliable channel (the host takes what the offer says). Default
-   * `{ ordered: false, maxRetransmits: 0 }`: never retransmitted. werift 0.24 treats
-   * `maxRetransmits: 0` as unlimited and never expires `maxPacketLifeTime`, so a werift joiner
-   * passes `{ ordered: false, maxRetransmits: 1 }` (at most one retransmission) — docs/webrtc.md.
+   * How this peer sends on the unreliable channel (both peers create both channels, negotiated on
+   * streams {@link UNRELIABLE_STREAM} and {@link RELIABLE_STREAM}; `negotiated` and `id` are set
+   * here). Default `{ ordered: false, maxRetransmits: 0 }`: never retransmitted. werift 0.24 treats
+   * `maxRetransmits: 0` as unlimited and never expires `maxPacketLifeTime`, so a werift peer — host
+   * or joiner — passes `{ ordered: false, maxRetransmits: 1 }` (at most one retransmission):
+   * docs/webrtc.md.
    */
-  unreliableChannel?: DataChannelInitLike;
+  unreliableChannel?: Omit<DataChannelInitLike, 'negotiated' | 'id'>;
 }
 
 /** A connection to or from one peer. */
@@ -244,16 +256,25 @@ class PeerConnectionSide {
         options.signal.send({ type: 'signal', peer, kind: 'candidate', text });
       }
     };
-    this.pc.ondatachannel = (event: DataChannelEventLike) => {
-      this.adopt(event.channel);
-    };
   }
 
-  /** Create both channels (the offering side). */
+  /** Create both channels, negotiated (both sides do, before the offer or the answer). */
   createChannels(): void {
     const unreliable = this.options.unreliableChannel ?? { ordered: false, maxRetransmits: 0 };
-    this.adopt(this.pc.createDataChannel(UNRELIABLE_LABEL, unreliable));
-    this.adopt(this.pc.createDataChannel(RELIABLE_LABEL, { ordered: true }));
+    this.adopt(
+      this.pc.createDataChannel(UNRELIABLE_LABEL, {
+        ...unreliable,
+        negotiated: true,
+        id: UNRELIABLE_STREAM,
+      }),
+    );
+    this.adopt(
+      this.pc.createDataChannel(RELIABLE_LABEL, {
+        ordered: true,
+        negotiated: true,
+        id: RELIABLE_STREAM,
+      }),
+    );
   }
 
   private adopt(ch: DataChannelLike): void {
@@ -307,7 +328,6 @@ class PeerConnectionSide {
     if (this.closed) return;
     this.closed = true;
     this.pc.onicecandidate = null;
-    this.pc.ondatachannel = null;
     try {
       this.pc.close();
     } catch {
@@ -410,6 +430,7 @@ export class PeerHost {
         this.connected({ peer, transport, via: 'webrtc' });
       });
       this.sides.set(peer, side);
+      side.createChannels();
       await side.remoteDescription('offer', text);
       const answer = await side.pc.createAnswer();
       await side.pc.setLocalDescription(answer);

@@ -48,6 +48,13 @@ export interface DataChannelLike {
 export interface DataChannelInitLike {
   ordered?: boolean;
   maxRetransmits?: number;
+  /**
+   * Both peers create the channel themselves, with the same `id`, instead of one announcing it to
+   * the other (DCEP). Each side's own `ordered` and `maxRetransmits` then govern what it sends.
+   */
+  negotiated?: boolean;
+  /** The SCTP stream of a negotiated channel (0–65534), the same on both sides. */
+  id?: number;
 }
 
 /** The part of an `RTCPeerConnection` the library uses. */
