@@ -310,7 +310,7 @@ export function codecScenes(quick: boolean): CodecScene[] {
       clients: 2,
       snapshotEvery: 3,
       warmupMs: 2000,
-      precision: '1/256 u',
+      precision: '1/128 u',
       goal: 1.5 * 1024,
     },
     {
@@ -319,7 +319,7 @@ export function codecScenes(quick: boolean): CodecScene[] {
       clients: 2,
       snapshotEvery: 3,
       warmupMs: 2000,
-      precision: '1/64 u',
+      precision: '1/32 u',
       goal: 6 * 1024,
       bot: (sim, slot) => survivalGame.bot(sim as Game, slot),
     },
@@ -329,7 +329,7 @@ export function codecScenes(quick: boolean): CodecScene[] {
       clients: 4,
       snapshotEvery: 3,
       warmupMs: 2000,
-      precision: '1/64 u',
+      precision: '1/32 u',
       goal: 2 * 1024,
       bot: (sim, slot) => ctfGame.bot(sim as Game, slot),
     },
@@ -1018,7 +1018,10 @@ export default defineSuite({
           ? `p99 ${f(schema.positionError.p99, 0)}, max ${f(schema.positionError.max, 0)} × ${scene.precision}`
           : `≤ ${f(schema.maxError, 2)} × ${scene.precision}`,
         `${f(100 * schema.moving)} %`,
-        `${kb(scene.goal)} ${schema.downWs <= scene.goal ? '✓' : '✗'}`,
+        `${kb(scene.goal)} ${schema.downWs <= scene.goal ? '✓' : '✗'}` +
+          (schema.positionError
+            ? `, error ${schema.positionError.p99 <= 0.5 ? '✓' : '✗ (beyond the precision)'}`
+            : ''),
       ]);
     }
     ctx.table(

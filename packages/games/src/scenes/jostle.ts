@@ -115,7 +115,7 @@ export class JostleScene implements Simulation {
   }
 }
 
-/** The schema of a jostle state: positions to 1/256 unit, velocities to 1/16 unit/s. */
+/** The schema of a jostle state: positions to 1/128 unit (0.13 % of the box), velocities to 1/16 unit/s. */
 export const JOSTLE_SCHEMA = defineStateSchema({
   columns: [
     { name: 'magic', type: 'u32', group: 'head' },
@@ -128,7 +128,7 @@ export const JOSTLE_SCHEMA = defineStateSchema({
       type: 'f64' as const,
       count: { of: 'bodies', max: 4096 },
       group: 'bodies',
-      precision: 1 / 256,
+      precision: 1 / 128,
       min: -1,
       max: JOSTLE_SIZE + 1,
       rate: `v${name}`,

@@ -1,16 +1,18 @@
 /**
  * A per-client byte budget for schema-coded snapshots, with Glenn Fiedler's priority accumulator
- * (*State Synchronization*): when a snapshot's delta would be larger than the budget, only the
- * rows of the largest group (the entities: bodies, enemies) that waited longest go in it; every
- * other changed row is sent as the client will predict it anyway — its acknowledged value moved by
- * its rate (dead reckoning) — which costs nothing, and its priority grows by one for the next
- * snapshot. Rows of the other groups (the head, scores, players) always go. The client holds what
- * it was sent, so its hash check and its next base still agree with the server's copy of it.
+ * (*State Synchronization*): when a snapshot's delta would be larger than the budget, only some
+ * rows of the largest group (the entities: bodies, enemies) go in it. Every other changed row is
+ * sent as the client will predict it anyway — its acknowledged value moved by its rate (dead
+ * reckoning) — which costs nothing. Rows of the other groups (the head, scores, players) always
+ * go. The client holds what it was sent, so its hash check and its next base agree with the
+ * server's copy of it.
  *
- * A delta is against the snapshot the client acknowledged, so a row sent after that base is sent
- * again in every snapshot until the client acknowledges one that has it — left out, it would fall
- * back to the base's prediction. Those rows go first; the budget left goes to the rows that waited
- * longest.
+ * Which rows: a delta is against the snapshot the client acknowledged, so a row refreshed after
+ * that base goes again in every snapshot until the client acknowledges one that has it (left out,
+ * it would fall back to the base's prediction). Then the highest priorities: a changed row's
+ * priority grows every snapshot by one and by how far the client's prediction of it is off, in
+ * steps of its columns, and drops to 0 when it is sent — so the rows whose error grows fastest go
+ * first, and none waits for ever.
  * @module
  */
 import type { StateSchema } from '../../sim/state-schema.js';
@@ -66,25 +68,30 @@ export class PriorityAccumulator {
     const group = schema.groups[gi]!;
     const rows = n.rows[gi]!;
     const expected = predictedWords(schema, base, next, seconds);
-    const changed: number[] = [];
-    for (let r = 0; r < rows; r++) {
-      for (const s of group.columns) {
-        const lanes = schema.sent[s]!.lanes;
-        const at = n.col[s]! + r * lanes;
-        let differs = false;
-        for (let l = 0; l < lanes; l++) if (next[at + l] !== expected[at + l]) differs = true;
-        if (differs) {
-          changed.push(r);
-          break;
-        }
-      }
-    }
     if (this.waited.length !== rows) {
       this.waited = new Float64Array(rows);
       this.sentAt = new Float64Array(rows).fill(-1);
     }
-    for (const r of changed) this.waited[r]! += 1;
-    // In flight (sent after the base) first, then the longest waiting; ties by row.
+    // A changed row's priority grows by one a snapshot, plus how far the client's prediction of it
+    // is off (in steps of its columns, each capped).
+    const changed: number[] = [];
+    for (let r = 0; r < rows; r++) {
+      let off = 0;
+      for (const s of group.columns) {
+        const lanes = schema.sent[s]!.lanes;
+        const at = n.col[s]! + r * lanes;
+        for (let l = 0; l < lanes; l++) {
+          if (next[at + l] !== expected[at + l]) {
+            off += lanes === 1 ? Math.min(1e6, Math.abs(next[at + l]! - expected[at + l]!)) : 1;
+          }
+        }
+      }
+      if (off > 0) {
+        changed.push(r);
+        this.waited[r]! += 1 + off;
+      }
+    }
+    // In flight (sent after the base) first, then the highest priority; ties by row.
     const flying = (r: number): number => (this.sentAt[r]! > baseTick ? 1 : 0);
     changed.sort((a, b) => flying(b) - flying(a) || this.waited[b]! - this.waited[a]! || a - b);
     const build = (keep: number): Int32Array => {
