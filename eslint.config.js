@@ -53,6 +53,7 @@ export default tseslint.config(
       'coverage/**',
       '.bench-build/**',
       'examples/**',
+      'packages/cli/lab/**',
     ],
   },
   js.configs.recommended,
