@@ -54,6 +54,7 @@ export default tseslint.config(
       '.bench-build/**',
       'examples/**',
       'packages/cli/lab/**',
+      'packages/create-fixedstep/templates/**',
     ],
   },
   js.configs.recommended,

@@ -3,7 +3,10 @@
  * registry-helpers.ts), every publishable workspace published to it by the release workflow's own
  * script (scripts/publish.mjs), then a user's scratch project outside the repository that
  * installs `fixedstep` and `@fixedstep/cli` from it — with no npm warning — runs the README's
- * first example and serves the lab with `npx fixedstep serve`. Needs the build (`npm run build`):
+ * first example and serves the lab with `npx fixedstep serve`; and `npm create fixedstep` makes
+ * a game from the canvas template that installs, builds, plays in headless Chromium (scripted
+ * keys, a highscore submitted, a replay downloaded and verified by the CLI, two tabs in one
+ * room through the relay). Needs the build (`npm run build`):
  * it publishes what dist/ and packages/cli/lab hold. One registry serves the whole file. The
  * install transcript lands in artifacts/registry/install.txt.
  */
@@ -12,7 +15,14 @@ import os from 'node:os';
 import path from 'node:path';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { readmeExample, repo, run, toJs, type Ran } from './pack-helpers.js';
-import { startProgram, startRegistry, waitFor, type Registry } from './registry-helpers.js';
+import { launchChromium } from './harness.js';
+import {
+  startProgram,
+  startRegistry,
+  waitFor,
+  type Program,
+  type Registry,
+} from './registry-helpers.js';
 import { publishable } from '../scripts/publish.mjs';
 
 const workspaces = publishable();
@@ -83,6 +93,7 @@ describe('publishing to a local registry', () => {
         '@fixedstep/rapier',
         '@fixedstep/server',
         '@fixedstep/cli',
+        'create-fixedstep',
       ]),
     );
     for (const { pkg } of workspaces) {
@@ -181,6 +192,174 @@ describe('a user installs from the registry', () => {
       expect(npmWarnings(serve.output())).toEqual([]);
     } finally {
       await serve.stop('SIGINT');
+    }
+  });
+});
+
+describe('npm create fixedstep', () => {
+  let game: string;
+  let serve: Program | undefined;
+  let url: string;
+
+  afterAll(async () => {
+    await serve?.stop('SIGINT');
+  });
+
+  it('creates the canvas template from the registry, installs it and builds it', async () => {
+    const created = await run(
+      'npm',
+      [
+        'create',
+        'fixedstep@latest',
+        'my-canvas-game',
+        '--registry',
+        registry!.url,
+        '--',
+        '--template',
+        'canvas',
+      ],
+      scratch,
+      env,
+    );
+    expect({ code: created.code, stderr: created.stderr }).toMatchObject({ code: 0 });
+    game = path.join(scratch, 'my-canvas-game');
+    const pkg = JSON.parse(await readFile(path.join(game, 'package.json'), 'utf8')) as {
+      name: string;
+      dependencies: Record<string, string>;
+    };
+    expect(pkg.name).toBe('my-canvas-game');
+    const version = workspaces.find((w) => w.pkg.name === 'fixedstep')!.pkg.version;
+    expect(pkg.dependencies.fixedstep).toBe(`^${version}`);
+    const installed = await run('npm', ['install', '--no-audit', '--no-fund'], game, env);
+    expect({ code: installed.code, stderr: installed.stderr }).toMatchObject({ code: 0 });
+    console.log(
+      `created game: npm install: ${(installed.stdout + installed.stderr).trim()}; ` +
+        `${npmWarnings(installed.stdout + installed.stderr).length} npm warnings`,
+    );
+    const built = await run('npm', ['run', 'build'], game, env);
+    expect({ code: built.code, output: built.stdout + built.stderr }).toMatchObject({ code: 0 });
+  }, 300_000);
+
+  it('plays in Chromium: scripted keys, a highscore accepted, a replay the CLI verifies', async () => {
+    expect(game).toBeDefined();
+    serve = startProgram(
+      'npx',
+      [
+        'fixedstep',
+        'serve',
+        '--root',
+        'dist',
+        '--games',
+        './dist-game/game.js',
+        '--port',
+        '0',
+        '--data',
+        path.join(scratch, 'game-data'),
+      ],
+      game,
+      env,
+    );
+    const running = serve;
+    url = await waitFor(
+      'the game served',
+      () => Promise.resolve(/fixedstep lab: (http\S+)/.exec(running.output())?.[1]),
+      running,
+    );
+    // The store opens while the server already listens: until then the highscore API answers
+    // 503 (the page would ask again, but the browser logs the first answer as an error).
+    await waitFor(
+      'the store open (/readyz)',
+      async () => ((await fetch(new URL('/readyz', url))).ok ? true : undefined),
+      running,
+    );
+    const browser = await launchChromium();
+    try {
+      const page = await browser.newPage();
+      const problems: string[] = [];
+      page.on('pageerror', (e) => problems.push(e.message));
+      page.on('console', (m) => {
+        if (m.type() === 'error') problems.push(m.text());
+      });
+      await page.goto(url);
+      const tick = () =>
+        page.evaluate(
+          () => (window as unknown as { myGame: { game: { tick: number } } }).myGame.game.tick,
+        );
+      await expect.poll(tick, { timeout: 20_000 }).toBeGreaterThan(0);
+      await page.locator('#field').click();
+      // A scripted player: right for a while, then down with a dash.
+      await page.keyboard.down('ArrowRight');
+      const t0 = await tick();
+      await expect.poll(tick, { timeout: 20_000 }).toBeGreaterThan(t0 + 60);
+      await page.keyboard.up('ArrowRight');
+      await page.keyboard.down('ArrowDown');
+      await page.keyboard.press('Space');
+      await expect.poll(tick, { timeout: 20_000 }).toBeGreaterThan(t0 + 150);
+      await page.keyboard.up('ArrowDown');
+      await page.locator('#end').click();
+      await expect
+        .poll(() => page.locator('#hud').textContent(), { timeout: 20_000 })
+        .toContain('replay verified');
+      await expect
+        .poll(() => page.evaluate(() => document.body.dataset.highscore), { timeout: 30_000 })
+        .toBe('accepted');
+      const [download] = await Promise.all([
+        page.waitForEvent('download'),
+        page.locator('#download').click(),
+      ]);
+      const file = path.join(scratch, 'my-canvas-game.fsr');
+      await download.saveAs(file);
+      expect((await stat(file)).size).toBeGreaterThan(50);
+      expect(problems).toEqual([]);
+
+      const verified = await run(
+        'npx',
+        ['fixedstep', 'replay', 'verify', file, '--games', './dist-game/game.js'],
+        game,
+        env,
+      );
+      console.log(`fixedstep replay verify: ${verified.stdout.trim()}`);
+      expect({ code: verified.code, stderr: verified.stderr }).toEqual({ code: 0, stderr: '' });
+
+      const scores = (await (await fetch(new URL('/api/highscores?game=my-game', url))).json()) as {
+        entries: unknown[];
+      };
+      expect(scores.entries).toHaveLength(1);
+    } finally {
+      await browser.close();
+    }
+  });
+
+  it('plays online: two tabs in one room, both stepping the round through the relay', async () => {
+    expect(url).toBeDefined();
+    const browser = await launchChromium();
+    try {
+      const pages = await Promise.all([browser.newPage(), browser.newPage()]);
+      for (const page of pages) await page.goto(new URL('/?room=e2e', url).href);
+      interface Online {
+        myGame: { session: { simulation?: { tick: number; hash(): bigint } } };
+      }
+      const ticks = () =>
+        Promise.all(
+          pages.map((page) =>
+            page.evaluate(
+              () => (window as unknown as Online).myGame.session.simulation?.tick ?? -1,
+            ),
+          ),
+        );
+      await expect
+        .poll(async () => Math.min(...(await ticks())), { timeout: 30_000 })
+        .toBeGreaterThan(60);
+      await pages[0].keyboard.down('ArrowLeft');
+      await expect
+        .poll(async () => Math.min(...(await ticks())), { timeout: 20_000 })
+        .toBeGreaterThan(120);
+      await pages[0].keyboard.up('ArrowLeft');
+      for (const page of pages) {
+        expect(await page.locator('#hud').textContent()).toMatch(/^room e2e · you \d+ · them \d+/);
+      }
+    } finally {
+      await browser.close();
     }
   });
 });
