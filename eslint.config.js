@@ -53,6 +53,8 @@ export default tseslint.config(
       'coverage/**',
       '.bench-build/**',
       'examples/**',
+      'packages/cli/lab/**',
+      'packages/create-fixedstep/templates/**',
     ],
   },
   js.configs.recommended,

@@ -1,6 +1,6 @@
 /**
- * The API reference (`npm run docs`, TypeDoc over `fixedstep`, `@fixedstep/games` and
- * `@fixedstep/server`): it builds
+ * The API reference (`npm run docs`, TypeDoc over every published package: `fixedstep`,
+ * `@fixedstep/games`, `@fixedstep/rapier`, `@fixedstep/server` and `@fixedstep/cli`): it builds
  * with 0 warnings (warnings are errors, and an undocumented export is a warning), has a page for
  * every export, and `fixedstep serve` serves it at /docs/, where the lab's footer links.
  */
@@ -93,10 +93,16 @@ describe('npm run docs', () => {
     expect(built.output).toContain('html generated at');
   });
 
-  it('has a page for every export of fixedstep, @fixedstep/games and @fixedstep/server', async () => {
+  it('has a page for every export of every published package', async () => {
     const model = JSON.parse(await readFile(path.join(scratch, 'api.json'), 'utf8')) as Reflection;
     const modules = (model.children ?? []).map((m) => m.name).sort();
-    expect(modules).toEqual(['@fixedstep/games', '@fixedstep/server', 'fixedstep']);
+    expect(modules).toEqual([
+      '@fixedstep/cli',
+      '@fixedstep/games',
+      '@fixedstep/rapier',
+      '@fixedstep/server',
+      'fixedstep',
+    ]);
     const declarations = pageReflections(model);
     const pages = await htmlPages(out);
     console.log(
@@ -109,6 +115,24 @@ describe('npm run docs', () => {
     const html = await readFile(path.join(out, fixedLoop!), 'utf8');
     expect(html).toContain('frame');
     expect(html).toContain('alpha');
+  });
+
+  it.each([
+    ['@fixedstep/server', 'functions', 'createServer'],
+    ['@fixedstep/server', 'functions', 'attachRelay'],
+    ['@fixedstep/server', 'functions', 'attachStateSync'],
+    ['@fixedstep/server', 'functions', 'highscoreApi'],
+    ['@fixedstep/rapier', 'classes', 'RapierSimulation'],
+    ['@fixedstep/rapier', 'functions', 'createRapierSimulation'],
+    ['@fixedstep/cli', 'functions', 'run'],
+  ])('documents %s %s/%s on a page of its own', async (module, folder, name) => {
+    const page = `${folder}/${module.replace(/[@/]/g, '_')}.${name}.html`; // TypeDoc's file names
+    const pages = await htmlPages(out);
+    expect(pages).toContain(page);
+    const html = await readFile(path.join(out, page), 'utf8');
+    expect(html).toContain(name);
+    // Its documentation, not only its signature: a summary paragraph.
+    expect(html).toMatch(/class="tsd-comment tsd-typography"><p>/);
   });
 
   it('fails on an export without documentation (the check that keeps the count at 0)', async () => {

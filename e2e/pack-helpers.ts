@@ -6,6 +6,7 @@ import { execFile } from 'node:child_process';
 import { existsSync } from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
+import ts from 'typescript';
 
 /** The repository's root directory. */
 export const repo = fileURLToPath(new URL('..', import.meta.url));
@@ -78,4 +79,20 @@ export async function packWorkspaces(
     packed.set(p.name, { ...p, tarball: path.join(destination, p.filename) });
   }
   return packed;
+}
+
+/** The first ```ts block after the `<!-- readme-example` marker of a README. */
+export function readmeExample(readme: string): string {
+  const marker = readme.indexOf('<!-- readme-example');
+  if (marker < 0) throw new Error('README has no <!-- readme-example --> marker');
+  const match = /```ts\n([\s\S]*?)```/.exec(readme.slice(marker));
+  if (!match?.[1]) throw new Error('README has no ```ts block after its readme-example marker');
+  return match[1];
+}
+
+/** TypeScript → JavaScript with the workspace's own compiler (Node 20 runs no TypeScript). */
+export function toJs(source: string): string {
+  return ts.transpileModule(source, {
+    compilerOptions: { module: ts.ModuleKind.ESNext, target: ts.ScriptTarget.ES2022 },
+  }).outputText;
 }

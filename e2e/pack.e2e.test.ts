@@ -9,31 +9,22 @@
 import { mkdir, mkdtemp, readFile, rm, stat, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
-import ts from 'typescript';
 import { build } from 'vite';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
-import { packWorkspaces, repo, run, type Packed, type Ran } from './pack-helpers.js';
+import {
+  packWorkspaces,
+  readmeExample,
+  repo,
+  run,
+  toJs,
+  type Packed,
+  type Ran,
+} from './pack-helpers.js';
 
 const tscJs = path.join(repo, 'node_modules/typescript/bin/tsc');
 const publintJs = path.join(repo, 'node_modules/publint/src/cli.js');
 const attwJs = path.join(repo, 'node_modules/@arethetypeswrong/cli/dist/index.js');
 const typeRoots = [path.join(repo, 'node_modules/@types')];
-
-/** The first ```ts block after the `<!-- readme-example` marker of a README. */
-function readmeExample(readme: string): string {
-  const marker = readme.indexOf('<!-- readme-example');
-  if (marker < 0) throw new Error('README has no <!-- readme-example --> marker');
-  const match = /```ts\n([\s\S]*?)```/.exec(readme.slice(marker));
-  if (!match?.[1]) throw new Error('README has no ```ts block after its readme-example marker');
-  return match[1];
-}
-
-/** TypeScript → JavaScript with the workspace's own compiler (Node 20 runs no TypeScript). */
-function toJs(source: string): string {
-  return ts.transpileModule(source, {
-    compilerOptions: { module: ts.ModuleKind.ESNext, target: ts.ScriptTarget.ES2022 },
-  }).outputText;
-}
 
 let scratch: string;
 let project: string;

@@ -52,9 +52,15 @@ export const EXIT_USAGE = 2;
 export const DEFAULT_PORT = 8080;
 export const DEFAULT_HOST = '127.0.0.1';
 
-/** Where the built lab is, seen from this file (`src/` or `dist/` of packages/cli). */
+/**
+ * Where the built lab is, seen from this file (`src/` or `dist/` of packages/cli): in a checkout
+ * of the repository, Vite's output `apps/lab/dist` (the freshest); in the installed package, the
+ * copy `npm run build` puts in `lab/` and the tarball ships.
+ */
 export function defaultLabRoot(): string {
-  return fileURLToPath(new URL('../../../apps/lab/dist', import.meta.url));
+  const checkout = fileURLToPath(new URL('../../../apps/lab/dist', import.meta.url));
+  const packaged = fileURLToPath(new URL('../lab', import.meta.url));
+  return existsSync(path.join(checkout, 'index.html')) ? checkout : packaged;
 }
 
 /** Where `npm run docs` puts the API reference, served at `/docs/` (same layout as the lab's). */
@@ -182,7 +188,7 @@ Usage:
 Options:
 ${formatOptions(SERVE_OPTIONS)}
 
-Build the lab first with: npm run build
+The lab ships in the package; in a checkout of the repository, build it first: npm run build
 `;
 
 const INTEGRATORS_OPTIONS: OptionSpec[] = [

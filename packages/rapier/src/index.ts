@@ -4,6 +4,7 @@
  * replays, lockstep, rollback and sync-test sessions work with rotating bodies, polygons and
  * joints. See docs/rapier.md.
  * @packageDocumentation
+ * @module @fixedstep/rapier
  */
 export { loadRapier, rapierReady, rapierVersion } from './rapier.js';
 export type { RapierModule } from './rapier.js';

@@ -64,10 +64,11 @@ export interface GameDefinition<I = ButtonInput, S extends Simulation<I> = Simul
   bot?(sim: S, player: number): I;
   /**
    * What the game's `save()` bytes are, column by column, with the precision each number needs
-   * on a client ({@link defineStateSchema}). Optional: with one, state-sync rooms send each
-   * entity's changed fields as small integers — and snap their own world to what they sent, so
-   * the game's floats move in steps of the declared precision on the server. Does not change
-   * replays, lockstep or rollback.
+   * on a client ({@link fixedstep!defineStateSchema}; the module named, so that the link also
+   * resolves where another package's reference inherits this comment). Optional: with one,
+   * state-sync rooms send each entity's changed fields as small integers — and snap their own
+   * world to what they sent, so the game's floats move in steps of the declared precision on the
+   * server. Does not change replays, lockstep or rollback.
    */
   readonly stateSchema?: StateSchema;
 }
