@@ -155,6 +155,11 @@ const PAGE_HTML = `<!doctype html>
 <script type="module" src="bundle.js"></script></head><body>fixedstep check</body></html>
 `;
 
+/** What the page reported as failing: the user's module threw on import, or has no such game. */
+class PageError extends Error {
+  override readonly name = 'PageError';
+}
+
 /** What one browser answered. */
 interface BrowserAnswer {
   trace: TraceResult & { userAgent: string; ms: number };
@@ -377,7 +382,7 @@ export async function runBrowsers(
       const body = JSON.parse(await readBody(req)) as Record<string, unknown>;
       if (what === 'error') {
         send('application/json', '{}');
-        run.reject(new Error(`the page failed: ${String(body.message)}`));
+        run.reject(new PageError(String(body.message)));
       } else if (what === 'trace') {
         run.trace = body as unknown as BrowserAnswer['trace'];
         const tick = run.wantState(run.trace);
@@ -436,6 +441,16 @@ export async function runBrowsers(
         });
         results.push(compare(id, game, plan, node, answer, performance.now() - started));
       } catch (e) {
+        if (e instanceof PageError) {
+          // The module or the game failed in the page: the game's problem, not the checker's.
+          results.push({
+            check: id,
+            status: 'error',
+            summary: `the module failed in ${NAMES[id]} (not in Node): ${e.message}`,
+            details: [],
+          });
+          continue;
+        }
         infrastructureError = true;
         results.push({
           check: id,
