@@ -29,7 +29,8 @@ export async function checkPage(namespace: Record<string, unknown>): Promise<voi
     const answer = (await post('trace', {
       ...result,
       ms: performance.now() - started,
-      userAgent: navigator.userAgent,
+      // The package builds without the DOM's types: the page reads the browser's global itself.
+      userAgent: (globalThis as { navigator?: { userAgent?: string } }).navigator?.userAgent ?? '',
     })) as { stateAt?: number };
     if (answer.stateAt !== undefined) {
       await post('state', {
