@@ -5,6 +5,7 @@
  * browser is caught at its first divergent tick with the field named; a module that throws or
  * hangs only in the browser gets a message, never a hang; no browser process outlives the check.
  */
+import { spawn } from 'node:child_process';
 import { readFileSync, readdirSync } from 'node:fs';
 import { mkdtemp, rm, writeFile } from 'node:fs/promises';
 import os from 'node:os';
@@ -54,6 +55,15 @@ function leftoverBrowsers(): string[] {
     }
   }
   return left;
+}
+
+/** Resolves once `ready()` holds, checking every 50 ms; rejects after `ms` naming `what`. */
+async function until(what: string, ready: () => boolean, ms = 30_000): Promise<void> {
+  const deadline = performance.now() + ms;
+  while (!ready()) {
+    if (performance.now() > deadline) throw new Error(`${what}: not within ${ms / 1000} s`);
+    await new Promise((r) => setTimeout(r, 50));
+  }
 }
 
 describe('fixedstep check in the browsers', () => {
@@ -114,5 +124,30 @@ describe('fixedstep check in the browsers', () => {
     );
     expect(hung.code).toBe(1);
     expect(leftoverBrowsers()).toEqual([]);
+  });
+
+  it('Ctrl-C while a browser runs: the command ends and takes the browser with it', async () => {
+    // The built command in its own process, on a game whose module never loads in a browser, so
+    // the browser is still running when the signal comes.
+    const bin = fileURLToPath(new URL('../packages/cli/bin/fixedstep.js', import.meta.url));
+    const child = spawn(
+      process.execPath,
+      [bin, 'check', path.join(fixtures, 'hangs-in-browser.mjs'), '--engines', 'chromium', '-q'],
+      { stdio: ['ignore', 'pipe', 'pipe'] },
+    );
+    const exited = new Promise<NodeJS.Signals | number | null>((resolve) => {
+      child.once('exit', (code, signal) => {
+        resolve(signal ?? code);
+      });
+    });
+    try {
+      await until('Chromium started by fixedstep check', () => leftoverBrowsers().length > 0);
+      child.kill('SIGINT');
+      expect(await exited).toBe('SIGINT');
+      await until('every browser process gone', () => leftoverBrowsers().length === 0, 10_000);
+      expect(leftoverBrowsers()).toEqual([]);
+    } finally {
+      child.kill('SIGKILL');
+    }
   });
 });

@@ -196,6 +196,53 @@ function readBody(req: IncomingMessage): Promise<string> {
   });
 }
 
+/**
+ * Every browser and Xvfb started here and still running. Should this process exit or be
+ * interrupted (Ctrl-C, SIGTERM) while they run, their process groups are killed first: they run
+ * detached (so that a group can be stopped whole) and would not get the terminal's signal.
+ */
+const live = new Set<ChildProcess>();
+
+function killGroup(child: ChildProcess): void {
+  if (!child.pid) return;
+  try {
+    process.kill(-child.pid, 'SIGKILL');
+  } catch {
+    child.kill('SIGKILL');
+  }
+}
+
+function killAll(): void {
+  for (const child of live) killGroup(child);
+}
+
+function onSignal(signal: NodeJS.Signals): void {
+  killAll();
+  release();
+  process.kill(process.pid, signal); // as if we had never listened
+}
+
+function release(): void {
+  process.off('exit', killAll);
+  process.off('SIGINT', onSignal);
+  process.off('SIGTERM', onSignal);
+}
+
+/** Registers a started process until it exits. */
+function track(child: ChildProcess): ChildProcess {
+  if (live.size === 0) {
+    process.on('exit', killAll);
+    process.on('SIGINT', onSignal);
+    process.on('SIGTERM', onSignal);
+  }
+  live.add(child);
+  child.once('exit', () => {
+    live.delete(child);
+    if (live.size === 0) release();
+  });
+  return child;
+}
+
 /** Stops a process group we started and waits for it to go (at most 5 s). */
 async function stop(child: ChildProcess | undefined): Promise<void> {
   if (!child?.pid || child.exitCode !== null || child.signalCode !== null) return;
@@ -204,11 +251,7 @@ async function stop(child: ChildProcess | undefined): Promise<void> {
       resolve();
     });
   });
-  try {
-    process.kill(-child.pid, 'SIGKILL');
-  } catch {
-    child.kill('SIGKILL');
-  }
+  killGroup(child);
   let timer: ReturnType<typeof setTimeout> | undefined;
   await Promise.race([gone, new Promise<void>((r) => (timer = setTimeout(r, 5000)))]);
   clearTimeout(timer);
@@ -216,10 +259,12 @@ async function stop(child: ChildProcess | undefined): Promise<void> {
 
 /** Starts Xvfb on a free display (`-displayfd`); resolves with it and the display. */
 function startXvfb(xvfb: string): Promise<{ child: ChildProcess; display: string }> {
-  const child = spawn(
-    xvfb,
-    ['-displayfd', '3', '-nolisten', 'tcp', '-screen', '0', '1024x768x24', '-nocursor'],
-    { stdio: ['ignore', 'ignore', 'ignore', 'pipe'], detached: true },
+  const child = track(
+    spawn(
+      xvfb,
+      ['-displayfd', '3', '-nolisten', 'tcp', '-screen', '0', '1024x768x24', '-nocursor'],
+      { stdio: ['ignore', 'ignore', 'ignore', 'pipe'], detached: true },
+    ),
   );
   const fd3 = child.stdio[3] as NodeJS.ReadableStream | null;
   return new Promise((resolve, reject) => {
@@ -257,28 +302,32 @@ async function launch(
 ): Promise<ChildProcess[]> {
   const opts = { detached: true, stdio: 'ignore' as const };
   if (id === 'chromium') {
-    return [spawn(found.path, [...CHROMIUM_FLAGS, `--user-data-dir=${profile}`, url], opts)];
+    return [track(spawn(found.path, [...CHROMIUM_FLAGS, `--user-data-dir=${profile}`, url], opts))];
   }
   if (id === 'firefox') {
     writeFileSync(path.join(profile, 'user.js'), FIREFOX_PREFS);
     return [
-      spawn(found.path, ['--headless', '--no-remote', '--profile', profile, url], {
-        ...opts,
-        env: { ...process.env, MOZ_HEADLESS: '1' },
-      }),
+      track(
+        spawn(found.path, ['--headless', '--no-remote', '--profile', profile, url], {
+          ...opts,
+          env: { ...process.env, MOZ_HEADLESS: '1' },
+        }),
+      ),
     ];
   }
   const x = await startXvfb(found.xvfb!);
-  const browser = spawn(found.path, [url], {
-    ...opts,
-    env: {
-      ...process.env,
-      DISPLAY: x.display,
-      HOME: profile,
-      XDG_CACHE_HOME: profile,
-      XDG_DATA_HOME: profile,
-    },
-  });
+  const browser = track(
+    spawn(found.path, [url], {
+      ...opts,
+      env: {
+        ...process.env,
+        DISPLAY: x.display,
+        HOME: profile,
+        XDG_CACHE_HOME: profile,
+        XDG_DATA_HOME: profile,
+      },
+    }),
+  );
   return [x.child, browser];
 }
 
@@ -411,7 +460,7 @@ export async function runBrowsers(
     for (const { id, found } of runnable) {
       const started = performance.now();
       const profile = mkdtempSync(path.join(os.tmpdir(), `fixedstep-check-${id}-`));
-      let children: ChildProcess[] = [];
+      let launching: Promise<ChildProcess[]> = Promise.resolve([]);
       let timer: ReturnType<typeof setTimeout> | undefined;
       try {
         const answer = await new Promise<BrowserAnswer>((resolve, reject) => {
@@ -428,8 +477,8 @@ export async function runBrowsers(
               ),
             );
           }, timeoutMs);
-          launch(id, found, `http://127.0.0.1:${port}/run/${id}/`, profile).then((started) => {
-            children = started;
+          launching = launch(id, found, `http://127.0.0.1:${port}/run/${id}/`, profile);
+          launching.then((started) => {
             const browser = started[started.length - 1]!;
             browser.once('error', reject);
             browser.once('exit', (code, signal) => {
@@ -461,6 +510,8 @@ export async function runBrowsers(
       } finally {
         clearTimeout(timer);
         pending.delete(id);
+        // Also what is still starting when a timeout ends the run: wait for it, then stop it.
+        const children = await launching.catch(() => []);
         for (const child of children.reverse()) await stop(child);
         rmSync(profile, { recursive: true, force: true, maxRetries: 3 });
       }
