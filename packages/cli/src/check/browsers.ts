@@ -350,6 +350,8 @@ export interface BrowserRunOptions {
   /** Browsers named on the command line (each required); default every one, where installed. */
   only?: readonly BrowserId[];
   env: Readonly<Record<string, string | undefined>>;
+  /** Called as each browser starts (for progress: a browser's run takes seconds). */
+  onStart?(browser: string): void;
 }
 
 /**
@@ -459,6 +461,7 @@ export async function runBrowsers(
   try {
     for (const { id, found } of runnable) {
       const started = performance.now();
+      options.onStart?.(NAMES[id]);
       const profile = mkdtempSync(path.join(os.tmpdir(), `fixedstep-check-${id}-`));
       let launching: Promise<ChildProcess[]> = Promise.resolve([]);
       let timer: ReturnType<typeof setTimeout> | undefined;

@@ -274,6 +274,9 @@ export async function runCheckCommand(
       plan,
       ...(cmd.browsers !== undefined ? { only: cmd.browsers } : {}),
       env,
+      onStart: (browser) => {
+        if (!cmd.quiet) io.err(`fixedstep check: ${game.id}: running the script in ${browser}…\n`);
+      },
     });
     results.push(...browserResults.results);
     if (browserResults.infrastructureError) raise(CHECK_EXIT.failure);
