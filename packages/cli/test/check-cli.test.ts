@@ -198,6 +198,30 @@ describe('fixedstep check: the broken games', () => {
     expect(one.code).toBe(0);
   });
 
+  it('--json: the same verdicts for scripts, and only JSON on stdout', async () => {
+    const r = await check([path.join(fixtures, 'set-order.ts'), '--engines', 'node', '--json']);
+    const report = JSON.parse(r.stdout) as {
+      exitCode: number;
+      games: {
+        id: string;
+        plan: { ticks: number; seed: number; players: number };
+        results: { check: string; status: string; tick?: number; field?: string }[];
+      }[];
+    };
+    expect(report.exitCode).toBe(4);
+    expect(report.games.map((g) => g.id)).toEqual(['arena-set-order']);
+    expect(report.games[0]!.plan).toMatchObject({ ticks: 600, seed: 1, players: 2 });
+    expect(
+      report.games[0]!.results.map((x) => [x.check, x.status, x.tick ?? null, x.field ?? null]),
+    ).toEqual([
+      ['guard', 'pass', null, null],
+      ['twins', 'pass', null, null],
+      ['sync-test', 'fail', 94, 'vx[3]'],
+      ['round-trip', 'fail', 201, 'vx[3]'],
+    ]);
+    expect(r.code).toBe(4);
+  });
+
   it('a game that throws in its step: exit 5, the tick and the error named', async () => {
     const p = await file(
       'throws.ts',

@@ -72,6 +72,11 @@ const CHECK_OPTIONS: OptionSpec[] = [
     valueName: 'list',
     help: 'Where the input script runs and is compared with Node, a comma-separated\nlist of node, chromium, firefox, webkit (default: all; a browser that is\nnot installed is skipped, one named here is required)',
   },
+  {
+    name: 'json',
+    kind: 'flag',
+    help: 'Print the report as JSON (each game, each check: status, tick, field,\ncall, summary, details) instead of text',
+  },
   { name: 'quiet', short: 'q', kind: 'flag', help: 'No progress bar' },
   { name: 'help', short: 'h', kind: 'flag', help: 'Show this help' },
 ];
@@ -93,7 +98,7 @@ A failure names the first tick whose state differs and, when the game has a stat
 (defineStateSchema), the field — the column and row of the first differing byte.
 
 Usage:
-  fixedstep check <module> [--game <id>] [--ticks <n>] [--seed <u32>] [--engines <list>]
+  fixedstep check <module> [--game <id>] [--ticks <n>] [--seed <u32>] [--engines <list>] [--json]
 
 Options:
 ${formatOptions(CHECK_OPTIONS)}
@@ -112,6 +117,7 @@ export interface CheckCommand {
   /** Browsers asked for by name (required), or undefined: every one that is installed. */
   browsers?: BrowserId[];
   quiet: boolean;
+  json: boolean;
 }
 
 export function parseCheck(rest: readonly string[]): CheckCommand | { kind: 'help'; text: string } {
@@ -139,6 +145,7 @@ export function parseCheck(rest: readonly string[]): CheckCommand | { kind: 'hel
     seed: typeof values.seed === 'number' ? values.seed : DEFAULT_CHECK_SEED,
     ...(browsers !== undefined ? { browsers } : {}),
     quiet: values.quiet === true,
+    json: values.json === true,
   };
 }
 
@@ -222,7 +229,11 @@ export async function runCheckCommand(
     }
     games = [one];
   }
-  io.out(
+  const text = (t: string) => {
+    if (!cmd.json) io.out(t);
+  };
+  const report: { id: string; version: number; plan: CheckPlan; results: CheckResult[] }[] = [];
+  text(
     `fixedstep check ${cmd.module}: ${games.length} game${games.length === 1 ? '' : 's'} (${games.map((g) => printable(g.id)).join(', ')})\n\n`,
   );
   const checks = [guardCheck, twinsCheck, syncTestCheck, roundTripCheck];
@@ -284,8 +295,13 @@ export async function runCheckCommand(
       if (r.status === 'fail') raise(CHECK_EXIT.notDeterministic);
       if (r.status === 'error') raise(CHECK_EXIT.gameThrew);
     }
-    io.out(formatGameReport(game, plan, results));
-    io.out('\n');
+    text(formatGameReport(game, plan, results));
+    text('\n');
+    report.push({ id: game.id, version: game.version, plan, results });
+  }
+  if (cmd.json) {
+    io.out(`${JSON.stringify({ module: cmd.module, exitCode: worst, games: report }, null, 2)}\n`);
+    return worst;
   }
   io.out(
     worst === CHECK_EXIT.ok
