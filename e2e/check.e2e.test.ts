@@ -19,6 +19,9 @@ const fixtures = fileURLToPath(new URL('../packages/cli/test/fixtures/check/', i
 let dir: string;
 beforeAll(async () => {
   dir = await mkdtemp(path.join(os.tmpdir(), 'fixedstep-check-e2e-'));
+  // The browsers' profiles go here (os.tmpdir() reads TMPDIR), so that a leftover process is
+  // told by its command line from one another test run on this machine started.
+  process.env.TMPDIR = dir;
 });
 afterAll(async () => {
   await rm(dir, { recursive: true, force: true });
@@ -43,13 +46,19 @@ function line(stdout: string, check: string): string {
   return found.trim();
 }
 
-/** Processes still running whose command line names a profile `fixedstep check` made. */
+/**
+ * Processes still running that `fixedstep check` started from this file: every one of them (the
+ * browsers, their helpers, Xvfb) inherits TMPDIR set to this file's folder.
+ */
 function leftoverBrowsers(): string[] {
   const left: string[] = [];
   for (const pid of readdirSync('/proc').filter((p) => /^\d+$/.test(p))) {
+    if (Number(pid) === process.pid) continue;
     try {
+      const env = readFileSync(`/proc/${pid}/environ`, 'utf8').split('\0');
+      if (!env.includes(`TMPDIR=${dir}`)) continue;
       const cmd = readFileSync(`/proc/${pid}/cmdline`, 'utf8').replaceAll('\0', ' ');
-      if (/fixedstep-check-(chromium|firefox|webkit)-/.test(cmd)) left.push(`${pid}: ${cmd}`);
+      if (cmd !== '') left.push(`${pid}: ${cmd}`); // '' : a zombie, already gone
     } catch {
       // Gone between the listing and the read.
     }
@@ -147,7 +156,7 @@ describe('fixedstep check in the browsers', () => {
     const child = spawn(
       process.execPath,
       [bin, 'check', path.join(fixtures, 'hangs-in-browser.mjs'), '--engines', 'chromium', '-q'],
-      { stdio: ['ignore', 'pipe', 'pipe'] },
+      { stdio: ['ignore', 'pipe', 'pipe'], env: { ...process.env, TMPDIR: dir } },
     );
     const exited = new Promise<NodeJS.Signals | number | null>((resolve) => {
       child.once('exit', (code, signal) => {

@@ -127,21 +127,26 @@ export async function bundleCheckPage(moduleFile: string): Promise<string> {
   const esbuild = await import('esbuild');
   const here = import.meta.url;
   const pageFile = fileURLToPath(new URL(`./page${here.endsWith('.ts') ? '.ts' : '.js'}`, here));
-  const result = await esbuild.build({
-    stdin: {
-      contents: `import * as games from ${JSON.stringify(moduleFile)};\nimport { checkPage } from ${JSON.stringify(pageFile)};\nawait checkPage(games);\n`,
-      resolveDir: path.dirname(moduleFile),
-      sourcefile: 'fixedstep-check-entry.js',
-      loader: 'js',
-    },
-    bundle: true,
-    write: false,
-    format: 'esm',
-    platform: 'browser',
-    target: 'es2022',
-    logLevel: 'silent',
-  });
-  return result.outputFiles[0]!.text;
+  try {
+    const result = await esbuild.build({
+      stdin: {
+        contents: `import * as games from ${JSON.stringify(moduleFile)};\nimport { checkPage } from ${JSON.stringify(pageFile)};\nawait checkPage(games);\n`,
+        resolveDir: path.dirname(moduleFile),
+        sourcefile: 'fixedstep-check-entry.js',
+        loader: 'js',
+      },
+      bundle: true,
+      write: false,
+      format: 'esm',
+      platform: 'browser',
+      target: 'es2022',
+      logLevel: 'silent',
+    });
+    return result.outputFiles[0]!.text;
+  } finally {
+    // esbuild answers from a service process it keeps for the next build: none will come.
+    await esbuild.stop();
+  }
 }
 
 const PAGE_HTML = `<!doctype html>
