@@ -169,6 +169,8 @@ describe('fixedstep check in the browsers', () => {
       expect(await exited).toBe('SIGINT');
       await until('every browser process gone', () => leftoverBrowsers().length === 0, 10_000);
       expect(leftoverBrowsers()).toEqual([]);
+      // …and its profile folder.
+      expect(readdirSync(dir).filter((f) => f.startsWith('fixedstep-check-'))).toEqual([]);
     } finally {
       child.kill('SIGKILL');
     }

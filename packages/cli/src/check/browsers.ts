@@ -207,6 +207,8 @@ function readBody(req: IncomingMessage): Promise<string> {
  * detached (so that a group can be stopped whole) and would not get the terminal's signal.
  */
 const live = new Set<ChildProcess>();
+/** Their profile folders, removed with them. */
+const profiles = new Set<string>();
 
 function killGroup(child: ChildProcess): void {
   if (!child.pid) return;
@@ -219,6 +221,7 @@ function killGroup(child: ChildProcess): void {
 
 function killAll(): void {
   for (const child of live) killGroup(child);
+  for (const dir of profiles) rmSync(dir, { recursive: true, force: true, maxRetries: 3 });
 }
 
 function onSignal(signal: NodeJS.Signals): void {
@@ -468,6 +471,7 @@ export async function runBrowsers(
       const started = performance.now();
       options.onStart?.(NAMES[id]);
       const profile = mkdtempSync(path.join(os.tmpdir(), `fixedstep-check-${id}-`));
+      profiles.add(profile);
       let launching: Promise<ChildProcess[]> = Promise.resolve([]);
       let timer: ReturnType<typeof setTimeout> | undefined;
       try {
@@ -522,6 +526,7 @@ export async function runBrowsers(
         const children = await launching.catch(() => []);
         for (const child of children.reverse()) await stop(child);
         rmSync(profile, { recursive: true, force: true, maxRetries: 3 });
+        profiles.delete(profile);
       }
     }
   } finally {
