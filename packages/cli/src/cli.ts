@@ -43,6 +43,7 @@ import {
   type OriginPolicy,
 } from '@fixedstep/server';
 import { lineChartSvg } from './svg.js';
+import { CHECK_HELP, parseCheck, runCheckCommand, type CheckCommand } from './check/command.js';
 
 /** Exit codes: 0 done, 1 it failed while running, 2 the command line was wrong. */
 export const EXIT_OK = 0;
@@ -90,12 +91,15 @@ Commands:
   experiment tunnel         How often bodies tunnel through walls, with and without CCD
   replay info <file>        What a replay file holds
   replay verify <file>      Re-simulate a replay and check every stored hash
+  check <module>            Is your game deterministic? Sync test, guard, save/load round
+                            trip, and the same inputs in Node and every installed browser
 
 Options:
   -h, --help     Show this help (or a command's: fixedstep serve --help)
   -v, --version  Print the version
 
-Exit codes: 0 ok, 1 runtime error, 2 usage error (replay: 3 invalid file, 4 does not reproduce).
+Exit codes: 0 ok, 1 runtime error, 2 usage error (replay: 3 invalid file, 4 does not reproduce;
+check: 3 unusable module, 4 not deterministic, 5 the game threw).
 `;
 
 const SERVE_OPTIONS: OptionSpec[] = [
@@ -295,6 +299,7 @@ export type Command =
   | { kind: 'experiment-tunnel'; options: TunnelExperimentOptions; csv?: string }
   | { kind: 'replay-info'; file: string; json: boolean }
   | { kind: 'replay-verify'; file: string; quiet: boolean; games?: string }
+  | CheckCommand
   | { kind: 'usage-error'; message: string; help: string };
 
 /** A port from the command line or the environment: an integer from 0 to 65535, or undefined. */
@@ -395,6 +400,7 @@ const COMMANDS: Record<
   'experiment tunnel': { help: TUNNEL_HELP, parse: (rest) => parseTunnel(rest) },
   'replay info': { help: REPLAY_INFO_HELP, parse: (rest) => parseReplayInfo(rest) },
   'replay verify': { help: REPLAY_VERIFY_HELP, parse: (rest) => parseReplayVerify(rest) },
+  check: { help: CHECK_HELP, parse: (rest) => parseCheck(rest) },
 };
 
 /**
@@ -537,6 +543,8 @@ export async function run(
       return replayInfo(command, io);
     case 'replay-verify':
       return replayVerify(command, io);
+    case 'check':
+      return runCheckCommand(command, io, env);
     case 'serve': {
       const root = path.resolve(command.root ?? defaultLabRoot());
       if (!existsSync(path.join(root, 'index.html'))) {

@@ -505,6 +505,11 @@ describe('desync detection', () => {
     expect(st.mismatch!.tick).toBe(501);
     // Player 0's counter is bytes 20–23 of the snapshot (tick u32, rng 4 × u32).
     expect(st.mismatch!.diff.firstOffset).toBe(20);
+    // Both states are kept, to name the field: they differ exactly where the diff says.
+    const { expectedState, actualState } = st.mismatch!;
+    expect(expectedState.length).toBe(actualState.length);
+    expect(expectedState.subarray(0, 20)).toEqual(actualState.subarray(0, 20));
+    expect(expectedState[20]).not.toBe(actualState[20]);
   });
 
   it('SyncTest with a longer check distance, and a load() that forgets a field', () => {

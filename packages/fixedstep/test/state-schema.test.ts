@@ -246,6 +246,26 @@ describe('state schemas', () => {
     );
   });
 
+  it('locate a byte of a state: the column, the row and where the number starts', () => {
+    const three = state(1, randomBodies(new Random(1), 3));
+    // magic 0, tick 4, bodies 8, secret 10–17, flag 18–20, x 21–44, vx 45–68, life 69–80 …
+    expect(SCHEMA.locate(three, 5)).toEqual({
+      column: 'tick',
+      row: 0,
+      count: 1,
+      type: 'u32',
+      offset: 4,
+      local: false,
+    });
+    expect(SCHEMA.locate(three, 14)).toMatchObject({ column: 'secret', row: 1, local: true });
+    expect(SCHEMA.locate(three, 20)).toMatchObject({ column: 'flag', row: 2, offset: 20 });
+    expect(SCHEMA.locate(three, 36)).toMatchObject({ column: 'x', row: 1, count: 3, offset: 29 });
+    expect(SCHEMA.locate(three, 72)).toMatchObject({ column: 'life', row: 0, offset: 69 });
+    expect(SCHEMA.locate(three, three.length - 1)).toMatchObject({ column: 'warm', row: 2 });
+    expect(SCHEMA.locate(three, three.length)).toBeUndefined();
+    expect(SCHEMA.locate(three.subarray(0, 30), 5)).toBeUndefined(); // not the schema's layout
+  });
+
   it('code deltas that decode to the same words: random states, bases of other counts, no base', () => {
     const rng = new Random(24);
     let total = 0;

@@ -57,5 +57,6 @@ export type {
   StateGroup,
   SentColumn,
   QuantiseReport,
+  StateLocation,
 } from './state-schema.js';
 export { guardStep, guardSimulation } from './guard.js';

@@ -105,6 +105,21 @@ export interface SentColumn {
   readonly rateScale: number;
 }
 
+/** Where a byte of a state is: see {@link StateSchema.locate}. */
+export interface StateLocation {
+  /** The column's name. */
+  readonly column: string;
+  /** The number within the column (the entity's row), from 0. */
+  readonly row: number;
+  /** Numbers the column holds in this state. */
+  readonly count: number;
+  readonly type: StateColumnType;
+  /** The byte offset of that number in the state. */
+  readonly offset: number;
+  /** Whether the column is local (not sent by state sync). */
+  readonly local: boolean;
+}
+
 /** What quantising one state found (for benchmarks and metrics). */
 export interface QuantiseReport {
   /**
@@ -445,6 +460,36 @@ export class StateSchema {
       at += n * c.size;
     }
     return out;
+  }
+
+  /**
+   * Which column, and which row of it, byte `offset` of `state` (the game's `save()` bytes) is in:
+   * to name the field where two states first differ. Undefined when the bytes do not have the
+   * schema's layout or the offset is past their end.
+   */
+  locate(state: Uint8Array, offset: number): StateLocation | undefined {
+    let layout: Layout;
+    try {
+      layout = this.layout(state, undefined);
+    } catch {
+      return undefined;
+    }
+    for (const [ci, c] of this.columns.entries()) {
+      const start = layout.offsets[ci]!;
+      const count = layout.counts[ci]!;
+      if (offset >= start && offset < start + count * c.size) {
+        const row = Math.floor((offset - start) / c.size);
+        return {
+          column: c.name,
+          row,
+          count,
+          type: c.type,
+          offset: start + row * c.size,
+          local: c.local,
+        };
+      }
+    }
+    return undefined;
   }
 
   /** The byte length of the words of a state (for the wire's `size`). */

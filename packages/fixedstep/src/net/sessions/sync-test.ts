@@ -27,6 +27,9 @@ export interface SyncTestMismatch {
   actual: bigint;
   /** Which bytes differ. */
   diff: SnapshotDiff;
+  /** The two states themselves (`save()` bytes): to name the field that differs. */
+  expectedState: Uint8Array;
+  actualState: Uint8Array;
 }
 
 /** Thrown by {@link SyncTestSession.step} on a mismatch. */
@@ -149,6 +152,8 @@ export class SyncTestSession<I = number> {
       expected: fnv1a64(expected),
       actual: fnv1a64(actual),
       diff: diffSnapshots(expected, actual),
+      expectedState: expected,
+      actualState: actual,
     };
     if (this.throwOnMismatch) throw new SyncTestError(this.mismatch);
     return false;
