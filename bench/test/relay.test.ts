@@ -88,20 +88,22 @@ describe('relay suite trace', () => {
     expect(confirmed.filter((m) => !m.delta).length).toBeLessThanOrEqual(6);
     const perPlayerSecond = (x: number) => x / 6 / (stream.steadyMs / 1000);
     const down = perPlayerSecond(stream.bytesOut + 2 * stream.messagesOut);
-    const before = perPlayerSecond(trace.bytesOut + 2 * trace.messagesOut);
     expect(down).toBeLessThan(1000);
-    expect(down).toBeLessThan(before * 0.75);
-    // The same number of messages down (one a tick): nothing waits for a batch.
-    expect(stream.messagesOut).toBeCloseTo(trace.messagesOut, -2);
+    // Fewer bytes a message than over datagrams, which repeat unacknowledged ticks.
+    expect(stream.bytesOut / stream.messagesOut).toBeLessThan(trace.bytesOut / trace.messagesOut);
+    // One message a tick down: nothing waits for a group (datagrams group confirmed ticks).
+    expect(perPlayerSecond(stream.messagesOut)).toBeCloseTo(60, -1);
+    expect(stream.messagesOut).toBeGreaterThan(trace.messagesOut);
   });
 
-  it('the client sees its inputs confirmed as soon as without the stream', () => {
+  it('the client sees its inputs confirmed no later than without the stream', () => {
     const p50 = (t: typeof trace) => percentile(t.clientDelay, 50);
     const p99 = (t: typeof trace) => percentile(t.clientDelay, 99);
     expect(stream.clientDelay.length).toBeGreaterThan(300);
     // The round trip (50–60 ms) plus the wait for the other player's input.
     expect(p50(stream)).toBeGreaterThan(50);
-    expect(Math.abs(p50(stream) - p50(trace))).toBeLessThan(2);
-    expect(Math.abs(p99(stream) - p99(trace))).toBeLessThan(5);
+    // No later than over datagrams, whose inputs go in groups of two ticks (relay protocol 6).
+    expect(p50(stream)).toBeLessThan(p50(trace) + 2);
+    expect(p99(stream)).toBeLessThan(p99(trace) + 5);
   });
 });

@@ -184,7 +184,9 @@ describe('over the simulated network', () => {
       // Rollback: Rapier was rolled back and re-simulated, and still agreed with the offline run.
       const rollbacks = players.map((c) => c.stats.rollbacks);
       const depth = Math.max(...players.map((c) => c.stats.maxRollbackDepth));
-      expect({ some: Math.min(...rollbacks) > 5, deep: depth >= 4 }).toEqual(
+      // (Relay protocol 6 sends inputs two ticks a datagram over lossy links: fewer, deeper
+      // rollbacks — 5 and 8 here, 12 ticks deep.)
+      expect({ some: Math.min(...rollbacks) >= 3, deep: depth >= 4 }).toEqual(
         kind === 'rollback' ? { some: true, deep: true } : { some: false, deep: false },
       );
       for (const s of match.sessions) (s?.simulation as RapierSimulation | undefined)?.dispose();
