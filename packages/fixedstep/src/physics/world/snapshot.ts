@@ -495,9 +495,13 @@ export class SnapshotReader {
     }
     if (this.p !== this.end) this.fail(`${this.end - this.p} bytes after the end of the snapshot`);
     if ((impulsesAt & 7) !== 0) {
-      // Move the impulse columns 4 bytes on, to an 8-byte boundary (staging has the room).
-      staging.copyWithin(impulsesAt + 4, impulsesAt, impulsesAt + 16 * cacheCount);
+      // Move the impulse columns 4 bytes on, to an 8-byte boundary (staging has the room), and
+      // the sections after them with them: moving the impulses alone overwrote the first 4 bytes
+      // of version 2's filter columns (body 0's categoryBits) whenever the slot count was even.
+      staging.copyWithin(impulsesAt + 4, impulsesAt, this.end);
       impulsesAt += 4;
+      if (filtersAt >= 0) filtersAt += 4;
+      overlapsAt += 4;
     }
     if (!LITTLE_ENDIAN) {
       swapBytes(staging, cacheIdsAt * 4, 2 * cacheCount, 4);
