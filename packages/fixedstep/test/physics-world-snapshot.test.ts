@@ -37,6 +37,7 @@ interface BodySpec {
   density: number;
   bullet: boolean;
   kinematic: boolean;
+  material: number;
 }
 interface WallSpec {
   segment: boolean;
@@ -65,6 +66,8 @@ const bodySpec: fc.Arbitrary<BodySpec> = fc.record({
   density: real(0.2, 20),
   bullet: fc.integer({ min: 0, max: 5 }).map((k) => k === 0),
   kinematic: fc.integer({ min: 0, max: 12 }).map((k) => k === 0),
+  // 0–4: no material of its own (most worlds stay version 1); 5–7: friction, restitution, damping.
+  material: fc.integer({ min: 0, max: 7 }),
 });
 const wallSpec: fc.Arbitrary<WallSpec> = fc.record({
   segment: fc.boolean(),
@@ -115,6 +118,9 @@ function build(spec: WorldSpec): PhysicsWorld {
       density: b.density,
       bullet: b.bullet,
       kinematic: b.kinematic,
+      ...(b.material === 5 ? { friction: b.size * 2 } : {}),
+      ...(b.material === 6 ? { restitution: b.aspect / 3 } : {}),
+      ...(b.material === 7 ? { linearDamping: b.density / 4 } : {}),
     };
     if (b.box) w.createBox({ ...common, halfWidth: b.size, halfHeight: b.size * b.aspect });
     else w.createCircle({ ...common, radius: b.size });

@@ -67,6 +67,8 @@ export {
   bulletsScenes,
   filtersSensorsWorld,
   filtersSensorsScene,
+  materialsWorld,
+  materialsScene,
   ropeDef,
   ropeScenes,
 } from './scenes.js';

@@ -25,7 +25,7 @@ const BODY_F64 = ['x', 'y', 'vx', 'vy', 'halfWidth', 'halfHeight', 'invMass', 'r
 
 /**
  * `PhysicsWorld.save()`: header, def, statics, body columns, warm-start cache and, in version 2,
- * the filter columns and the sensor overlaps. With `tail`, the map goes on past the snapshot
+ * the filter columns and the sensor overlaps (version 3: then the materials). With `tail`, the map goes on past the snapshot
  * (what a scene appends after it) and must cover the bytes to the end.
  */
 export function physicsWorldFields(
@@ -72,6 +72,11 @@ export function physicsWorldFields(
       l.add('u32', 'sensorOverlapCount');
       l.array('i32', overlaps, (k) => `sensorOverlap[${k}].sensor`);
       l.array('i32', overlaps, (k) => `sensorOverlap[${k}].visitor`);
+    }
+    if (version >= 3) {
+      l.array('f64', n, (i) => `body[${i}].friction`);
+      l.array('f64', n, (i) => `body[${i}].restitution`);
+      l.array('f64', n, (i) => `body[${i}].linearDamping`);
     }
     if (tail) tail(l);
     return l.covering(bytes.length);

@@ -177,6 +177,33 @@ export function circlesScene(ticks = 600, n = 250, seed = 7): TraceScene {
   };
 }
 
+/**
+ * `circlesInBox(n, seed)` with materials on some bodies (its snapshot is version 3): friction of
+ * their own (mixed by `Math.sqrt`, on the JavaScript sweeps), restitution (the world's 0.1, some
+ * up to 0.9) and linear damping.
+ */
+export function materialsWorld(n = 250, seed = 7): PhysicsWorld {
+  const w = circlesInBox(n, seed);
+  w.setDef({ restitution: 0.1 });
+  for (let i = 0; i < w.slotCount; i++) {
+    if (i % 5 === 0) w.setFriction(i, 0.05 + (i % 7) * 0.2);
+    if (i % 7 === 0) w.setRestitution(i, 0.3 + (i % 3) * 0.3);
+    if (i % 11 === 0) w.setLinearDamping(i, 0.5 + (i % 4));
+  }
+  return w;
+}
+
+/** {@link materialsWorld} stepped at 1/60 s. */
+export function materialsScene(ticks = 600, n = 250, seed = 7): TraceScene {
+  return {
+    id: `physics/materials-${String(n)}`,
+    title: `materialsWorld(${String(n)}, ${String(seed)}): circlesInBox with own friction, restitution and linear damping, 1/60 s`,
+    ticks,
+    start: () => worldRun(() => materialsWorld(n, seed)),
+    fields: physicsWorldFields,
+  };
+}
+
 /** `bulletsScene(seed)` built with `buildWorld`, stepped directly, then on every display. */
 export function bulletsScenes(ticks: number, rates: readonly number[], seed = 3): TraceScene[] {
   const scene = () => buildWorld(bulletsScene(seed));
