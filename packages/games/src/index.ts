@@ -123,3 +123,10 @@ export {
 export type { GalleryShot } from './scenes/gallery.js';
 export { runGalleryMatch } from './scenes/gallery-match.js';
 export type { GalleryMatchOptions, GalleryMatchResult } from './scenes/gallery-match.js';
+export {
+  CoinHop,
+  coinHopBot,
+  COIN_HOP_JUMP,
+  COIN_HOP_JUMP_SPEED,
+  COIN_HOP_RUN_SPEED,
+} from './scenes/coin-hop.js';

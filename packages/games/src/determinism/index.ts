@@ -27,7 +27,13 @@ export {
   diffStates,
 } from './state-fields.js';
 export type { StateField, StateFieldType, StateDiff } from './state-fields.js';
-export { physicsWorldFields, springSystemFields, ballFields, gameFields } from './layouts.js';
+export {
+  physicsWorldFields,
+  filtersSensorsFields,
+  springSystemFields,
+  ballFields,
+  gameFields,
+} from './layouts.js';
 export type { DescribesState } from './layouts.js';
 export {
   TRACE_DISPLAY_RATES,
@@ -59,6 +65,10 @@ export {
   ballScenes,
   circlesScene,
   bulletsScenes,
+  filtersSensorsWorld,
+  filtersSensorsScene,
+  materialsWorld,
+  materialsScene,
   ropeDef,
   ropeScenes,
 } from './scenes.js';

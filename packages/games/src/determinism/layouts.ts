@@ -23,8 +23,15 @@ const WORLD_DEF_F64 = [
 ] as const;
 const BODY_F64 = ['x', 'y', 'vx', 'vy', 'halfWidth', 'halfHeight', 'invMass', 'restTime'] as const;
 
-/** `PhysicsWorld.save()`: header, def, statics, body columns, warm-start cache. */
-export function physicsWorldFields(bytes: Uint8Array): StateField[] | undefined {
+/**
+ * `PhysicsWorld.save()`: header, def, statics, body columns, warm-start cache and, in version 2,
+ * the filter columns and the sensor overlaps (version 3: then the materials). With `tail`, the map goes on past the snapshot
+ * (what a scene appends after it) and must cover the bytes to the end.
+ */
+export function physicsWorldFields(
+  bytes: Uint8Array,
+  tail?: (layout: StateLayout) => void,
+): StateField[] | undefined {
   try {
     const r = new ByteReader(bytes);
     const l = new StateLayout().add('u32', 'magic').add('u32', 'version').add('f64', 'tick');
@@ -34,7 +41,9 @@ export function physicsWorldFields(bytes: Uint8Array): StateField[] | undefined 
       .add('u32', 'def.maxCcdIterations')
       .add('u8', 'def.ccd')
       .add('u8', 'def.enableSleep');
-    r.bytes(l.length);
+    r.bytes(4);
+    const version = r.u32();
+    r.bytes(l.length - 8);
     const statics = r.u32();
     l.add('u32', 'staticCount');
     for (let s = 0; s < statics; s++) {
@@ -53,10 +62,44 @@ export function physicsWorldFields(bytes: Uint8Array): StateField[] | undefined 
     l.array('i32', wc, (k) => `contact[${k}].b`);
     l.array('f64', wc, (k) => `contact[${k}].normalImpulse`);
     l.array('f64', wc, (k) => `contact[${k}].tangentImpulse`);
+    if (version >= 2) {
+      r.bytes(wc * 24);
+      l.array('u32', n, (i) => `body[${i}].categoryBits`);
+      l.array('u32', n, (i) => `body[${i}].maskBits`);
+      l.array('i32', n, (i) => `body[${i}].groupIndex`);
+      r.bytes(n * 12);
+      const overlaps = r.u32();
+      l.add('u32', 'sensorOverlapCount');
+      l.array('i32', overlaps, (k) => `sensorOverlap[${k}].sensor`);
+      l.array('i32', overlaps, (k) => `sensorOverlap[${k}].visitor`);
+    }
+    if (version >= 3) {
+      l.array('f64', n, (i) => `body[${i}].friction`);
+      l.array('f64', n, (i) => `body[${i}].restitution`);
+      l.array('f64', n, (i) => `body[${i}].linearDamping`);
+    }
+    if (tail) tail(l);
     return l.covering(bytes.length);
   } catch {
     return undefined;
   }
+}
+
+/** The `physics/filters-sensors` scene's state: the snapshot, then its queries and events. */
+export function filtersSensorsFields(bytes: Uint8Array): StateField[] | undefined {
+  return physicsWorldFields(bytes, (l) => {
+    l.add('u32', 'sensorEvents.begin')
+      .add('u32', 'sensorEvents.end')
+      .add('u32', 'contactEvents.begin')
+      .add('u32', 'contactEvents.end')
+      .add('u32', 'ray.body')
+      .add('u32', 'ray.wall')
+      .add('u32', 'overlapAABB(red).length')
+      .add('u32', 'overlapCircle.length')
+      .add('f64', 'ray.fraction')
+      .add('f64', 'ray.x')
+      .add('f64', 'ray.y');
+  });
 }
 
 const AXES = ['x', 'y', 'z'];

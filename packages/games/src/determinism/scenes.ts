@@ -12,10 +12,10 @@ import {
   bulletsScene,
   buildWorld,
   circlesInBox,
+  PhysicsWorld,
   springChain,
   springCloth,
   type IntegratorMethod,
-  type PhysicsWorld,
   type SpringSystemDef,
 } from 'fixedstep';
 import { BallButtons } from '../scenes/ball.js';
@@ -31,7 +31,12 @@ import {
   TRACE_DISPLAY_HITCHES,
   TRACE_MAX_ACCUMULATOR_MS,
 } from './display.js';
-import { ballFields, physicsWorldFields, springSystemFields } from './layouts.js';
+import {
+  ballFields,
+  filtersSensorsFields,
+  physicsWorldFields,
+  springSystemFields,
+} from './layouts.js';
 import { StateLayout } from './state-fields.js';
 import type { TraceRun, TraceScene } from './trace.js';
 
@@ -172,6 +177,33 @@ export function circlesScene(ticks = 600, n = 250, seed = 7): TraceScene {
   };
 }
 
+/**
+ * `circlesInBox(n, seed)` with materials on some bodies (its snapshot is version 3): friction of
+ * their own (mixed by `Math.sqrt`, on the JavaScript sweeps), restitution (the world's 0.1, some
+ * up to 0.9) and linear damping.
+ */
+export function materialsWorld(n = 250, seed = 7): PhysicsWorld {
+  const w = circlesInBox(n, seed);
+  w.setDef({ restitution: 0.1 });
+  for (let i = 0; i < w.slotCount; i++) {
+    if (i % 5 === 0) w.setFriction(i, 0.05 + (i % 7) * 0.2);
+    if (i % 7 === 0) w.setRestitution(i, 0.3 + (i % 3) * 0.3);
+    if (i % 11 === 0) w.setLinearDamping(i, 0.5 + (i % 4));
+  }
+  return w;
+}
+
+/** {@link materialsWorld} stepped at 1/60 s. */
+export function materialsScene(ticks = 600, n = 250, seed = 7): TraceScene {
+  return {
+    id: `physics/materials-${String(n)}`,
+    title: `materialsWorld(${String(n)}, ${String(seed)}): circlesInBox with own friction, restitution and linear damping, 1/60 s`,
+    ticks,
+    start: () => worldRun(() => materialsWorld(n, seed)),
+    fields: physicsWorldFields,
+  };
+}
+
 /** `bulletsScene(seed)` built with `buildWorld`, stepped directly, then on every display. */
 export function bulletsScenes(ticks: number, rates: readonly number[], seed = 3): TraceScene[] {
   const scene = () => buildWorld(bulletsScene(seed));
@@ -226,6 +258,108 @@ export function bulletsScenes(ticks: number, rates: readonly number[], seed = 3)
     fields: physicsWorldFields,
   };
   return [base, reloaded, ...variants];
+}
+
+/** Collision categories of {@link filtersSensorsWorld}. */
+const TEAM_RED = 0x0002;
+const TEAM_BLUE = 0x0004;
+const GHOST = 0x0008;
+
+/**
+ * A world that uses every filter and sensor feature (its snapshot is version 2): a box of 48
+ * circles and boxes in two teams whose members never collide with each other (negative groups),
+ * ghosts that pass through both teams and the walls (a mask without the wall category), a
+ * kinematic sensor sweeping back and forth across the pile and a fixed sensor zone on the floor.
+ * Contact events on.
+ */
+export function filtersSensorsWorld(seed = 5): PhysicsWorld {
+  const rng = new Random(seed);
+  const world = new PhysicsWorld({}, { contactEvents: true });
+  world.addSegment(-8, 0, 8, 0);
+  world.addSegment(-8, 0, -8, 12);
+  world.addSegment(8, 0, 8, 12);
+  world.addStaticBox(0, 3, 1.5, 0.25);
+  for (let i = 0; i < 48; i++) {
+    const x = rng.range(-7, 7);
+    const y = rng.range(4.5, 14);
+    const vx = rng.range(-2, 2);
+    const team = i % 3;
+    const filter =
+      team === 0
+        ? { categoryBits: TEAM_RED, groupIndex: -1 }
+        : team === 1
+          ? { categoryBits: TEAM_BLUE, groupIndex: -2 }
+          : { categoryBits: GHOST, maskBits: ~(TEAM_RED | TEAM_BLUE | 1) >>> 0 };
+    if (i % 2 === 0) world.createCircle({ x, y, vx, radius: rng.range(0.2, 0.45), filter });
+    else {
+      world.createBox({
+        x,
+        y,
+        vx,
+        halfWidth: rng.range(0.2, 0.4),
+        halfHeight: rng.range(0.2, 0.4),
+        filter,
+      });
+    }
+  }
+  // The sweeper sees the red team and the ghosts only; the zone sees everything.
+  world.createBox({
+    x: -6,
+    y: 2,
+    vx: 3,
+    halfWidth: 1,
+    halfHeight: 2,
+    kinematic: true,
+    sensor: true,
+    filter: { maskBits: TEAM_RED | GHOST },
+  });
+  world.createCircle({ x: 4, y: 0.8, radius: 1.2, kinematic: true, sensor: true });
+  return world;
+}
+
+/**
+ * {@link filtersSensorsWorld} stepped at 1/60 s; each tick's state is the snapshot (version 2:
+ * filter columns, sensor overlaps) and then what a game reads after the step: the sensor and
+ * contact event counts, the closest hit of a ray down the middle (body, wall, fraction, point),
+ * the red bodies in an AABB and every body in a circle. The sweeper turns round at the walls.
+ */
+export function filtersSensorsScene(ticks = 600, seed = 5): TraceScene {
+  return {
+    id: 'physics/filters-sensors',
+    title: `filtersSensorsWorld(${String(seed)}): two teams, ghosts, a sweeping and a fixed sensor, ray and overlap queries, 1/60 s`,
+    ticks,
+    start(): TraceRun {
+      const world = filtersSensorsWorld(seed);
+      const sweeper = world.bodyCount - 2;
+      const w = new ByteWriter(0);
+      return {
+        next(): Uint8Array {
+          const x = world.x[sweeper]!;
+          if (x > 6 && world.vx[sweeper]! > 0) world.setVelocity(sweeper, -3, 0);
+          else if (x < -6 && world.vx[sweeper]! < 0) world.setVelocity(sweeper, 3, 0);
+          world.step();
+          const sensors = world.sensorEvents();
+          const contacts = world.contactEvents();
+          const hit = world.castRayClosest(0.3, 14, 0, -14);
+          const red = world.overlapAABB(-4, 0, 4, 6, { categoryBits: TEAM_RED });
+          const near = world.overlapCircle(-3, 1, 2.5, { sensors: true });
+          w.reset();
+          w.bytes(world.save());
+          w.u32(sensors.begin.length).u32(sensors.end.length);
+          w.u32(contacts.begin.length).u32(contacts.end.length);
+          w.u32(hit === null ? 0xffffffff : hit.body >>> 0).u32(
+            hit === null ? 0xffffffff : hit.wall >>> 0,
+          );
+          w.u32(red.length).u32(near.length);
+          w.f64(hit?.fraction ?? -1)
+            .f64(hit?.x ?? 0)
+            .f64(hit?.y ?? 0);
+          return w.peek();
+        },
+      };
+    },
+    fields: filtersSensorsFields,
+  };
 }
 
 // ----------------------------------------------------------------------------- springs

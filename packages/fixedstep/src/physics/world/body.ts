@@ -43,6 +43,12 @@ export const DEFAULT_CATEGORY_BITS = 0x0001;
 /** Box2D's `B2_DEFAULT_MASK_BITS` (32 bits here): a body collides with every category. */
 export const DEFAULT_MASK_BITS = 0xffffffff;
 
+/**
+ * What a body's {@link BodyStore.friction} or {@link BodyStore.restitution} holds when it has none
+ * of its own: the world's (`def.friction`, `def.restitution`), whatever that is at the step.
+ */
+export const WORLD_MATERIAL = -1;
+
 const { SENSOR } = BodyFlag;
 
 /**
@@ -87,6 +93,16 @@ export class BodyStore {
   groupIndex = new Int32Array(0);
   /** Live bodies whose filter is not the default one. */
   filteredCount = 0;
+  // Material (Box2D's `friction`, `restitution`, `linearDamping`): state, saved by a version 3
+  // snapshot. A free slot holds zeros; a new body gets the defaults.
+  /** Coulomb friction coefficient, ≥ 0, or {@link WORLD_MATERIAL} (the world's). */
+  friction = new Float64Array(0);
+  /** Coefficient of restitution in [0, 1], or {@link WORLD_MATERIAL} (the world's). */
+  restitution = new Float64Array(0);
+  /** Linear damping, 1/s, ≥ 0 (0: none). */
+  linearDamping = new Float64Array(0);
+  /** Live bodies with a material other than the default (own friction, restitution or damping). */
+  materialCount = 0;
   /** Live sensors. */
   sensorCount = 0;
 
@@ -141,6 +157,9 @@ export class BodyStore {
     this.categoryBits[id] = DEFAULT_CATEGORY_BITS;
     this.maskBits[id] = DEFAULT_MASK_BITS;
     this.groupIndex[id] = 0;
+    this.friction[id] = WORLD_MATERIAL;
+    this.restitution[id] = WORLD_MATERIAL;
+    this.linearDamping[id] = 0;
     if ((flags & SENSOR) !== 0) this.sensorCount++;
     this.liveCount++;
     const large = halfWidth > halfHeight ? halfWidth : halfHeight;
@@ -157,6 +176,10 @@ export class BodyStore {
       Math.max(w, h) >= this.largestHalfExtent || Math.min(w, h) <= this.thinnestHalfExtent;
     if ((this.flags[id]! & SENSOR) !== 0) this.sensorCount--;
     if (!this.hasDefaultFilter(id)) this.filteredCount--;
+    if (!this.hasDefaultMaterial(id)) this.materialCount--;
+    this.friction[id] = 0;
+    this.restitution[id] = 0;
+    this.linearDamping[id] = 0;
     this.categoryBits[id] = 0;
     this.maskBits[id] = 0;
     this.groupIndex[id] = 0;
@@ -183,6 +206,25 @@ export class BodyStore {
     );
   }
 
+  /** Whether a live body's material is the default one (the world's friction and restitution, no damping). */
+  hasDefaultMaterial(id: number): boolean {
+    return (
+      this.friction[id] === WORLD_MATERIAL &&
+      this.restitution[id] === WORLD_MATERIAL &&
+      this.linearDamping[id] === 0
+    );
+  }
+
+  /** Sets a live body's material (values checked by the caller), keeping {@link materialCount}. */
+  setMaterial(id: number, friction: number, restitution: number, linearDamping: number): void {
+    const was = this.hasDefaultMaterial(id);
+    this.friction[id] = friction;
+    this.restitution[id] = restitution;
+    this.linearDamping[id] = linearDamping;
+    const is = this.hasDefaultMaterial(id);
+    if (was !== is) this.materialCount += is ? -1 : 1;
+  }
+
   /** Sets a live body's filter (values checked by the caller), keeping {@link filteredCount}. */
   setFilter(id: number, categoryBits: number, maskBits: number, groupIndex: number): void {
     const was = this.hasDefaultFilter(id);
@@ -193,18 +235,21 @@ export class BodyStore {
     if (was !== is) this.filteredCount += is ? -1 : 1;
   }
 
-  /** {@link filteredCount} and {@link sensorCount} from scratch (after a load). */
+  /** {@link filteredCount}, {@link sensorCount} and {@link materialCount} from scratch (after a load). */
   recountFeatures(): void {
     let filtered = 0;
     let sensors = 0;
+    let materials = 0;
     for (let i = 0; i < this.slotCount; i++) {
       const f = this.flags[i]!;
       if (f === 0) continue;
       if ((f & SENSOR) !== 0) sensors++;
       if (!this.hasDefaultFilter(i)) filtered++;
+      if (!this.hasDefaultMaterial(i)) materials++;
     }
     this.filteredCount = filtered;
     this.sensorCount = sensors;
+    this.materialCount = materials;
   }
 
   /** {@link largestHalfExtent} and {@link thinnestHalfExtent} from scratch. */
@@ -244,6 +289,9 @@ export class BodyStore {
     this.categoryBits = keep(this.categoryBits, new Uint32Array(capacity));
     this.maskBits = keep(this.maskBits, new Uint32Array(capacity));
     this.groupIndex = keep(this.groupIndex, new Int32Array(capacity));
+    this.friction = keep(this.friction, new Float64Array(capacity));
+    this.restitution = keep(this.restitution, new Float64Array(capacity));
+    this.linearDamping = keep(this.linearDamping, new Float64Array(capacity));
     this.startX = new Float64Array(capacity);
     this.startY = new Float64Array(capacity);
     this.startVx = new Float64Array(capacity);

@@ -19,6 +19,7 @@
  * Last, a guard puts back any body whose centre crossed a wall's spine this step (by a sweep's
  * approximation or by the push-out of a crowded contact), just on the side it started from.
  */
+import { frictionOf, mixFriction, mixRestitution, restitutionOf } from './material.js';
 import { BodyFlag, type BodyStore } from './body.js';
 import { bucketOf, type Grid } from './broad-phase.js';
 import type { WorldDef } from './def.js';
@@ -416,9 +417,21 @@ export class ContinuousSolver {
       tLast = t;
       lastX = px;
       lastY = py;
-      const e = def.restitution;
+      // The contact's material (material.ts): the world's unless a body has its own.
+      const mixed = bodies.materialCount > 0;
       const threshold = def.restitutionThreshold;
-      const mu = def.friction;
+      const e = !mixed
+        ? def.restitution
+        : mixRestitution(
+            restitutionOf(bodies, def, i),
+            j < 0 ? def.restitution : restitutionOf(bodies, def, j),
+          );
+      const mu = !mixed
+        ? def.friction
+        : mixFriction(
+            frictionOf(bodies, def, i),
+            j < 0 ? def.friction : frictionOf(bodies, def, j),
+          );
       if (j < 0) {
         // A wall: bounce off its normal, friction along it.
         const vn = ux * nx + uy * ny;
@@ -576,9 +589,14 @@ export class ContinuousSolver {
     let uy = bodies.vy[j]!;
     const vn = ux * nx + uy * ny;
     if (vn < 0) {
-      const jn = -(1 + (-vn > def.restitutionThreshold ? def.restitution : 0)) * vn;
+      const mixed = bodies.materialCount > 0;
+      const e = mixed
+        ? mixRestitution(restitutionOf(bodies, def, j), def.restitution)
+        : def.restitution;
+      const mu = mixed ? mixFriction(frictionOf(bodies, def, j), def.friction) : def.friction;
+      const jn = -(1 + (-vn > def.restitutionThreshold ? e : 0)) * vn;
       const vt = uy * nx - ux * ny;
-      const maxFriction = def.friction * jn;
+      const maxFriction = mu * jn;
       const lt = -vt > maxFriction ? maxFriction : -vt < -maxFriction ? -maxFriction : -vt;
       ux += jn * nx - lt * ny;
       uy += jn * ny + lt * nx;

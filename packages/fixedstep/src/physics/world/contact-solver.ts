@@ -76,6 +76,13 @@ import type { BodyStore } from './body.js';
 import type { ContactList, WarmStartCache } from './contacts.js';
 import type { WorldDef } from './def.js';
 import * as layout from './kernel-layout.js';
+import {
+  materialUse,
+  mixRestitution,
+  restitutionOf,
+  visitFrictions,
+  type MaterialUse,
+} from './material.js';
 import { KernelMemory, type SolverKernels } from './solver-kernels.js';
 
 // The working memory of one step's solvers (see "Visiting order" in the file comment and
@@ -126,6 +133,17 @@ export class SolverSchedule extends KernelMemory {
   private lastWave = new Int32Array(0);
   private waveOf = new Int32Array(0);
   private waveStart = new Int32Array(0);
+  /** What the world's materials ask of this step (see `material.ts`). */
+  readonly materials: MaterialUse = { friction: false, maxRestitution: 0 };
+  /** Each visit's friction, when the world has a body of its own friction. */
+  private visitFriction = new Float64Array(0);
+
+  /** {@link visitFriction} with room for `count` visits. */
+  visitFrictionRoom(count: number): Float64Array {
+    if (this.visitFriction.length < count)
+      this.visitFriction = new Float64Array(Math.max(count, 2 * this.visitFriction.length));
+    return this.visitFriction;
+  }
 
   /**
    * Plans the visits of this step's contacts wave by wave: a contact's wave is one more than the
@@ -454,6 +472,59 @@ function iterateVelocities(
   }
 }
 
+/**
+ * {@link iterateVelocities}' twin for contacts of their own friction (`visitFriction`, by visit:
+ * the world has a body with a friction of its own; see `material.ts`). JavaScript only: a visit
+ * has no room for it in the kernels' layout.
+ */
+function iterateVelocitiesMixed(
+  f64: Float64Array,
+  i32: Int32Array,
+  first: number,
+  count: number,
+  iterations: number,
+  visitFriction: Float64Array,
+): void {
+  const end = first + 8 * count;
+  for (let it = 0; it < iterations; it++) {
+    for (let o = first, s = 0; o < end; o += 8, s++) {
+      const a = i32[2 * o + VELOCITY_A]! >>> 3;
+      const b = i32[2 * o + VELOCITY_B]! >>> 3;
+      const nx = f64[o + NORMAL_X]!;
+      const ny = f64[o + NORMAL_Y]!;
+      const mass = f64[o + NORMAL_MASS]!;
+      const vax = f64[a]!;
+      const vay = f64[a + 1]!;
+      const vbx = f64[b]!;
+      const vby = f64[b + 1]!;
+      const relativeVx = vax - vbx;
+      const relativeVy = vay - vby;
+      // Normal: λ' = max(0, λ − vn·mN).
+      const oldNormal = f64[o + NORMAL_IMPULSE]!;
+      let newNormal = oldNormal - (relativeVx * nx + relativeVy * ny) * mass;
+      if (newNormal < 0) newNormal = 0;
+      const deltaNormal = newNormal - oldNormal;
+      f64[o + NORMAL_IMPULSE] = newNormal;
+      // Friction: τ' = clamp(τ − vt·mN, ±μλ'), tangent (ny, −nx).
+      const oldTangent = f64[o + TANGENT_IMPULSE]!;
+      const maxFriction = visitFriction[s]! * newNormal;
+      let newTangent = oldTangent - (relativeVy * nx - relativeVx * ny) * mass;
+      if (newTangent > maxFriction) newTangent = maxFriction;
+      else if (newTangent < -maxFriction) newTangent = -maxFriction;
+      const deltaTangent = newTangent - oldTangent;
+      f64[o + TANGENT_IMPULSE] = newTangent;
+      const px = deltaNormal * nx - deltaTangent * ny;
+      const py = deltaNormal * ny + deltaTangent * nx;
+      const ia = f64[o + INVERSE_MASS_A]!;
+      const ib = f64[o + INVERSE_MASS_B]!;
+      f64[a] = vax + px * ia;
+      f64[a + 1] = vay + py * ia;
+      f64[b] = vbx - px * ib;
+      f64[b + 1] = vby - py * ib;
+    }
+  }
+}
+
 /** `iterations` sweeps of the position relaxation over the visits (see the file comment). */
 function iteratePositions(
   f64: Float64Array,
@@ -510,15 +581,24 @@ export function solveVelocities(
   def: Readonly<WorldDef>,
   schedule: SolverSchedule,
 ): void {
-  const e = def.restitution;
+  const materials = schedule.materials;
+  materialUse(bodies, def, materials);
+  const e = materials.maxRestitution;
   schedule.plan(contacts, cache, bodies, e > 0);
   const count = contacts.count;
   const pairs = contacts.bodyPairCount;
   const f64 = schedule.f64;
   const i32 = schedule.i32;
   const first = schedule.visitsAt >>> 3;
-  const kernels = schedule.kernels;
-  if (kernels) {
+  // Friction per contact has no room in a visit (64 bytes, the kernels' layout): a world with a
+  // body of its own friction sweeps in JavaScript, on the same memory, whichever path it is on.
+  const kernels = materials.friction ? null : schedule.kernels;
+  if (materials.friction) {
+    const visitFriction = schedule.visitFrictionRoom(count);
+    visitFrictions(contacts, bodies, def, schedule.order, visitFriction);
+    warmStart(f64, i32, first, count);
+    iterateVelocitiesMixed(f64, i32, first, count, def.velocityIterations, visitFriction);
+  } else if (kernels) {
     kernels.warmStart(schedule.visitsAt, count);
     kernels.iterateVelocities(schedule.visitsAt, count, def.velocityIterations, def.friction);
   } else {
@@ -557,6 +637,7 @@ export function solveVelocities(
   const approachSpeed = contacts.approachSpeed;
   const inverseMass = bodies.solverInverseMass;
   const threshold = -def.restitutionThreshold;
+  const mixed = bodies.materialCount > 0;
   for (let k = 0; k < count; k++) {
     const approach = approachSpeed[k]!;
     if (approach > threshold || normalImpulse[k] === 0) continue;
@@ -567,7 +648,13 @@ export function solveVelocities(
     const wall = k >= pairs;
     const vn = wall ? vx[a]! * nx + vy[a]! * ny : (vx[a]! - vx[b]!) * nx + (vy[a]! - vy[b]!) * ny;
     const oldNormal = normalImpulse[k]!;
-    let newNormal = oldNormal - (vn + e * approach) * normalMass[k]!;
+    const bounce = mixed
+      ? mixRestitution(
+          restitutionOf(bodies, def, a),
+          wall ? def.restitution : restitutionOf(bodies, def, b),
+        )
+      : e;
+    let newNormal = oldNormal - (vn + bounce * approach) * normalMass[k]!;
     if (newNormal < 0) newNormal = 0;
     const deltaNormal = newNormal - oldNormal;
     normalImpulse[k] = newNormal;

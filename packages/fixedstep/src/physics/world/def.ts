@@ -157,6 +157,24 @@ export interface BodyOptions {
    * 0xFFFFFFFF, group 0.
    */
   filter?: Partial<BodyFilter>;
+  /**
+   * Coulomb friction coefficient (Box2D's `friction`), a finite number ≥ 0. Default: the world's
+   * `def.friction`, whatever it is at each step. A contact's friction is `sqrt(fa · fb)` of its
+   * two bodies' (a wall's is `def.friction`), or the common value when the two are equal.
+   */
+  friction?: number;
+  /**
+   * Coefficient of restitution (Box2D's `restitution`), 0 (inelastic) to 1 (elastic). Default:
+   * the world's `def.restitution`. A contact bounces with the larger of its two bodies' (a wall's
+   * is `def.restitution`), above `def.restitutionThreshold`.
+   */
+  restitution?: number;
+  /**
+   * Linear damping (Box2D's `linearDamping`), 1/s, a finite number ≥ 0: each step the velocity
+   * is multiplied by `1 / (1 + timeStep · linearDamping)` before gravity is added. No effect on
+   * kinematic bodies. Default 0.
+   */
+  linearDamping?: number;
 }
 
 /** A dynamic circle. */

@@ -3,11 +3,14 @@
  * ray casts and overlap tests against the bodies where they are now, between steps.
  *
  * The step's own grid is built from where bodies *start* a step, so queries keep a grid of their
- * own, {@link QueryIndex}: every body is listed in each cell its bounding box touches (cells at
- * least as wide as the largest body, so at most four), rebuilt on the first query after anything
- * moved. A ray walks the columns (or rows, whichever axis it runs along more) it crosses, in
- * order, testing each body once; the closest-hit cast stops after the first column whose far
- * edge is beyond its best hit. Overlaps visit the cells of the query's bounding box.
+ * own, {@link QueryIndex}: every body is listed once, in the cell of its centre (cells at least
+ * as wide as the largest body, so a body reaches at most the largest half extent, half a cell,
+ * out of its cell), rebuilt on the first query after anything moved — once per body is what makes
+ * the rebuild, paid by the first query after each step, cheap. So every query widens its region
+ * by that reach: a ray walks the columns (or rows, whichever axis it runs along more) within it of
+ * its path, in order, testing each body once; the closest-hit cast stops after the first column
+ * whose far edge, less the reach, is beyond its best hit. Overlaps visit the cells of the query's
+ * bounding box, widened.
  *
  * **Determinism.** The grid only chooses *which* bodies are tested; each test is exact and the
  * answer is defined without it: the closest hit is the least (fraction, bodies before walls, id),
@@ -102,9 +105,13 @@ export class QueryIndex {
   private cellStart = new Int32Array(1);
   private items = new Int32Array(0);
   private cursor = new Int32Array(0);
-  /** By body, while building: its first cell, and how many more columns (high 4 bits) and rows. */
+  /** By body, while building: its cell. */
   private first = new Int32Array(0);
-  private span = new Uint8Array(0);
+  /**
+   * How far a body reaches beyond the cell its centre is in: the largest half extent, at most half
+   * a cell. Every query widens its region by it.
+   */
+  private pad = 0;
   /** By body: the query that last tested it. */
   private mark = new Int32Array(0);
   private stamp = 0;
@@ -211,6 +218,7 @@ export class QueryIndex {
     this.minY = minY;
     this.cell = h;
     this.inv = inv;
+    this.pad = b.largestHalfExtent;
     const cells = cols * rows;
     if (this.cellStart.length < cells + 1) this.cellStart = new Int32Array(cells + 1);
     if (this.cursor.length < cells) this.cursor = new Int32Array(cells);
@@ -218,31 +226,19 @@ export class QueryIndex {
     start.fill(0, 0, cells + 1);
     // Count, then place: every body in each cell its box touches, ids ascending within a cell.
     // (Inline clamps and locals: this runs on the first query after every step.)
-    if (this.first.length < n) {
-      this.first = new Int32Array(b.capacity);
-      this.span = new Uint8Array(b.capacity);
-    }
+    if (this.first.length < n) this.first = new Int32Array(b.capacity);
     const first = this.first;
-    const span = this.span;
     const lastCol = cols - 1;
     const lastRow = rows - 1;
     for (let i = 0; i < n; i++) {
       if (flags[i] === 0) continue;
-      const w = hw[i]!;
-      const v = hh[i]!;
-      let c0 = Math.floor((x[i]! - w - minX) * inv);
-      let c1 = Math.floor((x[i]! + w - minX) * inv);
-      let r0 = Math.floor((y[i]! - v - minY) * inv);
-      let r1 = Math.floor((y[i]! + v - minY) * inv);
-      c0 = c0 < 0 ? 0 : c0 > lastCol ? lastCol : c0;
-      c1 = c1 < 0 ? 0 : c1 > lastCol ? lastCol : c1;
-      r0 = r0 < 0 ? 0 : r0 > lastRow ? lastRow : r0;
-      r1 = r1 < 0 ? 0 : r1 > lastRow ? lastRow : r1;
-      const c = r0 * cols + c0;
-      first[i] = c;
-      span[i] = ((c1 - c0) << 4) | (r1 - r0);
-      for (let r = 0; r <= r1 - r0; r++)
-        for (let k = 0; k <= c1 - c0; k++) start[c + r * cols + k + 1]!++;
+      let c = Math.floor((x[i]! - minX) * inv);
+      let r = Math.floor((y[i]! - minY) * inv);
+      c = c < 0 ? 0 : c > lastCol ? lastCol : c;
+      r = r < 0 ? 0 : r > lastRow ? lastRow : r;
+      const cell = r * cols + c;
+      first[i] = cell;
+      start[cell + 1]!++;
     }
     const cursor = this.cursor;
     for (let c = 0; c < cells; c++) {
@@ -254,11 +250,7 @@ export class QueryIndex {
     const items = this.items;
     for (let i = 0; i < n; i++) {
       if (flags[i] === 0) continue;
-      const c = first[i]!;
-      const sx = span[i]! >> 4;
-      const sy = span[i]! & 15;
-      for (let r = 0; r <= sy; r++)
-        for (let k = 0; k <= sx; k++) items[cursor[c + r * cols + k]!++] = i;
+      items[cursor[first[i]!]!++] = i;
     }
   }
 
@@ -485,13 +477,16 @@ export class QueryIndex {
     const forward = dp > 0;
     const pa = p0 + tA * dp;
     const pb = p0 + tB * dp;
-    const first = clampCell(Math.floor((pa + (forward ? -eps : eps) - pMin) * inv), nP);
-    const last = clampCell(Math.floor((pb + (forward ? eps : -eps) - pMin) * inv), nP);
+    // A body is listed in the cell of its centre and reaches `pad` beyond it: the columns whose
+    // bodies can touch the ray are those within `pad` of where it runs, and so are the rows.
+    const pad = this.pad;
+    const first = clampCell(Math.floor((pa + (forward ? -eps - pad : eps + pad) - pMin) * inv), nP);
+    const last = clampCell(Math.floor((pb + (forward ? eps + pad : -eps - pad) - pMin) * inv), nP);
     const start = this.cellStart;
     const items = this.items;
     for (let ci = first; ; ci += forward ? 1 : -1) {
-      let t0 = (pMin + ci * h - eps - p0) / dp;
-      let t1 = (pMin + (ci + 1) * h + eps - p0) / dp;
+      let t0 = (pMin + ci * h - pad - eps - p0) / dp;
+      let t1 = (pMin + (ci + 1) * h + pad + eps - p0) / dp;
       if (t0 > t1) {
         const t = t0;
         t0 = t1;
@@ -502,8 +497,8 @@ export class QueryIndex {
       if (t0 <= t1) {
         const sa = s0 + t0 * ds;
         const sb = s0 + t1 * ds;
-        const r0 = clampCell(Math.floor(((sa < sb ? sa : sb) - eps - sMin) * inv), nS);
-        const r1 = clampCell(Math.floor(((sa < sb ? sb : sa) + eps - sMin) * inv), nS);
+        const r0 = clampCell(Math.floor(((sa < sb ? sa : sb) - pad - eps - sMin) * inv), nS);
+        const r1 = clampCell(Math.floor(((sa < sb ? sb : sa) + pad + eps - sMin) * inv), nS);
         for (let r = r0; r <= r1; r++) {
           const c = xMajor ? r * cols + ci : ci * cols + r;
           const e = start[c + 1]!;
@@ -511,8 +506,13 @@ export class QueryIndex {
         }
       }
       if (ci === last) break;
-      // Closest: every body not yet tested is hit beyond this column's far edge.
-      if (!this.all && this.bestF < (pMin + (forward ? ci + 1 : ci) * h - p0) / dp - epsT) break;
+      // Closest: every body not yet tested reaches no nearer than `pad` short of this column's
+      // far edge.
+      if (
+        !this.all &&
+        this.bestF < (pMin + (forward ? ci + 1 : ci) * h + (forward ? -pad : pad) - p0) / dp - epsT
+      )
+        break;
     }
   }
 
@@ -746,10 +746,11 @@ export class QueryIndex {
     const stamp = this.nextStamp();
     const b = this.bodies;
     const mark = this.mark;
-    const c0 = this.colOf(minX);
-    const c1 = this.colOf(maxX);
-    const r0 = this.rowOf(minY);
-    const r1 = this.rowOf(maxY);
+    const pad = this.pad;
+    const c0 = this.colOf(minX - pad);
+    const c1 = this.colOf(maxX + pad);
+    const r0 = this.rowOf(minY - pad);
+    const r1 = this.rowOf(maxY + pad);
     const start = this.cellStart;
     const items = this.items;
     for (let row = r0; row <= r1; row++) {
@@ -788,10 +789,11 @@ export class QueryIndex {
     const w = b.halfWidth[s]!;
     const h = b.halfHeight[s]!;
     const box = (flags[s]! & BOX) !== 0;
-    const c0 = this.colOf(x - w);
-    const c1 = this.colOf(x + w);
-    const r0 = this.rowOf(y - h);
-    const r1 = this.rowOf(y + h);
+    const pad = this.pad;
+    const c0 = this.colOf(x - w - pad);
+    const c1 = this.colOf(x + w + pad);
+    const r0 = this.rowOf(y - h - pad);
+    const r1 = this.rowOf(y + h + pad);
     const start = this.cellStart;
     const items = this.items;
     const from = count;

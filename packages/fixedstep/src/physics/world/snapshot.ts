@@ -16,12 +16,20 @@
  * | | *version 2 only:* |
  * | 3 × 4N | columns of N: categoryBits, maskBits (u32), groupIndex (i32) — a free slot's all 0 |
  * | 4 | sensor overlaps O (u32), then columns of O: sensor, visitor (i32), sorted by sensor then visitor |
+| | *version 3 only (after version 2's section):* |
+| 3 × 8N | columns of N: friction, restitution (f64; −1: the world's, `WORLD_MATERIAL`), linearDamping (f64) — a free slot's all 0 |
  *
  * Version 2 adds what filters and sensors need (`filter.ts`, `events.ts`), and a body flag
  * (`BodyFlag.SENSOR`). A world with no sensor, no body with a filter other than the default and no
  * sensor overlap writes version 1 — the same bytes, so the same hashes, as before version 2
  * existed — and version 2 otherwise (a version 2 snapshot that could be version 1 is refused as
  * not canonical). Both load; an older world refuses version 2 with "unsupported snapshot version 2".
+
+Version 3 adds the bodies' materials (`material.ts`: friction, restitution, linear damping) after
+version 2's section. It is written only when some live body's material is not the default one
+(the world's friction and restitution, no damping), so worlds without materials keep writing
+versions 1 and 2, byte for byte; a version 3 snapshot whose materials are all the default is
+refused as not canonical.
  *
  * `def.maxContacts` is not in it (it never changes a step that completes).
  *
@@ -42,6 +50,7 @@ import {
   DEFAULT_MASK_BITS,
   KNOWN_FLAGS,
   KNOWN_FLAGS_V2,
+  WORLD_MATERIAL,
   type BodyStore,
 } from './body.js';
 import { CACHE_ENTRY_BYTES, type WarmStartCache } from './contacts.js';
@@ -59,6 +68,10 @@ export const SNAPSHOT_MAGIC = 0x57505346;
 export const SNAPSHOT_VERSION = 1;
 /** The snapshot format of a world with filters or sensors: version 1 and the filter section. */
 export const SNAPSHOT_VERSION_FILTERS = 2;
+/** The snapshot format of a world with materials: version 2 and the material columns. */
+export const SNAPSHOT_VERSION_MATERIALS = 3;
+/** Bytes per body slot of version 3's material columns. */
+const MATERIAL_BYTES = 24;
 /** Bytes per body slot of version 2's filter columns. */
 const FILTER_BYTES = 12;
 /** Bytes up to and including the wall count. */
@@ -85,20 +98,30 @@ export interface WorldState {
   overlaps: SensorOverlaps;
 }
 
-/** Whether a world's snapshot is version 2 (it has a filter, a sensor or a sensor overlap). */
+/**
+ * Whether a world's snapshot has version 2's section: it has a filter, a sensor or a sensor
+ * overlap, or it is version 3 (a body with a material).
+ */
 export function needsVersion2(bodies: BodyStore, overlaps: SensorOverlaps): boolean {
-  return bodies.filteredCount + bodies.sensorCount + overlaps.count > 0;
+  return bodies.filteredCount + bodies.sensorCount + overlaps.count + bodies.materialCount > 0;
+}
+
+/** The version of a world's snapshot: 3 with materials, else 2 with filters or sensors, else 1. */
+export function snapshotVersion(bodies: BodyStore, overlaps: SensorOverlaps): number {
+  if (bodies.materialCount > 0) return SNAPSHOT_VERSION_MATERIALS;
+  return needsVersion2(bodies, overlaps) ? SNAPSHOT_VERSION_FILTERS : SNAPSHOT_VERSION;
 }
 
 /**
  * Bytes of the snapshot of a world with these counts; `overlaps` is −1 for version 1, else the
- * sensor overlap count of version 2.
+ * sensor overlap count of version 2; `materials` for version 3.
  */
 export function snapshotSize(
   walls: number,
   slots: number,
   cacheEntries: number,
   overlaps = -1,
+  materials = false,
 ): number {
   return (
     HEADER_BYTES +
@@ -107,7 +130,8 @@ export function snapshotSize(
     BODY_BYTES * slots +
     4 +
     CACHE_ENTRY_BYTES * cacheEntries +
-    (overlaps < 0 ? 0 : FILTER_BYTES * slots + 4 + 8 * overlaps)
+    (overlaps < 0 ? 0 : FILTER_BYTES * slots + 4 + 8 * overlaps) +
+    (materials ? MATERIAL_BYTES * slots : 0)
   );
 }
 
@@ -118,10 +142,8 @@ export function snapshotSize(
  */
 export function writeCanonical(w: ByteWriter, s: WorldState): void {
   const d = s.def;
-  const v2 = needsVersion2(s.bodies, s.overlaps);
-  w.u32(SNAPSHOT_MAGIC)
-    .u32(v2 ? SNAPSHOT_VERSION_FILTERS : SNAPSHOT_VERSION)
-    .f64(s.tick);
+  const version = snapshotVersion(s.bodies, s.overlaps);
+  w.u32(SNAPSHOT_MAGIC).u32(version).f64(s.tick);
   w.f64(d.gravityX).f64(d.gravityY).f64(d.timeStep).f64(d.restitution);
   w.f64(d.restitutionThreshold).f64(d.friction).f64(d.linearSlop).f64(d.positionCorrection);
   w.f64(d.cellSize).f64(d.sleepSpeed).f64(d.timeToSleep);
@@ -147,7 +169,7 @@ export function writeCanonical(w: ByteWriter, s: WorldState): void {
   w.ints(c.bodyB.subarray(0, wc));
   w.f64s(c.normalImpulse.subarray(0, wc));
   w.f64s(c.tangentImpulse.subarray(0, wc));
-  if (!v2) return;
+  if (version === SNAPSHOT_VERSION) return;
   w.ints(b.categoryBits.subarray(0, n));
   w.ints(b.maskBits.subarray(0, n));
   w.ints(b.groupIndex.subarray(0, n));
@@ -155,6 +177,10 @@ export function writeCanonical(w: ByteWriter, s: WorldState): void {
   w.u32(o.count);
   w.ints(o.sensor.subarray(0, o.count));
   w.ints(o.visitor.subarray(0, o.count));
+  if (version !== SNAPSHOT_VERSION_MATERIALS) return;
+  w.f64s(b.friction.subarray(0, n));
+  w.f64s(b.restitution.subarray(0, n));
+  w.f64s(b.linearDamping.subarray(0, n));
 }
 
 /** Typed views of a whole buffer, made once per buffer (again if it was resized). */
@@ -245,12 +271,12 @@ export class SnapshotWriter {
     const data = v.data;
     const base = out.byteOffset;
     const d = s.def;
-    const v2 = needsVersion2(s.bodies, s.overlaps);
+    const version = snapshotVersion(s.bodies, s.overlaps);
     let p = base;
     // Scalars through the DataView directly (V8 boxes a double passed to a helper it does not
     // inline), each `+ 0` so a −0 is written +0; the def and the walls never hold a NaN (checked).
     data.setUint32(p, SNAPSHOT_MAGIC, true);
-    data.setUint32(p + 4, v2 ? SNAPSHOT_VERSION_FILTERS : SNAPSHOT_VERSION, true);
+    data.setUint32(p + 4, version, true);
     data.setFloat64(p + 8, s.tick + 0, true);
     p += 16;
     data.setFloat64(p, d.gravityX + 0, true);
@@ -300,7 +326,8 @@ export class SnapshotWriter {
     p += 4;
     bytes.set(c.image, p);
     p += c.image.length;
-    if (v2) p = writeVersion2(bytes, data, p, s);
+    if (version !== SNAPSHOT_VERSION) p = writeVersion2(bytes, data, p, s);
+    if (version === SNAPSHOT_VERSION_MATERIALS) p = writeMaterials(data, p, s.bodies);
     return p - base;
   }
 }
@@ -321,6 +348,19 @@ function writeVersion2(bytes: Uint8Array, data: DataView, p: number, s: WorldSta
   p += 4 * o.count;
   for (let k = 0; k < o.count; k++) data.setInt32(p + 4 * k, o.visitor[k]!, true);
   return p + 4 * o.count;
+}
+
+/**
+ * Version 3's material columns at `p` (any alignment: through the DataView, `+ 0` so a −0 is
+ * written +0 — only worlds with materials pay); returns where they end.
+ */
+function writeMaterials(data: DataView, p: number, b: BodyStore): number {
+  const n = b.slotCount;
+  for (const column of [b.friction, b.restitution, b.linearDamping]) {
+    for (let i = 0; i < n; i++) data.setFloat64(p + 8 * i, column[i]! + 0, true);
+    p += 8 * n;
+  }
+  return p;
 }
 
 /** Swaps the byte order of `count` values of `width` bytes at `p` (a big-endian platform). */
@@ -374,6 +414,8 @@ export class SnapshotReader {
   private filtersAt = -1;
   private overlapCount = 0;
   private overlapsAt = 0;
+  /** Version 3: byte offset of the material columns (−1 before version 3). */
+  private materialsAt = -1;
   /** Whether a −0 was read (then values are copied one by one, with `+ 0`). */
   private negativeZero = false;
   // Views of the body columns in staging for the last slot count and offset (a rollback loop
@@ -427,8 +469,12 @@ export class SnapshotReader {
     this.need(8, 'the header');
     if (data.getUint32(this.p, true) !== SNAPSHOT_MAGIC) this.fail('not a physics world snapshot');
     const version = data.getUint32(this.p + 4, true);
-    if (version !== SNAPSHOT_VERSION && version !== SNAPSHOT_VERSION_FILTERS)
-      this.fail(`unsupported snapshot version ${version} (this world reads versions 1 and 2)`);
+    if (
+      version !== SNAPSHOT_VERSION &&
+      version !== SNAPSHOT_VERSION_FILTERS &&
+      version !== SNAPSHOT_VERSION_MATERIALS
+    )
+      this.fail(`unsupported snapshot version ${version} (this world reads versions 1, 2 and 3)`);
     this.p += 8;
     this.need(HEADER_BYTES - 8, 'the header');
     const tick = data.getFloat64(this.p, true);
@@ -482,7 +528,8 @@ export class SnapshotReader {
     let filtersAt = -1;
     let overlapCount = 0;
     let overlapsAt = 0;
-    if (version === SNAPSHOT_VERSION_FILTERS) {
+    let materialsAt = -1;
+    if (version !== SNAPSHOT_VERSION) {
       this.need(FILTER_BYTES * slots + 4, 'filters', slots);
       filtersAt = this.p;
       this.p += FILTER_BYTES * slots;
@@ -491,13 +538,32 @@ export class SnapshotReader {
       this.need(8 * overlapCount, 'sensor overlaps', overlapCount);
       overlapsAt = this.p;
       this.p += 8 * overlapCount;
-      this.checkVersion2(staging, flagsAt, slots, filtersAt, overlapsAt, overlapCount);
+      this.checkVersion2(
+        staging,
+        flagsAt,
+        slots,
+        filtersAt,
+        overlapsAt,
+        overlapCount,
+        version === SNAPSHOT_VERSION_FILTERS,
+      );
+    }
+    if (version === SNAPSHOT_VERSION_MATERIALS) {
+      this.need(MATERIAL_BYTES * slots, 'materials', slots);
+      materialsAt = this.p;
+      this.p += MATERIAL_BYTES * slots;
+      this.checkMaterials(staging, flagsAt, slots, materialsAt);
     }
     if (this.p !== this.end) this.fail(`${this.end - this.p} bytes after the end of the snapshot`);
     if ((impulsesAt & 7) !== 0) {
-      // Move the impulse columns 4 bytes on, to an 8-byte boundary (staging has the room).
-      staging.copyWithin(impulsesAt + 4, impulsesAt, impulsesAt + 16 * cacheCount);
+      // Move the impulse columns 4 bytes on, to an 8-byte boundary (staging has the room), and
+      // the sections after them with them: moving the impulses alone overwrote the first 4 bytes
+      // of version 2's filter columns (body 0's categoryBits) whenever the slot count was even.
+      staging.copyWithin(impulsesAt + 4, impulsesAt, this.end);
       impulsesAt += 4;
+      if (filtersAt >= 0) filtersAt += 4;
+      overlapsAt += 4;
+      if (materialsAt >= 0) materialsAt += 4;
     }
     if (!LITTLE_ENDIAN) {
       swapBytes(staging, cacheIdsAt * 4, 2 * cacheCount, 4);
@@ -531,6 +597,7 @@ export class SnapshotReader {
     this.filtersAt = filtersAt;
     this.overlapCount = overlapCount;
     this.overlapsAt = overlapsAt;
+    this.materialsAt = materialsAt;
   }
 
   /**
@@ -545,6 +612,7 @@ export class SnapshotReader {
     at: number,
     overlapsAt: number,
     count: number,
+    mustBeNeeded: boolean,
   ): void {
     const data = this.views.data;
     let needed = count > 0;
@@ -582,9 +650,40 @@ export class SnapshotReader {
       lastSensor = s;
       lastVisitor = v;
     }
-    if (!needed)
+    if (mustBeNeeded && !needed)
       this.fail(
         'a version 2 snapshot with no filter, sensor or sensor overlap (not canonical: that is version 1)',
+      );
+  }
+
+  /**
+   * Version 3's materials: a free slot's all 0; a live body's friction −1 (the world's) or finite
+   * ≥ 0, restitution −1 or in [0, 1], linear damping finite ≥ 0; and some live body's not the
+   * default (else it is not canonical).
+   */
+  private checkMaterials(staging: Uint8Array, flagsAt: number, n: number, at: number): void {
+    const data = this.views.data;
+    let needed = false;
+    for (let i = 0; i < n; i++) {
+      const f = data.getFloat64(at + 8 * i, true);
+      const e = data.getFloat64(at + 8 * (n + i), true);
+      const c = data.getFloat64(at + 8 * (2 * n + i), true);
+      if (staging[flagsAt + i] === 0) {
+        if (f !== 0 || e !== 0 || c !== 0)
+          this.fail(`body ${i}: a free slot's material must be all zeros`);
+        continue;
+      }
+      if (!(f === WORLD_MATERIAL || (f >= 0 && f < Infinity)))
+        this.fail(`body ${i}: friction must be -1 (the world's) or finite and ≥ 0, got ${show(f)}`);
+      if (!(e === WORLD_MATERIAL || (e >= 0 && e <= 1)))
+        this.fail(`body ${i}: restitution must be -1 (the world's) or in [0, 1], got ${show(e)}`);
+      if (!(c >= 0 && c < Infinity))
+        this.fail(`body ${i}: linearDamping must be finite and ≥ 0, got ${show(c)}`);
+      if (f !== WORLD_MATERIAL || e !== WORLD_MATERIAL || c !== 0) needed = true;
+    }
+    if (!needed)
+      this.fail(
+        'a version 3 snapshot whose materials are all the default (not canonical: that is version 1 or 2)',
       );
   }
 
@@ -863,7 +962,42 @@ export class SnapshotReader {
     if (at < 0) {
       bodies.filteredCount = 0;
       bodies.sensorCount = 0;
+      bodies.materialCount = 0;
     } else bodies.recountFeatures();
+  }
+
+  /** The materials: version 3's, or the defaults. Leaves free slots (up to `previous`) all zeros. */
+  private commitMaterials(bodies: BodyStore, previous: number): void {
+    const n = this.slots;
+    const friction = bodies.friction;
+    const restitution = bodies.restitution;
+    const damping = bodies.linearDamping;
+    const at = this.materialsAt;
+    if (at < 0) {
+      friction.fill(WORLD_MATERIAL, 0, n);
+      restitution.fill(WORLD_MATERIAL, 0, n);
+      damping.fill(0, 0, n);
+      if (this.liveCount < n) {
+        const flags = bodies.flags;
+        for (let i = 0; i < n; i++) {
+          if (flags[i] !== 0) continue;
+          friction[i] = 0;
+          restitution[i] = 0;
+        }
+      }
+    } else {
+      const data = this.views.data;
+      for (let i = 0; i < n; i++) {
+        friction[i] = data.getFloat64(at + 8 * i, true) + 0;
+        restitution[i] = data.getFloat64(at + 8 * (n + i), true) + 0;
+        damping[i] = data.getFloat64(at + 8 * (2 * n + i), true) + 0;
+      }
+    }
+    if (previous > n) {
+      friction.fill(0, n, previous);
+      restitution.fill(0, n, previous);
+      damping.fill(0, n, previous);
+    }
   }
 
   /** Views of the body columns in staging, made again only when their place or size changed. */
@@ -954,6 +1088,7 @@ export class SnapshotReader {
     bodies.liveCount = this.liveCount;
     bodies.sleepingCount = this.sleepingCount;
     bodies.recomputeExtents();
+    this.commitMaterials(bodies, previous);
     this.commitVersion2(bodies, overlaps, previous);
 
     const count = this.cacheCount;

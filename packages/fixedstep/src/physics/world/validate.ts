@@ -105,6 +105,24 @@ export function checkWallExtent(method: string, id: number, field: string, v: un
   fail(method, id, 'static', field, `a number > 0 and at most 1e9 (metres)`, v);
 }
 
+/** A body's friction coefficient: a finite number ≥ 0. */
+export function checkFriction(method: string, id: number, v: unknown): void {
+  if (typeof v === 'number' && v >= 0 && v < Infinity) return;
+  fail(method, id, 'body', 'friction', 'a finite number ≥ 0', v);
+}
+
+/** A body's coefficient of restitution: in [0, 1], as `WorldDef.restitution`. */
+export function checkRestitution(method: string, id: number, v: unknown): void {
+  if (typeof v === 'number' && v >= 0 && v <= 1) return;
+  fail(method, id, 'body', 'restitution', 'in [0, 1]', v);
+}
+
+/** A body's linear damping: a finite number ≥ 0 (1/s). */
+export function checkLinearDamping(method: string, id: number, v: unknown): void {
+  if (typeof v === 'number' && v >= 0 && v < Infinity) return;
+  fail(method, id, 'body', 'linearDamping', 'a finite number ≥ 0 (1/s)', v);
+}
+
 /** A boolean option (`undefined` allowed: the default). */
 export function checkFlag(method: string, id: number, field: string, v: unknown): void {
   if (v === undefined || typeof v === 'boolean') return;
@@ -153,6 +171,9 @@ const BODY_KEYS = [
   'kinematic',
   'sensor',
   'filter',
+  'friction',
+  'restitution',
+  'linearDamping',
 ] as const;
 /** The options of {@link PhysicsWorld.createCircle}. */
 export const CIRCLE_KEYS: ReadonlySet<string> = new Set([...BODY_KEYS, 'radius']);

@@ -1,6 +1,6 @@
 import { fnv1a64 } from '../../det/hash.js';
 import type { Simulation } from '../../sim/simulation.js';
-import { BodyFlag, BodyStore } from './body.js';
+import { BodyFlag, BodyStore, WORLD_MATERIAL } from './body.js';
 import { Grid, findContacts } from './broad-phase.js';
 import { ContinuousSolver } from './ccd.js';
 import { SolverSchedule, solvePositions, solveVelocities } from './contact-solver.js';
@@ -42,7 +42,10 @@ import {
   checkDefKeys,
   checkDensity,
   checkFlag,
+  checkFriction,
   checkKeys,
+  checkLinearDamping,
+  checkRestitution,
   checkSize,
   checkSpeed,
   checkWallExtent,
@@ -479,6 +482,69 @@ export class PhysicsWorld implements Simulation<unknown> {
   }
 
   /**
+   * A body's friction coefficient (Box2D's `b2Shape_GetFriction`): its own, or the world's
+   * `def.friction` if it has none.
+   */
+  getFriction(id: number): number {
+    this.body(id, 'getFriction');
+    const f = this.bodies.friction[id]!;
+    return f === WORLD_MATERIAL ? this._def.friction : f;
+  }
+
+  /** A body's coefficient of restitution: its own, or the world's `def.restitution` if it has none. */
+  getRestitution(id: number): number {
+    this.body(id, 'getRestitution');
+    const e = this.bodies.restitution[id]!;
+    return e === WORLD_MATERIAL ? this._def.restitution : e;
+  }
+
+  /** A body's linear damping, 1/s (Box2D's `b2Body_GetLinearDamping`). */
+  getLinearDamping(id: number): number {
+    this.body(id, 'getLinearDamping');
+    return this.bodies.linearDamping[id]!;
+  }
+
+  /**
+   * Sets a body's friction coefficient (Box2D's `b2Shape_SetFriction`), a finite number ≥ 0; a
+   * contact's is `sqrt(fa · fb)` (see {@link BodyOptions.friction}). Part of the state (a world
+   * with any body whose material is not the default saves a version 3 snapshot). Takes effect
+   * from the next step. Throws a RangeError (TypeError for a wrong type) naming the body and the
+   * value, changing nothing. Wakes the body.
+   */
+  setFriction(id: number, friction: number): void {
+    this.body(id, 'setFriction');
+    checkFriction('setFriction', id, friction);
+    const b = this.bodies;
+    wakeIsland(b, id);
+    b.setMaterial(id, friction + 0, b.restitution[id]!, b.linearDamping[id]!);
+  }
+
+  /**
+   * Sets a body's coefficient of restitution (Box2D's `b2Shape_SetRestitution`), in [0, 1]; a
+   * contact bounces with the larger of its two bodies'. As {@link setFriction}.
+   */
+  setRestitution(id: number, restitution: number): void {
+    this.body(id, 'setRestitution');
+    checkRestitution('setRestitution', id, restitution);
+    const b = this.bodies;
+    wakeIsland(b, id);
+    b.setMaterial(id, b.friction[id]!, restitution + 0, b.linearDamping[id]!);
+  }
+
+  /**
+   * Sets a body's linear damping (Box2D's `b2Body_SetLinearDamping`), 1/s, a finite number ≥ 0:
+   * each step its velocity is multiplied by `1 / (1 + timeStep · linearDamping)` before gravity.
+   * As {@link setFriction}.
+   */
+  setLinearDamping(id: number, linearDamping: number): void {
+    this.body(id, 'setLinearDamping');
+    checkLinearDamping('setLinearDamping', id, linearDamping);
+    const b = this.bodies;
+    wakeIsland(b, id);
+    b.setMaterial(id, b.friction[id]!, b.restitution[id]!, linearDamping + 0);
+  }
+
+  /**
    * Adds a static wall segment (zero thickness, two-sided) from `a` to `b` (metres, each within
    * ±`WORLD_LIMITS.maxCoordinate`); returns its id. Wakes every sleeping body.
    */
@@ -699,6 +765,10 @@ export class PhysicsWorld implements Simulation<unknown> {
     const inverseMass = b.solverInverseMass;
     const startVx = b.startVx;
     const startVy = b.startVy;
+    if (b.materialCount > 0) {
+      this.integrateDampedVelocities(def, keep);
+      return;
+    }
     const gx = def.gravityX * def.timeStep;
     const gy = def.gravityY * def.timeStep;
     for (let i = 0; i < n; i++) {
@@ -709,6 +779,40 @@ export class PhysicsWorld implements Simulation<unknown> {
       }
       vx[i] = vx[i]! + gx;
       vy[i] = vy[i]! + gy;
+    }
+  }
+
+  /**
+   * {@link integrateVelocities} with linear damping, Box2D's way: `v = v · 1/(1 + h·c) + h·g`.
+   * Apart, so a world where no body has a material of its own runs the plain loop; a body with
+   * no damping gets exactly the plain loop's `v + h·g`. JavaScript for both solver paths.
+   */
+  private integrateDampedVelocities(def: Readonly<WorldDef>, keep: boolean): void {
+    const b = this.bodies;
+    const n = b.slotCount;
+    const flags = b.flags;
+    const vx = b.vx;
+    const vy = b.vy;
+    const inverseMass = b.solverInverseMass;
+    const damping = b.linearDamping;
+    const h = def.timeStep;
+    const gx = def.gravityX * h;
+    const gy = def.gravityY * h;
+    for (let i = 0; i < n; i++) {
+      if (flags[i] === 0 || !(inverseMass[i]! > 0)) continue;
+      if (keep) {
+        b.startVx[i] = vx[i]!;
+        b.startVy[i] = vy[i]!;
+      }
+      const c = damping[i]!;
+      if (c === 0) {
+        vx[i] = vx[i]! + gx;
+        vy[i] = vy[i]! + gy;
+      } else {
+        const factor = 1 / (1 + h * c);
+        vx[i] = vx[i]! * factor + gx;
+        vy[i] = vy[i]! * factor + gy;
+      }
     }
   }
 
@@ -779,6 +883,7 @@ export class PhysicsWorld implements Simulation<unknown> {
       this.bodies.slotCount,
       this.cache.count,
       v2 ? this.overlaps.count : -1,
+      this.bodies.materialCount > 0,
     );
   }
 
@@ -897,6 +1002,9 @@ export class PhysicsWorld implements Simulation<unknown> {
     checkFlag(method, id, 'sensor', o.sensor);
     const filter =
       o.filter === undefined ? null : checkFilter(method, id, o.filter, DEFAULT_FILTER);
+    if (o.friction !== undefined) checkFriction(method, id, o.friction);
+    if (o.restitution !== undefined) checkRestitution(method, id, o.restitution);
+    if (o.linearDamping !== undefined) checkLinearDamping(method, id, o.linearDamping);
     if (id >= this.bodies.capacity) this.grow(this.bodies.capacity * 2);
     const kinematic = o.kinematic === true;
     const flags =
@@ -909,6 +1017,13 @@ export class PhysicsWorld implements Simulation<unknown> {
     this.bodies.create(id, flags, o.x + 0, o.y + 0, vx + 0, vy + 0, w, h, inverseMass);
     if (filter !== null)
       this.bodies.setFilter(id, filter.categoryBits, filter.maskBits, filter.groupIndex);
+    if (o.friction !== undefined || o.restitution !== undefined || o.linearDamping !== undefined)
+      this.bodies.setMaterial(
+        id,
+        o.friction === undefined ? WORLD_MATERIAL : o.friction + 0,
+        o.restitution === undefined ? WORLD_MATERIAL : o.restitution + 0,
+        (o.linearDamping ?? 0) + 0,
+      );
     this.contactLog.clearBody(id);
     this.queries.fresh = false;
     return id;
