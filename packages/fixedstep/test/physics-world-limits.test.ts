@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { PhysicsWorld } from 'fixedstep';
+import { PhysicsWorld, bodiesInBox } from 'fixedstep';
 
 /**
  * The own world's limits, measured (docs/physics-world.md quotes these numbers; this file is
@@ -112,5 +112,35 @@ describe('limits of the own world', () => {
     expect(centre).toBe(2.5);
     // It only sags, one slop per contact: 11 × 5 mm.
     expect(mm(0.25 + 0.5 * 10 - world.y[10]!)).toBe(55);
+  });
+});
+
+describe('the body arrays are for reading', () => {
+  it('a NaN or ±∞ written into them is refused by the next step, naming the body, and nothing changes', () => {
+    const world = bodiesInBox(31, 4);
+    for (let t = 0; t < 30; t++) world.step();
+    const before = world.hash();
+    const tick = world.tick;
+    for (const [field, value] of [
+      ['x', Number.NaN],
+      ['vy', Number.POSITIVE_INFINITY],
+    ] as const) {
+      const column = world[field];
+      const was = column[7]!;
+      column[7] = value;
+      expect(() => {
+        world.step();
+      }).toThrow(
+        new RegExp(
+          `body 7's ${field} is ${String(value)}, written into world\\.${field} from outside`,
+        ),
+      );
+      expect(world.tick).toBe(tick);
+      column[7] = was;
+      expect(world.hash()).toBe(before);
+    }
+    // Put back, the world steps on; a finite write is the caller's business.
+    world.step();
+    expect(world.tick).toBe(tick + 1);
   });
 });

@@ -10,8 +10,8 @@ import {
   varintProblem,
   type Simulation,
 } from 'fixedstep';
-import type { World } from '@dimforge/rapier2d-deterministic-compat';
-import { writeCanonicalState } from './canonical.js';
+import type { RigidBody, World } from '@dimforge/rapier2d-deterministic-compat';
+import { splitHandle, writeCanonicalState } from './canonical.js';
 import { murmur3 } from './checksum.js';
 import { loadRapier, readyRapier, type RapierModule } from './rapier.js';
 
@@ -267,6 +267,27 @@ export class RapierSimulation<I = number, S = undefined> implements Simulation<I
     return this.live();
   }
 
+  /**
+   * The rigid body with `handle` in the current world — the way to reach a body across `load()`s
+   * (handles survive a load; `RigidBody` objects do not: one kept from before a load points into a
+   * freed world, and Rapier answers "null pointer passed to rust"). Throws a RangeError naming the
+   * handle when the world has no such body (removed, or never made).
+   */
+  body(handle: number): RigidBody {
+    const world = this.live();
+    // (Rapier packs a handle's index and generation into the bits of a double: not an integer.)
+    if (typeof handle !== 'number' || Number.isNaN(handle)) {
+      throw new RangeError(`${this.label}.body: a handle is a number, got ${String(handle)}`);
+    }
+    // A handle packs an index and a generation: a removed body's handle is no longer in the set.
+    if (!world.bodies.contains(handle)) {
+      throw new RangeError(
+        `${this.label}.body: no rigid body with handle ${handle} (${describeHandle(handle)}) in the world at tick ${this.ticks} (removed, or never made)`,
+      );
+    }
+    return world.getRigidBody(handle);
+  }
+
   /** Whether {@link dispose} was called. */
   get disposed(): boolean {
     return this.currentWorld === undefined;
@@ -504,4 +525,10 @@ export async function createRapierSimulation<I = number, S = undefined>(
 ): Promise<RapierSimulation<I, S>> {
   await loadRapier();
   return new RapierSimulation(def);
+}
+
+/** A body handle's index and generation, as Rapier packs them into a double's bits. */
+function describeHandle(handle: number): string {
+  const [index, generation] = splitHandle(handle);
+  return `index ${index}, generation ${generation}`;
 }

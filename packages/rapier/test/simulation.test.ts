@@ -98,6 +98,28 @@ describe('golden hashes (print the actual value on mismatch, to re-bless a delib
   });
 });
 
+describe('bodies by handle', () => {
+  it('a handle reaches its body across a load; a removed one is refused by name, not with a null pointer', () => {
+    const sim = new RapierSimulation(towerScene());
+    for (let t = 0; t < 40; t++) sim.step(towerInput(t));
+    const h = sim.scene.boxes[3]!;
+    const saved = sim.save();
+    const before = sim.body(h).translation();
+    sim.load(saved);
+    // A new world after the load: the handle still finds the same body.
+    expect(sim.body(h).translation()).toEqual(before);
+    sim.world.removeRigidBody(sim.body(h));
+    const [index] = splitHandle(h);
+    expect(() => sim.body(h)).toThrow(
+      new RegExp(
+        `no rigid body with handle \\S+ \\(index ${index}, generation 0\\) in the world at tick 40 \\(removed, or never made\\)`,
+      ),
+    );
+    expect(() => sim.body(Number.NaN)).toThrow(/a handle is a number, got NaN/);
+    sim.dispose();
+  });
+});
+
 describe('save and load', () => {
   it("Box2D's snapshot test: save A, load into B, step both 120 ticks, equal hashes every tick", () => {
     for (const [name, make, inputs] of [

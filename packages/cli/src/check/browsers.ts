@@ -124,7 +124,16 @@ export function findBrowser(
 
 /** The page's bundle: the user's module and ./page.ts, for the browser. */
 export async function bundleCheckPage(moduleFile: string): Promise<string> {
-  const esbuild = await import('esbuild');
+  // esbuild is an optional peer dependency: a plain install of the CLI does not bring it (nor its
+  // install script, which npm asks users to approve), and only the browser checks need it.
+  let esbuild: typeof import('esbuild');
+  try {
+    esbuild = await import('esbuild');
+  } catch {
+    throw new Error(
+      'the browser checks bundle your module with esbuild, which is not installed: npm install --save-dev esbuild',
+    );
+  }
   const here = import.meta.url;
   const pageFile = fileURLToPath(new URL(`./page${here.endsWith('.ts') ? '.ts' : '.js'}`, here));
   try {

@@ -208,7 +208,11 @@ export class PhysicsWorld implements Simulation<unknown> {
   get slotCount(): number {
     return this.bodies.slotCount;
   }
-  /** Centres, x (metres), by body id. Replaced when the arrays grow. */
+  /**
+   * Centres, x (metres), by body id. Replaced when the arrays grow. Like every body array here it
+   * is the world's own, for reading: write through {@link setPosition} / {@link setVelocity} (a
+   * value written here skips their checks; `step` refuses one that is not finite).
+   */
   get x(): Float64Array {
     return this.bodies.x;
   }
@@ -698,6 +702,7 @@ export class PhysicsWorld implements Simulation<unknown> {
    * than `def.maxContacts` contacts.
    */
   step(): void {
+    this.checkArrays();
     const bodies = this.bodies;
     const def = this._def;
     if (bodies.sleepingCount === bodies.liveCount && bodies.liveCount > 0) {
@@ -740,6 +745,39 @@ export class PhysicsWorld implements Simulation<unknown> {
    * are copied (what a free slot gets is never used: it has no contact and moves nothing), then
    * the sleepers' solver masses zeroed.
    */
+  /**
+   * The body arrays (`x`, `y`, `vx`, `vy` …) are the world's own, handed out for reading: a value
+   * written into them skips every check the setters make. Before a step changes anything, one
+   * look at each live body's position and velocity refuses a number that is not finite — the write
+   * that spreads, through contacts, to the bodies around it and into snapshots `load` refuses —
+   * naming the body. Cheap next to a step: four subtractions a body.
+   */
+  private checkArrays(): void {
+    const b = this.bodies;
+    const n = b.slotCount;
+    const { x, y, vx, vy, flags } = b;
+    for (let i = 0; i < n; i++) {
+      // v − v is 0 for a finite v, NaN for NaN and ±∞: one test for the four.
+      if (x[i]! - x[i]! + (y[i]! - y[i]!) + (vx[i]! - vx[i]!) + (vy[i]! - vy[i]!) === 0) continue;
+      if ((flags[i]! & ALIVE) === 0) continue;
+      for (const [name, column] of [
+        ['x', x],
+        ['y', y],
+        ['vx', vx],
+        ['vy', vy],
+      ] as const) {
+        const v = column[i]!;
+        if (!Number.isFinite(v)) {
+          throw new RangeError(
+            `PhysicsWorld.step: body ${i}'s ${name} is ${String(v)}, written into world.${name} ` +
+              `from outside? The arrays are for reading: move a body with setPosition or ` +
+              `setVelocity, which check what they take. Nothing was stepped.`,
+          );
+        }
+      }
+    }
+  }
+
   private beginStep(): void {
     const b = this.bodies;
     const n = b.slotCount;
