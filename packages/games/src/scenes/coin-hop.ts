@@ -124,7 +124,7 @@ export class CoinHop implements Simulation {
 
 /**
  * A bot for {@link CoinHop}: jump when a ray from the player's centre finds the crate within
- * {@link BOT_LOOKAHEAD} metres ahead of its front.
+ * 1.1 m (`BOT_LOOKAHEAD`) ahead of its front.
  */
 export function coinHopBot(scene: CoinHop): number {
   const w = scene.world;
