@@ -24,9 +24,11 @@ import {
   diffSnapshots,
   guardSimulation,
   hex64,
+  readStateValue,
   withDeterminismGuard,
   type AnyGameDefinition,
   type Simulation,
+  type StateColumnType,
 } from 'fixedstep';
 import { createForPlan, inputScript, type CheckPlan } from './script.js';
 
@@ -61,27 +63,6 @@ export interface StateDifference {
 /** How many other differing fields a report lists. */
 const MAX_FIELDS_LISTED = 8;
 
-function readNumber(view: DataView, at: number, type: string): number {
-  switch (type) {
-    case 'u8':
-      return view.getUint8(at);
-    case 'i8':
-      return view.getInt8(at);
-    case 'u16':
-      return view.getUint16(at, true);
-    case 'i16':
-      return view.getInt16(at, true);
-    case 'u32':
-      return view.getUint32(at, true);
-    case 'i32':
-      return view.getInt32(at, true);
-    case 'f32':
-      return view.getFloat32(at, true);
-    default:
-      return view.getFloat64(at, true);
-  }
-}
-
 function viewOf(bytes: Uint8Array): DataView {
   return new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
 }
@@ -94,7 +75,7 @@ function sizeOf(type: string): number {
 function showNumber(bytes: Uint8Array, at: number, type: string): string {
   const size = sizeOf(type);
   if (at + size > bytes.length) return '(missing)';
-  const v = readNumber(viewOf(bytes), at, type);
+  const v = readStateValue(viewOf(bytes), at, type as StateColumnType);
   if (type !== 'f32' && type !== 'f64') return String(v);
   let hex = '';
   for (let i = size - 1; i >= 0; i--) hex += bytes[at + i]!.toString(16).padStart(2, '0');

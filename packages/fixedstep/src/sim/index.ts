@@ -48,7 +48,7 @@ export type { CorrectionSmootherOptions } from './smoothing.js';
 export { defineGame, gameOptions, gameSetup, findGameById } from './game.js';
 export type { GameDefinition, GameSetup, AnyGameDefinition } from './game.js';
 export type { Simulation } from './simulation.js';
-export { defineStateSchema, StateSchema } from './state-schema.js';
+export { defineStateSchema, readStateValue, StateSchema } from './state-schema.js';
 export type {
   StateSchemaDefinition,
   StateColumn,

@@ -606,7 +606,8 @@ function sameCount(a: Column['count'], b: Column['count']): boolean {
   return a.column === b.column && a.times === b.times && a.max === b.max;
 }
 
-function readInt(view: DataView, at: number, type: StateColumnType): number {
+/** The number of `type` at byte `at` of `view`, little-endian, as a game's `save()` wrote it. */
+export function readStateValue(view: DataView, at: number, type: StateColumnType): number {
   switch (type) {
     case 'u8':
       return view.getUint8(at);
@@ -618,11 +619,20 @@ function readInt(view: DataView, at: number, type: StateColumnType): number {
       return view.getInt16(at, true);
     case 'u32':
       return view.getUint32(at, true);
+    case 'i32':
+      return view.getInt32(at, true);
     case 'f32':
-      return view.getInt32(at, true);
+      return view.getFloat32(at, true);
     default:
-      return view.getInt32(at, true);
+      return view.getFloat64(at, true);
   }
+}
+
+/** An integer column's value, or an f32's bits (a word of the wire). */
+function readInt(view: DataView, at: number, type: StateColumnType): number {
+  return type === 'f32' || type === 'f64'
+    ? view.getInt32(at, true)
+    : readStateValue(view, at, type);
 }
 
 function writeInt(view: DataView, at: number, type: StateColumnType, v: number): void {

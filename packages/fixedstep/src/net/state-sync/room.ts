@@ -5,8 +5,6 @@
  * its seats, invite, caps, rates and liveness are the core's.
  * @module
  */
-import { ByteWriter } from '../../det/bytes.js';
-import { fnv1a64 } from '../../det/hash.js';
 import type { AnyGameDefinition } from '../../sim/game.js';
 import { gameSetup } from '../../sim/game.js';
 import type { Simulation } from '../../sim/simulation.js';
@@ -18,10 +16,8 @@ import { Member, Room } from '../room/room.js';
 import { newToken } from '../room/tokens.js';
 import type { Transport } from '../transport.js';
 import type { LeaveReason } from '../wire/common.js';
-import { StateSchema, type QuantiseReport } from '../../sim/state-schema.js';
-import { encodeDelta } from './delta.js';
-import { BitWriter, encodeSchemaDelta } from './schema-codec.js';
 import { PriorityAccumulator } from './priority.js';
+import { SnapshotCoder, WHOLE_VIEW, schemaOf, type SnapshotRound } from './snapshot-coder.js';
 import {
   DEFAULT_STATE_SYNC_LIMITS,
   MAX_SLACK,
@@ -192,9 +188,6 @@ interface SeatInputs {
 interface Settings {
   snapshotEvery: number;
   delta: boolean;
-  /** The game's state schema when snapshots are schema-coded. */
-  schema: StateSchema | undefined;
-  maxSnapshotBytes: number;
   baseHistory: number;
   maxAheadTicks: number;
   resyncIntervalMs: number;
@@ -262,8 +255,7 @@ export class StateSyncRoom<
   private readonly config: Uint8Array;
   private readonly row: unknown[];
   private readonly rowWords: Uint32Array;
-  private readonly writer = new ByteWriter(4096);
-  private readonly bits = new BitWriter();
+  private readonly coder: SnapshotCoder;
   private ctx: RoomContext<StateSyncMember, StateSyncMessage> | undefined;
   /** The host of a room serving on its own (made at its first connection). */
   private standalone: StateSyncServer | undefined;
@@ -305,12 +297,6 @@ export class StateSyncRoom<
         1 << 16,
       ),
       delta: options.delta ?? true,
-      schema: schemaOf(game, options.codec),
-      maxSnapshotBytes: positiveInt(
-        'maxSnapshotBytes',
-        options.maxSnapshotBytes ?? 1 << 30,
-        1 << 30,
-      ),
       baseHistory: positiveInt('baseHistory', options.baseHistory ?? DEFAULT_BASE_HISTORY, 4096),
       maxAheadTicks: positiveInt(
         'maxAheadTicks',
@@ -325,6 +311,14 @@ export class StateSyncRoom<
       ),
       limits,
     };
+    this.coder = new SnapshotCoder(
+      schemaOf(game, options.codec),
+      game.tickRate,
+      options.maxSnapshotBytes === undefined
+        ? Infinity
+        : positiveInt('maxSnapshotBytes', options.maxSnapshotBytes, 1 << 30),
+      this.stats,
+    );
     if (this.words > limits.maxInputWords) {
       throw new RangeError(
         `StateSyncRoom: ${game.id} inputs have ${this.words} words, at most ${limits.maxInputWords}`,
@@ -442,8 +436,8 @@ export class StateSyncRoom<
       late: this.stats.ticks > 0,
     });
     // The first snapshot goes at once: the client can draw the world before the next snapshot tick.
-    const round = newRound();
-    this.snap(round);
+    const round = this.coder.newRound();
+    this.coder.snap(this.sim, round, this.options.view === undefined);
     this.snapshotTo(m, this.viewFor(m.slot, round), now, round);
   }
 
@@ -516,7 +510,7 @@ export class StateSyncRoom<
 
   private viewFor(slot: number, round: SnapshotRound): Uint8Array {
     const view = this.options.view;
-    const key = view ? slot : -2;
+    const key = view ? slot : WHOLE_VIEW;
     let bytes = round.views.get(key);
     if (bytes === undefined) {
       bytes = view ? view(this.sim, slot) : this.sim.save();
@@ -533,45 +527,9 @@ export class StateSyncRoom<
   private snapshotAll(now: number): void {
     // Nobody to send to: nothing to quantise (the world runs on unsnapped until someone joins).
     if (this.members().next().done === true) return;
-    const round = newRound();
-    this.snap(round);
+    const round = this.coder.newRound();
+    this.coder.snap(this.sim, round, this.options.view === undefined);
     for (const m of this.members()) this.snapshotTo(m, this.viewFor(m.slot, round), now, round);
-  }
-
-  /**
-   * Schema codec: set the world to what is sent — every quantised number to its multiple of the
-   * precision — so clients that load a snapshot start from the server's state exactly.
-   */
-  private snap(round: SnapshotRound): void {
-    const schema = this.settings.schema;
-    if (schema === undefined) return;
-    const own = this.sim.save();
-    const report: QuantiseReport = { maxError: 0, clamped: 0 };
-    const words = schema.quantise(own, report);
-    const snapped = schema.merge(own, words);
-    this.sim.load(snapped);
-    // Without a view everyone sees the whole state: what the world was set to, and its words
-    // (what a client's merge gives back) — no second save and quantise.
-    if (this.options.view === undefined) {
-      round.views.set(-2, snapped);
-      round.words.set(snapped, StateSchema.bytesOf(words));
-    }
-    if (report.maxError > this.stats.quantisationError) {
-      this.stats.quantisationError = report.maxError;
-    }
-    this.stats.clampedValues += report.clamped;
-  }
-
-  /** What is sent for a view: its bytes, or (schema codec) its schema words as bytes. */
-  private wireState(view: Uint8Array, round: SnapshotRound): Uint8Array {
-    const schema = this.settings.schema;
-    if (schema === undefined) return view;
-    let words = round.words.get(view);
-    if (words === undefined) {
-      words = StateSchema.bytesOf(schema.quantise(view));
-      round.words.set(view, words);
-    }
-    return words;
   }
 
   private snapshotTo(
@@ -581,70 +539,14 @@ export class StateSyncRoom<
     round: SnapshotRound,
   ): void {
     const tick = this.sim.tick;
-    const schema = this.settings.schema;
-    let state = this.wireState(view, round);
-    let base: Uint8Array | undefined;
     let baseTick = -1;
     if (m.needsFull) {
       if (now - m.lastFullAt < this.settings.resyncIntervalMs) return;
-    } else if (this.settings.delta && m.ack >= 0 && m.ack < tick) {
-      base = m.sent.get(m.ack);
-      if (base) baseTick = m.ack;
+    } else if (this.settings.delta && m.ack >= 0 && m.ack < tick && m.sent.get(m.ack)) {
+      baseTick = m.ack;
     }
-    let limited: Uint8Array | undefined;
-    if (schema && base && this.settings.maxSnapshotBytes < 1 << 30) {
-      // Within the member's byte budget: what it will hold is its own.
-      const l = m.priority.limit(
-        schema,
-        wordsOf(base),
-        wordsOf(state),
-        (tick - baseTick) / this.game.tickRate,
-        this.settings.maxSnapshotBytes,
-        tick,
-        baseTick,
-      );
-      if (l.deferred > 0) {
-        state = StateSchema.bytesOf(l.words);
-        limited = l.payload;
-        this.stats.deferredRows += l.deferred;
-      }
-    }
-    m.sent.put(tick, state);
-    // Members that see the same bytes and acknowledged the same base share the work.
-    let hash = round.hashes.get(state);
-    if (hash === undefined) {
-      hash = fnv1a64(state);
-      round.hashes.set(state, hash);
-    }
-    let payload = state;
-    if (limited) {
-      payload = limited;
-    } else if (base || schema) {
-      let byBase = round.deltas.get(state);
-      if (byBase === undefined) {
-        byBase = new Map();
-        round.deltas.set(state, byBase);
-      }
-      const key = base ?? NO_BASE;
-      let delta = byBase.get(key);
-      if (delta === undefined) {
-        if (schema) {
-          encodeSchemaDelta(
-            schema,
-            base && wordsOf(base),
-            wordsOf(state),
-            this.bits.reset(),
-            base ? (tick - baseTick) / this.game.tickRate : 0,
-          );
-          delta = this.bits.finish();
-        } else {
-          encodeDelta(base!, state, this.writer.reset());
-          delta = this.writer.finish();
-        }
-        byBase.set(key, delta);
-      }
-      payload = delta;
-    }
+    const coded = this.coder.code(m, view, tick, baseTick, round);
+    m.sent.put(tick, coded.state);
     const seat = m.slot >= 0 ? this.inputs[m.slot] : undefined;
     const bytes = STATE_SYNC_PROTOCOL.encode({
       type: 'snapshot',
@@ -655,15 +557,15 @@ export class StateSyncRoom<
       filled: seat?.filled ?? 0,
       late: seat?.late ?? 0,
       slack: seat ? Math.max(-MAX_SLACK, Math.min(MAX_SLACK, seat.slack)) : MAX_SLACK,
-      codec: schema ? 'schema' : 'bytes',
-      size: state.length,
-      hash,
-      payload,
+      codec: this.coder.schema ? 'schema' : 'bytes',
+      size: coded.state.length,
+      hash: coded.hash,
+      payload: coded.payload,
     });
     this.ctx!.sendBytes(m, bytes);
     if (seat) seat.slack = MAX_SLACK;
     this.stats.snapshotBytes += bytes.length;
-    if (base) {
+    if (baseTick >= 0) {
       this.stats.deltaSnapshots++;
     } else {
       this.stats.fullSnapshots++;
@@ -794,46 +696,6 @@ export class StateSyncRoom<
 }
 
 /** What one snapshot tick computes once and shares among members: views, hashes, deltas. */
-interface SnapshotRound {
-  views: Map<number, Uint8Array>;
-  /** Schema codec: by view, its words (as bytes). */
-  words: Map<Uint8Array, Uint8Array>;
-  hashes: Map<Uint8Array, bigint>;
-  /** By state, then by base: the delta's bytes. */
-  deltas: Map<Uint8Array, Map<Uint8Array, Uint8Array>>;
-}
-
-function newRound(): SnapshotRound {
-  return { views: new Map(), words: new Map(), hashes: new Map(), deltas: new Map() };
-}
-
-/** The key of a full snapshot's payload among a round's deltas. */
-const NO_BASE = new Uint8Array(0);
-
-/** Schema words stored as bytes (a view of an Int32Array), as words again. */
-function wordsOf(bytes: Uint8Array): Int32Array {
-  return new Int32Array(bytes.buffer, bytes.byteOffset, bytes.length >> 2);
-}
-
-function schemaOf(
-  game: AnyGameDefinition,
-  codec: 'schema' | 'bytes' | undefined,
-): StateSchema | undefined {
-  if (codec === 'bytes') return undefined;
-  if (codec === 'schema' && game.stateSchema === undefined) {
-    throw new RangeError(
-      `StateSyncRoom: codec 'schema' needs a game with a stateSchema; ${game.id} has none`,
-    );
-  }
-  const given: unknown = codec;
-  if (given !== undefined && given !== 'schema') {
-    throw new RangeError(
-      `StateSyncRoom: codec must be 'schema' or 'bytes', got ${typeof given === 'string' ? given : typeof given}`,
-    );
-  }
-  return game.stateSchema;
-}
-
 function randomOf(options: { randomU32?: () => number }): () => number {
   return options.randomU32 ?? (() => crypto.getRandomValues(new Uint32Array(1))[0]!);
 }
