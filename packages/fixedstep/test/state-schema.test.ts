@@ -9,6 +9,7 @@ import {
   decodeSchemaDelta,
   defineStateSchema,
   encodeSchemaDelta,
+  predictedWords,
   type StateColumn,
 } from 'fixedstep';
 
@@ -94,16 +95,21 @@ function randomBodies(rng: Random, n: number): Body[] {
   }));
 }
 
+/** `ticks` at 60 a second. */
+function at60(ticks: number): { ticks: number; tickRate: number } {
+  return { ticks, tickRate: 60 };
+}
+
 function roundTrip(
   base: Int32Array | undefined,
   next: Int32Array,
-  seconds = 0,
+  ticks = 0,
 ): { words: Int32Array; bytes: number } {
   const out = new BitWriter();
-  encodeSchemaDelta(SCHEMA, base, next, out, seconds);
+  encodeSchemaDelta(SCHEMA, base, next, out, at60(ticks));
   const bytes = out.finish();
   return {
-    words: decodeSchemaDelta(SCHEMA, base, bytes, SCHEMA.maxWords, seconds),
+    words: decodeSchemaDelta(SCHEMA, base, bytes, SCHEMA.maxWords, at60(ticks)),
     bytes: bytes.length,
   };
 }
@@ -150,6 +156,35 @@ describe('state schemas', () => {
       [
         [{ name: 'x', type: 'f64', precision: 1, min: 0, max: 1, rate: 'v' }],
         /rate must name a quantised column of its group/,
+      ],
+      [
+        [
+          { name: 'a', type: 'f64', precision: 1, min: 0, max: 9, group: 'g' },
+          { name: 'v', type: 'f64', precision: 1, min: 0, max: 9, group: 'g', rate: 'a' },
+          { name: 'x', type: 'f64', precision: 1, min: 0, max: 9, group: 'g', rate: 'v' },
+        ],
+        /column x: its rate v has a rate of its own/,
+      ],
+      [[{ name: 'x', type: 'u16', extrapolate: true }], /extrapolate is for quantised columns/],
+      [
+        [
+          { name: 'v', type: 'f64', precision: 1, min: 0, max: 9, group: 'g' },
+          {
+            name: 'x',
+            type: 'f64',
+            precision: 1,
+            min: 0,
+            max: 9,
+            group: 'g',
+            rate: 'v',
+            extrapolate: true,
+          },
+        ],
+        /extrapolate is for quantised columns without a rate/,
+      ],
+      [
+        [{ name: 'x', type: 'f64', precision: 1, min: 0, max: 9, extrapolate: 1 as never }],
+        /extrapolate must be true or false/,
       ],
     ];
     for (const [columns, message] of cases) {
@@ -281,11 +316,97 @@ describe('state schemas', () => {
       }
       const base = rng.int(5) === 0 ? undefined : SCHEMA.quantise(state(round, a));
       const next = SCHEMA.quantise(state(round + 3, b));
-      const { words, bytes } = roundTrip(base, next, 0.05);
+      const { words, bytes } = roundTrip(base, next, 3);
       expect(Array.from(words)).toEqual(Array.from(next));
       total += bytes;
     }
     expect(total).toBeGreaterThan(0);
+  });
+
+  it('predict a body under constant acceleration from both rates: a step off at most, where the base rate alone misses by several', () => {
+    // Bodies stepped as games step them (v += a·Δt, then x += v·Δt) from a base n ticks back; the
+    // snapshot brings the new velocity, so the position is predicted from both.
+    const rng = new Random(12);
+    const xAt = SCHEMA.sent.findIndex((c) => c.name === 'x');
+    let worst = 0;
+    let worstOld = 0;
+    for (let round = 0; round < 200; round++) {
+      const n = 1 + rng.int(8);
+      const bodies = randomBodies(rng, 20).map((b) => ({
+        ...b,
+        x: rng.range(-20, 20),
+        vx: rng.range(-10, 10),
+      }));
+      const accel = bodies.map(() => rng.range(-30, 30));
+      const base = SCHEMA.quantise(state(round, bodies));
+      // Start from what was sent (the server snaps its world to it).
+      const moving = bodies.map((b, i) => ({
+        ...b,
+        x: base[3 + 20 + i]! / 8,
+        vx: base[3 + 40 + i]! / 4,
+      }));
+      for (let t = 0; t < n; t++) {
+        for (const [i, b] of moving.entries()) {
+          b.vx += accel[i]! / 60;
+          b.x += b.vx / 60;
+        }
+      }
+      const next = SCHEMA.quantise(state(round + n, moving));
+      const expected = predictedWords(SCHEMA, base, next, at60(n));
+      for (let i = 0; i < 20; i++) {
+        const w = 3 + 20 + i;
+        worst = Math.max(worst, Math.abs(next[w]! - expected[w]!));
+        // The base's rate alone (what a snapshot without the new velocity could do).
+        const old = base[w]! + Math.round((base[w + 20]! * SCHEMA.sent[xAt]!.rateScale * n) / 60);
+        worstOld = Math.max(worstOld, Math.abs(next[w]! - old));
+      }
+      expect(Array.from(roundTrip(base, next, n).words)).toEqual(Array.from(next));
+    }
+    // The velocity's own rounding (1/4 u/s) moves x by up to 1/8 u/s × n/60 ≤ 1/60 u: a step of
+    // 1/8 u is the most it can be off, from the rounding of x itself.
+    expect(worst).toBeLessThanOrEqual(1);
+    expect(worstOld).toBeGreaterThanOrEqual(3);
+  });
+
+  it('extrapolate a column from the base and an older snapshot: a body in a straight line costs nothing', () => {
+    const schema = defineStateSchema({
+      columns: [
+        { name: 'n', type: 'u16', group: 'head' },
+        {
+          name: 'x',
+          type: 'f64',
+          count: { of: 'n', max: 64 },
+          group: 'b',
+          precision: 1 / 8,
+          min: -1000,
+          max: 1000,
+          extrapolate: true,
+        },
+      ],
+    });
+    const rng = new Random(21);
+    // Whole steps (1/8) a tick, each body its own.
+    const speeds = Array.from({ length: 40 }, () => rng.int(41) - 20);
+    const at = (tick: number): Int32Array => {
+      const w = new ByteWriter(8);
+      w.u16(40);
+      for (const v of speeds) w.f64((v * (tick - 100)) / 8);
+      return schema.quantise(w.finish());
+    };
+    const code = (older: boolean): { bytes: number; words: Int32Array } => {
+      const e = { ticks: 3, tickRate: 60, older: older ? at(94) : undefined, olderTicks: 6 };
+      const out = new BitWriter();
+      encodeSchemaDelta(schema, at(100), at(103), out, e);
+      const bytes = out.finish();
+      return { bytes: bytes.length, words: decodeSchemaDelta(schema, at(100), bytes, 999, e) };
+    };
+    // Positions a whole step a tick apart: with the older snapshot each row is where the line goes.
+    const withOlder = code(true);
+    const without = code(false);
+    expect(Array.from(withOlder.words)).toEqual(Array.from(at(103)));
+    expect(Array.from(without.words)).toEqual(Array.from(at(103)));
+    expect(withOlder.bytes).toBeLessThanOrEqual(2);
+    expect(without.bytes).toBeGreaterThan(20);
   });
 
   it('cost a bit per group for an unchanged state, and little for one moved body of many', () => {
@@ -302,7 +423,7 @@ describe('state schemas', () => {
       const x = 3 + 64 + i; // after the head (3 words) and the flags (64)
       moved[x] = moved[x]! + Math.round(moved[x + 64]! * scale * 0.5);
     }
-    expect(roundTrip(words, moved, 0.5).bytes).toBe(1);
+    expect(roundTrip(words, moved, 30).bytes).toBe(1);
     // One body of 64 changes its flag: gaps, not a 64-bit bitmap.
     const one = words.slice();
     one[3 + 40] = (one[3 + 40]! + 1) % 3;
@@ -386,7 +507,7 @@ describe('a byte budget with a priority accumulator', () => {
         SCHEMA,
         held,
         next,
-        held ? (tick - heldTick) / 60 : 0,
+        at60(held ? tick - heldTick : 0),
         BUDGET,
         tick,
         heldTick,
@@ -397,7 +518,7 @@ describe('a byte budget with a priority accumulator', () => {
         held,
         l.payload,
         SCHEMA.maxWords,
-        held ? (tick - heldTick) / 60 : 0,
+        at60(held ? tick - heldTick : 0),
       );
       expect(Array.from(decoded)).toEqual(Array.from(l.words));
       if (held) sizes.push(l.payload.length);

@@ -217,6 +217,7 @@ describe('the server is the authority', () => {
       type: 'snapshot',
       tick: 1,
       base: -1,
+      older: -1,
       sendDelayUs: 0,
       inputAck: 1,
       filled: 0,

@@ -109,7 +109,12 @@ export {
   JOSTLE_MAX_SPEED,
   jostleGame,
 } from './scenes/jostle.js';
-export { StirredPile, STIRRED_PILE_SCHEMA, stirredPileGame } from './scenes/stirred-pile.js';
+export {
+  StirredPile,
+  STIRRED_PILE_SCHEMA,
+  STIRRED_PILE_POSITIONS_SCHEMA,
+  stirredPileGame,
+} from './scenes/stirred-pile.js';
 export {
   Gallery,
   GALLERY_INPUT,

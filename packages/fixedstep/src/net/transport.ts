@@ -242,9 +242,9 @@ export class SimulatedLink {
     }
   }
 
-  /** @internal Whether the direction out of `side` is ordered and lossless. */
+  /** @internal Whether the direction out of `side` is a stream: ordered, and lossless or retransmitting. */
   isReliable(side: 0 | 1): boolean {
-    return this.ordered && this.conditions[side].loss === 0;
+    return this.ordered && (this.retransmit || this.conditions[side].loss === 0);
   }
 
   /** @internal */

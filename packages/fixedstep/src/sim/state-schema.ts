@@ -70,11 +70,21 @@ export interface StateColumn {
   local?: boolean | 'zero';
   /**
    * A quantised column only: the name of a quantised column of the same group that is this one's
-   * rate of change per second (a position's velocity). The codec then sends the difference from
-   * `base + rate × elapsed time` rather than from `base`: a body that kept its velocity costs
-   * nothing. Default none.
+   * rate of change per second (a position's velocity; it may not have a rate itself). The codec
+   * then sends the difference from a prediction rather than from the base: over `n` ticks of `Δt`,
+   * `base + Δt × (baseRate × (n − 1) + rate × (n + 1)) / 2`, with `rate` the value this snapshot
+   * brings — exact for a body under constant acceleration stepped as games step (velocity first,
+   * then position: semi-implicit Euler), and over one tick simply `base + rate × Δt`. A body that
+   * kept its velocity costs nothing. Default none.
    */
   rate?: string;
+  /**
+   * A quantised column without a `rate` only: predicted from the two snapshots before this one
+   * that both ends hold — `b1 + (b1 − b2) × n1 / n2` (`n1` ticks from `b1` to this snapshot, `n2`
+   * from `b2` to `b1`): a position whose velocity is not sent, as Glenn Fiedler's cubes are sent.
+   * Default false.
+   */
+  extrapolate?: boolean;
 }
 
 /** What {@link defineStateSchema} takes. */
@@ -90,6 +100,12 @@ export interface StateGroup {
   readonly count: number | { column: number; times: number; max: number };
   /** Indices into {@link StateSchema.sent}, in order. */
   readonly columns: readonly number[];
+  /**
+   * The same columns in the order the codec codes them: those without a rate first, then those
+   * with one — so a position is predicted from the velocity the snapshot brings, not only the
+   * base's.
+   */
+  readonly codeOrder: readonly number[];
 }
 
 /** A sent column as the codec walks it. */
@@ -99,10 +115,12 @@ export interface SentColumn {
   readonly lanes: number;
   /** Its group's index in {@link StateSchema.groups}. */
   readonly group: number;
-  /** The sent column that is its rate of change per second, or -1. */
+  /** The sent column that is its rate of change per second, or -1 (it has no rate of its own). */
   readonly rate: number;
   /** Its rate column's precision ÷ its own: rate words × this × seconds = its words. */
   readonly rateScale: number;
+  /** Predicted from the two snapshots before (see {@link StateColumn.extrapolate}). */
+  readonly extrapolate: boolean;
 }
 
 /** Where a byte of a state is: see {@link StateSchema.locate}. */
@@ -162,6 +180,8 @@ interface Column {
   readonly qmin: number;
   readonly qmax: number;
   readonly away: boolean;
+  /** Predicted from the two snapshots before (see {@link StateColumn.extrapolate}). */
+  readonly extrapolate: boolean;
 }
 
 /** A checked {@link StateSchemaDefinition}: the layout, and quantising and merging of states. */
@@ -253,6 +273,13 @@ export class StateSchema {
       } else if (c.min !== undefined || c.max !== undefined || c.rounding !== undefined) {
         bad(`${at}: min, max and rounding go with precision`);
       }
+      const extrapolate: unknown = c.extrapolate;
+      if (extrapolate !== undefined && typeof extrapolate !== 'boolean') {
+        bad(`${at}: extrapolate must be true or false`);
+      }
+      if (extrapolate === true && (precision === 0 || c.rate !== undefined)) {
+        bad(`${at}: extrapolate is for quantised columns without a rate`);
+      }
       const rounding: unknown = c.rounding;
       if (rounding !== undefined && rounding !== 'nearest' && rounding !== 'away') {
         bad(`${at}: rounding must be 'nearest' or 'away'`);
@@ -273,6 +300,7 @@ export class StateSchema {
         qmin,
         qmax,
         away: c.rounding === 'away',
+        extrapolate: extrapolate === true,
       });
     }
     // Groups of sent columns, in order of first appearance; a group is all sent or all local.
@@ -314,6 +342,7 @@ export class StateSchema {
           group: gi,
           rate: -1,
           rateScale: 0,
+          extrapolate: c.extrapolate === true,
         });
       }
     }
@@ -326,6 +355,10 @@ export class StateSchema {
       if (own.precision === 0) bad(`column ${c.name}: rate is for quantised columns`);
       if (rc === undefined || rc.precision === 0 || rc.local || groupOf[ri!] !== groupOf[i]) {
         bad(`column ${c.name}: rate must name a quantised column of its group, got "${c.rate}"`);
+      }
+      // One level: the codec codes rates before the columns that move by them.
+      if ((list as StateColumn[])[ri!]!.rate !== undefined) {
+        bad(`column ${c.name}: its rate ${c.rate} has a rate of its own (one level only)`);
       }
       sent[own.sent] = {
         ...sent[own.sent]!,
@@ -353,10 +386,15 @@ export class StateSchema {
       }
       const n = typeof count === 'number' ? count : count.max * count.times;
       for (const ci of cols) maxWords += n * sent[patched[ci]!.sent]!.lanes;
+      const columns = cols.map((ci) => patched[ci]!.sent);
       groups.push({
         name: [...groupIndex.keys()][gi]!,
         count,
-        columns: cols.map((ci) => patched[ci]!.sent),
+        columns,
+        codeOrder: [
+          ...columns.filter((s) => sent[s]!.rate < 0),
+          ...columns.filter((s) => sent[s]!.rate >= 0),
+        ],
       });
     }
     if (maxWords > MAX_COUNT * 4)

@@ -85,14 +85,26 @@ export class StirredPile implements Simulation {
   }
 }
 
-/** The scene's state schema: the world's snapshot, positions to 1/512 m, velocities to 1/64 m/s. */
+/** The scene's state schema: the world's snapshot, positions to 1/512 m, velocities to 1/16 m/s. */
 export const STIRRED_PILE_SCHEMA = defineStateSchema({
   columns: worldStateColumns({ position: 1 / 512, velocity: 1 / 16, extent: 64, maxSpeed: 64 }),
 });
 
-/** The stirred pile of `bodies` bodies as a game (1 to 4 players; inputs change nothing). */
+/**
+ * The same, positions only (Glenn Fiedler's choice for his cubes): velocities stay with each
+ * side, positions are predicted from the two snapshots before.
+ */
+export const STIRRED_PILE_POSITIONS_SCHEMA = defineStateSchema({
+  columns: worldStateColumns({ position: 1 / 512, extent: 64, velocities: 'local' }),
+});
+
+/**
+ * The stirred pile of `bodies` bodies as a game (1 to 4 players; inputs change nothing), its
+ * velocities sent (default) or kept by each side (`'local'`, {@link STIRRED_PILE_POSITIONS_SCHEMA}).
+ */
 export function stirredPileGame(
   bodies: number,
+  velocities: 'sent' | 'local' = 'sent',
 ): Readonly<GameDefinition<ButtonInput, StirredPile>> {
   if (!Number.isInteger(bodies) || bodies < 1 || bodies > 4000) {
     throw new RangeError(
@@ -111,6 +123,6 @@ export function stirredPileGame(
       const o = setup.options;
       return new StirredPile(o.length === 2 ? o[0]! | (o[1]! << 8) : bodies, setup.seed);
     },
-    stateSchema: STIRRED_PILE_SCHEMA,
+    stateSchema: velocities === 'local' ? STIRRED_PILE_POSITIONS_SCHEMA : STIRRED_PILE_SCHEMA,
   });
 }

@@ -6,7 +6,7 @@
 import type { Clock } from '../../time/drivers.js';
 import { type GameCatalog, type TicketVerifier } from '../room/game-join.js';
 import { GameRoomHost } from '../room/game-host.js';
-import type { ConnectionInfo, HostEvent, HostStats } from '../room/host-types.js';
+import type { HostEvent, HostStats } from '../room/host-types.js';
 import type { RoomHostOptions } from '../room/options.js';
 import type { MemberInit } from '../room/room.js';
 import type { LeaveReason } from '../wire/common.js';
@@ -250,8 +250,8 @@ export class Relay extends GameRoomHost<RelayMember, RelayRoom, NetMessage, Rela
     return this.relay.limits;
   }
 
-  protected createMember(init: MemberInit, info: ConnectionInfo): RelayMember {
-    return new RelayMember(init, info.reliable ?? init.transport.reliable === true);
+  protected createMember(init: MemberInit): RelayMember {
+    return new RelayMember(init);
   }
 
   protected onJoinMessage(m: RelayMember, message: NetMessage, now: number): boolean {

@@ -62,11 +62,7 @@ export class RelayMember extends Member {
   /** It knows the match has started (it sent an input, or acked a tick past its start). */
   started = false;
 
-  constructor(
-    init: MemberInit,
-    /** Its transport delivers in order or closes: each confirmed tick goes once. */
-    readonly reliable: boolean,
-  ) {
+  constructor(init: MemberInit) {
     super(init);
     this.ackMovedAt = init.openedAt;
   }

@@ -150,6 +150,7 @@ export abstract class RoomHost<
         bucket,
         openedAt: now,
         heardAt: live,
+        reliable: info.reliable ?? transport.reliable === true,
       },
       info,
     );

@@ -30,6 +30,8 @@ export interface MemberInit {
   openedAt: number;
   /** When it connected, on the host's responsive clock (liveness and its join deadline). */
   heardAt: number;
+  /** Its transport delivers every message in order or closes (see `ConnectionInfo.reliable`). */
+  reliable: boolean;
 }
 
 /** One connection to a host, and its place in a room once it has one. */
@@ -65,6 +67,11 @@ export class Member {
   readonly bucket: TokenBucket;
   /** Server time it connected (ms). */
   readonly openedAt: number;
+  /**
+   * Its transport delivers every message in order or closes (a WebSocket): what was sent to it
+   * arrives, so nothing needs repeating and what it holds is known without its acknowledgement.
+   */
+  readonly reliable: boolean;
 
   constructor(init: MemberInit) {
     this.id = init.id;
@@ -73,6 +80,7 @@ export class Member {
     this.urlRoom = init.urlRoom;
     this.bucket = init.bucket;
     this.openedAt = init.openedAt;
+    this.reliable = init.reliable;
     this.heardAt = init.heardAt;
     this.probedAt = init.heardAt;
     this.acceptedAt = init.heardAt;

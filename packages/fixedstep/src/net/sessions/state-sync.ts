@@ -610,14 +610,27 @@ export class StateSyncSession<I, S extends Simulation<I>> {
           return;
         }
       }
+      let older: Uint8Array | undefined;
+      if (m.older >= 0) {
+        older = this.wordBases.get(m.older);
+        if (older === undefined) {
+          this.badSnapshot(m, 'no-base', `no snapshot of tick ${m.older} here to extrapolate from`);
+          return;
+        }
+      }
       let decoded: Int32Array;
       try {
         decoded = decodeSchemaDelta(
           schema,
-          base && new Int32Array(base.buffer, base.byteOffset, base.length >> 2),
+          base && wordsOf(base),
           m.payload,
           Math.min(schema.maxWords, m.size >> 2),
-          base ? (m.tick - m.base) / w.tickRate : 0,
+          {
+            ticks: base ? m.tick - m.base : 0,
+            tickRate: w.tickRate,
+            older: older && wordsOf(older),
+            olderTicks: older ? m.base - m.older : 0,
+          },
         );
       } catch (e) {
         if (!(e instanceof ProtocolError)) throw e;
@@ -748,4 +761,9 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.life.error(new SessionError('BAD_WELCOME', message));
     this.transport.close(message);
   }
+}
+
+/** Schema words stored as bytes, as words again. */
+function wordsOf(bytes: Uint8Array): Int32Array {
+  return new Int32Array(bytes.buffer, bytes.byteOffset, bytes.length >> 2);
 }

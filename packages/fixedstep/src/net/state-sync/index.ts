@@ -35,6 +35,7 @@ export {
   predictedWords,
   BitWriter,
   BitReader,
+  type Elapsed,
 } from './schema-codec.js';
 export {
   StateSyncRoom,

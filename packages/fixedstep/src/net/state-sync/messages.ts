@@ -25,7 +25,7 @@ import { bytes, oneOf, time, u32, u64, uint, type Field } from '../wire/fields.j
 import { defineProtocol } from '../wire/protocol.js';
 
 /** The state-sync protocol's version (byte 0 of every message is 0x80 | this). */
-export const STATE_SYNC_VERSION = 3;
+export const STATE_SYNC_VERSION = 4;
 
 /** Size bounds the decoder enforces before it allocates anything. */
 export interface StateSyncLimits {
@@ -154,6 +154,11 @@ export interface StateSnapshotMessage {
   /** The base snapshot's tick for a delta (older than `tick`); -1: a full snapshot. */
   base: number;
   /**
+   * A snapshot older than `base` that the client holds too (schema codec: columns that
+   * `extrapolate` are predicted from it and the base); -1: none.
+   */
+  older: number;
+  /**
    * When it was sent, in whole microseconds after the tick's time `startAt + tick × step` on the
    * server clock (the server steps a tick when its time has come, then sends at once).
    */
@@ -274,6 +279,7 @@ export const STATE_SYNC_PROTOCOL = defineProtocol<StateSyncMessage, StateSyncLim
       fields: {
         tick: uint(),
         base: tickBefore(),
+        older: tickBefore(),
         sendDelayUs: uint(),
         inputAck: uint({ base: (m) => m.tick as number }),
         filled: uint(),
@@ -286,11 +292,13 @@ export const STATE_SYNC_PROTOCOL = defineProtocol<StateSyncMessage, StateSyncLim
         payload: bytes({ max: (l) => l.maxStateBytes! + 16 }),
       },
       check: (m) =>
-        m.codec === 'bytes' && m.base < 0 && m.payload.length !== m.size
-          ? ['payload', `a full snapshot of ${m.payload.length} bytes says ${m.size}`]
-          : m.codec === 'schema' && m.size % 4 !== 0
-            ? ['size', `${m.size} bytes of schema words is not a whole number of words`]
-            : undefined,
+        m.older >= 0 && !(m.older < m.base)
+          ? ['older', `${m.older} is not a tick before the base ${m.base}`]
+          : m.codec === 'bytes' && m.base < 0 && m.payload.length !== m.size
+            ? ['payload', `a full snapshot of ${m.payload.length} bytes says ${m.size}`]
+            : m.codec === 'schema' && m.size % 4 !== 0
+              ? ['size', `${m.size} bytes of schema words is not a whole number of words`]
+              : undefined,
     },
     pong: { code: 0x13, from: 'server', fields: PONG_FIELDS },
     error: { code: 0x14, from: 'server', fields: ERROR_FIELDS },

@@ -16,7 +16,13 @@
  * @module
  */
 import type { StateSchema } from '../../sim/state-schema.js';
-import { BitWriter, encodeSchemaDelta, predictedWords, starts } from './schema-codec.js';
+import {
+  BitWriter,
+  encodeSchemaDelta,
+  predictedWords,
+  starts,
+  type Elapsed,
+} from './schema-codec.js';
 
 /** What {@link PriorityAccumulator.limit} decided. */
 export interface Limited {
@@ -46,13 +52,13 @@ export class PriorityAccumulator {
     schema: StateSchema,
     base: Int32Array | undefined,
     next: Int32Array,
-    seconds: number,
+    elapsed: Elapsed,
     budget: number,
     tick: number,
     baseTick: number,
   ): Limited {
     const encode = (words: Int32Array): Uint8Array => {
-      encodeSchemaDelta(schema, base, words, this.bits.reset(), seconds);
+      encodeSchemaDelta(schema, base, words, this.bits.reset(), elapsed);
       return this.bits.finish();
     };
     const whole = encode(next);
@@ -67,7 +73,18 @@ export class PriorityAccumulator {
     for (let g = 1; g < schema.groups.length; g++) if (n.rows[g]! > n.rows[gi]!) gi = g;
     const group = schema.groups[gi]!;
     const rows = n.rows[gi]!;
-    const expected = predictedWords(schema, base, next, seconds);
+    // What the client holds of a row left out: the base moved by the base's rates (the row brings
+    // no new rate) — `next` with every rate column (a column others move by) as in the base.
+    const rateColumns = new Set<number>();
+    for (const s of group.columns)
+      if (schema.sent[s]!.rate >= 0) rateColumns.add(schema.sent[s]!.rate);
+    const b = starts(schema, base);
+    const baseRates = next.slice();
+    for (const s of rateColumns) {
+      const kept = Math.min(rows, b.rows[gi]!);
+      baseRates.set(base.subarray(b.col[s]!, b.col[s]! + kept), n.col[s]!);
+    }
+    const expected = predictedWords(schema, base, baseRates, elapsed);
     if (this.waited.length !== rows) {
       this.waited = new Float64Array(rows);
       this.sentAt = new Float64Array(rows).fill(-1);

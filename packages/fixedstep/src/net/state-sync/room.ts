@@ -47,6 +47,11 @@ export const DEFAULT_RESYNC_INTERVAL_MS = 250;
 export const DEFAULT_MAX_CATCH_UP_TICKS = 8;
 /** Ticks of inputs a seat keeps ahead of the room. */
 const PENDING_TICKS = 256;
+/**
+ * How many snapshot intervals back the older snapshot of a delta may be: half a session's default
+ * history of bases (64), so the client still holds it.
+ */
+const OLDER_REACH = 32;
 
 /**
  * Options of a {@link StateSyncRoom}. The room core's options (rates, caps, liveness) apply when
@@ -160,8 +165,14 @@ export interface StateSyncRoomStats {
 export class StateSyncMember extends Member {
   /** Newest snapshot tick the member acknowledged (-1: none). */
   ack = -1;
+  /** The acknowledgement before `ack` (-1: none). */
+  ackBefore = -1;
   /** The snapshots sent to it, by tick (its delta bases; sized by its room when welcomed). */
   sent = new SnapshotRing(1);
+  /** The tick of the last snapshot sent to it (-1: none since it last needed a full one). */
+  lastSent = -1;
+  /** The one sent before `lastSent` (-1: none since the last full one). */
+  sentBefore = -1;
   needsFull = true;
   lastFullAt = -Infinity;
   /** Its rows' priorities under a byte budget. */
@@ -256,6 +267,8 @@ export class StateSyncRoom<
   private readonly row: unknown[];
   private readonly rowWords: Uint32Array;
   private readonly coder: SnapshotCoder;
+  /** The schema has columns that extrapolate: deltas name an older snapshot too. */
+  private readonly extrapolates: boolean;
   private ctx: RoomContext<StateSyncMember, StateSyncMessage> | undefined;
   /** The host of a room serving on its own (made at its first connection). */
   private standalone: StateSyncServer | undefined;
@@ -319,6 +332,7 @@ export class StateSyncRoom<
         : positiveInt('maxSnapshotBytes', options.maxSnapshotBytes, 1 << 30),
       this.stats,
     );
+    this.extrapolates = this.coder.extrapolates;
     if (this.words > limits.maxInputWords) {
       throw new RangeError(
         `StateSyncRoom: ${game.id} inputs have ${this.words} words, at most ${limits.maxInputWords}`,
@@ -540,18 +554,40 @@ export class StateSyncRoom<
   ): void {
     const tick = this.sim.tick;
     let baseTick = -1;
+    let olderTick = -1;
     if (m.needsFull) {
       if (now - m.lastFullAt < this.settings.resyncIntervalMs) return;
-    } else if (this.settings.delta && m.ack >= 0 && m.ack < tick && m.sent.get(m.ack)) {
-      baseTick = m.ack;
+    } else if (this.settings.delta) {
+      // Over a reliable transport (a WebSocket) what was sent arrives, in order: the last snapshot
+      // is the client's base as soon as it is sent — a delta over one snapshot interval, not a
+      // round trip's worth (Colyseus patches the same way). Otherwise the acknowledged one.
+      const base = m.reliable ? m.lastSent : m.ack;
+      if (base >= 0 && base < tick && m.sent.get(base)) {
+        baseTick = base;
+        // Columns that extrapolate need one more the client holds: the one sent (or acknowledged)
+        // before, while it is young enough to be in the client's history.
+        const older = m.reliable ? m.sentBefore : m.ackBefore;
+        if (
+          this.extrapolates &&
+          older >= 0 &&
+          older < base &&
+          tick - older <= OLDER_REACH * this.settings.snapshotEvery &&
+          m.sent.get(older)
+        ) {
+          olderTick = older;
+        }
+      }
     }
-    const coded = this.coder.code(m, view, tick, baseTick, round);
+    const coded = this.coder.code(m, view, tick, baseTick, olderTick, round);
     m.sent.put(tick, coded.state);
+    m.sentBefore = baseTick >= 0 ? m.lastSent : -1;
+    m.lastSent = tick;
     const seat = m.slot >= 0 ? this.inputs[m.slot] : undefined;
     const bytes = STATE_SYNC_PROTOCOL.encode({
       type: 'snapshot',
       tick,
       base: baseTick,
+      older: olderTick,
       sendDelayUs: Math.max(0, Math.round((now - (this.startAt + tick * this.tickMs)) * 1000)),
       inputAck: seat ? this.inputAck(seat) : tick,
       filled: seat?.filled ?? 0,
@@ -606,6 +642,7 @@ export class StateSyncRoom<
         this.stats.resyncs++;
         m.needsFull = true;
         m.ack = -1;
+        m.ackBefore = -1;
         break;
       case 'leave':
         this.ctx!.leave(m);
@@ -691,7 +728,10 @@ export class StateSyncRoom<
       this.ctx!.strike(m, 'TICK_WINDOW', `ack of tick ${ack}, the room is at ${this.sim.tick}`);
       return;
     }
-    if (ack > m.ack) m.ack = ack;
+    if (ack > m.ack) {
+      m.ackBefore = m.ack;
+      m.ack = ack;
+    }
   }
 }
 

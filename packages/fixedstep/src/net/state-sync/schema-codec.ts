@@ -12,10 +12,11 @@
  *                                           EG_k(zigzag(next − base)), or a flag bit and, when set,
  *                                           EG_k(zigzag(next − base) − 1)
  *
- * where `base` is the acknowledged snapshot's word (0 for a row it did not have, or without a base:
- * a full snapshot is a delta against nothing) — moved by its rate for a column that has one
- * (`base + round(rate × scale × seconds since the base)`) and the encoder picks, for every choice, the cheaper
- * by counting bits. Exp-Golomb with a per-lane order chosen from the data is the entropy coder: it
+ * where `base` is the base snapshot's word (0 for a row it did not have, or without a base: a full
+ * snapshot is a delta against nothing) — for a column that has a rate, moved by it: over `n` ticks,
+ * `base + round(scale × (baseRate × (n − 1) + rate × (n + 1)) / (2 × tickRate))`, where `rate` is
+ * the value this snapshot brings (a group's columns without a rate are coded first, see
+ * `StateGroup.codeOrder`) — and the encoder picks, for every choice, the cheaper by counting bits. Exp-Golomb with a per-lane order chosen from the data is the entropy coder: it
  * costs 6 bits a lane and adapts to how far that field moved since the base. A value that did not
  * change costs nothing beyond its row's bit, or its lane's.
  *
@@ -168,11 +169,42 @@ const K_BITS = 5;
 const MAX_K = 31;
 
 /**
- * A word moved by its rate: `was + round(rate × scale × seconds)`, in 32-bit arithmetic. The same
- * IEEE products and `Math.round` in every engine, so both ends predict alike.
+ * How far a snapshot is from its base — whole ticks, and the game's ticks a second — and, for
+ * columns that `extrapolate`, the snapshot before the base that both ends hold.
  */
-function predict(was: number, rate: number, scale: number, seconds: number): number {
-  return (was + Math.round(rate * scale * seconds)) | 0;
+export interface Elapsed {
+  readonly ticks: number;
+  readonly tickRate: number;
+  /** The words of a snapshot older than the base (none: extrapolating columns keep the base's). */
+  readonly older?: Int32Array;
+  /** Ticks from `older` to the base (> 0 with `older`). */
+  readonly olderTicks?: number;
+}
+
+/** No base (a full snapshot): nothing elapsed. */
+const NO_TIME: Elapsed = { ticks: 0, tickRate: 1 };
+
+/**
+ * A word moved over `e` by its rate, from `was` at the base with rate `r0` to the snapshot with
+ * rate `rn`: `was + round(scale × (r0 × (n − 1) + rn × (n + 1)) / (2 × tickRate))` — where a body
+ * stepped `v += a·Δt; x += v·Δt` under a constant `a` is after `n` ticks. In 32-bit arithmetic,
+ * the same IEEE operations in the same order and `Math.round` in every engine, so both ends
+ * predict alike.
+ */
+function predict(was: number, r0: number, rn: number, scale: number, e: Elapsed): number {
+  const n = e.ticks;
+  if (n <= 0) return was;
+  return (was + Math.round((scale * (r0 * (n - 1) + rn * (n + 1))) / (2 * e.tickRate))) | 0;
+}
+
+/**
+ * A word at the base (`b1`) and at the older snapshot (`b2`) carried on in a straight line:
+ * `b1 + round((b1 − b2) × n1 / n2)`, in 32-bit arithmetic (the same in every engine).
+ */
+function extrapolate(b1: number, b2: number, e: Elapsed): number {
+  const n2 = e.olderTicks!;
+  if (!(n2 > 0) || e.ticks <= 0) return b1;
+  return (b1 + Math.round(((b1 - b2) * e.ticks) / n2)) | 0;
 }
 
 /** zigzag of a 32-bit difference, as an unsigned number. */
@@ -224,10 +256,10 @@ export function encodeSchemaDelta(
   base: Int32Array | undefined,
   next: Int32Array,
   out: BitWriter,
-  seconds = 0,
+  elapsed: Elapsed = NO_TIME,
 ): void {
   const n = starts(schema, next);
-  const expected = predictInto(schema, base, next, seconds, scratchWords(next.length));
+  const expected = predictInto(schema, base, next, elapsed, scratchWords(next.length));
   for (const [gi, g] of schema.groups.entries()) {
     const count = n.rows[gi]!;
     grow(count);
@@ -248,7 +280,7 @@ export function encodeSchemaDelta(
     out.bit(changed > 0);
     if (changed === 0) continue;
     if (count > 1) writeRows(out, rows, changed, count);
-    for (const s of g.columns) {
+    for (const s of g.codeOrder) {
       const lanes = schema.sent[s]!.lanes;
       const start = n.col[s]!;
       for (let l = 0; l < lanes; l++) {
@@ -269,27 +301,29 @@ export function encodeSchemaDelta(
 }
 
 /**
- * What a decoder starts from, word for word in `next`'s layout: `base`'s words (0 for rows it did
- * not have), moved by their rates over `seconds`. A row whose words equal these costs nothing.
+ * What a decoder predicts, word for word in `next`'s layout: `base`'s words (0 for rows it did
+ * not have), the columns with a rate moved by it — the base's and `next`'s (a rate is decoded
+ * before what it moves). A row whose words equal these costs nothing.
  */
 export function predictedWords(
   schema: StateSchema,
   base: Int32Array | undefined,
   next: Int32Array,
-  seconds: number,
+  elapsed: Elapsed,
 ): Int32Array {
-  return predictInto(schema, base, next, seconds, new Int32Array(next.length));
+  return predictInto(schema, base, next, elapsed, new Int32Array(next.length));
 }
 
 function predictInto(
   schema: StateSchema,
   base: Int32Array | undefined,
   next: Int32Array,
-  seconds: number,
+  elapsed: Elapsed,
   expected: Int32Array,
 ): Int32Array {
   const b = starts(schema, base);
   const n = starts(schema, next);
+  const o = elapsed.older && starts(schema, elapsed.older);
   for (const [gi, g] of schema.groups.entries()) {
     const rows = Math.min(n.rows[gi]!, b.rows[gi]!);
     for (const s of g.columns) {
@@ -301,9 +335,22 @@ function predictInto(
       if (kept > 0) expected.set(base!.subarray(from, from + kept), to);
       expected.fill(0, to + kept, to + words);
       if (col.rate >= 0) {
-        const rate = b.col[col.rate]!;
+        const was = b.col[col.rate]!;
+        const now = n.col[col.rate]!;
         for (let r = 0; r < rows; r++) {
-          expected[to + r] = predict(expected[to + r]!, base![rate + r]!, col.rateScale, seconds);
+          expected[to + r] = predict(
+            expected[to + r]!,
+            base![was + r]!,
+            next[now + r]!,
+            col.rateScale,
+            elapsed,
+          );
+        }
+      } else if (col.extrapolate && o) {
+        const from = o.col[s]!;
+        const both = Math.min(rows, o.rows[gi]!);
+        for (let r = 0; r < both; r++) {
+          expected[to + r] = extrapolate(expected[to + r]!, elapsed.older![from + r]!, elapsed);
         }
       }
     }
@@ -415,9 +462,10 @@ export function decodeSchemaDelta(
   base: Int32Array | undefined,
   payload: Uint8Array,
   maxWords: number,
-  seconds = 0,
+  elapsed: Elapsed = NO_TIME,
 ): Int32Array {
   const b = starts(schema, base);
+  const o = elapsed.older && starts(schema, elapsed.older);
   const r = new BitReader(payload);
   // Counts come first in their own (earlier) groups: decode group by group into a growing vector.
   let words = new Int32Array(Math.min(maxWords, 1024));
@@ -456,21 +504,35 @@ export function decodeSchemaDelta(
       words.fill(0, used + copy, used + count * lanes);
       used += count * lanes;
     }
-    // Move the base's rows by their rates (the rate columns still hold the base's values).
-    for (const s of g.columns) {
+    const kept = Math.min(count, baseCount);
+    const changed = r.bit() ? changedRows(r, count) : NO_ROWS;
+    for (const s of g.codeOrder) {
       const c = schema.sent[s]!;
-      if (c.rate < 0) continue;
-      const rows = Math.min(count, baseCount);
-      for (let row = 0; row < rows; row++) {
-        const at = col[s]! + row;
-        words[at] = predict(words[at]!, words[col[c.rate]! + row]!, c.rateScale, seconds);
+      // Move the base's rows by their rates: the base's, and the snapshot's (decoded already).
+      if (c.rate >= 0) {
+        const was = b.col[c.rate]!;
+        const now = col[c.rate]!;
+        for (let row = 0; row < kept; row++) {
+          const at = col[s]! + row;
+          words[at] = predict(
+            words[at]!,
+            base![was + row]!,
+            words[now + row]!,
+            c.rateScale,
+            elapsed,
+          );
+        }
+      } else if (c.extrapolate && o) {
+        const from = o.col[s]!;
+        const both = Math.min(kept, o.rows[gi]!);
+        for (let row = 0; row < both; row++) {
+          const at = col[s]! + row;
+          words[at] = extrapolate(words[at]!, elapsed.older![from + row]!, elapsed);
+        }
       }
-    }
-    if (!r.bit()) continue;
-    // Which rows changed.
-    const rows = changedRows(r, count);
-    for (const s of g.columns) {
-      const lanes = schema.sent[s]!.lanes;
+      if (changed.length === 0) continue;
+      const rows = changed;
+      const lanes = c.lanes;
       for (let l = 0; l < lanes; l++) {
         if (!r.bit()) continue;
         const flagged = r.bit();
@@ -492,6 +554,8 @@ export function decodeSchemaDelta(
   if (r.remaining >= 8) fail('BAD_VALUE', `${r.remaining >> 3} bytes after the schema delta`, 0);
   return words.length === used ? words : words.slice(0, used);
 }
+
+const NO_ROWS: readonly number[] = [];
 
 function changedRows(r: BitReader, count: number): number[] {
   if (count === 1) return [0];

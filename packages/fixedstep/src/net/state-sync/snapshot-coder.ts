@@ -14,7 +14,7 @@ import { StateSchema, type QuantiseReport } from '../../sim/state-schema.js';
 import type { SnapshotRing } from '../history.js';
 import { encodeDelta } from './delta.js';
 import type { PriorityAccumulator } from './priority.js';
-import { BitWriter, encodeSchemaDelta } from './schema-codec.js';
+import { BitWriter, encodeSchemaDelta, type Elapsed } from './schema-codec.js';
 
 /** What one snapshot tick computes once and shares among members: views, words, hashes, deltas. */
 export interface SnapshotRound {
@@ -23,8 +23,8 @@ export interface SnapshotRound {
   /** Schema codec: by view, its words (as bytes). */
   words: Map<Uint8Array, Uint8Array>;
   hashes: Map<Uint8Array, bigint>;
-  /** By state, then by base: the delta's bytes. */
-  deltas: Map<Uint8Array, Map<Uint8Array, Uint8Array>>;
+  /** By state, then by base, then by the older snapshot: the delta's bytes. */
+  deltas: Map<Uint8Array, Map<Uint8Array, Map<Uint8Array, Uint8Array>>>;
 }
 
 /** The view key of the whole state (no `view` function). */
@@ -89,21 +89,33 @@ export class SnapshotCoder {
     this.stats.clampedValues += report.clamped;
   }
 
+  /** Whether the schema has columns that `extrapolate` (then a delta wants an older snapshot too). */
+  get extrapolates(): boolean {
+    return this.schema?.sent.some((c) => c.extrapolate) === true;
+  }
+
   /**
    * What member `m` is sent for `view` at `tick` against its base of `baseTick` (none: a whole
-   * snapshot), and what it will hold.
+   * snapshot) and the older snapshot of `olderTick` (-1: none), and what it will hold.
    */
   code(
     m: { priority: PriorityAccumulator; sent: SnapshotRing },
     view: Uint8Array,
     tick: number,
     baseTick: number,
+    olderTick: number,
     round: SnapshotRound,
   ): CodedSnapshot {
     const schema = this.schema;
     const base = baseTick >= 0 ? m.sent.get(baseTick) : undefined;
+    const older = base && olderTick >= 0 ? m.sent.get(olderTick) : undefined;
     let state = this.wire(view, round);
-    const seconds = base ? (tick - baseTick) / this.tickRate : 0;
+    const elapsed: Elapsed = {
+      ticks: base ? tick - baseTick : 0,
+      tickRate: this.tickRate,
+      older: older && wordsOf(older),
+      olderTicks: older ? baseTick - olderTick : 0,
+    };
     let payload: Uint8Array | undefined;
     let deferred = 0;
     if (schema && base && this.maxSnapshotBytes !== Infinity) {
@@ -112,7 +124,7 @@ export class SnapshotCoder {
         schema,
         wordsOf(base),
         wordsOf(state),
-        seconds,
+        elapsed,
         this.maxSnapshotBytes,
         tick,
         baseTick,
@@ -130,7 +142,7 @@ export class SnapshotCoder {
       hash = fnv1a64(state);
       round.hashes.set(state, hash);
     }
-    payload ??= base || schema ? this.delta(state, base, seconds, round) : state;
+    payload ??= base || schema ? this.delta(state, base, older, elapsed, round) : state;
     return { state, hash, payload, deferred };
   }
 
@@ -150,7 +162,8 @@ export class SnapshotCoder {
   private delta(
     state: Uint8Array,
     base: Uint8Array | undefined,
-    seconds: number,
+    older: Uint8Array | undefined,
+    elapsed: Elapsed,
     round: SnapshotRound,
   ): Uint8Array {
     let byBase = round.deltas.get(state);
@@ -158,8 +171,13 @@ export class SnapshotCoder {
       byBase = new Map();
       round.deltas.set(state, byBase);
     }
-    const key = base ?? NO_BASE;
-    let delta = byBase.get(key);
+    let byOlder = byBase.get(base ?? NO_BASE);
+    if (byOlder === undefined) {
+      byOlder = new Map();
+      byBase.set(base ?? NO_BASE, byOlder);
+    }
+    const key = older ?? NO_BASE;
+    let delta = byOlder.get(key);
     if (delta === undefined) {
       if (this.schema) {
         encodeSchemaDelta(
@@ -167,14 +185,14 @@ export class SnapshotCoder {
           base && wordsOf(base),
           wordsOf(state),
           this.bits.reset(),
-          seconds,
+          elapsed,
         );
         delta = this.bits.finish();
       } else {
         encodeDelta(base!, state, this.writer.reset());
         delta = this.writer.finish();
       }
-      byBase.set(key, delta);
+      byOlder.set(key, delta);
     }
     return delta;
   }

@@ -15,6 +15,15 @@ export interface WorldStateSchemaOptions {
   position?: number;
   /** Velocity precision, m/s. Default 1/64. */
   velocity?: number;
+  /**
+   * `'sent'` (default): velocities are sent, and positions predicted from them. `'local'`: as
+   * Glenn Fiedler sends his cubes — positions only, each predicted from the two snapshots before
+   * (`extrapolate`); each side keeps its own velocities and rest timers (a client's come from its
+   * prediction; sleep flags are still sent), so
+   * a client that renders snapshots needs none, and one that steps ahead of them starts from its
+   * own. Sent bytes fall by about half when every body moves.
+   */
+  velocities?: 'sent' | 'local';
   /** Largest |x|, |y|, metres. Default 1000. */
   extent?: number;
   /** Largest |vx|, |vy|, m/s. Default 200. */
@@ -38,6 +47,11 @@ export function worldStateColumns(o: WorldStateSchemaOptions = {}): StateColumn[
   const pos = o.position ?? 1 / 512;
   const vel = o.velocity ?? 1 / 64;
   const extent = o.extent ?? 1000;
+  const velocities: unknown = o.velocities ?? 'sent';
+  if (velocities !== 'sent' && velocities !== 'local') {
+    throw new RangeError(`worldStateColumns: velocities must be 'sent' or 'local'`);
+  }
+  const local = velocities === 'local';
   const speed = o.maxSpeed ?? 200;
   const bodies = { of: `${p}slots`, max: o.maxBodies ?? 8192 };
   const contacts = { of: `${p}contacts`, max: o.maxContacts ?? 65536 };
@@ -76,31 +90,38 @@ export function worldStateColumns(o: WorldStateSchemaOptions = {}): StateColumn[
       precision: pos,
       min: -extent,
       max: extent,
-      rate: `${p}v${name}`,
+      ...(local ? { extrapolate: true } : { rate: `${p}v${name}` }),
     })),
-    ...(['vx', 'vy'] as const).map((name): StateColumn => ({
-      name: `${p}${name}`,
-      type: 'f64',
-      count: bodies,
-      group: g,
-      precision: vel,
-      min: -speed,
-      max: speed,
-    })),
+    ...(['vx', 'vy'] as const).map((name): StateColumn =>
+      local
+        ? { name: `${p}${name}`, type: 'f64', count: bodies, local: true, group: `${p}velocities` }
+        : {
+            name: `${p}${name}`,
+            type: 'f64',
+            count: bodies,
+            group: g,
+            precision: vel,
+            min: -speed,
+            max: speed,
+          },
+    ),
     { name: `${p}halfWidth`, type: 'f64', count: bodies, group: g },
     { name: `${p}halfHeight`, type: 'f64', count: bodies, group: g },
     { name: `${p}inverseMass`, type: 'f64', count: bodies, group: g },
     // Sleep state goes with the flags (a sleeping body's island and rest time must agree with its
     // flag): rest time in whole ticks of 1/60 s, the island as it is (0 while awake).
-    {
-      name: `${p}restTime`,
-      type: 'f64',
-      count: bodies,
-      group: g,
-      precision: 1 / 60,
-      min: 0,
-      max: 16777216, // 2^24 s
-    },
+    // With local velocities the rest timers (how long a body has been slow) are local too.
+    local
+      ? { name: `${p}restTime`, type: 'f64', count: bodies, local: true, group: `${p}velocities` }
+      : {
+          name: `${p}restTime`,
+          type: 'f64',
+          count: bodies,
+          group: g,
+          precision: 1 / 60,
+          min: 0,
+          max: 16777216, // 2^24 s
+        },
     { name: `${p}island`, type: 'i32', count: bodies, group: g },
     { name: `${p}contacts`, type: 'u32', local: true, group: `${p}cache` },
     { name: `${p}bodyA`, type: 'i32', count: contacts, local: true, group: `${p}cache` },
