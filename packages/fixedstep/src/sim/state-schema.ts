@@ -342,7 +342,7 @@ export class StateSchema {
           group: gi,
           rate: -1,
           rateScale: 0,
-          extrapolate: c.extrapolate === true,
+          extrapolate: c.extrapolate,
         });
       }
     }

@@ -82,7 +82,7 @@ export class PriorityAccumulator {
     const baseRates = next.slice();
     for (const s of rateColumns) {
       const kept = Math.min(rows, b.rows[gi]!);
-      baseRates.set(base.subarray(b.col[s]!, b.col[s]! + kept), n.col[s]!);
+      baseRates.set(base.subarray(b.col[s], b.col[s]! + kept), n.col[s]);
     }
     const expected = predictedWords(schema, base, baseRates, elapsed);
     if (this.waited.length !== rows) {

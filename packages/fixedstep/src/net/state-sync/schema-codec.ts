@@ -350,7 +350,7 @@ function predictInto(
         const from = o.col[s]!;
         const both = Math.min(rows, o.rows[gi]!);
         for (let r = 0; r < both; r++) {
-          expected[to + r] = extrapolate(expected[to + r]!, elapsed.older![from + r]!, elapsed);
+          expected[to + r] = extrapolate(expected[to + r]!, elapsed.older[from + r]!, elapsed);
         }
       }
     }
@@ -527,7 +527,7 @@ export function decodeSchemaDelta(
         const both = Math.min(kept, o.rows[gi]!);
         for (let row = 0; row < both; row++) {
           const at = col[s]! + row;
-          words[at] = extrapolate(words[at]!, elapsed.older![from + row]!, elapsed);
+          words[at] = extrapolate(words[at]!, elapsed.older[from + row]!, elapsed);
         }
       }
       if (changed.length === 0) continue;
