@@ -2,8 +2,18 @@
  * How the docs' tests read a block's marker (doc-blocks.ts): what each kind of block is taken for,
  * and that a block said to be run elsewhere names a test that exists and reads its page.
  */
+import { mkdirSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
 import { describe, expect, it } from 'vitest';
-import { elsewhereProblems, kindOf, promised, type Block } from './doc-blocks.js';
+import {
+  anchorsOf,
+  brokenLinks,
+  elsewhereProblems,
+  kindOf,
+  promised,
+  root,
+  type Block,
+} from './doc-blocks.js';
 
 const block = (lang: string, marker?: string, doc = 'docs/rapier.md'): Block => ({
   doc,
@@ -49,5 +59,31 @@ describe('elsewhereProblems', () => {
 describe('promised', () => {
   it('is every `// → ` comment, in order, without trailing blanks', () => {
     expect(promised('a(); // → 1 2  \n// not this\n// →   x\nb(); // 3\n')).toEqual(['1 2', '  x']);
+  });
+});
+
+describe('links', () => {
+  it('are GitHub’s anchors: lower case, punctuation dropped, a repeated heading numbered', () => {
+    const dir = join(root, 'artifacts', 'doc-blocks');
+    mkdirSync(dir, { recursive: true });
+    writeFileSync(
+      join(dir, 'page.md'),
+      '# A page\n\n## The room core: what every server room inherits\n\n## `saveInto` — 2×\n\n' +
+        '## Limits\n\n```sh\n# not a heading\n```\n\n### Limits\n\n' +
+        '[a](#limits-1) [b](#limits-2) [c](../../docs/network.md#quick-match) [d](nowhere.md) ' +
+        '[e](../../docs/network.md#nowhere) [f](https://example.org/#x)\n',
+    );
+    expect([...anchorsOf(join(dir, 'page.md'))]).toEqual([
+      'a-page',
+      'the-room-core-what-every-server-room-inherits',
+      'saveinto--2',
+      'limits',
+      'limits-1',
+    ]);
+    expect(brokenLinks('artifacts/doc-blocks/page.md')).toEqual([
+      'artifacts/doc-blocks/page.md: #limits-2 (no such heading)',
+      'artifacts/doc-blocks/page.md: nowhere.md',
+      'artifacts/doc-blocks/page.md: ../../docs/network.md#nowhere (no such heading)',
+    ]);
   });
 });

@@ -121,15 +121,39 @@ export function elsewhereProblems(b: Block): string[] {
   });
 }
 
-/** Relative links of `doc` whose target does not exist. */
+/** GitHub's anchors of a page's headings: lower case, punctuation dropped, spaces as hyphens. */
+export function anchorsOf(file: string): Set<string> {
+  const anchors = new Set<string>();
+  const seen = new Map<string, number>();
+  let fenced = false;
+  for (const line of readFileSync(file, 'utf8').split('\n')) {
+    if (line.startsWith('```')) fenced = !fenced;
+    const heading = fenced ? null : /^#{1,6}\s+(.*?)\s*#*$/.exec(line);
+    if (!heading) continue;
+    const slug = heading[1]!
+      .toLowerCase()
+      .replace(/[^\p{L}\p{N}\s_-]/gu, '')
+      .replace(/\s/g, '-');
+    const n = seen.get(slug) ?? 0;
+    seen.set(slug, n + 1);
+    anchors.add(n === 0 ? slug : `${slug}-${n}`);
+  }
+  return anchors;
+}
+
+/** Relative links of `doc` whose file, or whose heading in a Markdown file, does not exist. */
 export function brokenLinks(doc: string): string[] {
   const text = readFileSync(join(root, doc), 'utf8');
   const broken: string[] = [];
   for (const m of text.matchAll(/\]\(([^)\s]+)\)/g)) {
     const target = m[1]!;
-    if (/^[a-z]+:/.test(target) || target.startsWith('#')) continue;
-    const file = resolve(root, dirname(doc), target.split('#')[0]!);
+    if (/^[a-z]+:/.test(target)) continue;
+    const [path, anchor] = target.split('#');
+    const file = path === '' ? join(root, doc) : resolve(root, dirname(doc), path!);
     if (!existsSync(file)) broken.push(`${doc}: ${target}`);
+    else if (anchor !== undefined && file.endsWith('.md') && !anchorsOf(file).has(anchor)) {
+      broken.push(`${doc}: ${target} (no such heading)`);
+    }
   }
   return broken;
 }
