@@ -10,8 +10,9 @@
  *   the repository's files (doc-shell.ts);
  * - `typecheck: WHY`: a ```ts program that is type-checked but not run, WHY saying what running it
  *   needs (a browser, a games module on disk, …);
- * - a comment naming a `….test.ts` file that runs the block (`… run by packages/x/test/y.test.ts`):
- *   that test exists and reads this page; a ```ts block is type-checked here too;
+ * - a comment naming a `….test.ts` file that runs or checks the block (`… run by
+ *   packages/x/test/y.test.ts`, `… checked by …`): that test exists and reads this page; a ```ts
+ *   block is type-checked here too;
  * - `text` (or `text: …`): a diagram, a table or an example of output, checked by no one;
  * - no comment on a ```ts block: a program, type-checked and run, whose `// → …` comments are
  *   what it prints with console.log, line by line.
@@ -64,9 +65,9 @@ export function blocksOf(doc: string): Block[] {
 
 export const blockName = (b: Block): string => `${b.doc}:${b.line}`;
 
-/** The tests a marker says run the block (`… run by packages/x/test/y.test.ts …`). */
+/** The tests a marker says run or check the block (`… run by packages/x/test/y.test.ts …`). */
 export function runners(b: Block): string[] {
-  if (b.marker === undefined || !/\brun\b/.test(b.marker)) return [];
+  if (b.marker === undefined || !/\b(run|checked)\b/.test(b.marker)) return [];
   return [...b.marker.matchAll(/[\w./-]+\.test\.ts/g)].map((m) => m[0]);
 }
 
