@@ -74,6 +74,11 @@ describe('shellProblems', () => {
     ['node scripts/engines.mjs --all', 'scripts/engines.mjs reads no --all'],
     ['docker run -p 80:9090 fixedstep', 'deploy/Dockerfile exposes no port 9090'],
     ['kubectl -n games apply -k deploy/', "namespace games is not deploy/'s"],
+    ['kubectl apply -k packages/', 'no packages/kustomization.yaml'],
+    [
+      'kubectl -n fixedstep create secret generic fixedstep-db --from-literal=secret=x',
+      'no manifest of deploy/ reads the key secret of the secret fixedstep-db',
+    ],
     [
       'kubectl -n fixedstep create secret generic fixedstep-match --from-literal=key=x',
       'no manifest of deploy/ reads the key key of the secret fixedstep-match',

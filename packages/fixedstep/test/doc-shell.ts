@@ -162,9 +162,18 @@ function kubectlProblems(args: string[]): string[] {
   const kustomization = parseYaml(
     readFileSync(join(root, 'deploy/kustomization.yaml'), 'utf8'),
   ) as { namespace: string; resources: string[] };
-  const manifests = kustomization.resources
-    .flatMap((r) => parseAllDocuments(readFileSync(join(root, 'deploy', r), 'utf8')))
-    .map((d) => JSON.stringify(d.toJS()));
+  // Every `secretKeyRef` of the manifests, as `name/key`.
+  const refs: string[] = [];
+  const walk = (node: unknown): void => {
+    if (typeof node !== 'object' || node === null) return;
+    const ref = (node as { secretKeyRef?: { name: string; key: string } }).secretKeyRef;
+    if (ref) refs.push(`${ref.name}/${ref.key}`);
+    Object.values(node).forEach(walk);
+  };
+  for (const r of kustomization.resources) {
+    for (const d of parseAllDocuments(readFileSync(join(root, 'deploy', r), 'utf8')))
+      walk(d.toJS());
+  }
   const problems: string[] = [];
   const namespace = (ns: string | undefined) => {
     if (ns !== kustomization.namespace) problems.push(`namespace ${ns} is not deploy/'s`);
@@ -175,20 +184,20 @@ function kubectlProblems(args: string[]): string[] {
   else if (verbs[0] === 'create' && verbs[1] === 'secret' && verbs[2] === 'generic') {
     for (const literal of args.filter((a) => a.startsWith('--from-literal='))) {
       const key = literal.slice('--from-literal='.length).split('=')[0]!;
-      const ref = JSON.stringify({ name: verbs[3], key });
-      if (!manifests.some((m) => m.includes(ref.slice(1, -1)))) {
+      if (!refs.includes(`${verbs[3]}/${key}`)) {
         problems.push(`no manifest of deploy/ reads the key ${key} of the secret ${verbs[3]}`);
       }
     }
   } else if (verbs[0] === 'apply') {
     const dir = args[args.indexOf('-k') + 1] ?? '';
-    if (!existsSync(join(root, dir, 'kustomization.yaml')))
-      problems.push(`no ${dir}kustomization.yaml`);
+    const file = join(dir, 'kustomization.yaml');
+    if (!existsSync(join(root, file))) problems.push(`no ${file}`);
   } else problems.push(`kubectl ${verbs.join(' ')}: not checked`);
   return problems;
 }
 
 function dockerProblems(args: string[], ctx: Context, named: string[]): string[] {
+  // The image `docker run` starts is the one deploy/Dockerfile builds: the repository has no other.
   const dockerfile = join(ctx.dir, 'deploy/Dockerfile');
   if (args[0] === 'build') {
     const f = args[args.indexOf('-f') + 1] ?? '';
