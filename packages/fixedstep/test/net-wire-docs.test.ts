@@ -57,4 +57,26 @@ describe('protocol tables in the docs', () => {
       '| 0x01 | queue | C→S | game: name; gameVersion: varint 0–2147483647; input: u64 as 16 hex digits; minPlayers: varint 1–16; maxPlayers: varint 1–16; timeoutMs: varint 1–600000 | 16–53 |',
     );
   });
+
+  it('network.md’s layer diagram gives each protocol’s byte 0 and version', async () => {
+    const text = await readFile(fileURLToPath(new URL('docs/network.md', repo)), 'utf8');
+    const lines = text.split('\n');
+    const at = lines.findIndex((l) => /^wire\s+RELAY_PROTOCOL\b/.test(l));
+    expect(at).toBeGreaterThan(0);
+    const names = lines[at]!.split(/\s+/).slice(1);
+    const shown = [...lines[at + 1]!.matchAll(/0x[0-9a-f]{2}: v\d+/g)].map((m) => m[0]);
+    const byName: Record<string, WireProtocol<{ type: string }, object>> = {
+      RELAY_PROTOCOL,
+      STATE_SYNC_PROTOCOL,
+      SIGNAL_PROTOCOL,
+      MATCH_PROTOCOL,
+    };
+    expect(names).toEqual(Object.keys(byName));
+    expect(shown).toEqual(
+      names.map((n) => {
+        const p = byName[n]!;
+        return `0x${p.header.toString(16).padStart(2, '0')}: v${p.version}`;
+      }),
+    );
+  });
 });

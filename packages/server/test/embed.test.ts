@@ -24,7 +24,7 @@ afterAll(async () => {
 async function examples(): Promise<Map<string, string>> {
   const doc = await readFile(path.join(here, '../../../docs/server.md'), 'utf8');
   const found = new Map<string, string>();
-  for (const m of doc.matchAll(/<!-- server-example: ([\w-]+) -->\s*```ts\n([\s\S]*?)```/g)) {
+  for (const m of doc.matchAll(/<!-- server-example: ([\w-]+)[^>]*-->\s*```ts\n([\s\S]*?)```/g)) {
     found.set(m[1]!, m[2]!.replace("from '@fixedstep/server'", "from '../src/index.js'"));
   }
   return found;
