@@ -1056,10 +1056,11 @@ export default defineSuite({
       sceneRows,
     );
     ctx.note(
-      'full: every snapshot whole; byte delta: XOR runs of the save() bytes against the acknowledged ' +
-        "snapshot (the codec of games without a schema); schema: the game's state schema — quantised, " +
-        'per-entity change masks, positions predicted from velocities, exp-Golomb bits — against the ' +
-        'acknowledged snapshot. Error: the largest |server value − sent value| over every quantised ' +
+      'Links in order (a WebSocket): deltas are against the snapshot sent before. full: every ' +
+        'snapshot whole; byte delta: XOR runs of the save() bytes (the codec of games without a ' +
+        "schema); schema: the game's state schema — quantised, per-entity change masks, positions " +
+        'predicted from velocities (or, positions only, extrapolated from the two snapshots before), ' +
+        'exp-Golomb bits. Error: the largest |server value − sent value| over every quantised ' +
         "number sent, in units of its column's precision (the server then runs on the sent value, so " +
         "client and server agree exactly: every client checks each snapshot's hash). Rows moving: " +
         'the share of entity rows that differ from the snapshot one interval before.',
