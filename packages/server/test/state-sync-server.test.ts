@@ -56,12 +56,25 @@ async function client<S extends Simulation>(
     local?: GameDefinition<ButtonInput, S>;
     /** The address to connect from (127/8: each a client of its own). Default 127.0.0.1. */
     address?: string;
+    /** Each snapshot's tick and base, as it arrives. */
+    snapshots?: { tick: number; base: number }[];
   } = {},
 ): Promise<{ session: StateSyncSession<ButtonInput, S>; stop: () => void }> {
   const transport = await connectNodeWebSocket(`${url}/${room}`, {
     ...(extra.address !== undefined ? { localAddress: extra.address } : {}),
   });
   const local = extra.local ?? game;
+  const seen = extra.snapshots;
+  if (seen) {
+    const onMessage = transport.onMessage.bind(transport);
+    transport.onMessage = (handler) => {
+      onMessage((bytes) => {
+        const m = decodeStateSyncMessage(bytes);
+        if (m.type === 'snapshot') seen.push({ tick: m.tick, base: m.base });
+        handler(bytes);
+      });
+    };
+  }
   const session: StateSyncSession<ButtonInput, S> = new StateSyncSession<ButtonInput, S>({
     transport,
     clock: performanceClock(),
@@ -109,7 +122,8 @@ describe('state-sync rooms of the talk’s games', () => {
   afterAll(() => stopStateSync(server, endpoint));
 
   it('two clients play capture the flag through a worker and hold the same server world', async () => {
-    const a = await client<Game>(url, 'duel', ctfGame);
+    const snapshots: { tick: number; base: number }[] = [];
+    const a = await client<Game>(url, 'duel', ctfGame, { snapshots });
     const b = await client<Game>(url, 'duel', ctfGame);
     try {
       await expect
@@ -135,6 +149,12 @@ describe('state-sync rooms of the talk’s games', () => {
         expect(s.tick).toBeGreaterThan(s.snapshotTick);
       }
       expect(endpoint.rooms()).toEqual([{ room: 'duel', worker: 0 }]);
+      // A WebSocket delivers in order: after the whole one a join brings (and the first delta,
+      // from it), each snapshot is coded against the one sent before it.
+      expect(snapshots[0]!.base).toBe(-1);
+      expect(snapshots.slice(2).map((m) => m.tick - m.base)).toEqual(
+        snapshots.slice(2).map(() => every),
+      );
 
       // What /metrics reads: the worker's report (every second) of its rooms and counters.
       const metrics = new ServerMetrics({ defaultMetrics: false });

@@ -30,6 +30,11 @@ function post(m: FromWorker, transfer: ArrayBuffer[] = []): void {
 
 /** One connection, as the rooms see it: bytes from the main thread in, bytes back out. */
 class PortTransport extends BaseTransport {
+  /**
+   * A WebSocket behind the port: in order, and the main thread closes it rather than drop a
+   * message (its send buffer over the cap) — so each snapshot is coded against the one before.
+   */
+  readonly reliable = true;
   constructor(readonly id: number) {
     super();
   }
