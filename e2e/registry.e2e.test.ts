@@ -4,25 +4,25 @@
  * script (scripts/publish.mjs), then a user's scratch project outside the repository that
  * installs `fixedstep` and `@fixedstep/cli` from it — with no npm warning — runs the README's
  * first example and serves the lab with `npx fixedstep serve`; and `npm create fixedstep` makes
- * a game from the canvas template that installs, builds, plays in headless Chromium (scripted
- * keys, a highscore submitted, a replay downloaded and verified by the CLI, two tabs in one
- * room through the relay). Needs the build (`npm run build`):
- * it publishes what dist/ and packages/cli/lab hold. One registry serves the whole file. The
- * install transcripts land in artifacts/registry/ (install.txt, create.txt).
+ * a game from each template — canvas, then Phaser, PixiJS and three.js (their engines proxied
+ * from npm) — that installs, builds and plays in headless Chromium (create-helpers.ts: scripted
+ * keys move the player as they say, the canvas shows the state, a highscore is accepted, the
+ * downloaded replay passes `npm run verify`, two tabs play one room through the relay). Needs the
+ * build (`npm run build`): it publishes what dist/ and packages/cli/lab hold. One registry serves
+ * the whole file. The install transcripts land in artifacts/registry/ (install.txt, create.txt,
+ * templates.txt with the bundle sizes), and a screenshot of each game's canvas beside them.
  */
+import { existsSync } from 'node:fs';
 import { mkdir, mkdtemp, readdir, readFile, rm, stat, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
+import { gzipSync } from 'node:zlib';
+import type { Browser } from 'playwright-core';
 import { afterAll, beforeAll, describe, expect, it } from 'vitest';
 import { readmeExample, repo, run, toJs, type Ran } from './pack-helpers.js';
 import { launchChromium } from './harness.js';
-import {
-  startProgram,
-  startRegistry,
-  waitFor,
-  type Program,
-  type Registry,
-} from './registry-helpers.js';
+import { startProgram, startRegistry, waitFor, type Registry } from './registry-helpers.js';
+import { playOnline, playRound, serveGame, type ServedGame } from './create-helpers.js';
 import { publishable } from '../scripts/publish.mjs';
 
 const workspaces = publishable();
@@ -196,31 +196,51 @@ describe('a user installs from the registry', () => {
   });
 });
 
+/** `npm create fixedstep@latest <name> --registry … -- --template <template>` in the scratch folder. */
+function create(name: string, template: string): Promise<Ran> {
+  const args = ['create', 'fixedstep@latest', name, '--registry', registry!.url];
+  return run('npm', [...args, '--', '--template', template], scratch, env);
+}
+
+/**
+ * `npm install` (with `flags`) in a created game: exit 0, no npm warning; what npm said.
+ */
+async function installGame(game: string, flags: readonly string[] = []): Promise<string> {
+  const args = ['install', '--no-audit', '--no-fund', ...flags];
+  const installed = await run('npm', args, game, env);
+  expect({ code: installed.code, stderr: installed.stderr }).toMatchObject({ code: 0 });
+  const said = (installed.stdout + installed.stderr).trim();
+  // The templates allow no install script (esbuild's only checks its platform binary, which npm
+  // installs as an optional dependency): npm 11 warns about scripts a project does not decide.
+  expect(npmWarnings(said)).toEqual([]);
+  return said;
+}
+
+/** `npm run build` in a created game: exit 0; the page's JavaScript, in bytes and gzipped. */
+async function buildGame(game: string): Promise<{ js: number; gzip: number }> {
+  const built = await run('npm', ['run', 'build'], game, env);
+  expect({ code: built.code, output: built.stdout + built.stderr }).toMatchObject({ code: 0 });
+  let js = 0;
+  let gzip = 0;
+  for (const file of await readdir(path.join(game, 'dist/assets'))) {
+    if (!file.endsWith('.js')) continue;
+    const bytes = await readFile(path.join(game, 'dist/assets', file));
+    js += bytes.length;
+    gzip += gzipSync(bytes).length;
+  }
+  return { js, gzip };
+}
+
 describe('npm create fixedstep', () => {
   let game: string;
-  let serve: Program | undefined;
-  let url: string;
+  let served: ServedGame | undefined;
 
   afterAll(async () => {
-    await serve?.stop('SIGINT');
+    await served?.program.stop('SIGINT');
   });
 
   it('creates the canvas template from the registry, installs it and builds it', async () => {
-    const created = await run(
-      'npm',
-      [
-        'create',
-        'fixedstep@latest',
-        'my-canvas-game',
-        '--registry',
-        registry!.url,
-        '--',
-        '--template',
-        'canvas',
-      ],
-      scratch,
-      env,
-    );
+    const created = await create('my-canvas-game', 'canvas');
     expect({ code: created.code, stderr: created.stderr }).toMatchObject({ code: 0 });
     game = path.join(scratch, 'my-canvas-game');
     const pkg = JSON.parse(await readFile(path.join(game, 'package.json'), 'utf8')) as {
@@ -230,9 +250,7 @@ describe('npm create fixedstep', () => {
     expect(pkg.name).toBe('my-canvas-game');
     const version = workspaces.find((w) => w.pkg.name === 'fixedstep')!.pkg.version;
     expect(pkg.dependencies.fixedstep).toBe(`^${version}`);
-    const installed = await run('npm', ['install', '--no-audit', '--no-fund'], game, env);
-    expect({ code: installed.code, stderr: installed.stderr }).toMatchObject({ code: 0 });
-    const said = (installed.stdout + installed.stderr).trim();
+    const said = await installGame(game);
     console.log(`created game: npm install --no-audit --no-fund: ${said}`);
     await mkdir(path.join(repo, 'artifacts/registry'), { recursive: true });
     await writeFile(
@@ -240,133 +258,105 @@ describe('npm create fixedstep', () => {
       `$ npm create fixedstep@latest my-canvas-game --registry ${registry!.url} -- --template canvas\n` +
         `${created.stdout.trim()}\n\n$ npm install --no-audit --no-fund\n${said}\n`,
     );
-    // The template allows no install script (esbuild's only checks its platform binary, which npm
-    // installs as an optional dependency): npm 11 warns about scripts a project does not decide.
-    expect(npmWarnings(said)).toEqual([]);
-    const built = await run('npm', ['run', 'build'], game, env);
-    expect({ code: built.code, output: built.stdout + built.stderr }).toMatchObject({ code: 0 });
+    await buildGame(game);
   }, 300_000);
 
-  it('plays in Chromium: scripted keys, a highscore accepted, a replay the CLI verifies', async () => {
+  it('plays in Chromium: scripted keys, the canvas drawn, a highscore accepted, a replay the CLI verifies', async () => {
     expect(game).toBeDefined();
-    serve = startProgram(
-      'npx',
-      [
-        'fixedstep',
-        'serve',
-        '--root',
-        'dist',
-        '--games',
-        './dist-game/game.js',
-        '--port',
-        '0',
-        '--data',
-        path.join(scratch, 'game-data'),
-      ],
-      game,
-      env,
-    );
-    const running = serve;
-    url = await waitFor(
-      'the game served',
-      () => Promise.resolve(/fixedstep lab: (http\S+)/.exec(running.output())?.[1]),
-      running,
-    );
-    // The store opens while the server already listens: until then the highscore API answers
-    // 503 (the page would ask again, but the browser logs the first answer as an error).
-    await waitFor(
-      'the store open (/readyz)',
-      async () => ((await fetch(new URL('/readyz', url))).ok ? true : undefined),
-      running,
-    );
+    served = await serveGame(game, path.join(scratch, 'game-data'), env);
     const browser = await launchChromium();
     try {
-      const page = await browser.newPage();
-      const problems: string[] = [];
-      page.on('pageerror', (e) => problems.push(e.message));
-      page.on('console', (m) => {
-        if (m.type() === 'error') problems.push(m.text());
-      });
-      await page.goto(url);
-      const tick = () =>
-        page.evaluate(
-          () => (window as unknown as { myGame: { game: { tick: number } } }).myGame.game.tick,
-        );
-      await expect.poll(tick, { timeout: 20_000 }).toBeGreaterThan(0);
-      await page.locator('#field').click();
-      // A scripted player: right for a while, then down with a dash.
-      await page.keyboard.down('ArrowRight');
-      const t0 = await tick();
-      await expect.poll(tick, { timeout: 20_000 }).toBeGreaterThan(t0 + 60);
-      await page.keyboard.up('ArrowRight');
-      await page.keyboard.down('ArrowDown');
-      await page.keyboard.press('Space');
-      await expect.poll(tick, { timeout: 20_000 }).toBeGreaterThan(t0 + 150);
-      await page.keyboard.up('ArrowDown');
-      await page.locator('#end').click();
-      await expect
-        .poll(() => page.locator('#hud').textContent(), { timeout: 20_000 })
-        .toContain('replay verified');
-      await expect
-        .poll(() => page.evaluate(() => document.body.dataset.highscore), { timeout: 30_000 })
-        .toBe('accepted');
-      const [download] = await Promise.all([
-        page.waitForEvent('download'),
-        page.locator('#download').click(),
-      ]);
-      const file = path.join(scratch, 'my-canvas-game.fsr');
-      await download.saveAs(file);
-      expect((await stat(file)).size).toBeGreaterThan(50);
-      expect(problems).toEqual([]);
-
-      const verified = await run(
-        'npx',
-        ['fixedstep', 'replay', 'verify', file, '--games', './dist-game/game.js'],
-        game,
-        env,
-      );
-      console.log(`fixedstep replay verify: ${verified.stdout.trim()}`);
-      expect({ code: verified.code, stderr: verified.stderr }).toEqual({ code: 0, stderr: '' });
-
-      const scores = (await (await fetch(new URL('/api/highscores?game=my-game', url))).json()) as {
-        entries: unknown[];
-      };
-      expect(scores.entries).toHaveLength(1);
+      const shot = path.join(repo, 'artifacts/registry/canvas.png');
+      const round = await playRound(browser, served.url, game, shot, env);
+      console.log(`canvas: npm run verify: ${round.verified}`);
     } finally {
       await browser.close();
     }
   });
 
   it('plays online: two tabs in one room, both stepping the round through the relay', async () => {
-    expect(url).toBeDefined();
+    expect(served).toBeDefined();
     const browser = await launchChromium();
     try {
-      const pages = await Promise.all([browser.newPage(), browser.newPage()]);
-      for (const page of pages) await page.goto(new URL('/?room=e2e', url).href);
-      interface Online {
-        myGame: { session: { simulation?: { tick: number; hash(): bigint } } };
-      }
-      const ticks = () =>
-        Promise.all(
-          pages.map((page) =>
-            page.evaluate(
-              () => (window as unknown as Online).myGame.session.simulation?.tick ?? -1,
-            ),
-          ),
-        );
-      await expect
-        .poll(async () => Math.min(...(await ticks())), { timeout: 30_000 })
-        .toBeGreaterThan(60);
-      await pages[0].keyboard.down('ArrowLeft');
-      await expect
-        .poll(async () => Math.min(...(await ticks())), { timeout: 20_000 })
-        .toBeGreaterThan(120);
-      await pages[0].keyboard.up('ArrowLeft');
-      for (const page of pages) {
-        expect(await page.locator('#hud').textContent()).toMatch(/^room e2e · you \d+ · them \d+/);
-      }
+      expect(await playOnline(browser, served!.url, 'e2e')).toBeGreaterThan(120);
     } finally {
       await browser.close();
     }
   });
+});
+
+/**
+ * The engine templates: the same game as the canvas one, drawn by Phaser, PixiJS and three.js,
+ * whose packages the registry proxies from npm. Made, installed and built side by side in the
+ * scratch folder (npm's cache serves what the canvas game already fetched), then each played.
+ */
+describe('npm create fixedstep: the Phaser, PixiJS and three.js templates', () => {
+  const ENGINES = ['phaser', 'pixi', 'three'] as const;
+  const dirOf = (template: string) => path.join(scratch, `my-${template}-game`);
+
+  it('creates each from the registry, installs it and builds it', async () => {
+    const report: string[] = [];
+    for (const template of ENGINES) {
+      const created = await create(`my-${template}-game`, template);
+      expect({ code: created.code, stderr: created.stderr }).toMatchObject({ code: 0 });
+      expect(created.stdout).toContain(`from the ${template} template`);
+    }
+    const t0 = performance.now();
+    // --prefer-offline: what npm's cache holds since the canvas game's install (Vite, TypeScript,
+    // our packages, their metadata) is not asked for again; the engines still come through the
+    // registry, which fetches them from npm.
+    const said = await Promise.all(
+      ENGINES.map((template) => installGame(dirOf(template), ['--prefer-offline'])),
+    );
+    const t1 = performance.now();
+    const sizes = await Promise.all(ENGINES.map((template) => buildGame(dirOf(template))));
+    const t2 = performance.now();
+    ENGINES.forEach((template, k) => {
+      const { js, gzip } = sizes[k]!;
+      report.push(
+        `${template}: npm install: ${said[k]!.split('\n').at(-1)}; ` +
+          `dist/assets/*.js ${(js / 1000).toFixed(1)} kB (${(gzip / 1000).toFixed(1)} kB gzipped)`,
+      );
+    });
+    report.push(
+      `installs (together) ${((t1 - t0) / 1000).toFixed(1)} s, builds (together) ${((t2 - t1) / 1000).toFixed(1)} s`,
+    );
+    await writeFile(path.join(repo, 'artifacts/registry/templates.txt'), `${report.join('\n')}\n`);
+    console.log(report.join('\n'));
+    // The engines came through the local registry: it fetched their metadata from npm and keeps
+    // it in its storage (the lockfiles say nothing: npm here omits registry addresses from them).
+    const storage = path.join(scratch, 'registry/storage');
+    for (const name of ['phaser', 'pixi.js', 'three']) {
+      const stored = existsSync(path.join(storage, name, 'package.json'));
+      expect({ name, stored }).toEqual({ name, stored: true });
+    }
+    // Each game is the canvas game drawn otherwise: its src/game.ts is the canvas game's.
+    const canvasGame = await readFile(path.join(scratch, 'my-canvas-game/src/game.ts'), 'utf8');
+    for (const template of ENGINES) {
+      expect(await readFile(path.join(dirOf(template), 'src/game.ts'), 'utf8')).toBe(canvasGame);
+    }
+  }, 400_000);
+
+  // Online play is src/play.ts, the same file in every template: the canvas game plays it above.
+  let browser: Browser | undefined;
+  afterAll(async () => {
+    await browser?.close();
+  });
+
+  it.each(ENGINES)(
+    '%s: plays in Chromium: scripted keys, the canvas drawn, a highscore accepted, a replay the CLI verifies',
+    async (template) => {
+      const dir = dirOf(template);
+      expect(existsSync(path.join(dir, 'dist-game/game.js'))).toBe(true);
+      const serve = await serveGame(dir, path.join(scratch, `${template}-data`), env);
+      try {
+        browser ??= await launchChromium();
+        const shot = path.join(repo, `artifacts/registry/${template}.png`);
+        const round = await playRound(browser, serve.url, dir, shot, env);
+        console.log(`${template}: npm run verify: ${round.verified}`);
+      } finally {
+        await serve.program.stop('SIGINT');
+      }
+    },
+  );
 });

@@ -7,7 +7,7 @@
 //   node scripts/publish.mjs [--registry <url>] [--provenance] [--tag <dist-tag>] [--dry-run]
 //
 // Registry credentials come from npm's own configuration (.npmrc, NODE_AUTH_TOKEN in CI).
-import { execFileSync } from 'node:child_process';
+import { execFileSync, spawn } from 'node:child_process';
 import { existsSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { parseArgs } from 'node:util';
@@ -81,7 +81,16 @@ async function main() {
     if (values.tag !== undefined) args.push('--tag', values.tag);
     if (values['dry-run']) args.push('--dry-run');
     console.log(`${id}: npm ${args.join(' ')}`);
-    execFileSync('npm', args, { cwd: root, stdio: 'inherit' });
+    // Not execFileSync: a blocked event loop never sees the registry close the idle keep-alive
+    // socket of the last isPublished, and the next fetch then fails on it ("other side closed").
+    await new Promise((resolve, reject) => {
+      const child = spawn('npm', args, { cwd: root, stdio: 'inherit' });
+      child.on('error', reject);
+      child.on('exit', (code, signal) => {
+        if (code === 0) resolve();
+        else reject(new Error(`${id}: npm publish ended with ${code ?? signal}`));
+      });
+    });
   }
 }
 
