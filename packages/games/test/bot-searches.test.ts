@@ -7,7 +7,7 @@
  */
 import { describe, expect, it } from 'vitest';
 import { Random } from 'fixedstep';
-import { CTF_WALLS, SURVIVAL_WALLS, ctfNav, type NavGrid } from '@fixedstep/games';
+import { CTF_WALLS, SURVIVAL_WALLS, Walls, ctfNav, type NavGrid } from '@fixedstep/games';
 import { survivalNav } from '../src/games/survival/layout.js';
 import { nearestVisible, scanVisible } from '../src/games/arena/seek.js';
 import { scanNearest, scanWaypoints } from '../src/games/arena/nav.js';
@@ -16,7 +16,7 @@ import { scanNearest, scanWaypoints } from '../src/games/arena/nav.js';
 interface NavCandidates {
   readonly ringStart: Int32Array;
   readonly ringNode: Int32Array;
-  readonly ringSure: Uint8Array;
+  readonly ringWalls: Int32Array;
 }
 
 /** `NavGrid.waypoint` as it was: the goal's node by the scan, then the scan of the waypoints. */
@@ -84,19 +84,23 @@ describe.each(ARENAS)('the bots’ searches on %s', (_name, nav) => {
     }
   });
 
-  it('skips the line test only for waypoints reachable from anywhere in the cell', () => {
-    // The searches' candidates per cell, and the marks of those reachable from all of it (private
-    // fields, read here to check the marks against the walls' own line test).
-    const { ringStart, ringNode, ringSure } = nav as unknown as NavCandidates;
+  it('leaves out of a waypoint’s line test only walls that no move from the cell can touch', () => {
+    // The searches' candidates per cell, and the walls each line test looks at (private fields,
+    // read here to check them against the walls' own line test, wall by wall).
+    const { ringStart, ringNode, ringWalls } = nav as unknown as NavCandidates;
+    const walls = nav.walls;
+    const single = walls.rects.map((rect) => new Walls([rect]));
     const rng = new Random(11 + nav.count);
     const s = nav.spacing;
     let sure = 0;
+    let leftOut = 0;
+    const touched: { x: number; y: number; nd: number; wall: number }[] = [];
     for (let row = 0; row < nav.rows; row++) {
       for (let col = 0; col < nav.cols; col++) {
         const c = row * nav.cols + col;
         for (let k = ringStart[2 * c]!; k < ringStart[2 * c + 2]!; k++) {
-          if (ringSure[k] !== 1) continue;
-          sure++;
+          const mask = ringWalls[k]!;
+          if (mask === 0) sure++;
           const nd = ringNode[k]!;
           // The cell's corners and edges (and a hair beyond), and points inside.
           for (let j = 0; j < 12; j++) {
@@ -104,18 +108,22 @@ describe.each(ARENAS)('the bots’ searches on %s', (_name, nav) => {
             const fy = j < 4 ? j >> 1 : rng.range(0, 1);
             const x = (col + fx) * s;
             const y = (row + fy) * s;
-            expect({
-              x,
-              y,
-              nd,
-              clear: nav.walls.clear(x, y, nav.nodeX[nd]!, nav.nodeY[nd]!, nav.clearance),
-            }).toEqual({ x, y, nd, clear: true });
+            // Every wall left out is clear of the move on its own.
+            for (let i = 0; i < walls.count; i++) {
+              if ((mask & (1 << i)) !== 0) continue;
+              leftOut++;
+              if (!single[i]!.clear(x, y, nav.nodeX[nd]!, nav.nodeY[nd]!, nav.clearance)) {
+                touched.push({ x, y, nd, wall: i });
+              }
+            }
           }
         }
       }
     }
-    // Enough of them to matter.
+    expect(touched).toEqual([]);
+    // Enough of them to matter: a quarter need no line test at all, and most walls are left out.
     expect(sure).toBeGreaterThan(ringNode.length / 4);
+    expect(leftOut).toBeGreaterThan(ringNode.length * 12 * walls.count * 0.75);
   });
 
   it('waypoint and nearestNode answer as the scans at points that are not finite', () => {

@@ -1,10 +1,10 @@
 /**
  * The walls' grid (the broad phase in front of every query) changes which walls a query looks at,
- * never its answer: every query of `Walls` against the all-walls loops as they were before the
- * grid (walls.ts keeps them for where the grid does not answer), bit for bit — on the two arenas
- * and on random layouts, at points and along moves built to land on faces, corners and cell
- * edges, for every radius the games use and beyond the grid's (and at coordinates that are not
- * finite).
+ * never its answer: every query of `Walls` (and the line test told which walls to look at, told
+ * all of them) against the all-walls loops as they were before the grid (walls.ts keeps them for
+ * where the grid does not answer), bit for bit — on the two arenas and on random layouts, at
+ * points and along moves built to land on faces, corners and cell edges, for every radius the
+ * games use and beyond the grid's (and at coordinates that are not finite).
  */
 import { describe, expect, it } from 'vitest';
 import fc from 'fast-check';
@@ -65,8 +65,19 @@ function answers(w: Walls | AllWalls, x: number, y: number, dx: number, dy: numb
     pushOut: [out[0]!, out[1]!],
     sweep: w.sweep(x, y, dx, dy, r),
     clear: w.clear(x, y, x + dx, y + dy, r),
+    // The line test told to look at every wall (the form the bots' waypoints use with fewer).
+    clearAmong:
+      w instanceof Walls && w.count <= 32
+        ? clearAmongAll(w, x, y, x + dx, y + dy, r)
+        : w.clear(x, y, x + dx, y + dy, r),
     crosses: w.crosses(x, y, x + dx, y + dy),
   };
+}
+
+/** `Walls.clearAmongQuery` with the mask of every wall (a layout of up to 32). */
+function clearAmongAll(w: Walls, x0: number, y0: number, x1: number, y1: number, r: number) {
+  w.query.set([x0, y0, x1, y1]);
+  return w.clearAmongQuery(r, w.count === 32 ? -1 : (1 << w.count) - 1);
 }
 
 /**

@@ -1,5 +1,6 @@
 import type { Walls } from './walls.js';
 import { isFiniteNumber } from './motion.js';
+import { REACH_UNKNOWN, cellReach } from './cell-reach.js';
 
 /** Integer edge costs: orthogonal 5, diagonal 7 (≈ 5√2), so path lengths are exact integers. */
 const ORTHO = 5;
@@ -9,25 +10,18 @@ const UNREACHABLE = 0x7fffffff;
 /** Scratch for {@link NavGrid.waypoint}'s goal search; never part of any state. */
 const goal = new Int32Array(1);
 /**
- * Scratch: the candidate waypoints of a search (at most the 5 × 5 cells), their costs, and
- * whether a body is known to reach each in a straight line (see {@link NavGrid}'s `ringSure`).
+ * Scratch: the candidate waypoints of a search (at most the 5 × 5 cells), their costs, and the
+ * walls a body going straight to each may meet (see {@link NavGrid}'s `ringWalls`).
  */
 const candidateNode = new Int32Array(25);
 const candidateCost = new Float64Array(25);
-const candidateSure = new Uint8Array(25);
+const candidateWalls = new Int32Array(25);
 /** Scratch: the bits of two coordinates, for {@link NavGrid.nearestNode}'s memo. */
 const bits = new Float64Array(2);
 const words = new Int32Array(bits.buffer);
 
 /** Entries of {@link NavGrid.nearestNode}'s memo (a power of two: indexed by a hash's top bits). */
 const MEMO_BITS = 6;
-
-/**
- * Arena units by which a straight move from a cell to a waypoint must miss every wall (beyond the
- * body's radius) to be taken as clear without the walls' test: a million times more than any
- * rounding of that test on an arena a thousand units across, so the test could not say otherwise.
- */
-const SURE_SLACK = 1;
 
 /**
  * Navigation for the bots: a grid of waypoints at cell centres (those a body of radius
@@ -77,11 +71,12 @@ export class NavGrid {
   private readonly ringStart: Int32Array;
   private readonly ringNode: Int32Array;
   /**
-   * Per entry of `ringNode`: 1 when a body of radius `clearance` anywhere in the cell reaches the
-   * waypoint in a straight line, missing every wall by more than {@link SURE_SLACK} — the walls'
-   * test would say it is clear, so the searches skip it (static, from the walls).
+   * Per entry of `ringNode`: the walls a body of radius `clearance` going straight from anywhere
+   * in the cell to the waypoint may meet (`cellReach`, static, from the walls). 0: none — the
+   * walls' test would say it is clear, so the searches skip it; otherwise they test those walls
+   * only (`Walls.clearAmongQuery`), with no grid look-up.
    */
-  private readonly ringSure: Uint8Array;
+  private readonly ringWalls: Int32Array;
 
   /** {@link nearestNode}'s last answers by hash of the coordinates: a cache, not state (NaN: empty). */
   private readonly memoX = new Float64Array(1 << MEMO_BITS).fill(NaN);
@@ -211,10 +206,10 @@ export class NavGrid {
     }
     this.symmetric = symmetric;
 
-    // The searches' candidates per cell, and which of them are surely reachable.
+    // The searches' candidates per cell, and the walls in the way of each.
     const ringStart = new Int32Array(cells * 2 + 1);
     const ringNode: number[] = [];
-    const ringSure: number[] = [];
+    const ringWalls: number[] = [];
     for (let row = 0; row < this.rows; row++) {
       for (let col = 0; col < this.cols; col++) {
         const c = row * this.cols + col;
@@ -228,8 +223,8 @@ export class NavGrid {
               const nd = this.cellNode[r2 * this.cols + c2]!;
               if (nd < 0) continue;
               ringNode.push(nd);
-              ringSure.push(
-                cellSeesPoint(
+              ringWalls.push(
+                cellReach(
                   walls,
                   col * spacing,
                   row * spacing,
@@ -237,9 +232,7 @@ export class NavGrid {
                   xs[nd]!,
                   ys[nd]!,
                   clearance,
-                )
-                  ? 1
-                  : 0,
+                ),
               );
             }
           }
@@ -249,7 +242,7 @@ export class NavGrid {
     }
     this.ringStart = ringStart;
     this.ringNode = Int32Array.from(ringNode);
-    this.ringSure = Uint8Array.from(ringSure);
+    this.ringWalls = Int32Array.from(ringWalls);
   }
 
   /**
@@ -306,7 +299,7 @@ export class NavGrid {
     // line tests (the costly part) stop there.
     const ringStart = this.ringStart;
     const ringNode = this.ringNode;
-    const ringSure = this.ringSure;
+    const ringWalls = this.ringWalls;
     const onGrid = col >= 0 && row >= 0 && col < this.cols && row < this.rows;
     const cell = 2 * (row * this.cols + col);
     for (let rad = 1; rad <= 2; rad++) {
@@ -324,7 +317,7 @@ export class NavGrid {
           const cost = Math.sqrt(ex * ex + ey * ey) * scale + rest;
           candidateNode[n] = nd;
           candidateCost[n] = cost;
-          candidateSure[n] = ringSure[k]!;
+          candidateWalls[n] = ringWalls[k]!;
           if (cost < least) {
             least = cost;
             first = n;
@@ -348,7 +341,7 @@ export class NavGrid {
             const cost = Math.sqrt(ex * ex + ey * ey) * scale + rest;
             candidateNode[n] = nd;
             candidateCost[n] = cost;
-            candidateSure[n] = 0;
+            candidateWalls[n] = REACH_UNKNOWN;
             if (cost < least) {
               least = cost;
               first = n;
@@ -409,7 +402,7 @@ export class NavGrid {
     const row = Math.floor(y / this.spacing);
     const ringStart = this.ringStart;
     const ringNode = this.ringNode;
-    const ringSure = this.ringSure;
+    const ringWalls = this.ringWalls;
     const onGrid = col >= 0 && row >= 0 && col < this.cols && row < this.rows;
     const cell = 2 * (row * this.cols + col);
     let found = -1;
@@ -426,7 +419,7 @@ export class NavGrid {
           const d2 = ex * ex + ey * ey;
           candidateNode[n] = nd;
           candidateCost[n] = d2;
-          candidateSure[n] = ringSure[k]!;
+          candidateWalls[n] = ringWalls[k]!;
           if (d2 < least) {
             least = d2;
             first = n;
@@ -447,7 +440,7 @@ export class NavGrid {
             const d2 = ex * ex + ey * ey;
             candidateNode[n] = nd;
             candidateCost[n] = d2;
-            candidateSure[n] = 0;
+            candidateWalls[n] = REACH_UNKNOWN;
             if (d2 < least) {
               least = d2;
               first = n;
@@ -469,8 +462,8 @@ export class NavGrid {
    * Of the first `n` candidates (`candidateNode`, `candidateCost`), the cheapest that a body can
    * reach in a straight line from the point in `from[at]`, `from[at + 1]` — of equals, the
    * first — or -1. Tries them cheapest first, so it answers what a scan keeping the cheapest
-   * reachable one would, with fewer line tests (none for a candidate marked in `candidateSure`:
-   * reachable from anywhere in the cell). `first` is the cheapest of all (of equals, the first;
+   * reachable one would, with fewer line tests: none for a candidate that no wall can be in the way
+   * of (`candidateWalls` 0), and only against the walls that can be for the others. `first` is the cheapest of all (of equals, the first;
    * -1 when n is 0), which the caller found while writing them. Uses up the candidates.
    */
   private firstClear(from: Float64Array, at: number, n: number, first: number): number {
@@ -483,12 +476,19 @@ export class NavGrid {
       if (pick < 0) return -1;
       const nd = candidateNode[pick]!;
       candidateNode[pick] = -1;
-      if (candidateSure[pick] === 1) return nd;
+      const inTheWay = candidateWalls[pick]!;
+      if (inTheWay === 0) return nd;
       wq[0] = x;
       wq[1] = y;
       wq[2] = this.nodeX[nd]!;
       wq[3] = this.nodeY[nd]!;
-      if (walls.clearQuery(this.clearance)) return nd;
+      if (
+        inTheWay === REACH_UNKNOWN
+          ? walls.clearQuery(this.clearance)
+          : walls.clearAmongQuery(this.clearance, inTheWay)
+      ) {
+        return nd;
+      }
       // The next cheapest of those left.
       pick = -1;
       let least = Infinity;
@@ -588,64 +588,4 @@ export function sharedNav(
 ): () => NavGrid {
   let nav: NavGrid | undefined;
   return () => (nav ??= new NavGrid(walls, width, height, 40, playerRadius + 2));
-}
-
-/**
- * Whether a circle of radius `r` moving in a straight line from anywhere in the square cell
- * [x0, x0 + size] × [y0, y0 + size] to (px, py) misses every wall by more than
- * {@link SURE_SLACK}: whether the convex hull of the cell and the point stays clear of every wall
- * grown by `r + SURE_SLACK` (square corners: more than the round ones, so never a wrong yes). The
- * separating-axis test on the hull's and the box's edge directions — the axes and the normals of
- * the segments from each corner to the point, which include the hull's edges.
- */
-function cellSeesPoint(
-  walls: Walls,
-  x0: number,
-  y0: number,
-  size: number,
-  px: number,
-  py: number,
-  r: number,
-): boolean {
-  const x1 = x0 + size;
-  const y1 = y0 + size;
-  // The hull's box, for the x and y axes.
-  const hx0 = Math.min(x0, px);
-  const hx1 = Math.max(x1, px);
-  const hy0 = Math.min(y0, py);
-  const hy1 = Math.max(y1, py);
-  const grow = r + SURE_SLACK;
-  for (let i = 0; i < walls.count; i++) {
-    const bx0 = walls.cx[i]! - walls.hw[i]! - grow;
-    const bx1 = walls.cx[i]! + walls.hw[i]! + grow;
-    const by0 = walls.cy[i]! - walls.hh[i]! - grow;
-    const by1 = walls.cy[i]! + walls.hh[i]! + grow;
-    if (hx1 < bx0 || bx1 < hx0 || hy1 < by0 || by1 < hy0) continue; // the x or the y axis
-    let separated = false;
-    // The normals of the segments from the cell's corners to the point.
-    for (let k = 0; k < 4 && !separated; k++) {
-      const cx = (k & 1) === 0 ? x0 : x1;
-      const cy = (k & 2) === 0 ? y0 : y1;
-      const ax = cy - py;
-      const ay = px - cx;
-      if (ax === 0 && ay === 0) continue;
-      let hullMin = px * ax + py * ay;
-      let hullMax = hullMin;
-      for (let j = 0; j < 4; j++) {
-        const v = ((j & 1) === 0 ? x0 : x1) * ax + ((j & 2) === 0 ? y0 : y1) * ay;
-        hullMin = Math.min(hullMin, v);
-        hullMax = Math.max(hullMax, v);
-      }
-      let boxMin = Infinity;
-      let boxMax = -Infinity;
-      for (let j = 0; j < 4; j++) {
-        const v = ((j & 1) === 0 ? bx0 : bx1) * ax + ((j & 2) === 0 ? by0 : by1) * ay;
-        boxMin = Math.min(boxMin, v);
-        boxMax = Math.max(boxMax, v);
-      }
-      separated = hullMax < boxMin || boxMax < hullMin;
-    }
-    if (!separated) return false;
-  }
-  return true;
 }

@@ -131,7 +131,11 @@ function nearestInSight(
   const d2s = nearD2;
   for (;;) {
     let pick = -1;
-    let least = limit;
+    // Every body listed is nearer than the range (`d2 < limit`), so starting from Infinity picks
+    // the same one. Not from `limit`: that comes in tagged (a call's argument) and would make V8
+    // keep `least` tagged too, boxing every squared distance assigned to it in a fresh heap
+    // number — the 22 bytes per tick capture the flag's re-simulation allocated.
+    let least = Infinity;
     for (let k = 0; k < n; k++) {
       if (index[k]! >= 0 && d2s[k]! < least) {
         least = d2s[k]!;

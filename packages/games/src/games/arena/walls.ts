@@ -252,6 +252,28 @@ export class Walls {
   }
 
   /**
+   * {@link clearQuery} testing only the walls of `mask` (bit i: wall i; layouts of up to 32
+   * walls), which must hold every wall the move can touch — a static answer for a known region,
+   * such as the bots' waypoints' (`cellReach`). Then it answers as {@link clearQuery} does — the
+   * same per-wall test, and the walls left out could not have been touched — without the grid's
+   * look-ups.
+   */
+  clearAmongQuery(r: number, mask: number): boolean {
+    const q = this.query;
+    const move = this.move;
+    const x0 = q[0]!;
+    const y0 = q[1]!;
+    move[0] = x0;
+    move[1] = y0;
+    move[2] = q[2]! - x0;
+    move[3] = q[3]! - y0;
+    for (let m = mask; m !== 0; m &= m - 1) {
+      if (this.touches(31 - Math.clz32(m & -m), r) && this.reg[U]! >= 0) return false;
+    }
+    return true;
+  }
+
+  /**
    * Whether the segment from (x0, y0) to (x1, y1) meets the inside of a wall (closed box): the
    * tunnelling detector. A circle's centre never legitimately gets there — the response keeps it
    * `r` away from every wall, and a centre path that touches a wall's box between two positions
