@@ -537,7 +537,9 @@ function bodyPairsInKernel(
   for (;;) {
     // kernelsWith() drops the kernels when their memory cannot grow (growing keeps the grid's
     // columns): JavaScript does it then.
-    const kernels = work.kernelsWith(outAt + 32 * room);
+    // Then room for one body's candidates (i32; at most every other body) for the array grid's pass.
+    const scratchAt = outAt + 32 * room;
+    const kernels = work.kernelsWith(scratchAt + 4 * n);
     if (!kernels) return false;
     const f64 = work.f64;
     const i32 = work.i32;
@@ -581,6 +583,7 @@ function bodyPairsInKernel(
         grid.cols,
         outAt,
         room,
+        scratchAt,
       );
     if (count < 0) {
       if (room < limit) {

@@ -123,6 +123,7 @@ export interface SolverKernels {
     cols: number,
     out: number,
     room: number,
+    scratch: number,
   ): number;
 }
 
