@@ -746,10 +746,10 @@ export class ContinuousSolver {
     const nearWall = grid.nearWall;
     const cellOf = grid.cellOf;
     const cell = grid.cellSize;
+    const filtered = bodies.filteredCount + bodies.sensorCount > 0;
     for (let i = 0; i < n; i++) {
       const f = flags[i]!;
       if (f === 0 || inverseMass[i] === 0 || (!all && (f & BULLET) === 0)) continue;
-      if (!this.hitsWalls(i)) continue;
       const p0x = startX[i]!;
       const p0y = startY[i]!;
       let p1x = x[i]!;
@@ -759,6 +759,7 @@ export class ContinuousSolver {
         const dy = p1y - p0y;
         if (dx <= cell && dx >= -cell && dy <= cell && dy >= -cell) continue;
       }
+      if (filtered && !collidesWithWalls(bodies, i)) continue;
       // The path's bounding box, made again only when a wall moves the end.
       let loX = p0x < p1x ? p0x : p1x;
       let hiX = p0x < p1x ? p1x : p0x;
