@@ -721,7 +721,7 @@ export class PhysicsWorld implements Simulation<unknown> {
     // Contacts where the bodies are now (a new one wakes what it touches), gravity, velocities.
     this.beginStep();
     this.grid.build(bodies, def, this.schedule);
-    this.grid.markWalls(this.statics);
+    this.grid.markWalls(this.statics, bodies.slotCount);
     this.findContactsOrUndo(def);
     if (this.contactEventsOn) this.contactLog.diff(this.contacts, this.cache, bodies);
     this.solverStep(def);
