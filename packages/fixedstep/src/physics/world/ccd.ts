@@ -178,6 +178,9 @@ export class ContinuousSolver {
     pathTime.fill(0, 0, n);
     state.fill(DISCRETE, 0, n);
     sweeps.fill(0, 0, n);
+    // The moves, and the longest of them, and every moving body's flags or-ed…
+    let longest2 = 0;
+    let union = 0;
     for (let i = 0; i < n; i++) {
       const f = flags[i]!;
       if (f === 0) continue;
@@ -186,6 +189,7 @@ export class ContinuousSolver {
         pathStartY[i] = y[i]!;
         continue;
       }
+      union |= f;
       const mx = vx[i]! * dt;
       const my = vy[i]! * dt;
       const sx = x[i]!;
@@ -195,12 +199,24 @@ export class ContinuousSolver {
       x[i] = sx + mx;
       y[i] = sy + my;
       const d2 = mx * mx + my * my;
+      if (d2 > longest2) longest2 = d2;
       if (d2 > farLimit2) {
         isFar[i] = 1;
         farList[far++] = i;
       } else if (d2 > reach2) reach2 = d2;
-      let fast = false;
-      if (mode !== 0) {
+    }
+    // …then the fast bodies, in id order, unless none can be: no bullet, and no move longer than
+    // the least limit (each body's limit is its smaller half extent plus `thin`, and
+    // `bodyThin` is at most every body's smaller half extent).
+    const least = bodyThin + thin;
+    if (mode !== 0 && ((union & BULLET) !== 0 || (mode === 2 && !(longest2 <= least * least)))) {
+      for (let i = 0; i < n; i++) {
+        const f = flags[i]!;
+        if (f === 0 || (f & ASLEEP) !== 0) continue;
+        const mx = vx[i]! * dt;
+        const my = vy[i]! * dt;
+        const d2 = mx * mx + my * my;
+        let fast = false;
         if ((f & BULLET) !== 0) fast = d2 > 0;
         else if (mode === 2) {
           const a = hw[i]!;
@@ -208,11 +224,11 @@ export class ContinuousSolver {
           const lim = (a < b ? a : b) + thin;
           fast = d2 > lim * lim;
         }
-      }
-      if (fast && (f & SENSOR) === 0) {
-        queue[queued++] = i;
-        state[i] = WAITING;
-        sweeps[i] = 1;
+        if (fast && (f & SENSOR) === 0) {
+          queue[queued++] = i;
+          state[i] = WAITING;
+          sweeps[i] = 1;
+        }
       }
     }
     this.queueLength = queued;
