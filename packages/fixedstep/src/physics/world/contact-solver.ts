@@ -379,7 +379,9 @@ function velocitiesIn(
 
 /**
  * Velocities and impulses out: the velocities from byte 0 into `vx`, `vy` (by body); each visit's
- * impulses into `normalImpulse`, `tangentImpulse` by contact (`order`: each visit's).
+ * impulses into `normalImpulse`, `tangentImpulse` by contact (`order`: each visit's), the tangent
+ * one + 0: a friction impulse clamped to −(μ·0) is −0, stored +0 so the warm-start cache, which
+ * copies it, is canonical as it is (the sign of a zero impulse changes no velocity).
  */
 function velocitiesOut(
   f64: Float64Array,
@@ -399,7 +401,7 @@ function velocitiesOut(
   for (let s = 0, o = first; s < count; s++, o += 8) {
     const k = order[s]!;
     normalImpulse[k] = f64[o + NORMAL_IMPULSE]!;
-    tangentImpulse[k] = f64[o + TANGENT_IMPULSE]!;
+    tangentImpulse[k] = f64[o + TANGENT_IMPULSE]! + 0;
   }
 }
 

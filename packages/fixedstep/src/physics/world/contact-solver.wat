@@ -401,7 +401,8 @@
     (memory.fill (i32.shl (local.get $slots) (i32.const {{VELOCITY_SHIFT}})) (i32.const 0) (i32.shl (local.get $standIns) (i32.const {{VELOCITY_SHIFT}}))))
 
   ;; Velocities and impulses out: the velocities from byte 0 into the columns at $vx, $vy (by
-  ;; body); each visit's impulses into the columns at $jn, $jt by contact ($order: each visit's).
+  ;; body); each visit's impulses into the columns at $jn, $jt by contact ($order: each visit's),
+  ;; the tangent one + 0 (a −0 becomes +0: the warm-start cache keeps it as it is).
   (func (export "velocitiesOut") (param $first i32) (param $count i32) (param $slots i32)
         (param $order i32) (param $vx i32) (param $vy i32) (param $jn i32) (param $jt i32)
     (local $i i32) (local $p i32) (local $s i32) (local $k i32)
@@ -419,7 +420,7 @@
         (local.set $p (i32.add (local.get $first) (i32.shl (local.get $s) (i32.const {{VISIT_SHIFT}}))))
         (local.set $k (i32.shl (i32.load (i32.add (local.get $order) (i32.shl (local.get $s) (i32.const 2)))) (i32.const 3)))
         (f64.store (i32.add (local.get $jn) (local.get $k)) (f64.load offset={{VISIT_NORMAL_IMPULSE}} (local.get $p)))
-        (f64.store (i32.add (local.get $jt) (local.get $k)) (f64.load offset={{VISIT_TANGENT_IMPULSE}} (local.get $p)))
+        (f64.store (i32.add (local.get $jt) (local.get $k)) (f64.add (f64.load offset={{VISIT_TANGENT_IMPULSE}} (local.get $p)) (f64.const 0)))
         (local.set $s (i32.add (local.get $s) (i32.const 1)))
         (br $visit))))
 

@@ -41,7 +41,7 @@ export class ContactList {
   separation = new Float64Array(0);
   /** The accumulated normal impulse (≥ 0), N·s. */
   normalImpulse = new Float64Array(0);
-  /** The accumulated friction impulse along the tangent (ny, −nx), N·s. */
+  /** The accumulated friction impulse along the tangent (ny, −nx), N·s (a zero one is +0). */
   tangentImpulse = new Float64Array(0);
   /** 1 / (1/mA + 1/mB): the mass the contact sees along its normal (and tangent). kg. */
   normalMass = new Float64Array(0);
@@ -155,18 +155,17 @@ export class WarmStartCache {
     this.count = count;
   }
 
-  /** Keeps this step's contacts and impulses (a zero impulse is stored as +0, never −0). */
+  /**
+   * Keeps this step's contacts and impulses: copies, since the solver leaves no −0 in them (it
+   * stores a zero tangent impulse as +0), so the state is canonical as it is.
+   */
   store(contacts: ContactList): void {
     const n = contacts.count;
     this.resize(n);
-    const jt = contacts.tangentImpulse;
-    const wJt = this.tangentImpulse;
     this.bodyA.set(contacts.bodyA.subarray(0, n));
     this.bodyB.set(contacts.bodyB.subarray(0, n));
     this.normalImpulse.set(contacts.normalImpulse.subarray(0, n));
-    // A friction impulse clamped to −(μ·0) is −0: store +0, so the state is canonical as it is
-    // (a snapshot is a plain copy). The sign of a zero impulse changes no velocity.
-    for (let k = 0; k < n; k++) wJt[k] = jt[k]! + 0;
+    this.tangentImpulse.set(contacts.tangentImpulse.subarray(0, n));
     this.linkedSlots = -1;
   }
 
