@@ -67,6 +67,13 @@ export class Grid {
    * {@link markWalls}); valid when {@link wallMarks} is true.
    */
   nearWall = new Uint8Array(0);
+  /**
+   * The bodies whose cell is marked, in id order: `nearWallBodies[0, nearWallCount)`; valid when
+   * {@link wallMarks} is true. (Taken once, without a branch per body: whether a body is near a
+   * wall is as good as random in id order, a branch the processor mostly mispredicts.)
+   */
+  nearWallBodies = new Int32Array(0);
+  nearWallCount = 0;
   /** Every live body's flags or-ed together (a {@link BodyFlag} BOX bit: some body is a box). */
   flagUnion = 0;
   /** Whether {@link nearWall} holds this step's marks (false: test every body against the walls). */
@@ -102,6 +109,7 @@ export class Grid {
     this.cellItems = new Int32Array(capacity);
     this.cellX = new Int32Array(capacity);
     this.cellY = new Int32Array(capacity);
+    this.nearWallBodies = new Int32Array(capacity);
     const maxCells = 4 * capacity + 64;
     this.cellStart = new Int32Array(maxCells + 2);
     this.cellCursor = new Int32Array(maxCells + 1);
@@ -341,7 +349,7 @@ export class Grid {
    * walls' boxes cover more cells than the bodies' share of them (marking would cost more than
    * it saves).
    */
-  markWalls(statics: StaticStore): void {
+  markWalls(statics: StaticStore, slots: number): void {
     this.wallMarks = false;
     const cols = this.cols;
     const rows = this.rows;
@@ -387,6 +395,15 @@ export class Grid {
       if (pass === 0 && area > cells) return;
     }
     this.wallMarks = true;
+    const cellOf = this.cellOf;
+    const list = this.nearWallBodies;
+    let near = 0;
+    for (let i = 0; i < slots; i++) {
+      const c = cellOf[i]!;
+      list[near] = i;
+      near += c < 0 ? 0 : mark[c]!;
+    }
+    this.nearWallCount = near;
   }
 }
 
@@ -537,7 +554,9 @@ function bodyPairsInKernel(
   for (;;) {
     // kernelsWith() drops the kernels when their memory cannot grow (growing keeps the grid's
     // columns): JavaScript does it then.
-    const kernels = work.kernelsWith(outAt + 32 * room);
+    // Then room for one body's candidates (i32; at most every other body) for the array grid's pass.
+    const scratchAt = outAt + 32 * room;
+    const kernels = work.kernelsWith(scratchAt + 4 * n);
     if (!kernels) return false;
     const f64 = work.f64;
     const i32 = work.i32;
@@ -581,6 +600,7 @@ function bodyPairsInKernel(
         grid.cols,
         outAt,
         room,
+        scratchAt,
       );
     if (count < 0) {
       if (room < limit) {
@@ -764,13 +784,14 @@ function wallPairs(
   const wallMinY = statics.minY;
   const wallMaxX = statics.maxX;
   const wallMaxY = statics.maxY;
-  const n = bodies.slotCount;
+  // With the marks, only the bodies in marked cells (in id order); else every body.
   const marks = grid.wallMarks;
-  const nearWall = grid.nearWall;
-  const cellOf = grid.cellOf;
-  for (let i = 0; i < n; i++) {
+  const list = grid.nearWallBodies;
+  const count = marks ? grid.nearWallCount : bodies.slotCount;
+  for (let k = 0; k < count; k++) {
+    const i = marks ? list[k]! : k;
     const f = flags[i]!;
-    if (f === 0 || im[i] === 0 || (marks && nearWall[cellOf[i]!] === 0)) continue;
+    if (f === 0 || im[i] === 0) continue;
     const xi = x[i]!;
     const yi = y[i]!;
     const wi = hw[i]!;

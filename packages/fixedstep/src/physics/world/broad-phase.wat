@@ -151,10 +151,11 @@
   ;; radius), $im (solver inverse mass) and u8 at $flags; the grid's cellStart and cellItems (i32). Contacts
   ;; out in columns of $room from $out: bodyA, bodyB (i32), then nx, ny, separation (f64), lower id
   ;; first. Returns the count, or -1 when contact number $room was due (its two bodies at $out − 8).
+  ;; $scratch: room for a body's candidates (i32, as many as there are bodies).
   (func (export "bodyPairs") (param $x i32) (param $y i32) (param $hw i32)
         (param $im i32) (param $flags i32) (param $start i32) (param $items i32)
-        (param $rows i32) (param $cols i32) (param $out i32) (param $room i32) (result i32)
-    (local $cy i32) (local $cx i32) (local $c i32) (local $s i32) (local $e i32)
+        (param $rows i32) (param $cols i32) (param $out i32) (param $room i32) (param $scratch i32) (result i32)
+    (local $w i32) (local $cy i32) (local $cx i32) (local $c i32) (local $s i32) (local $e i32)
     (local $sameRowEnd i32) (local $upStart i32) (local $upEnd i32) (local $up i32)
     (local $k i32) (local $m i32) (local $to i32) (local $pass i32)
     (local $i i32) (local $j i32) (local $pi i32) (local $pj i32) (local $fi i32) (local $fj i32)
@@ -202,6 +203,10 @@
                     (local.set $yi (f64.load (i32.add (local.get $y) (local.get $pi))))
                     (local.set $wi (f64.load (i32.add (local.get $hw) (local.get $pi))))
                     (local.set $ii (f64.load (i32.add (local.get $im) (local.get $pi))))
+                    ;; First the candidates of both passes that pass the distance test, in order, into
+                    ;; the list at $scratch — without a branch: each is written, and the end moves on
+                    ;; only for one that passes (about a third) — then their contacts.
+                    (local.set $w (local.get $scratch))
                     (local.set $pass (i32.const 0))
                     (block $passesDone
                       (loop $passLoop
@@ -217,56 +222,67 @@
                             (local.set $dx (f64.sub (local.get $xi) (f64.load (i32.add (local.get $x) (local.get $pj)))))
                             (local.set $dy (f64.sub (local.get $yi) (f64.load (i32.add (local.get $y) (local.get $pj)))))
                             (local.set $sumW (f64.add (local.get $wi) (f64.load (i32.add (local.get $hw) (local.get $pj)))))
-                            (local.set $d2 (f64.add (f64.mul (local.get $dx) (local.get $dx)) (f64.mul (local.get $dy) (local.get $dy))))
-                            (block $skip
-                              ;; One test where findContacts has five: circles (sumH = sumW) whose
-                              ;; d² < sumW² pass its box test (|dx| ≥ sumW gives dx² ≥ sumW², so
-                              ;; d² ≥ sumW², rounding being monotonic), and positions are finite.
-                              (br_if $skip (f64.ge (local.get $d2) (f64.mul (local.get $sumW) (local.get $sumW))))
-                              (local.set $fj (i32.load8_u (i32.add (local.get $flags) (local.get $j))))
-                              ;; Both immovable: skip — unless a kinematic body touches a sleeping one.
-                              (br_if $skip (i32.and
-                                (i32.and (f64.eq (local.get $ii) (f64.const 0))
-                                         (f64.eq (f64.load (i32.add (local.get $im) (local.get $pj))) (f64.const 0)))
-                                (i32.or (i32.eqz (i32.and (i32.or (local.get $fi) (local.get $fj)) (i32.const {{BODY_ASLEEP}})))
-                                        (i32.eqz (i32.and (i32.or (local.get $fi) (local.get $fj)) (i32.const {{BODY_KINEMATIC}}))))))
-                              ;; circleCircle
-                              (local.set $d (f64.sqrt (local.get $d2)))
-                              (if (f64.gt (local.get $d) (f64.const 0))
-                                (then
-                                  (local.set $nx (f64.div (local.get $dx) (local.get $d)))
-                                  (local.set $ny (f64.div (local.get $dy) (local.get $d)))
-                                  (local.set $sep (f64.sub (local.get $d) (local.get $sumW))))
-                                (else
-                                  (local.set $nx (f64.const 0))
-                                  (local.set $ny (f64.const 1))
-                                  (local.set $sep (f64.neg (local.get $sumW)))))
-                              (if (i32.eq (local.get $count) (local.get $room))
-                                (then
-                                  (i32.store offset=0 (i32.sub (local.get $out) (i32.const 8)) (local.get $i))
-                                  (i32.store offset=4 (i32.sub (local.get $out) (i32.const 8)) (local.get $j))
-                                  (return (i32.const -1))))
-                              ;; Columns: bodyA at $out, bodyB 4·room on, then nx, ny, separation 8·room apart.
-                              (local.set $q (i32.add (local.get $out) (i32.shl (local.get $count) (i32.const 2))))
-                              (local.set $r (i32.add (i32.add (local.get $out) (i32.shl (local.get $room) (i32.const 3)))
-                                                     (i32.shl (local.get $count) (i32.const 3))))
-                              (local.set $count (i32.add (local.get $count) (i32.const 1)))
-                              (if (i32.lt_s (local.get $j) (local.get $i))
-                                (then
-                                  (i32.store (local.get $q) (local.get $j))
-                                  (i32.store (i32.add (local.get $q) (i32.shl (local.get $room) (i32.const 2))) (local.get $i))
-                                  (f64.store (local.get $r) (f64.neg (local.get $nx)))
-                                  (f64.store (i32.add (local.get $r) (i32.shl (local.get $room) (i32.const 3))) (f64.neg (local.get $ny))))
-                                (else
-                                  (i32.store (local.get $q) (local.get $i))
-                                  (i32.store (i32.add (local.get $q) (i32.shl (local.get $room) (i32.const 2))) (local.get $j))
-                                  (f64.store (local.get $r) (local.get $nx))
-                                  (f64.store (i32.add (local.get $r) (i32.shl (local.get $room) (i32.const 3))) (local.get $ny))))
-                              (f64.store (i32.add (local.get $r) (i32.shl (local.get $room) (i32.const 4))) (local.get $sep)))
+                            (i32.store (local.get $w) (local.get $j))
+                            ;; One test where findContacts has five: circles (sumH = sumW) whose
+                            ;; d² < sumW² pass its box test (|dx| ≥ sumW gives dx² ≥ sumW², so
+                            ;; d² ≥ sumW², rounding being monotonic), and positions are finite.
+                            (local.set $w (i32.add (local.get $w) (i32.shl
+                              (i32.eqz (f64.ge (f64.add (f64.mul (local.get $dx) (local.get $dx)) (f64.mul (local.get $dy) (local.get $dy)))
+                                               (f64.mul (local.get $sumW) (local.get $sumW))))
+                              (i32.const 2))))
                             (local.set $m (i32.add (local.get $m) (i32.const 1)))
                             (br $candidate)))
                         (local.set $pass (i32.add (local.get $pass) (i32.const 1)))
                         (br $passLoop)))
+                    (local.set $m (local.get $scratch))
+                    (block $candidatesDone
+                      (loop $candidate
+                        (br_if $candidatesDone (i32.ge_u (local.get $m) (local.get $w)))
+                        (local.set $j (i32.load (local.get $m)))
+                        (local.set $pj (i32.shl (local.get $j) (i32.const 3)))
+                        (local.set $dx (f64.sub (local.get $xi) (f64.load (i32.add (local.get $x) (local.get $pj)))))
+                        (local.set $dy (f64.sub (local.get $yi) (f64.load (i32.add (local.get $y) (local.get $pj)))))
+                        (local.set $sumW (f64.add (local.get $wi) (f64.load (i32.add (local.get $hw) (local.get $pj)))))
+                        (local.set $d2 (f64.add (f64.mul (local.get $dx) (local.get $dx)) (f64.mul (local.get $dy) (local.get $dy))))
+                        (block $skip
+                          (local.set $fj (i32.load8_u (i32.add (local.get $flags) (local.get $j))))
+                          ;; Both immovable: skip — unless a kinematic body touches a sleeping one.
+                          (br_if $skip (i32.and
+                            (i32.and (f64.eq (local.get $ii) (f64.const 0))
+                                     (f64.eq (f64.load (i32.add (local.get $im) (local.get $pj))) (f64.const 0)))
+                            (i32.or (i32.eqz (i32.and (i32.or (local.get $fi) (local.get $fj)) (i32.const {{BODY_ASLEEP}})))
+                                    (i32.eqz (i32.and (i32.or (local.get $fi) (local.get $fj)) (i32.const {{BODY_KINEMATIC}}))))))
+                          ;; circleCircle
+                          (local.set $d (f64.sqrt (local.get $d2)))
+                          (if (f64.gt (local.get $d) (f64.const 0))
+                            (then
+                              (local.set $nx (f64.div (local.get $dx) (local.get $d)))
+                              (local.set $ny (f64.div (local.get $dy) (local.get $d)))
+                              (local.set $sep (f64.sub (local.get $d) (local.get $sumW))))
+                            (else
+                              (local.set $nx (f64.const 0))
+                              (local.set $ny (f64.const 1))
+                              (local.set $sep (f64.neg (local.get $sumW)))))
+                          (if (i32.eq (local.get $count) (local.get $room))
+                            (then
+                              (i32.store offset=0 (i32.sub (local.get $out) (i32.const 8)) (local.get $i))
+                              (i32.store offset=4 (i32.sub (local.get $out) (i32.const 8)) (local.get $j))
+                              (return (i32.const -1))))
+                          ;; Columns: bodyA at $out, bodyB 4·room on, then nx, ny, separation 8·room apart.
+                          (local.set $q (i32.add (local.get $out) (i32.shl (local.get $count) (i32.const 2))))
+                          (local.set $r (i32.add (i32.add (local.get $out) (i32.shl (local.get $room) (i32.const 3)))
+                                                 (i32.shl (local.get $count) (i32.const 3))))
+                          (local.set $count (i32.add (local.get $count) (i32.const 1)))
+                          ;; Lower id first, without a branch: the normal times −1 (exact: −n) when j < i.
+                          (local.set $fj (i32.lt_s (local.get $j) (local.get $i)))
+                          (i32.store (local.get $q) (select (local.get $j) (local.get $i) (local.get $fj)))
+                          (i32.store (i32.add (local.get $q) (i32.shl (local.get $room) (i32.const 2))) (select (local.get $i) (local.get $j) (local.get $fj)))
+                          (local.set $d (f64.convert_i32_s (i32.sub (i32.const 1) (i32.shl (local.get $fj) (i32.const 1)))))
+                          (f64.store (local.get $r) (f64.mul (local.get $nx) (local.get $d)))
+                          (f64.store (i32.add (local.get $r) (i32.shl (local.get $room) (i32.const 3))) (f64.mul (local.get $ny) (local.get $d)))
+                          (f64.store (i32.add (local.get $r) (i32.shl (local.get $room) (i32.const 4))) (local.get $sep)))
+                        (local.set $m (i32.add (local.get $m) (i32.const 4)))
+                        (br $candidate)))
                     (local.set $k (i32.add (local.get $k) (i32.const 1)))
                     (br $item)))))
             (local.set $cx (i32.add (local.get $cx) (i32.const 1)))

@@ -178,6 +178,9 @@ export class ContinuousSolver {
     pathTime.fill(0, 0, n);
     state.fill(DISCRETE, 0, n);
     sweeps.fill(0, 0, n);
+    // The moves, and the longest of them, and every moving body's flags or-ed…
+    let longest2 = 0;
+    let union = 0;
     for (let i = 0; i < n; i++) {
       const f = flags[i]!;
       if (f === 0) continue;
@@ -186,6 +189,7 @@ export class ContinuousSolver {
         pathStartY[i] = y[i]!;
         continue;
       }
+      union |= f;
       const mx = vx[i]! * dt;
       const my = vy[i]! * dt;
       const sx = x[i]!;
@@ -195,12 +199,24 @@ export class ContinuousSolver {
       x[i] = sx + mx;
       y[i] = sy + my;
       const d2 = mx * mx + my * my;
+      if (d2 > longest2) longest2 = d2;
       if (d2 > farLimit2) {
         isFar[i] = 1;
         farList[far++] = i;
       } else if (d2 > reach2) reach2 = d2;
-      let fast = false;
-      if (mode !== 0) {
+    }
+    // …then the fast bodies, in id order, unless none can be: no bullet, and no move longer than
+    // the least limit (each body's limit is its smaller half extent plus `thin`, and
+    // `bodyThin` is at most every body's smaller half extent).
+    const least = bodyThin + thin;
+    if (mode !== 0 && ((union & BULLET) !== 0 || (mode === 2 && !(longest2 <= least * least)))) {
+      for (let i = 0; i < n; i++) {
+        const f = flags[i]!;
+        if (f === 0 || (f & ASLEEP) !== 0) continue;
+        const mx = vx[i]! * dt;
+        const my = vy[i]! * dt;
+        const d2 = mx * mx + my * my;
+        let fast = false;
         if ((f & BULLET) !== 0) fast = d2 > 0;
         else if (mode === 2) {
           const a = hw[i]!;
@@ -208,11 +224,11 @@ export class ContinuousSolver {
           const lim = (a < b ? a : b) + thin;
           fast = d2 > lim * lim;
         }
-      }
-      if (fast && (f & SENSOR) === 0) {
-        queue[queued++] = i;
-        state[i] = WAITING;
-        sweeps[i] = 1;
+        if (fast && (f & SENSOR) === 0) {
+          queue[queued++] = i;
+          state[i] = WAITING;
+          sweeps[i] = 1;
+        }
       }
     }
     this.queueLength = queued;
@@ -721,14 +737,43 @@ export class ContinuousSolver {
    */
   guardWalls(all: boolean): void {
     const bodies = this.bodies;
-    const statics = this.statics;
     const n = bodies.slotCount;
-    const flags = bodies.flags;
+    const grid = this.grid;
+    if (!grid.wallMarks) {
+      for (let i = 0; i < n; i++) this.guardBody(i, all);
+      return;
+    }
+    // A body that starts in a cell far from every wall and moves at most a cell along each axis
+    // cannot cross one (Grid.markWalls): the bodies in marked cells first, then those of the
+    // others that moved further (each body is guarded on its own, so the order changes nothing).
+    const list = grid.nearWallBodies;
+    const near = grid.nearWallCount;
+    for (let k = 0; k < near; k++) this.guardBody(list[k]!, all);
     const x = bodies.x;
     const y = bodies.y;
     const startX = bodies.startX;
     const startY = bodies.startY;
-    const inverseMass = bodies.inverseMass;
+    const nearWall = grid.nearWall;
+    const cellOf = grid.cellOf;
+    const cell = grid.cellSize;
+    for (let i = 0; i < n; i++) {
+      const dx = x[i]! - startX[i]!;
+      const dy = y[i]! - startY[i]!;
+      if (dx <= cell && dx >= -cell && dy <= cell && dy >= -cell) continue;
+      const c = cellOf[i]!;
+      if (c >= 0 && nearWall[c] === 0) this.guardBody(i, all);
+    }
+  }
+
+  /** {@link guardWalls} for body `i`. */
+  private guardBody(i: number, all: boolean): void {
+    const bodies = this.bodies;
+    const f = bodies.flags[i]!;
+    if (f === 0 || bodies.inverseMass[i] === 0 || (!all && (f & BULLET) === 0)) return;
+    if (!this.hitsWalls(i)) return;
+    const statics = this.statics;
+    const x = bodies.x;
+    const y = bodies.y;
     const kind = statics.kind;
     const wallMinX = statics.minX;
     const wallMinY = statics.minY;
@@ -739,81 +784,64 @@ export class ContinuousSolver {
     const halfWidth = statics.halfWidth;
     const halfHeight = statics.halfHeight;
     const wallCount = statics.count;
-    // A body that starts in a cell far from every wall and moves at most a cell along each axis
-    // cannot cross one (Grid.markWalls): skipped without the wall loop.
-    const grid = this.grid;
-    const marks = grid.wallMarks;
-    const nearWall = grid.nearWall;
-    const cellOf = grid.cellOf;
-    const cell = grid.cellSize;
-    for (let i = 0; i < n; i++) {
-      const f = flags[i]!;
-      if (f === 0 || inverseMass[i] === 0 || (!all && (f & BULLET) === 0)) continue;
-      if (!this.hitsWalls(i)) continue;
-      const p0x = startX[i]!;
-      const p0y = startY[i]!;
-      let p1x = x[i]!;
-      let p1y = y[i]!;
-      if (marks && nearWall[cellOf[i]!] === 0) {
-        const dx = p1x - p0x;
-        const dy = p1y - p0y;
-        if (dx <= cell && dx >= -cell && dy <= cell && dy >= -cell) continue;
+    const p0x = bodies.startX[i]!;
+    const p0y = bodies.startY[i]!;
+    let p1x = x[i]!;
+    let p1y = y[i]!;
+    // The path's bounding box, made again only when a wall moves the end.
+    let loX = p0x < p1x ? p0x : p1x;
+    let hiX = p0x < p1x ? p1x : p0x;
+    let loY = p0y < p1y ? p0y : p1y;
+    let hiY = p0y < p1y ? p1y : p0y;
+    for (let s = 0; s < wallCount; s++) {
+      if (loX > wallMaxX[s]! || hiX < wallMinX[s]! || loY > wallMaxY[s]! || hiY < wallMinY[s]!)
+        continue;
+      // The wall's spine from (ax, ay) to (bx, by).
+      let ax: number;
+      let ay: number;
+      let bx: number;
+      let by: number;
+      if (kind[s] === SEGMENT) {
+        ax = statics.ax[s]!;
+        ay = statics.ay[s]!;
+        bx = statics.bx[s]!;
+        by = statics.by[s]!;
+      } else if (halfWidth[s]! >= halfHeight[s]!) {
+        ax = centerX[s]! - halfWidth[s]!;
+        bx = centerX[s]! + halfWidth[s]!;
+        ay = centerY[s]!;
+        by = ay;
+      } else {
+        ay = centerY[s]! - halfHeight[s]!;
+        by = centerY[s]! + halfHeight[s]!;
+        ax = centerX[s]!;
+        bx = ax;
       }
-      // The path's bounding box, made again only when a wall moves the end.
-      let loX = p0x < p1x ? p0x : p1x;
-      let hiX = p0x < p1x ? p1x : p0x;
-      let loY = p0y < p1y ? p0y : p1y;
-      let hiY = p0y < p1y ? p1y : p0y;
-      for (let s = 0; s < wallCount; s++) {
-        if (loX > wallMaxX[s]! || hiX < wallMinX[s]! || loY > wallMaxY[s]! || hiY < wallMinY[s]!)
-          continue;
-        // The wall's spine from (ax, ay) to (bx, by).
-        let ax: number;
-        let ay: number;
-        let bx: number;
-        let by: number;
-        if (kind[s] === SEGMENT) {
-          ax = statics.ax[s]!;
-          ay = statics.ay[s]!;
-          bx = statics.bx[s]!;
-          by = statics.by[s]!;
-        } else if (halfWidth[s]! >= halfHeight[s]!) {
-          ax = centerX[s]! - halfWidth[s]!;
-          bx = centerX[s]! + halfWidth[s]!;
-          ay = centerY[s]!;
-          by = ay;
-        } else {
-          ay = centerY[s]! - halfHeight[s]!;
-          by = centerY[s]! + halfHeight[s]!;
-          ax = centerX[s]!;
-          bx = ax;
-        }
-        const ex = bx - ax;
-        const ey = by - ay;
-        // Which side of the spine the path starts and ends on…
-        const side0 = ex * (p0y - ay) - ey * (p0x - ax);
-        const side1 = ex * (p1y - ay) - ey * (p1x - ax);
-        if (side0 === 0 || (side0 > 0 ? side1 > 0 : side1 < 0)) continue; // on it, or same side
-        // …and whether the path passes between the spine's ends.
-        const mx = p1x - p0x;
-        const my = p1y - p0y;
-        const endA = mx * (ay - p0y) - my * (ax - p0x);
-        const endB = mx * (by - p0y) - my * (bx - p0x);
-        if ((endA > 0 && endB > 0) || (endA < 0 && endB < 0)) continue; // passed beside it
-        // Back to where the path meets the spine, then a hair onto the starting side.
-        const u = side0 / (side0 - side1);
-        const len = Math.sqrt(ex * ex + ey * ey);
-        const side = side0 > 0 ? 1 : -1;
-        const eps = 1e-9 + 1e-12 * (Math.abs(ax) + Math.abs(ay));
-        p1x = p0x + u * mx - (side * ey * eps) / len;
-        p1y = p0y + u * my + (side * ex * eps) / len;
-        x[i] = p1x;
-        y[i] = p1y;
-        loX = p0x < p1x ? p0x : p1x;
-        hiX = p0x < p1x ? p1x : p0x;
-        loY = p0y < p1y ? p0y : p1y;
-        hiY = p0y < p1y ? p1y : p0y;
-      }
+      const ex = bx - ax;
+      const ey = by - ay;
+      // Which side of the spine the path starts and ends on…
+      const side0 = ex * (p0y - ay) - ey * (p0x - ax);
+      const side1 = ex * (p1y - ay) - ey * (p1x - ax);
+      if (side0 === 0 || (side0 > 0 ? side1 > 0 : side1 < 0)) continue; // on it, or same side
+      // …and whether the path passes between the spine's ends.
+      const mx = p1x - p0x;
+      const my = p1y - p0y;
+      const endA = mx * (ay - p0y) - my * (ax - p0x);
+      const endB = mx * (by - p0y) - my * (bx - p0x);
+      if ((endA > 0 && endB > 0) || (endA < 0 && endB < 0)) continue; // passed beside it
+      // Back to where the path meets the spine, then a hair onto the starting side.
+      const u = side0 / (side0 - side1);
+      const len = Math.sqrt(ex * ex + ey * ey);
+      const side = side0 > 0 ? 1 : -1;
+      const eps = 1e-9 + 1e-12 * (Math.abs(ax) + Math.abs(ay));
+      p1x = p0x + u * mx - (side * ey * eps) / len;
+      p1y = p0y + u * my + (side * ex * eps) / len;
+      x[i] = p1x;
+      y[i] = p1y;
+      loX = p0x < p1x ? p0x : p1x;
+      hiX = p0x < p1x ? p1x : p0x;
+      loY = p0y < p1y ? p0y : p1y;
+      hiY = p0y < p1y ? p1y : p0y;
     }
   }
 }

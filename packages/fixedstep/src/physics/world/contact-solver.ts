@@ -171,7 +171,7 @@ export class SolverSchedule extends KernelMemory {
     // After the visits, room for the WebAssembly plan's inputs and scratch (see planInKernel).
     const cached = cache.count;
     // (solvePositions' columns, 12 bytes a contact and 40 a body, fit in the same room.)
-    const scratch = 44 * count + 40 * slots + 24 * cached + 16;
+    const scratch = 44 * count + 40 * slots + 28 * cached + 16;
     const kernels = this.reserve(this.visitsAt + VISIT_BYTES * count + scratch, count);
     if (this.order.length < count) {
       const room = Math.max(count, 2 * this.order.length);
@@ -223,7 +223,8 @@ export class SolverSchedule extends KernelMemory {
     const bodyBAt = bodyAAt + 4 * count;
     const headAt = bodyBAt + 4 * count;
     const nextAt = headAt + 4 * slots;
-    const cachedBAt = nextAt + 4 * cached;
+    const cachedAAt = nextAt + 4 * cached;
+    const cachedBAt = cachedAAt + 4 * cached;
     const lastWaveAt = cachedBAt + 4 * cached;
     const waveOfAt = lastWaveAt + 4 * slots;
     const waveStartAt = waveOfAt + 4 * count;
@@ -235,8 +236,7 @@ export class SolverSchedule extends KernelMemory {
     f64.set(cache.tangentImpulse, cachedTAt >>> 3);
     i32.set(contacts.bodyA.subarray(0, count), bodyAAt >>> 2);
     i32.set(contacts.bodyB.subarray(0, count), bodyBAt >>> 2);
-    i32.set(cache.head.subarray(0, slots), headAt >>> 2);
-    i32.set(cache.next.subarray(0, cached), nextAt >>> 2);
+    i32.set(cache.bodyA, cachedAAt >>> 2);
     i32.set(cache.bodyB, cachedBAt >>> 2);
     kernels.planVisits(
       count,
@@ -247,8 +247,10 @@ export class SolverSchedule extends KernelMemory {
       nxAt,
       nyAt,
       imAt,
+      cached,
       headAt,
       nextAt,
+      cachedAAt,
       cachedBAt,
       cachedNAt,
       cachedTAt,
@@ -310,8 +312,7 @@ export class SolverSchedule extends KernelMemory {
     const vx = bodies.vx;
     const vy = bodies.vy;
     const inverseMass = bodies.solverInverseMass;
-    const head = cache.head;
-    const next = cache.next;
+    const { head, next } = cache.chains(slots);
     const cachedB = cache.bodyB;
     const cachedNormal = cache.normalImpulse;
     const cachedTangent = cache.tangentImpulse;
@@ -378,7 +379,9 @@ function velocitiesIn(
 
 /**
  * Velocities and impulses out: the velocities from byte 0 into `vx`, `vy` (by body); each visit's
- * impulses into `normalImpulse`, `tangentImpulse` by contact (`order`: each visit's).
+ * impulses into `normalImpulse`, `tangentImpulse` by contact (`order`: each visit's), the tangent
+ * one + 0: a friction impulse clamped to −(μ·0) is −0, stored +0 so the warm-start cache, which
+ * copies it, is canonical as it is (the sign of a zero impulse changes no velocity).
  */
 function velocitiesOut(
   f64: Float64Array,
@@ -398,7 +401,7 @@ function velocitiesOut(
   for (let s = 0, o = first; s < count; s++, o += 8) {
     const k = order[s]!;
     normalImpulse[k] = f64[o + NORMAL_IMPULSE]!;
-    tangentImpulse[k] = f64[o + TANGENT_IMPULSE]!;
+    tangentImpulse[k] = f64[o + TANGENT_IMPULSE]! + 0;
   }
 }
 

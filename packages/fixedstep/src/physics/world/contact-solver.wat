@@ -197,12 +197,14 @@
   ;; `iterations` sweeps of the position relaxation; positions start at byte `positions`. A body's
   ;; (movedX, movedY) is one f64x2 and its (x, y) the next, and so is a normal: every lane does what
   ;; the JavaScript does to that component (no fused operations), and the predicted separation adds
-  ;; lane 0, then lane 1, as the JavaScript does.
+  ;; lane 0, then lane 1, as the JavaScript does. The JavaScript skips a visit with s ≥ −slop; here
+  ;; every visit computes its push and `keep` (all ones where s ≥ −slop) selects the old values
+  ;; instead: the same bits, and no branch to mispredict (in a pile about two visits in three keep).
   (func (export "iteratePositions") (param $first i32) (param $count i32) (param $positions i32)
         (param $iterations i32) (param $slop f64) (param $beta f64)
     (local $p i32) (local $end i32) (local $it i32) (local $a i32) (local $b i32)
     (local $n v128) (local $movedA v128) (local $movedB v128) (local $q v128) (local $push v128)
-    (local $s f64) (local $ia f64) (local $ib f64) (local $c f64)
+    (local $keep v128) (local $s f64) (local $ia f64) (local $ib f64) (local $c f64)
     (local.set $end (i32.add (local.get $first) (i32.shl (local.get $count) (i32.const {{VISIT_SHIFT}}))))
     (block $done
       (loop $iteration
@@ -221,19 +223,20 @@
             (local.set $q (f64x2.mul (f64x2.sub (local.get $movedA) (local.get $movedB)) (local.get $n)))
             (local.set $s (f64.add (f64.add (f64.load offset={{VISIT_SEPARATION}} (local.get $p)) (f64x2.extract_lane 0 (local.get $q)))
                                    (f64x2.extract_lane 1 (local.get $q))))
-            (if (i32.eqz (f64.ge (local.get $s) (f64.neg (local.get $slop))))
-              (then
-                (local.set $ia (f64.load offset={{VISIT_INVERSE_MASS_A}} (local.get $p)))
-                (local.set $ib (f64.load offset={{VISIT_INVERSE_MASS_B}} (local.get $p)))
-                (local.set $c (f64.div (f64.mul (f64.neg (f64.add (local.get $s) (local.get $slop))) (local.get $beta))
-                                       (f64.add (local.get $ia) (local.get $ib))))
-                ;; A moves by (c·ia)·n, B by −(c·ib)·n: its motion and its position alike.
-                (local.set $push (f64x2.mul (f64x2.splat (f64.mul (local.get $c) (local.get $ia))) (local.get $n)))
-                (v128.store (local.get $a) (f64x2.add (local.get $movedA) (local.get $push)))
-                (v128.store offset={{POSITION_XY}} (local.get $a) (f64x2.add (v128.load offset={{POSITION_XY}} (local.get $a)) (local.get $push)))
-                (local.set $push (f64x2.mul (f64x2.splat (f64.mul (local.get $c) (local.get $ib))) (local.get $n)))
-                (v128.store (local.get $b) (f64x2.sub (local.get $movedB) (local.get $push)))
-                (v128.store offset={{POSITION_XY}} (local.get $b) (f64x2.sub (v128.load offset={{POSITION_XY}} (local.get $b)) (local.get $push)))))
+            (local.set $keep (f64x2.ge (f64x2.splat (local.get $s)) (f64x2.splat (f64.neg (local.get $slop)))))
+            (local.set $ia (f64.load offset={{VISIT_INVERSE_MASS_A}} (local.get $p)))
+            (local.set $ib (f64.load offset={{VISIT_INVERSE_MASS_B}} (local.get $p)))
+            (local.set $c (f64.div (f64.mul (f64.neg (f64.add (local.get $s) (local.get $slop))) (local.get $beta))
+                                   (f64.add (local.get $ia) (local.get $ib))))
+            ;; A moves by (c·ia)·n, B by −(c·ib)·n: its motion and its position alike.
+            (local.set $push (f64x2.mul (f64x2.splat (f64.mul (local.get $c) (local.get $ia))) (local.get $n)))
+            (v128.store (local.get $a) (v128.bitselect (local.get $movedA) (f64x2.add (local.get $movedA) (local.get $push)) (local.get $keep)))
+            (local.set $q (v128.load offset={{POSITION_XY}} (local.get $a)))
+            (v128.store offset={{POSITION_XY}} (local.get $a) (v128.bitselect (local.get $q) (f64x2.add (local.get $q) (local.get $push)) (local.get $keep)))
+            (local.set $push (f64x2.mul (f64x2.splat (f64.mul (local.get $c) (local.get $ib))) (local.get $n)))
+            (v128.store (local.get $b) (v128.bitselect (local.get $movedB) (f64x2.sub (local.get $movedB) (local.get $push)) (local.get $keep)))
+            (local.set $q (v128.load offset={{POSITION_XY}} (local.get $b)))
+            (v128.store offset={{POSITION_XY}} (local.get $b) (v128.bitselect (local.get $q) (f64x2.sub (local.get $q) (local.get $push)) (local.get $keep)))
             (local.set $p (i32.add (local.get $p) (i32.const {{VISIT_BYTES}})))
             (br $visit)))
         (local.set $it (i32.add (local.get $it) (i32.const 1)))
@@ -241,18 +244,31 @@
 
   ;; SolverSchedule.plan's waves, order and visits (contact-solver.ts does the same in JavaScript,
   ;; and still does it when restitution needs the approach speeds). The contacts in columns at
-  ;; $bodyA, $bodyB (i32), $nx, $ny (f64); the solver inverse masses (f64) and the warm-start
-  ;; cache's head (i32) by body; its next, bodyB (i32), normal and tangent impulses (f64) by entry.
-  ;; Scratch: $lastWave by body, $waveOf by contact, $waveStart by wave (count + 2 of them).
-  ;; Writes the visiting order at $order (i32) and the visits at $visits.
+  ;; $bodyA, $bodyB (i32), $nx, $ny (f64); the solver inverse masses (f64) by body; the $cached
+  ;; entries of the warm-start cache in columns at $cachedA, $cachedB (i32), $cachedN, $cachedT
+  ;; (f64). Scratch: the cache's chains ($head by body, $next by entry: made here, as
+  ;; WarmStartCache.link makes them), $lastWave by body, $waveOf by contact, $waveStart by wave
+  ;; (count + 2 of them). Writes the visiting order at $order (i32) and the visits at $visits.
   (func (export "planVisits") (param $count i32) (param $pairs i32) (param $slots i32)
         (param $bodyA i32) (param $bodyB i32) (param $nx i32) (param $ny i32) (param $im i32)
-        (param $head i32) (param $next i32) (param $cachedB i32) (param $cachedN i32) (param $cachedT i32)
+        (param $cached i32) (param $head i32) (param $next i32) (param $cachedA i32) (param $cachedB i32)
+        (param $cachedN i32) (param $cachedT i32)
         (param $lastWave i32) (param $waveOf i32) (param $waveStart i32) (param $order i32)
         (param $visits i32)
     (local $k i32) (local $a i32) (local $b i32) (local $wave i32) (local $waveB i32) (local $waves i32)
-    (local $w i32) (local $s i32) (local $p i32) (local $q i32)
+    (local $w i32) (local $s i32) (local $p i32) (local $q i32) (local $cursor i32)
     (local $ia f64) (local $ib f64) (local $mass f64) (local $jn f64) (local $jt f64)
+    ;; The chains: each body's entries in cache order (-1 ends one).
+    (memory.fill (local.get $head) (i32.const 255) (i32.shl (local.get $slots) (i32.const 2)))
+    (local.set $w (local.get $cached))
+    (block $linked
+      (loop $link
+        (br_if $linked (i32.eqz (local.get $w)))
+        (local.set $w (i32.sub (local.get $w) (i32.const 1)))
+        (local.set $p (i32.add (local.get $head) (i32.shl (i32.load (i32.add (local.get $cachedA) (i32.shl (local.get $w) (i32.const 2)))) (i32.const 2))))
+        (i32.store (i32.add (local.get $next) (i32.shl (local.get $w) (i32.const 2))) (i32.load (local.get $p)))
+        (i32.store (local.get $p) (local.get $w))
+        (br $link)))
     (memory.fill (local.get $lastWave) (i32.const 0) (i32.shl (local.get $slots) (i32.const 2)))
     (memory.fill (local.get $waveStart) (i32.const 0) (i32.shl (i32.add (local.get $count) (i32.const 2)) (i32.const 2)))
     ;; Each contact's wave, and contacts per wave.
@@ -311,20 +327,28 @@
             (f64.store offset={{VISIT_INVERSE_MASS_B}} (local.get $p) (f64.const 0))
             (i32.store offset={{VISIT_VELOCITY_B}} (local.get $p)
               (i32.shl (i32.sub (i32.add (local.get $slots) (local.get $k)) (local.get $pairs)) (i32.const {{VELOCITY_SHIFT}})))))
-        ;; Last step's impulses for the same pair: the first entry of A's chain with B.
+        ;; Last step's impulses for the same pair (a pair has at most one entry): the entry after
+        ;; the last one found, when it is the pair (contacts mostly come in last step's order),
+        ;; else the entry of A's chain with B.
         (local.set $jn (f64.const 0))
         (local.set $jt (f64.const 0))
-        (local.set $w (i32.load (i32.add (local.get $head) (i32.shl (local.get $a) (i32.const 2)))))
-        (block $found
-          (loop $chain
-            (br_if $found (i32.eq (local.get $w) (i32.const -1)))
-            (if (i32.eq (i32.load (i32.add (local.get $cachedB) (i32.shl (local.get $w) (i32.const 2)))) (local.get $b))
-              (then
-                (local.set $jn (f64.load (i32.add (local.get $cachedN) (i32.shl (local.get $w) (i32.const 3)))))
-                (local.set $jt (f64.load (i32.add (local.get $cachedT) (i32.shl (local.get $w) (i32.const 3)))))
-                (br $found)))
-            (local.set $w (i32.load (i32.add (local.get $next) (i32.shl (local.get $w) (i32.const 2)))))
-            (br $chain)))
+        (local.set $w (local.get $cursor))
+        (if (i32.eqz (i32.and (i32.lt_u (local.get $w) (local.get $cached))
+                              (i32.and (i32.eq (i32.load (i32.add (local.get $cachedA) (i32.shl (local.get $w) (i32.const 2)))) (local.get $a))
+                                       (i32.eq (i32.load (i32.add (local.get $cachedB) (i32.shl (local.get $w) (i32.const 2)))) (local.get $b)))))
+          (then
+            (local.set $w (i32.load (i32.add (local.get $head) (i32.shl (local.get $a) (i32.const 2)))))
+            (block $found
+              (loop $chain
+                (br_if $found (i32.eq (local.get $w) (i32.const -1)))
+                (br_if $found (i32.eq (i32.load (i32.add (local.get $cachedB) (i32.shl (local.get $w) (i32.const 2)))) (local.get $b)))
+                (local.set $w (i32.load (i32.add (local.get $next) (i32.shl (local.get $w) (i32.const 2)))))
+                (br $chain)))))
+        (if (i32.ne (local.get $w) (i32.const -1))
+          (then
+            (local.set $jn (f64.load (i32.add (local.get $cachedN) (i32.shl (local.get $w) (i32.const 3)))))
+            (local.set $jt (f64.load (i32.add (local.get $cachedT) (i32.shl (local.get $w) (i32.const 3)))))
+            (local.set $cursor (i32.add (local.get $w) (i32.const 1)))))
         (local.set $q (i32.shl (local.get $k) (i32.const 3)))
         (f64.store offset={{VISIT_NORMAL_X}} (local.get $p) (f64.load (i32.add (local.get $nx) (local.get $q))))
         (f64.store offset={{VISIT_NORMAL_Y}} (local.get $p) (f64.load (i32.add (local.get $ny) (local.get $q))))
@@ -377,7 +401,8 @@
     (memory.fill (i32.shl (local.get $slots) (i32.const {{VELOCITY_SHIFT}})) (i32.const 0) (i32.shl (local.get $standIns) (i32.const {{VELOCITY_SHIFT}}))))
 
   ;; Velocities and impulses out: the velocities from byte 0 into the columns at $vx, $vy (by
-  ;; body); each visit's impulses into the columns at $jn, $jt by contact ($order: each visit's).
+  ;; body); each visit's impulses into the columns at $jn, $jt by contact ($order: each visit's),
+  ;; the tangent one + 0 (a −0 becomes +0: the warm-start cache keeps it as it is).
   (func (export "velocitiesOut") (param $first i32) (param $count i32) (param $slots i32)
         (param $order i32) (param $vx i32) (param $vy i32) (param $jn i32) (param $jt i32)
     (local $i i32) (local $p i32) (local $s i32) (local $k i32)
@@ -395,7 +420,7 @@
         (local.set $p (i32.add (local.get $first) (i32.shl (local.get $s) (i32.const {{VISIT_SHIFT}}))))
         (local.set $k (i32.shl (i32.load (i32.add (local.get $order) (i32.shl (local.get $s) (i32.const 2)))) (i32.const 3)))
         (f64.store (i32.add (local.get $jn) (local.get $k)) (f64.load offset={{VISIT_NORMAL_IMPULSE}} (local.get $p)))
-        (f64.store (i32.add (local.get $jt) (local.get $k)) (f64.load offset={{VISIT_TANGENT_IMPULSE}} (local.get $p)))
+        (f64.store (i32.add (local.get $jt) (local.get $k)) (f64.add (f64.load offset={{VISIT_TANGENT_IMPULSE}} (local.get $p)) (f64.const 0)))
         (local.set $s (i32.add (local.get $s) (i32.const 1)))
         (br $visit))))
 

@@ -41,7 +41,7 @@ export class ContactList {
   separation = new Float64Array(0);
   /** The accumulated normal impulse (≥ 0), N·s. */
   normalImpulse = new Float64Array(0);
-  /** The accumulated friction impulse along the tangent (ny, −nx), N·s. */
+  /** The accumulated friction impulse along the tangent (ny, −nx), N·s (a zero one is +0). */
   tangentImpulse = new Float64Array(0);
   /** 1 / (1/mA + 1/mB): the mass the contact sees along its normal (and tangent). kg. */
   normalMass = new Float64Array(0);
@@ -109,7 +109,8 @@ export const CACHE_ENTRY_BYTES = 24;
 /**
  * Last step's contacts — pair and impulses — so this step's solver can start from them (warm
  * starting). Part of the state. Each body's entries are chained in cache order from
- * {@link head}, so a lookup walks only that body's few contacts.
+ * {@link head}, so a lookup walks only that body's few contacts; the chains are made when asked
+ * for ({@link chains}), since the solver's WebAssembly plan makes its own.
  *
  * The four columns are views of one buffer laid out as a snapshot stores them — bodyA and bodyB
  * (i32), then the normal and tangent impulses (f64), `count` of each — so a snapshot copies the
@@ -126,11 +127,13 @@ export class WarmStartCache {
   tangentImpulse = new Float64Array(0);
   /** The four columns' bytes, in that order: what a snapshot holds after the entry count. */
   image = new Uint8Array(0);
-  /** The next entry with the same `bodyA`, or -1. */
+  /** The next entry with the same `bodyA`, or -1 (valid after {@link chains}). */
   next = new Int32Array(0);
-  /** By body id: its first entry, or -1. */
+  /** By body id: its first entry, or -1 (valid after {@link chains}, for its slot count). */
   head = new Int32Array(0);
   private buffer = new ArrayBuffer(0);
+  /** The slot count {@link head} and {@link next} were made for, or -1: to be made again. */
+  private linkedSlots = -1;
 
   /**
    * Sets the entry count: the columns become views of `count` entries each. Their values are
@@ -152,23 +155,37 @@ export class WarmStartCache {
     this.count = count;
   }
 
-  /** Keeps this step's contacts and impulses (a zero impulse is stored as +0, never −0). */
-  store(contacts: ContactList, slotCount: number): void {
+  /**
+   * Keeps this step's contacts and impulses: copies, since the solver leaves no −0 in them (it
+   * stores a zero tangent impulse as +0), so the state is canonical as it is.
+   */
+  store(contacts: ContactList): void {
     const n = contacts.count;
     this.resize(n);
-    const jt = contacts.tangentImpulse;
-    const wJt = this.tangentImpulse;
     this.bodyA.set(contacts.bodyA.subarray(0, n));
     this.bodyB.set(contacts.bodyB.subarray(0, n));
     this.normalImpulse.set(contacts.normalImpulse.subarray(0, n));
-    // A friction impulse clamped to −(μ·0) is −0: store +0, so the state is canonical as it is
-    // (a snapshot is a plain copy). The sign of a zero impulse changes no velocity.
-    for (let k = 0; k < n; k++) wJt[k] = jt[k]! + 0;
-    this.link(slotCount);
+    this.tangentImpulse.set(contacts.tangentImpulse.subarray(0, n));
+    this.linkedSlots = -1;
+  }
+
+  /**
+   * The per-body chains ({@link head}, {@link next}) over the first `slotCount` bodies, made
+   * again if the entries changed since; returns the cache.
+   */
+  chains(slotCount: number): this {
+    if (this.linkedSlots !== slotCount) this.link(slotCount);
+    return this;
+  }
+
+  /** The entries were written in place (a load): the chains are made again when asked for. */
+  changed(): void {
+    this.linkedSlots = -1;
   }
 
   /** Rebuilds the per-body chains, in cache order. */
   link(slotCount: number): void {
+    this.linkedSlots = slotCount;
     const head = this.head;
     const next = this.next;
     const wA = this.bodyA;
@@ -180,14 +197,14 @@ export class WarmStartCache {
     }
   }
 
-  /** No entries (and no chains over the first `slotCount` bodies). */
-  clear(slotCount: number): void {
+  /** No entries. */
+  clear(): void {
     this.resize(0);
-    this.link(slotCount);
+    this.linkedSlots = -1;
   }
 
   /** Forgets every entry of body `id` (its slot's next body must not inherit them). */
-  forget(id: number, slotCount: number): void {
+  forget(id: number): void {
     const kept: number[] = [];
     for (let k = 0; k < this.count; k++)
       if (this.bodyA[k] !== id && this.bodyB[k] !== id) kept.push(k);
@@ -200,7 +217,7 @@ export class WarmStartCache {
     this.bodyB.set(bodyB);
     this.normalImpulse.set(normal);
     this.tangentImpulse.set(tangent);
-    this.link(slotCount);
+    this.linkedSlots = -1;
   }
 
   /** Room for `capacity` entries, keeping the current ones. */
@@ -212,6 +229,7 @@ export class WarmStartCache {
     next.set(this.next.subarray(0, Math.min(this.next.length, capacity)));
     this.next = next;
     this.capacity = capacity;
+    this.linkedSlots = -1;
     this.view(this.count);
   }
 
@@ -220,5 +238,6 @@ export class WarmStartCache {
     const head = new Int32Array(capacity).fill(-1);
     head.set(this.head.subarray(0, Math.min(this.head.length, capacity)));
     this.head = head;
+    this.linkedSlots = -1;
   }
 }

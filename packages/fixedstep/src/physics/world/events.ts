@@ -205,8 +205,7 @@ export class ContactEvents {
     const begin: ContactEvent[] = [];
     const end: ContactEvent[] = [];
     // Begin: a contact the cache does not have — unless it was asleep (and so dropped) last step.
-    const cacheHead = cache.head;
-    const cacheNext = cache.next;
+    const { head: cacheHead, next: cacheNext } = cache.chains(bodies.slotCount);
     const cachedB = cache.bodyB;
     for (let k = 0; k < n; k++) {
       const a = bodyA[k]!;

@@ -100,8 +100,7 @@ export function wakeByNewContacts(
   const flags = bodies.flags;
   const bodyA = contacts.bodyA;
   const bodyB = contacts.bodyB;
-  const head = cache.head;
-  const next = cache.next;
+  const { head, next } = cache.chains(bodies.slotCount);
   const cachedB = cache.bodyB;
   let woke = false;
   for (let k = 0; k < contacts.bodyPairCount; k++) {

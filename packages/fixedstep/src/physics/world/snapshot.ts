@@ -1108,7 +1108,7 @@ export class SnapshotReader {
       normal[k] = f64[impulses + k]! + 0;
       tangent[k] = f64[impulses + count + k]! + 0;
     }
-    cache.link(n);
+    cache.changed();
   }
 }
 

@@ -82,8 +82,10 @@ export interface SolverKernels {
     normalX: number,
     normalY: number,
     inverseMass: number,
+    cached: number,
     head: number,
     next: number,
+    cachedA: number,
     cachedB: number,
     cachedNormal: number,
     cachedTangent: number,
@@ -123,6 +125,7 @@ export interface SolverKernels {
     cols: number,
     out: number,
     room: number,
+    scratch: number,
   ): number;
 }
 

@@ -363,7 +363,7 @@ export class PhysicsWorld implements Simulation<unknown> {
     this.body(id, 'destroyBody');
     wakeIsland(this.bodies, id); // what rested on it must fall
     this.bodies.destroy(id);
-    this.cache.forget(id, this.bodies.slotCount);
+    this.cache.forget(id);
     this.overlaps.forget(id);
     this.contactLog.clearBody(id);
     this.queries.fresh = false;
@@ -710,7 +710,7 @@ export class PhysicsWorld implements Simulation<unknown> {
       this.contacts.count = 0;
       this.contacts.bodyPairCount = 0;
       this.ccd.sweptCount = 0;
-      if (this.cache.count > 0) this.cache.clear(bodies.slotCount);
+      if (this.cache.count > 0) this.cache.clear();
       this.rule.wasBroken = false;
       this.contactLog.quiet();
       this.updateSensors();
@@ -721,7 +721,7 @@ export class PhysicsWorld implements Simulation<unknown> {
     // Contacts where the bodies are now (a new one wakes what it touches), gravity, velocities.
     this.beginStep();
     this.grid.build(bodies, def, this.schedule);
-    this.grid.markWalls(this.statics);
+    this.grid.markWalls(this.statics, bodies.slotCount);
     this.findContactsOrUndo(def);
     if (this.contactEventsOn) this.contactLog.diff(this.contacts, this.cache, bodies);
     this.solverStep(def);
@@ -908,7 +908,7 @@ export class PhysicsWorld implements Simulation<unknown> {
   /** Velocities from the contacts, and their impulses kept for the next step. */
   private solverStep(def: Readonly<WorldDef>): void {
     solveVelocities(this.contacts, this.cache, this.bodies, def, this.schedule);
-    this.cache.store(this.contacts, this.bodies.slotCount);
+    this.cache.store(this.contacts);
   }
 
   // ---------------------------------------------------------------- state
