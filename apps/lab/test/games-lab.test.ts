@@ -28,7 +28,13 @@ import {
 } from '../src/games-view/games.js';
 import { fetchHighscores, submitScore } from '../src/games-view/highscores.js';
 import { recordBotGame, replayContents, withPlayerName } from '../src/games-view/replays.js';
-import { ABOUT, afterGameText } from '../src/chapters/games/games-text.js';
+import {
+  ABOUT,
+  afterGameText,
+  lede,
+  runAgainHint,
+  startHint,
+} from '../src/chapters/games/games-text.js';
 import { count } from '../src/ui/format.js';
 
 const REFERENCE_APEX = runnerApex(1 / 60);
@@ -74,6 +80,26 @@ describe('keys', () => {
     expect(keyLabel('KeyW')).toBe('W');
     expect(keyLabel('ArrowLeft')).toBe('←');
     expect(keyLabel('ShiftLeft')).toBe('Shift');
+  });
+});
+
+describe('the words follow the device: keyboard, touch or both', () => {
+  it('says press Space on a keyboard, tap Jump on a phone, both on a touch laptop', () => {
+    expect(lede('keyboard')).toContain('Play them with the keyboard on any display');
+    expect(lede('touch')).toContain('Play them with touch on any display');
+    expect(lede('touch')).not.toContain('keyboard');
+    expect(lede('both')).toContain('Play them with the keyboard or touch on any display');
+    expect(startHint('keyboard', 'Space', 'Jump')).toBe(
+      'or press Space with the game focused · or let the bot play',
+    );
+    expect(startHint('touch', 'Space', 'Jump')).toBe(
+      'or tap Jump under the game · or let the bot play',
+    );
+    expect(startHint('both', 'W', 'Fire')).toBe(
+      'or tap Fire under the game or press W with the game focused · or let the bot play',
+    );
+    expect(runAgainHint('touch', 'Space')).toBe('tap Jump to run again');
+    expect(runAgainHint('keyboard', 'Space')).toBe('Space to run again');
   });
 });
 
