@@ -41,7 +41,7 @@ import { drawBall } from '../../ui/ball-view.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import type { Chart } from '../../ui/chart.js';
 import { button, group, segmented } from '../../ui/controls.js';
-import { h, setAttr, setText } from '../../ui/dom.js';
+import { h, setAttr, setText, setHidden } from '../../ui/dom.js';
 import { introSection } from '../../ui/prose.js';
 import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
@@ -356,7 +356,7 @@ class FinalFixesChapter {
           : '',
     );
     if (p.stall) {
-      p.stall.hidden = !r.stalled;
+      setHidden(p.stall, !r.stalled);
       setAttr(p.stall, 'data-value', String(r.stalled));
       setText(
         p.stall,
@@ -392,7 +392,7 @@ class FinalFixesChapter {
   }
 
   private pill(p: PanelView, text: string): void {
-    p.overlay.hidden = text === '';
+    setHidden(p.overlay, text === '');
     setText(p.overlay, text);
   }
 

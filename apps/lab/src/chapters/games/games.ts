@@ -18,7 +18,7 @@ import {
   type Segmented,
   type Slider,
 } from '../../ui/controls.js';
-import { h, setAttr, setText } from '../../ui/dom.js';
+import { h, setAttr, setText, setHidden } from '../../ui/dom.js';
 import * as fmt from '../../ui/format.js';
 import { download } from '../../ui/download.js';
 import { Readout } from '../../ui/readout.js';
@@ -386,10 +386,10 @@ class GamesChapter {
       canvas.focus();
     });
     canvas.addEventListener('focus', () => {
-      this.focusHint.hidden = true;
+      setHidden(this.focusHint, true);
     });
     canvas.addEventListener('blur', () => {
-      this.focusHint.hidden = !this.started || this.session.bot;
+      setHidden(this.focusHint, !this.started || this.session.bot);
     });
   }
 
@@ -461,12 +461,12 @@ class GamesChapter {
     );
     this.highscores.setGame(s.def);
     this.highscores.setSubmission(undefined);
-    this.after.hidden = true;
+    setHidden(this.after, true);
   }
 
   private markStarted(): void {
     this.started = true;
-    this.startOverlay.hidden = true;
+    setHidden(this.startOverlay, true);
   }
 
   /** Play: the game runs, and has the keyboard unless the bot plays. */
@@ -493,7 +493,7 @@ class GamesChapter {
     const over = s.ended || s.game.over;
     if (over === this.wasOver) return;
     this.wasOver = over;
-    this.after.hidden = !over;
+    setHidden(this.after, !over);
     // The best run stays on offer while the runner runs again.
     const best = s.bestRun();
     this.highscores.setSubmission(best ? { bytes: best.bytes, score: best.score } : undefined);
@@ -543,7 +543,7 @@ class GamesChapter {
     this.ctl.step.disabled = !fixed || this.session.ended;
     this.ctl.jitter.input.disabled = shell.real;
     setPressed(this.ctl.bot, this.session.bot);
-    this.startOverlay.hidden = this.started;
+    setHidden(this.startOverlay, this.started);
     this.focusHint.hidden =
       !this.started || this.session.bot || document.activeElement === this.scene.canvas;
   }

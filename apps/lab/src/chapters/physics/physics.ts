@@ -46,7 +46,7 @@ import {
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { tryCards } from '../../ui/cards.js';
 import { ladderSlider, slider } from '../../ui/controls.js';
-import { h, setAttr, setText } from '../../ui/dom.js';
+import { h, setAttr, setText, setHidden } from '../../ui/dom.js';
 import { introSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -141,9 +141,12 @@ class PhysicsChapter {
         this.change({ stiffness: k });
       },
     });
-    this.hitch = new HitchSection(() => {
-      shell.redraw();
-    });
+    this.hitch = new HitchSection(
+      () => {
+        shell.redraw();
+      },
+      (attrs) => shell.canvas(attrs),
+    );
     this.rope = new RopeSection(shell, {
       settings: () => this.lab.settings,
       run: () => this.run(),
@@ -465,7 +468,7 @@ class PhysicsChapter {
         : limitState;
     l.chip.set(st, st);
     setAttr(l.chip.el, 'data-state', st);
-    l.note.hidden = !lane.exploded;
+    setHidden(l.note, !lane.exploded);
     setText(
       l.note,
       lane.exploded
