@@ -183,9 +183,9 @@ export function howItWorks(): HTMLElement {
     'how',
     'how-title',
     'How this page works',
-    'Keys go into a ButtonSampler with the time the browser stamped on the event. Every display frame the FixedLoop says how many 1/60 s steps are due, and each step gets exactly the presses that happened before its end — so a tap is never lost or doubled, whatever the frame rate. The canvas then draws every moving thing between its last two states, at α = accumulator / step.',
+    'Keys (and taps) go into a ButtonSampler with the time the browser stamped on the event. Every display frame a FrameStepper asks the FixedLoop how many 1/60 s steps are due and runs them, each with exactly the presses that happened before its end — so a tap is never lost or doubled, whatever the frame rate. The canvas then draws every moving thing between its last two states, at α = accumulator / step.',
     code(
-      'const sampler = new ButtonSampler();\nattachKeyboard(canvas, sampler, keys, (e) => timeOf(e.timeStamp));\n\nconst n = loop.frame(now);\nfor (let j = 0; j < n; j++) {\n  inputs[0] = sampler.sample(loop, j);\n  game.step(inputs);\n  recorder.record(inputs, game);\n}\ndraw(game, loop.alpha);',
+      'const sampler = new ButtonSampler();\nattachKeyboard(canvas, sampler, keys, (e) => timeOf(e.timeStamp));\n\nconst stepper = new FrameStepper({\n  loop: new FixedLoop({ step: 60 }),\n  input: sampler,\n  update: (_dt, input) => {\n    game.step([input]);\n    recorder.record([input], game);\n  },\n  render: (alpha) => draw(game, alpha),\n});\n// every display frame:\nstepper.frame(now);',
     ),
     `The recording is the replay: the inputs of every tick (run-length coded), the seed and a state hash every 10 s — nothing else; a player re-simulates to seek, at millions of ticks a second. The panel after a game says how many bytes each part takes. “Variable Δt” swaps the FixedLoop for the talk’s naive loop, which calls update(dt) once per frame with that frame’s Δt; it is not recorded, because nothing could replay it.`,
   );
