@@ -4,6 +4,7 @@
  * FixedLoop; and a clock that jumps backwards. The numbers come from {@link FinalLab}; the words
  * from final-fixes-text.ts; the charts from final-fixes-draw.ts.
  */
+import { nanSection } from './final-fixes-nan.js';
 import {
   BACKWARDS_LOOPS,
   FinalLab,
@@ -146,6 +147,7 @@ class FinalFixesChapter {
         chartTitle: 'How far behind the display each loop’s time is',
         chart: this.simChart.el,
       }),
+      nanSection(),
       how(),
     );
     shell.start();

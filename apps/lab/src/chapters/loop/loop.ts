@@ -46,6 +46,7 @@ import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
 import { StepsChart } from '../../ui/steps-chart.js';
+import { slipSection } from './loop-slip.js';
 import './loop.css';
 
 const HITCH_MS = 2000;
@@ -174,6 +175,7 @@ class LoopChapter {
         this.panelGrid,
         legend(),
       ),
+      slipSection(),
       this.experiments(),
       howItWorks(),
     );

@@ -22,6 +22,7 @@ import {
 import { EnergyChart } from './physics-chart.js';
 import { drawLane } from './physics-draw.js';
 import { HitchSection } from './physics-hitch.js';
+import { formulasSection } from './physics-formulas.js';
 import { RopeSection } from './physics-rope.js';
 import {
   COLORS,
@@ -175,6 +176,7 @@ class PhysicsChapter {
       this.fitChart(chartHost);
     });
     shell.append(
+      formulasSection(),
       methodsIntro(),
       introSection(
         'bench',
