@@ -37,7 +37,7 @@ export function talkLoopTicks(times: readonly number[], max: (a: number, b: numb
   return out;
 }
 
-/** One second of a 60 Hz display whose 10th reading is NaN (a broken timer, a 0/0). */
+/** One second of a 60 Hz display (61 readings, 0 to 1 s); the reading at 10/60 s is NaN. */
 export function nanFrames(): number[] {
   return Array.from({ length: 61 }, (_, k) => (k === 10 ? Number.NaN : k / 60));
 }
@@ -59,7 +59,7 @@ export function nanSection(): HTMLElement {
     h(
       'p',
       { 'data-testid': 'nan-text', 'data-value': `${jsEnd} ${cppEnd}` },
-      `Give it one second of a 60 Hz display whose 10th reading is NaN. Math.max(0, NaN) is NaN, so the accumulator becomes NaN; NaN > TIME_STEP is false and every sum with NaN is NaN: the loop runs ${jsEnd} updates, all before the bad frame, and never another. The slide’s C++ max(0, dt) is a < b ? b : a, and 0 < NaN is false, so it gives 0: that frame is skipped and the second ends at ${cppEnd} updates. FixedLoop counts a non-finite reading and treats it as no time (loop.invalidFrames), like the C++.`,
+      `Give it one second of a 60 Hz display whose reading at 10/60 s is NaN. Math.max(0, NaN) is NaN, so the accumulator becomes NaN; NaN > TIME_STEP is false and every sum with NaN is NaN: the loop runs ${jsEnd} updates, all before the bad frame, and never another. The slide’s C++ max(0, dt) is a < b ? b : a, and 0 < NaN is false, so it gives 0: that frame is skipped and the second ends at ${cppEnd} updates. FixedLoop counts a non-finite reading and treats it as no time (loop.invalidFrames), like the C++.`,
     ),
   );
 }
