@@ -9,7 +9,7 @@ import { describe, expect, it } from 'vitest';
 import type { CDPSession, Page } from 'playwright-core';
 import { isDown, readReplay, verifyReplay, wasPressed } from 'fixedstep';
 import { GAMES, RunnerButtons, RunnerGame, ShooterButtons, runnerBot } from '@fixedstep/games';
-import { num, phonePage, readouts, shots, skip, useGames } from './harness.js';
+import { horizontalOverflow, num, phonePage, readouts, shots, skip, useGames } from './harness.js';
 
 // The games chapter asks the highscore API for its table: serve the lab with it.
 const games = useGames('touch');
@@ -125,5 +125,79 @@ describe('touch play on a phone', () => {
     expect(verifyReplay(bytes, GAMES).ok).toBe(true);
     expect(problems).toEqual([]);
     await context.close();
+  });
+});
+
+describe('the lab on a phone says what a phone can do', () => {
+  it('the network chapter’s three-model table scrolls sideways on a phone and says so; on a laptop it fits', async () => {
+    const { context, page, problems } = await phonePage(games.lab.browser);
+    await page.goto(`${games.lab.server.url}#/network`);
+    await page.getByTestId('readout-lockstep-hashes-equal').waitFor();
+    const box = page.getByTestId('net-compare-box');
+    await box.scrollIntoViewIfNeeded();
+    await expect.poll(() => box.getAttribute('data-overflows')).toBe('true');
+    expect(await page.getByTestId('net-compare-box-hint').isVisible()).toBe(true);
+    const lastHead = page.getByTestId('net-compare').locator('thead th').last();
+    // Cut off at the window's edge, and the box shows more to its right (not its left).
+    expect((await lastHead.boundingBox())!.x).toBeGreaterThan(390);
+    expect(await box.getAttribute('class')).toBe('scroll-box more-right');
+    expect(await horizontalOverflow(page)).toBe(0); // the table scrolls, not the page
+    await page.screenshot({ path: path.join(shots, 'network-phone-table.png') });
+    // Scrolled to its end: the last column is in the window, the shadow has moved to the left.
+    await box.locator('.scroll-box-view').evaluate((v) => {
+      v.scrollLeft = v.scrollWidth;
+    });
+    await expect.poll(() => box.getAttribute('class')).toBe('scroll-box more-left');
+    const head = (await lastHead.boundingBox())!;
+    expect(head.x + head.width).toBeLessThanOrEqual(390);
+    await page.screenshot({ path: path.join(shots, 'network-phone-table-end.png') });
+    expect(problems).toEqual([]);
+    await context.close();
+
+    const wide = await games.lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    await wide.goto(`${games.lab.server.url}#/network`);
+    await wide.getByTestId('readout-lockstep-hashes-equal').waitFor();
+    const wideBox = wide.getByTestId('net-compare-box');
+    await wideBox.scrollIntoViewIfNeeded();
+    await expect.poll(() => wideBox.getAttribute('class')).toBe('scroll-box');
+    expect(await wideBox.getAttribute('data-overflows')).toBe('false');
+    expect(await wide.getByTestId('net-compare-box-hint').isVisible()).toBe(false);
+    await wide.close();
+  });
+
+  it('the runner’s Play sits under the game on a phone, says tap, and the intro says touch; a laptop says keyboard', async () => {
+    const { context, page, problems } = await phonePage(games.lab.browser);
+    await games.open(page, 'game=runner&seed=3');
+    const overlay = page.getByTestId('start-overlay');
+    await expect.poll(() => overlay.isVisible()).toBe(true);
+    const canvas = (await page.getByTestId('canvas-game').boundingBox())!;
+    const play = (await overlay.boundingBox())!;
+    // Under the canvas, so nothing of the game (its HUD: SCORE / HIGHSCORE) is covered.
+    expect(play.y).toBeGreaterThanOrEqual(canvas.y + canvas.height - 0.5);
+    const hint = (await overlay.textContent()) ?? '';
+    expect(hint).toContain('tap Jump under the game');
+    expect(hint).not.toContain('Space');
+    const lede = (await page.locator('.lede').textContent()) ?? '';
+    expect(lede).toContain('Play them with touch on any display');
+    expect(lede).not.toContain('keyboard');
+    await page.screenshot({ path: path.join(shots, 'games-phone-play.png') });
+    // Tapping Jump starts the game, as the hint says.
+    await page.getByTestId('touch-jump').tap();
+    await expect.poll(() => overlay.isVisible()).toBe(false);
+    await expect.poll(() => tick(page)).toBeGreaterThan(0);
+    expect(problems).toEqual([]);
+    await context.close();
+
+    const wide = await games.lab.browser.newPage({ viewport: { width: 1440, height: 900 } });
+    await games.open(wide, 'game=runner&seed=3');
+    const wideOverlay = (await wide.getByTestId('start-overlay').boundingBox())!;
+    const wideCanvas = (await wide.getByTestId('canvas-game').boundingBox())!;
+    expect(wideOverlay.y).toBeLessThan(wideCanvas.y + wideCanvas.height); // over the big canvas
+    expect(await wide.getByTestId('start-overlay').textContent()).toContain(
+      'press Space with the game focused',
+    );
+    expect(await wide.locator('.lede').textContent()).toContain('Play them with the keyboard on');
+    expect(await wide.getByTestId('touch-controls').isVisible()).toBe(false);
+    await wide.close();
   });
 });

@@ -20,6 +20,7 @@ import {
   bytesPerMinute,
   cleanName,
   gameDef,
+  hashHex,
   isRanked,
   keyLabel,
   keyMap,
@@ -28,7 +29,13 @@ import {
 } from '../src/games-view/games.js';
 import { fetchHighscores, submitScore } from '../src/games-view/highscores.js';
 import { recordBotGame, replayContents, withPlayerName } from '../src/games-view/replays.js';
-import { ABOUT, afterGameText } from '../src/chapters/games/games-text.js';
+import {
+  ABOUT,
+  afterGameText,
+  lede,
+  runAgainHint,
+  startHint,
+} from '../src/chapters/games/games-text.js';
 import { count } from '../src/ui/format.js';
 
 const REFERENCE_APEX = runnerApex(1 / 60);
@@ -74,6 +81,26 @@ describe('keys', () => {
     expect(keyLabel('KeyW')).toBe('W');
     expect(keyLabel('ArrowLeft')).toBe('←');
     expect(keyLabel('ShiftLeft')).toBe('Shift');
+  });
+});
+
+describe('the words follow the device: keyboard, touch or both', () => {
+  it('says press Space on a keyboard, tap Jump on a phone, both on a touch laptop', () => {
+    expect(lede('keyboard')).toContain('Play them with the keyboard on any display');
+    expect(lede('touch')).toContain('Play them with touch on any display');
+    expect(lede('touch')).not.toContain('keyboard');
+    expect(lede('both')).toContain('Play them with the keyboard or touch on any display');
+    expect(startHint('keyboard', 'Space', 'Jump')).toBe(
+      'or press Space with the game focused · or let the bot play',
+    );
+    expect(startHint('touch', 'Space', 'Jump')).toBe(
+      'or tap Jump under the game · or let the bot play',
+    );
+    expect(startHint('both', 'W', 'Fire')).toBe(
+      'or tap Fire under the game or press W with the game focused · or let the bot play',
+    );
+    expect(runAgainHint('touch', 'Space')).toBe('tap Jump to run again');
+    expect(runAgainHint('keyboard', 'Space')).toBe('Space to run again');
   });
 });
 
@@ -521,5 +548,56 @@ describe('slow motion and single steps (fixed step only)', () => {
     s.setSpeed(0.25);
     expect(s.speed).toBe(1);
     expect(s.stepTick()).toBe(false);
+  });
+});
+
+describe('GameSession on the library’s FrameStepper', () => {
+  // Golden values recorded with the hand-written frame loop the session had before FrameStepper
+  // (issue 25, item 8): the same games, tick for tick. On a deliberate change, the message prints
+  // the new line to paste.
+  const GOLDEN = [
+    'runner fixed tick=1199 hash=4e11163ebf94345b frames=2885 ended=false bytes=171',
+    'runner variable tick=2885 hash=d705862cfe005ebc frames=2885 ended=false bytes=undefined',
+    'ctf fixed tick=1199 hash=3d022cb545186b04 frames=2885 ended=false bytes=1095',
+    'survival fixed tick=1199 hash=879b1c18ed6a1ab3 frames=2885 ended=false bytes=834',
+    'survival variable tick=2885 hash=37d652134b6c11b0 frames=2885 ended=false bytes=undefined',
+  ];
+
+  it('plays every game as the hand-written loop did: 20 s of the bot on a jittery 144 Hz display', () => {
+    for (const line of GOLDEN) {
+      const [id, mode] = line.split(' ') as [string, LoopMode];
+      const s = new GameSession({
+        def: gameDef(id),
+        seed: 7,
+        mode,
+        player: 'p',
+        display: { hz: 144, jitter: 0.3 },
+        bot: true,
+      });
+      s.advanceTo(20_000);
+      const got = `${id} ${mode} tick=${s.game.tick} hash=${hashHex(s.game)} frames=${s.frames} ended=${s.ended} bytes=${s.replay()?.length}`;
+      expect(got, `new golden line: ${got}`).toBe(line);
+    }
+  });
+
+  it('places hand taps and single steps on the same ticks as before', () => {
+    const h = new GameSession({
+      def: gameDef('runner'),
+      seed: 42,
+      mode: 'fixed',
+      player: 'ann',
+      display: { hz: 30, jitter: 0.2 },
+    });
+    for (const t of [1000, 2500, 3300]) {
+      h.advanceTo(t - 3.7);
+      h.press(t, RunnerButtons.jump, true);
+      h.advanceTo(t + 80);
+      h.press(t + 95, RunnerButtons.jump, false);
+    }
+    expect(h.stepTick()).toBe(true);
+    expect(h.stepTick()).toBe(true);
+    h.advanceTo(4500);
+    const got = `tick=${h.game.tick} hash=${hashHex(h.game)} jumps=${h.jumps}`;
+    expect(got, `new golden line: ${got}`).toBe('tick=269 hash=89f6310dd1500d62 jumps=3');
   });
 });

@@ -129,3 +129,8 @@ const HUD_LABELS: Readonly<Record<string, string>> = {
 export function hudLabel(key: string): string {
   return HUD_LABELS[key] ?? key;
 }
+
+/** The runner's HUD line as on the slide: `SCORE 0 / HIGHSCORE 35730` (no zero padding). */
+export function runnerHud(score: number, highscore: number): string {
+  return `SCORE ${score} / HIGHSCORE ${highscore}`;
+}

@@ -7,7 +7,7 @@
  */
 import type { RegisteredGame } from '@fixedstep/games';
 import { button } from '../ui/controls.js';
-import { h, setAttr, setText } from '../ui/dom.js';
+import { h, setAttr, setText, setHidden } from '../ui/dom.js';
 import * as fmt from '../ui/format.js';
 import { isRanked, scoreKeyOf } from './games.js';
 import { withPlayerName } from './replays.js';
@@ -123,7 +123,7 @@ export class HighscorePanel {
   /** Offer this replay (or nothing) for submission. */
   setSubmission(sub: Submission | undefined): void {
     this.submission = sub;
-    this.result.hidden = true;
+    setHidden(this.result, true);
     this.claim.value = sub ? String(sub.score) : '';
     this.refreshForm();
   }
@@ -168,7 +168,7 @@ export class HighscorePanel {
     if (!def) return;
     const n = ++this.loading;
     const ranked = this.isRanked(def);
-    this.tableEl.hidden = !ranked;
+    setHidden(this.tableEl, !ranked);
     if (!ranked) {
       this.table.replaceChildren();
       setText(this.tableNote, '');
@@ -202,7 +202,7 @@ export class HighscorePanel {
     if (!sub) return;
     const claimed = Number(this.claim.value);
     this.submitBtn.disabled = true;
-    this.result.hidden = false;
+    setHidden(this.result, false);
     this.result.className = 'hs-result';
     setText(this.result, 'Sending the replay; the server is re-simulating it…');
     const name = this.options.name?.();

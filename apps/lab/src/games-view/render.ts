@@ -19,7 +19,7 @@ import {
   SurvivalGame,
   type Game,
 } from '@fixedstep/games';
-import type { Breach } from './games.js';
+import { runnerHud, type Breach } from './games.js';
 
 /** What a canvas to draw on looks like (the lab's SceneCanvas). */
 export interface Surface {
@@ -781,8 +781,7 @@ function drawRunner(s: Surface, game: RunnerGame, o: RenderOptions): void {
   }
 
   // The HUD, as on the slide: SCORE and HIGHSCORE, top right.
-  const pad5 = (n: number) => String(n).padStart(5, '0');
-  const text = `SCORE ${pad5(game.score)}   HIGHSCORE ${pad5(game.highscore)}`;
+  const text = runnerHud(game.score, game.highscore);
   const speed = `${game.speed.toFixed(1)} m/s · run ${game.runs}`;
   const full = hudFont(s, [text, speed]);
   const { f } = full.fits ? full : hudFont(s, [text]); // too narrow for both: the speed goes

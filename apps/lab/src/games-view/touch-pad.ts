@@ -9,6 +9,11 @@ import { attachButtons, attachStick, type InputSampler } from 'fixedstep';
 import { h } from '../ui/dom.js';
 import './touch-pad.css';
 
+/** The on-screen control that starts game `gameId` (and the runner's run again): Jump or Fire. */
+export function touchStartLabel(gameId: string): string {
+  return gameId === 'runner' ? 'Jump' : 'Fire';
+}
+
 /**
  * Put the on-screen controls of game `gameId` into `host` and wire them to `sampler`: the runner
  * gets Jump and Duck; the shooters a stick (eight directions) with Fire and Strafe. `timeOf` puts

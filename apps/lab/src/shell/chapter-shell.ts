@@ -9,6 +9,7 @@
  * A chapter module exports a {@link MountChapter}; see apps/lab/README.md for the recipe.
  */
 import { SceneCanvas } from '../ui/canvas.js';
+import { TEXT_PERIOD_MS, deferWrite, flushWrites, holdWrites } from '../ui/write-phase.js';
 import { TimeControls, group, setPressed, toggle } from '../ui/controls.js';
 import { h } from '../ui/dom.js';
 import { LabDriver, type LabDriverOptions } from './driver.js';
@@ -91,6 +92,10 @@ export class ChapterShell {
   private readonly cleanups: (() => void)[] = [];
   private readonly resizers = new Map<Element, () => void>();
   private readonly observer: ResizeObserver;
+  /** The chapter's canvases: while none is on screen, its time stands (see {@link frame}). */
+  private readonly canvases: SceneCanvas[] = [];
+  /** When readouts and charts were last written (performance.now(), ms; UI only). */
+  private lastWriteMs = -Infinity;
 
   /**
    * Frames `chapter` in an `<article>` appended to `root`, classed `<route>-chapter` (for the
@@ -112,7 +117,7 @@ export class ChapterShell {
           o.timeline()?.realFrame?.(t);
         },
         render: () => {
-          this.frame();
+          this.frame(false);
         },
       },
       o.driver,
@@ -237,7 +242,9 @@ export class ChapterShell {
 
   /** A canvas that keeps its backing store at its size; destroyed with the chapter. */
   canvas(attrs: ConstructorParameters<typeof SceneCanvas>[0]): SceneCanvas {
-    return this.own(new SceneCanvas(attrs));
+    const sc = this.own(new SceneCanvas(attrs));
+    this.canvases.push(sc);
+    return sc;
   }
 
   /** Destroy `thing` with the chapter. */
@@ -284,7 +291,7 @@ export class ChapterShell {
   /** Start the animation frames (after the chapter has built its page). */
   start(): void {
     this.refresh();
-    this.frame();
+    this.frame(true);
     this.driver.start();
   }
 
@@ -298,16 +305,44 @@ export class ChapterShell {
 
   private readonly settle = (): void => {
     this.refresh();
-    this.frame();
+    this.frame(true);
   };
 
-  private frame(): void {
+  /**
+   * One frame's drawing, in one write phase (write-phase.ts): nothing here reads the page's layout
+   * (sizes come from observers); the chapter draws its canvases on a clean page while its readout
+   * and chart writes are held, and they go out together at the end — every
+   * {@link TEXT_PERIOD_MS}, or at once (`now`) after a control changed something. Then, for the
+   * next frame: if the chapter has canvases and none is on screen, its time stands.
+   */
+  private frame(now: boolean): void {
     const o = this.options;
-    if (this.time) {
-      const paused = this.paused ? (o.pausedText?.() ?? ' · paused') : '';
-      this.time.show(o.timeline()?.timeMs ?? 0, `${o.mode?.() ?? this.display('')}${paused}`);
+    const t = performance.now();
+    holdWrites(true);
+    try {
+      this.chapter.render();
+    } finally {
+      holdWrites(false);
     }
-    this.chapter.render();
+    if (now || t - this.lastWriteMs >= TEXT_PERIOD_MS) {
+      const time = this.time;
+      if (time) {
+        const paused = this.paused ? (o.pausedText?.() ?? ' · paused') : '';
+        const timeMs = o.timeline()?.timeMs ?? 0;
+        const mode = `${o.mode?.() ?? this.display('')}${paused}`;
+        deferWrite(
+          {
+            flushWrite: () => {
+              time.show(timeMs, mode);
+            },
+          },
+          'text',
+        );
+      }
+      flushWrites();
+      this.lastWriteMs = t;
+    }
+    this.driver.setOffScreen(this.canvases.length > 0 && !this.canvases.some((c) => c.onScreen));
   }
 }
 

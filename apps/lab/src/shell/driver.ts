@@ -31,6 +31,7 @@ export class LabDriver {
   private last: number | undefined;
   private running = false;
   private paused = false;
+  private offScreen = false;
   private real = false;
   private period = 0;
   private realStart: number | undefined;
@@ -73,10 +74,33 @@ export class LabDriver {
 
   setPaused(paused: boolean): void {
     if (paused === this.paused) return;
+    const was = this.halted;
     this.paused = paused;
-    if (!this.real) return;
+    this.haltChanged(was);
+  }
+
+  /**
+   * Stop time while none of the chapter's demos is on screen, and go on when one is: not a pause
+   * the reader sees or makes ({@link isPaused} stays as it is), like a background tab.
+   */
+  setOffScreen(off: boolean): void {
+    if (off === this.offScreen) return;
+    const was = this.halted;
+    this.offScreen = off;
+    this.haltChanged(was);
+  }
+
+  /** Time stands: paused by the reader, or the demos are off screen. */
+  private get halted(): boolean {
+    return this.paused || this.offScreen;
+  }
+
+  /** The real clock leaves out the time time stood. */
+  private haltChanged(was: boolean): void {
+    const halted = this.halted;
+    if (halted === was || !this.real) return;
     const now = performance.now();
-    if (paused) this.pausedAt = now;
+    if (halted) this.pausedAt = now;
     else if (this.pausedAt !== undefined) {
       this.pausedTotal += now - this.pausedAt;
       this.pausedAt = undefined;
@@ -93,7 +117,7 @@ export class LabDriver {
   restartReal(): void {
     this.realStart = undefined;
     this.pausedTotal = 0;
-    this.pausedAt = this.paused ? performance.now() : undefined;
+    this.pausedAt = this.halted ? performance.now() : undefined;
   }
 
   /**
@@ -108,7 +132,7 @@ export class LabDriver {
 
   /** Real time since the last animation frame, ms, capped like a frame (for stamping inputs). */
   sinceLastFrame(): number {
-    if (this.last === undefined || this.paused) return 0;
+    if (this.last === undefined || this.halted) return 0;
     return Math.min(Math.max(0, performance.now() - this.last), this.maxFrameMs);
   }
 
@@ -121,9 +145,9 @@ export class LabDriver {
     if (last !== undefined) this.period = this.period === 0 ? dt : this.period * 0.95 + dt * 0.05;
     if (this.real) {
       if (this.realStart === undefined) this.realStart = now;
-      else if (!this.paused && dt > this.maxRealGapMs) this.pausedTotal += dt - this.period;
-      if (!this.paused) this.hooks.realFrame(now - this.realStart - this.pausedTotal);
-    } else if (!this.paused && last !== undefined) {
+      else if (!this.halted && dt > this.maxRealGapMs) this.pausedTotal += dt - this.period;
+      if (!this.halted) this.hooks.realFrame(now - this.realStart - this.pausedTotal);
+    } else if (!this.halted && last !== undefined) {
       this.hooks.advance(Math.min(Math.max(0, dt), this.maxFrameMs));
     }
     this.hooks.render();

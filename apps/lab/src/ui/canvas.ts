@@ -4,6 +4,24 @@
  */
 import { h } from './dom.js';
 
+/** What a {@link SceneCanvas} is made with. */
+export interface SceneCanvasAttrs {
+  class?: string;
+  label: string;
+  testId: string;
+  /**
+   * Called after the backing store was resized (which clears it), for a canvas whose owner does
+   * not redraw on every animation frame. Such a canvas is drawn off screen too (it draws seldom).
+   */
+  onResize?: () => void;
+}
+
+/**
+ * How far outside the window a canvas still counts as on screen, so a demo scrolled towards is
+ * drawn before it shows.
+ */
+const ON_SCREEN_MARGIN = '200px';
+
 export class SceneCanvas {
   readonly canvas: HTMLCanvasElement;
   readonly ctx: CanvasRenderingContext2D;
@@ -11,13 +29,19 @@ export class SceneCanvas {
   w = 0;
   h = 0;
   dpr = 1;
-  private readonly observer: ResizeObserver;
-
   /**
-   * `onResize`: called after the backing store was resized (which clears it), for a canvas whose
-   * owner does not redraw on every animation frame.
+   * On screen (within {@link ON_SCREEN_MARGIN} of the window), as the IntersectionObserver last
+   * said; true until it first speaks.
    */
-  constructor(attrs: { class?: string; label: string; testId: string; onResize?: () => void }) {
+  onScreen = true;
+  /** CSS size as the ResizeObserver last said (undefined until it first speaks). */
+  private cssW: number | undefined;
+  private cssH = 0;
+  private readonly observer: ResizeObserver;
+  private readonly visibility: IntersectionObserver;
+  private readonly onResize: (() => void) | undefined;
+
+  constructor(attrs: SceneCanvasAttrs) {
     this.canvas = h('canvas', {
       class: attrs.class ?? 'scene',
       role: 'img',
@@ -28,20 +52,43 @@ export class SceneCanvas {
     if (!ctx) throw new Error('The lab needs a 2D canvas');
     this.ctx = ctx;
     const onResize = attrs.onResize;
-    this.observer = new ResizeObserver(() => {
+    this.onResize = onResize;
+    // Sizes are measured when the browser says they changed, never in a frame: drawing reads none.
+    this.observer = new ResizeObserver((entries) => {
+      const entry = entries[entries.length - 1];
+      if (!entry) return;
+      this.cssW = entry.contentRect.width;
+      this.cssH = entry.contentRect.height;
       const w = this.w;
       const hh = this.h;
       if (this.fit() && onResize && (this.w !== w || this.h !== hh)) onResize();
     });
     this.observer.observe(this.canvas);
+    this.visibility = new IntersectionObserver(
+      (entries) => {
+        const entry = entries[entries.length - 1];
+        if (entry) this.onScreen = entry.isIntersecting;
+      },
+      { rootMargin: ON_SCREEN_MARGIN },
+    );
+    this.visibility.observe(this.canvas);
   }
 
-  /** Match the backing store to the CSS size; true if the canvas can be drawn on. */
+  /**
+   * Match the backing store to the CSS size; true if the canvas can be drawn on: it has a size and,
+   * if its owner draws it every frame, it is on screen (a demo off screen is not drawn). Reads no
+   * layout (but once, before the observer first speaks).
+   */
   fit(): boolean {
-    const rect = this.canvas.getBoundingClientRect();
+    if (this.cssW === undefined) {
+      const rect = this.canvas.getBoundingClientRect();
+      this.cssW = rect.width;
+      this.cssH = rect.height;
+    }
+    if (!this.onScreen && !this.onResize) return false;
     const dpr = Math.min(window.devicePixelRatio || 1, 3);
-    const w = Math.max(1, Math.round(rect.width * dpr));
-    const hh = Math.max(1, Math.round(rect.height * dpr));
+    const w = Math.max(1, Math.round(this.cssW * dpr));
+    const hh = Math.max(1, Math.round(this.cssH * dpr));
     if (w !== this.w || hh !== this.h) {
       this.canvas.width = w;
       this.canvas.height = hh;
@@ -54,6 +101,7 @@ export class SceneCanvas {
 
   destroy(): void {
     this.observer.disconnect();
+    this.visibility.disconnect();
   }
 }
 

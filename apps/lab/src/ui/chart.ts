@@ -1,6 +1,7 @@
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
 import { h } from './dom.js';
+import { deferWrite, dropWrite, writesHeld, type PendingWrite } from './write-phase.js';
 
 /** One line of a {@link Chart}. */
 export interface ChartSeries {
@@ -71,7 +72,7 @@ const AXIS: uPlot.Axis = {
  * A thin wrapper over uPlot for the lab's dark theme: lines or steps on linear, log or asinh
  * scales, an HTML legend, and a width that follows its host. `set` replaces all the data.
  */
-export class Chart {
+export class Chart implements PendingWrite {
   readonly el: HTMLElement;
   private readonly host: HTMLElement;
   private plot: uPlot | undefined;
@@ -104,31 +105,52 @@ export class Chart {
           ),
     );
     this.data = [[], ...options.series.map(() => [])];
-    this.observer = new ResizeObserver(() => {
+    // The width comes from the observer (no layout read in a frame); the plot is made once known.
+    this.observer = new ResizeObserver((entries) => {
+      const entry = entries[entries.length - 1];
+      if (entry) this.width = Math.floor(entry.contentRect.width);
       this.fit();
     });
     this.observer.observe(this.host);
   }
 
-  /** Replace the data: `[xs, ys1, ys2, …]`; nulls are gaps. Redraws only if `key` changed. */
+  private width = 0;
+
+  /**
+   * Replace the data: `[xs, ys1, ys2, …]`; nulls are gaps. Redraws only if `key` changed; inside
+   * an animation frame the shell holds, with the next due frame (write-phase.ts).
+   */
   set(data: (number | null)[][], key?: string): void {
     if (key !== undefined) {
       if (key === this.lastKey) return;
       this.lastKey = key;
     }
     this.data = data as uPlot.AlignedData;
-    if (this.plot) this.plot.setData(this.data);
-    else this.fit();
+    if (writesHeld()) deferWrite(this, 'chart');
+    else this.flushWrite();
+  }
+
+  /** Draw the newest data. */
+  flushWrite(): void {
+    dropWrite(this);
+    const plot = this.plot;
+    // Drawn at once (uPlot's immediate mode), while the page's style is still clean.
+    if (plot) {
+      plot.batch(() => {
+        plot.setData(this.data);
+      });
+    } else this.fit();
   }
 
   destroy(): void {
+    dropWrite(this);
     this.observer.disconnect();
     this.plot?.destroy();
     this.plot = undefined;
   }
 
   private fit(): void {
-    const width = Math.floor(this.host.getBoundingClientRect().width);
+    const width = this.width;
     if (width <= 0) return;
     if (!this.plot) {
       this.plot = new uPlot(this.config(width), this.data, this.host);

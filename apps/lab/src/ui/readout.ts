@@ -6,11 +6,14 @@
  */
 import { h, setAttr, setText } from './dom.js';
 import * as fmt from './format.js';
+import { deferWrite, dropWrite, writesHeld, type PendingWrite } from './write-phase.js';
 
-export class Readout {
+export class Readout implements PendingWrite {
   readonly el: HTMLElement;
   private readonly text: HTMLElement;
   private readonly chip: HTMLElement | undefined;
+  private nextText = '—';
+  private nextValue: number | string | boolean | undefined;
 
   constructor(
     tag: 'dd' | 'td' | 'span' | 'strong',
@@ -33,9 +36,22 @@ export class Readout {
     );
   }
 
-  /** Show `text`; `value` (full precision) goes to `data-value`; undefined shows as empty. */
+  /**
+   * Show `text`; `value` (full precision) goes to `data-value`; undefined shows as empty. Inside
+   * an animation frame the shell holds, it is written with the next due frame (write-phase.ts).
+   */
   set(text: string, value: number | string | boolean | undefined): void {
-    setText(this.text, text);
+    this.nextText = text;
+    this.nextValue = value;
+    if (writesHeld()) deferWrite(this, 'text');
+    else this.flushWrite();
+  }
+
+  /** Write the newest value to the page. */
+  flushWrite(): void {
+    dropWrite(this);
+    const value = this.nextValue;
+    setText(this.text, this.nextText);
     setAttr(this.el, 'data-value', fmt.exact(value));
     if (this.chip) {
       const hex = typeof value === 'string' && /^[0-9a-f]{6,}$/.test(value) ? value : '';

@@ -1,5 +1,6 @@
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
+import { deferWrite, dropWrite, writesHeld, type PendingWrite } from './write-phase.js';
 
 /**
  * Whole-number ticks from 0 to `max`: every integer up to 4, else steps of 1, 2 or 5 × 10ⁿ so
@@ -21,7 +22,7 @@ export function integerTicks(max: number): number[] {
  * A small stepped chart of updates per display frame over a sliding window of virtual time.
  * The x range is set by the caller, so every panel shows the same window.
  */
-export class StepsChart {
+export class StepsChart implements PendingWrite {
   private readonly plot: uPlot;
   private xs: number[] = [];
   private ys: number[] = [];
@@ -74,7 +75,10 @@ export class StepsChart {
     );
   }
 
-  /** Replace the data (x in seconds) and the window; redraws only if something changed. */
+  /**
+   * Replace the data (x in seconds) and the window; redraws only if something changed, inside an
+   * animation frame the shell holds with the next due frame (write-phase.ts).
+   */
   set(xs: number[], ys: number[], from: number, to: number): void {
     const key = `${xs.length}:${xs[xs.length - 1] ?? 0}:${from}`;
     if (key === this.lastKey) return;
@@ -82,7 +86,17 @@ export class StepsChart {
     this.xs = xs;
     this.ys = ys;
     this.window = [from, to];
-    this.plot.setData([this.xs, this.ys]);
+    if (writesHeld()) deferWrite(this, 'chart');
+    else this.flushWrite();
+  }
+
+  /** Draw the newest data. */
+  flushWrite(): void {
+    dropWrite(this);
+    // Drawn at once (uPlot's immediate mode), while the page's style is still clean.
+    this.plot.batch(() => {
+      this.plot.setData([this.xs, this.ys]);
+    });
   }
 
   resize(width: number): void {
@@ -92,6 +106,7 @@ export class StepsChart {
   }
 
   destroy(): void {
+    dropWrite(this);
     this.plot.destroy();
   }
 }

@@ -58,7 +58,7 @@ import {
   type Segmented,
   type Slider,
 } from '../../ui/controls.js';
-import { h, setAttr, setText } from '../../ui/dom.js';
+import { h, setAttr, setText, setHidden } from '../../ui/dom.js';
 import { introSection } from '../../ui/prose.js';
 import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
@@ -553,11 +553,11 @@ class CollisionsChapter {
   private renderPanel(p: PanelView, run: RangePanel, hitch: boolean): void {
     const r = run.readouts();
     this.writeReadouts(p, r);
-    p.overlay.hidden = !hitch;
+    setHidden(p.overlay, !hitch);
     setText(p.overlay, hitch ? 'Hitch: no frames' : '');
     const through = run.range(this.ccd).through;
     setText(p.tally, through > 0 ? `${through} through` : '');
-    p.tally.hidden = through === 0;
+    setHidden(p.tally, through === 0);
     drawRange(p.scene, run, p.color, this.ccd, this.shell.interpolate);
   }
 

@@ -31,7 +31,7 @@ import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapte
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { Chart } from '../../ui/chart.js';
 import { button, group, jitterSlider } from '../../ui/controls.js';
-import { h, setAttr, setText } from '../../ui/dom.js';
+import { h, setAttr, setText, setHidden } from '../../ui/dom.js';
 import { introSection } from '../../ui/prose.js';
 import { headRow } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
@@ -320,7 +320,7 @@ class DebuggingChapter {
     for (const v of this.views) {
       const row = v.rows.get('real');
       if (row) row.row.hidden = !lab.realClock;
-      v.legendReal.hidden = !lab.realClock;
+      setHidden(v.legendReal, !lab.realClock);
     }
   }
 
@@ -352,7 +352,7 @@ class DebuggingChapter {
         ? `● Recording — ← → run, Space jumps; stops by itself at ${MAX_RECORDING_MS / 1000} s`
         : '',
     );
-    this.recStatus.hidden = !recording;
+    setHidden(this.recStatus, !recording);
     const drawAt = Math.min(
       ...[...lab.tracks('variable'), ...lab.tracks('fixed')].map((t) => t.rig.realMs),
     );

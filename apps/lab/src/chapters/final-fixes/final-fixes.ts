@@ -4,6 +4,7 @@
  * FixedLoop; and a clock that jumps backwards. The numbers come from {@link FinalLab}; the words
  * from final-fixes-text.ts; the charts from final-fixes-draw.ts.
  */
+import { nanSection } from './final-fixes-nan.js';
 import {
   BACKWARDS_LOOPS,
   FinalLab,
@@ -41,7 +42,7 @@ import { drawBall } from '../../ui/ball-view.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import type { Chart } from '../../ui/chart.js';
 import { button, group, segmented } from '../../ui/controls.js';
-import { h, setAttr, setText } from '../../ui/dom.js';
+import { h, setAttr, setText, setHidden } from '../../ui/dom.js';
 import { introSection } from '../../ui/prose.js';
 import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
@@ -146,6 +147,7 @@ class FinalFixesChapter {
         chartTitle: 'How far behind the display each loop’s time is',
         chart: this.simChart.el,
       }),
+      nanSection(),
       how(),
     );
     shell.start();
@@ -356,7 +358,7 @@ class FinalFixesChapter {
           : '',
     );
     if (p.stall) {
-      p.stall.hidden = !r.stalled;
+      setHidden(p.stall, !r.stalled);
       setAttr(p.stall, 'data-value', String(r.stalled));
       setText(
         p.stall,
@@ -392,7 +394,7 @@ class FinalFixesChapter {
   }
 
   private pill(p: PanelView, text: string): void {
-    p.overlay.hidden = text === '';
+    setHidden(p.overlay, text === '');
     setText(p.overlay, text);
   }
 

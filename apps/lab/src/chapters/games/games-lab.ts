@@ -2,13 +2,15 @@
  * The model behind chapter 9, "Games": one of the talk's games on a simulated display (or the
  * page's real clock), fed by the keyboard through a {@link ButtonSampler} or by the game's bot,
  * stepped by a {@link FixedLoop} — or, with the "variable Δt" switch, by the talk's naive
- * {@link VariableLoop} calling `update(dt)`, so the breakage shows. Every fixed-step game is
- * recorded with a {@link ReplayRecorder}, and the best run of the session is kept for the
+ * {@link VariableLoop} calling `update(dt)`, so the breakage shows — either way through the
+ * library's {@link FrameStepper}, as a user's game would be (docs/guide/loop.md). Every fixed-step
+ * game is recorded with a {@link ReplayRecorder}, and the best run of the session is kept for the
  * highscore table. No DOM here: the unit tests drive it exactly as the page does.
  */
 import {
   ButtonSampler,
   FixedLoop,
+  FrameStepper,
   ReplayRecorder,
   VariableLoop,
   type ButtonInput,
@@ -97,6 +99,8 @@ export class GameSession extends OnDisplayClock {
   readonly player: string;
   readonly loop: Loop;
   readonly sampler = new ButtonSampler();
+  /** Runs each display frame's steps, each with the input sampled for its own tick. */
+  private readonly stepper: FrameStepper;
   /** The recording (fixed step only: a variable-Δt game cannot be replayed). */
   readonly recorder: ReplayRecorder | undefined;
   /** Let the game's bot play player 0 (the keyboard is then ignored). */
@@ -116,6 +120,8 @@ export class GameSession extends OnDisplayClock {
   readonly breaches: Breach[] = [];
   protected readonly clock: DisplayClock;
   private readonly inputs: ButtonInput[] = [0];
+  /** The session time of the display frame being stepped, ms (for the breach markers). */
+  private frameMs = 0;
   private airApex = 0;
   private airStart = 0;
   private wasOnGround = true;
@@ -139,6 +145,14 @@ export class GameSession extends OnDisplayClock {
       this.recorder = new ReplayRecorder(labRecording(this.def, config, this.player));
       this.recorder.start(this.game);
     }
+    this.stepper = new FrameStepper({
+      loop: this.loop,
+      input: this.sampler,
+      update: (dt, human) => {
+        this.update(dt, human);
+      },
+    });
+    // The time line's origin, not a frame to step (the talk's variable loop would update once).
     this.loop.frame(0);
     this.clock = new DisplayClock(options.display, (t) => {
       this.runFrame(t);
@@ -250,28 +264,29 @@ export class GameSession extends OnDisplayClock {
   private runFrame(t: number): void {
     if (this.ended) return;
     this.frames++;
-    const loop = this.loop;
-    const n = loop.frame(t);
+    this.frameMs = t;
+    this.stepper.frame(t);
+  }
+
+  /**
+   * One step of the frame: `human` is the keys' input for this tick — sampled even when the bot
+   * plays, so presses never pile up. A shooter's game over ends the session: the frame's steps
+   * after it do nothing.
+   */
+  private update(dt: number, human: ButtonInput): void {
+    if (this.ended) return;
     const game = this.game;
-    for (let j = 0; j < n; j++) {
-      // Sample even when the bot plays, so key presses never pile up.
-      const human = this.sampler.sample(loop, j);
-      this.inputs[0] = this.bot ? this.def.bot(game, 0) : human;
-      if (this.mode === 'fixed') {
-        game.step(this.inputs);
-        this.recorder?.record(this.inputs, game);
-      } else {
-        const dt = loop.dt;
-        game.update(dt, this.inputs);
-        this.simSeconds += dt;
-        if (dt > this.maxDt) this.maxDt = dt;
-      }
-      this.afterUpdate(t);
-      if (game.over && !(game instanceof RunnerGame)) {
-        this.ended = true;
-        break;
-      }
+    this.inputs[0] = this.bot ? this.def.bot(game, 0) : human;
+    if (this.mode === 'fixed') {
+      game.step(this.inputs);
+      this.recorder?.record(this.inputs, game);
+    } else {
+      game.update(dt, this.inputs);
+      this.simSeconds += dt;
+      if (dt > this.maxDt) this.maxDt = dt;
     }
+    this.afterUpdate(this.frameMs);
+    if (game.over && !(game instanceof RunnerGame)) this.ended = true;
   }
 
   /** A run just ended (a runner crash, a game over): keep its replay if it is the best yet. */

@@ -5,6 +5,7 @@
  */
 import { CTF, CTF_WALLS, SURVIVAL, SURVIVAL_WALLS } from '@fixedstep/games';
 import { code } from '../../ui/dom.js';
+import { inputWords, type InputKind } from '../../ui/input-kind.js';
 import { textSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { hudLabel, type GameId } from '../../games-view/games.js';
@@ -14,8 +15,23 @@ import { runnerApex, type RankedRun } from './games-lab.js';
 /** The apex every fixed-step runner jump reaches, m. */
 export const REFERENCE_APEX = runnerApex(1 / 60);
 
-export const LEDE =
-  'The talk’s three games — the runner (“SCORE 0 / HIGHSCORE 35730”), capture the flag (“Kills: 1, Flags captured: 0”) and survival (“Kills: 0, Lives: 15”). Play them with the keyboard on any display, then flip the loop to a variable Δt and watch them break.';
+/** The chapter's lede, naming what this device plays with (the keyboard, touch or both). */
+export function lede(kind: InputKind): string {
+  return `The talk’s three games — the runner (“SCORE 0 / HIGHSCORE 35730”), capture the flag (“Kills: 1, Flags captured: 0”) and survival (“Kills: 0, Lives: 15”). Play them with ${inputWords(kind)} on any display, then flip the loop to a variable Δt and watch them break.`;
+}
+
+/** The line under Play: how else to start, with this device's input (`control` is the game's first on-screen control). */
+export function startHint(kind: InputKind, key: string, control: string): string {
+  const press = `press ${key} with the game focused`;
+  const tap = `tap ${control} under the game`;
+  const how = kind === 'keyboard' ? press : kind === 'touch' ? tap : `${tap} or ${press}`;
+  return `or ${how} · or let the bot play`;
+}
+
+/** The runner's line under GAME OVER: how to run again, with this device's input. */
+export function runAgainHint(kind: InputKind, key: string): string {
+  return kind === 'touch' ? 'tap Jump to run again' : `${key} to run again`;
+}
 
 /** Units per fixed step (1/60 s) of a speed in units per second, as the page writes it. */
 function perStep(unitsPerSecond: number): string {
@@ -167,9 +183,9 @@ export function howItWorks(): HTMLElement {
     'how',
     'how-title',
     'How this page works',
-    'Keys go into a ButtonSampler with the time the browser stamped on the event. Every display frame the FixedLoop says how many 1/60 s steps are due, and each step gets exactly the presses that happened before its end — so a tap is never lost or doubled, whatever the frame rate. The canvas then draws every moving thing between its last two states, at α = accumulator / step.',
+    'Keys (and taps) go into a ButtonSampler with the time the browser stamped on the event. Every display frame a FrameStepper asks the FixedLoop how many 1/60 s steps are due and runs them, each with exactly the presses that happened before its end — so a tap is never lost or doubled, whatever the frame rate. The canvas then draws every moving thing between its last two states, at α = accumulator / step.',
     code(
-      'const sampler = new ButtonSampler();\nattachKeyboard(canvas, sampler, keys, (e) => timeOf(e.timeStamp));\n\nconst n = loop.frame(now);\nfor (let j = 0; j < n; j++) {\n  inputs[0] = sampler.sample(loop, j);\n  game.step(inputs);\n  recorder.record(inputs, game);\n}\ndraw(game, loop.alpha);',
+      'const sampler = new ButtonSampler();\nattachKeyboard(canvas, sampler, keys, (e) => timeOf(e.timeStamp));\n\nconst stepper = new FrameStepper({\n  loop: new FixedLoop({ step: 60 }),\n  input: sampler,\n  update: (_dt, input) => {\n    game.step([input]);\n    recorder.record([input], game);\n  },\n  render: (alpha) => draw(game, alpha),\n});\n// every display frame:\nstepper.frame(now);',
     ),
     `The recording is the replay: the inputs of every tick (run-length coded), the seed and a state hash every 10 s — nothing else; a player re-simulates to seek, at millions of ticks a second. The panel after a game says how many bytes each part takes. “Variable Δt” swaps the FixedLoop for the talk’s naive loop, which calls update(dt) once per frame with that frame’s Δt; it is not recorded, because nothing could replay it.`,
   );

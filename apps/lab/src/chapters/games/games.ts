@@ -18,10 +18,12 @@ import {
   type Segmented,
   type Slider,
 } from '../../ui/controls.js';
-import { h, setAttr, setText } from '../../ui/dom.js';
+import { h, setAttr, setText, setHidden } from '../../ui/dom.js';
 import * as fmt from '../../ui/format.js';
 import { download } from '../../ui/download.js';
 import { Readout } from '../../ui/readout.js';
+import { inputKind, type InputKind } from '../../ui/input-kind.js';
+import { touchStartLabel } from '../../games-view/touch-pad.js';
 import {
   DISPLAY_RATES,
   GAME_IDS,
@@ -39,7 +41,16 @@ import { requestWatch, setLastReplay } from '../../games-view/replay-store.js';
 import { replayContents } from '../../games-view/replays.js';
 import { GameSession, routeOptions, type LoopMode } from './games-lab.js';
 import { attachGameInput, attachTouchControls } from './games-input.js';
-import { ABOUT, LEDE, REFERENCE_APEX, afterGameText, howItWorks, rowsFor } from './games-text.js';
+import {
+  ABOUT,
+  REFERENCE_APEX,
+  afterGameText,
+  howItWorks,
+  lede,
+  rowsFor,
+  runAgainHint,
+  startHint,
+} from './games-text.js';
 import '../../games-view/game-stage.css';
 import './games.css';
 
@@ -104,13 +115,17 @@ class GamesChapter {
   private detachTouch: (() => void) | undefined;
   /** On-screen controls: shown on touch screens (and with `?touch=1`). */
   private readonly touch = h('div', { class: 'touch-controls', 'data-testid': 'touch-controls' });
+  /** What this device plays with: the words on the page and where Play goes follow it. */
+  private readonly input: InputKind;
 
   constructor(root: HTMLElement, head: ChapterHead) {
     const opts = routeOptions(location.hash);
+    const forceTouch = new URLSearchParams(location.hash.split('?')[1] ?? '').get('touch') === '1';
+    this.input = inputKind(forceTouch);
     this.gameId = opts.game ?? 'runner';
     this.mode = opts.mode ?? 'fixed';
     this.shell = new ChapterShell(root, head, this, {
-      lede: LEDE,
+      lede: lede(this.input),
       timeline: () => this.session,
       restart: () => {
         this.newSession(this.session.seed);
@@ -147,9 +162,8 @@ class GamesChapter {
       this.startOverlay,
       this.focusHint,
     );
-    if (new URLSearchParams(location.hash.split('?')[1] ?? '').get('touch') === '1') {
-      this.touch.classList.add('always');
-    }
+    // Any touch screen gets the on-screen controls (a touch laptop too, whose main pointer is fine).
+    if (this.input !== 'keyboard') this.touch.classList.add('always');
     this.wireCanvas();
     shell.own({
       destroy: () => {
@@ -199,7 +213,7 @@ class GamesChapter {
     return [
       h(
         'section',
-        { class: 'play', 'aria-label': 'Play' },
+        { class: 'play', 'aria-label': 'Play', 'data-input': this.input },
         this.ctl.box,
         this.frame,
         this.touch,
@@ -372,10 +386,10 @@ class GamesChapter {
       canvas.focus();
     });
     canvas.addEventListener('focus', () => {
-      this.focusHint.hidden = true;
+      setHidden(this.focusHint, true);
     });
     canvas.addEventListener('blur', () => {
-      this.focusHint.hidden = !this.started || this.session.bot;
+      setHidden(this.focusHint, !this.started || this.session.bot);
     });
   }
 
@@ -429,7 +443,7 @@ class GamesChapter {
     setText(this.fixedText, about.fixed);
     setText(
       this.startHint,
-      `or press ${keyLabel(info.buttons[0]!.keys[0]!)} with the game focused · or let the bot play`,
+      startHint(this.input, keyLabel(info.buttons[0]!.keys[0]!), touchStartLabel(info.id)),
     );
     this.keysList.replaceChildren(
       ...info.buttons.flatMap((b) => [
@@ -447,12 +461,12 @@ class GamesChapter {
     );
     this.highscores.setGame(s.def);
     this.highscores.setSubmission(undefined);
-    this.after.hidden = true;
+    setHidden(this.after, true);
   }
 
   private markStarted(): void {
     this.started = true;
-    this.startOverlay.hidden = true;
+    setHidden(this.startOverlay, true);
   }
 
   /** Play: the game runs, and has the keyboard unless the bot plays. */
@@ -479,7 +493,7 @@ class GamesChapter {
     const over = s.ended || s.game.over;
     if (over === this.wasOver) return;
     this.wasOver = over;
-    this.after.hidden = !over;
+    setHidden(this.after, !over);
     // The best run stays on offer while the runner runs again.
     const best = s.bestRun();
     this.highscores.setSubmission(best ? { bytes: best.bytes, score: best.score } : undefined);
@@ -529,7 +543,7 @@ class GamesChapter {
     this.ctl.step.disabled = !fixed || this.session.ended;
     this.ctl.jitter.input.disabled = shell.real;
     setPressed(this.ctl.bot, this.session.bot);
-    this.startOverlay.hidden = this.started;
+    setHidden(this.startOverlay, this.started);
     this.focusHint.hidden =
       !this.started || this.session.bot || document.activeElement === this.scene.canvas;
   }
@@ -546,7 +560,7 @@ class GamesChapter {
       s.def.info.id === 'runner' && s.game.over && !s.ended
         ? s.bot
           ? 'the bot runs again'
-          : `${keyLabel('Space')} to run again`
+          : runAgainHint(this.input, keyLabel('Space'))
         : undefined;
     drawGame(this.scene, s.game, {
       alpha: s.alpha,

@@ -40,12 +40,13 @@ import {
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { ideaCards, tryCards } from '../../ui/cards.js';
 import { button, group, jitterSlider, segmented, toggle, setPressed } from '../../ui/controls.js';
-import { h, setAttr, setText } from '../../ui/dom.js';
+import { h, setAttr, setText, setHidden } from '../../ui/dom.js';
 import { introSection } from '../../ui/prose.js';
 import { panel } from '../../ui/panel.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
 import { StepsChart } from '../../ui/steps-chart.js';
+import { slipSection } from './loop-slip.js';
 import './loop.css';
 
 const HITCH_MS = 2000;
@@ -174,6 +175,7 @@ class LoopChapter {
         this.panelGrid,
         legend(),
       ),
+      slipSection(),
       this.experiments(),
       howItWorks(),
     );
@@ -371,7 +373,7 @@ class LoopChapter {
     const r = run.readouts();
     this.writeReadouts(p, r);
     const overlay = event === 'hitch' ? 'Hitch: no frames' : event === 'hidden' ? 'Tab hidden' : '';
-    p.overlay.hidden = overlay === '';
+    setHidden(p.overlay, overlay === '');
     setText(p.overlay, overlay);
     drawPanel(p.scene, run, p.color, this.shell.interpolate, this.trailScratch);
     if (p.chart) {
@@ -403,7 +405,7 @@ class LoopChapter {
     }
     p.readouts.get('ratio')?.warn(off);
     p.compare.get('ratio')?.warn(off);
-    p.stall.hidden = !r.stalled;
+    setHidden(p.stall, !r.stalled);
     setAttr(p.stall, 'data-value', String(r.stalled));
     setText(
       p.stall,

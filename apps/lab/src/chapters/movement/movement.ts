@@ -29,7 +29,7 @@ import {
 import { ChapterShell, mountChapter, type ChapterHead } from '../../shell/chapter-shell.js';
 import { Chart } from '../../ui/chart.js';
 import { button, group, jitterSlider } from '../../ui/controls.js';
-import { h, setText } from '../../ui/dom.js';
+import { h, setText, setHidden } from '../../ui/dom.js';
 import { introSection } from '../../ui/prose.js';
 import { headRow } from '../../ui/panel.js';
 import { Readout } from '../../ui/readout.js';
@@ -220,7 +220,7 @@ class MovementChapter {
     for (const v of this.views) {
       const row = v.rows.get('real');
       if (row) row.row.hidden = !real;
-      v.legendReal.hidden = !real;
+      setHidden(v.legendReal, !real);
     }
     const jitter = this.lab.settings.jitter;
     if (jitter === this.sweepJitter) return;

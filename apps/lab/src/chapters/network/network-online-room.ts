@@ -8,7 +8,7 @@
 import type { NetEvent, SessionError, SessionPhase, StateSyncEvent } from 'fixedstep';
 import { SceneCanvas } from '../../ui/canvas.js';
 import { button } from '../../ui/controls.js';
-import { h, setText } from '../../ui/dom.js';
+import { h, setText, setHidden } from '../../ui/dom.js';
 import { introSection } from '../../ui/prose.js';
 import { Readout } from '../../ui/readout.js';
 import { ASPECT } from '../../games-view/render.js';
@@ -171,7 +171,7 @@ export abstract class OnlineRoomPanel<S extends PanelSession> {
   protected updateLink(): void {
     const room = this.roomInput.value.trim();
     const ok = ROOM_NAME.test(room);
-    this.tabLink.hidden = !ok;
+    setHidden(this.tabLink, !ok);
     if (ok) this.tabLink.href = this.link(room);
   }
 

@@ -42,6 +42,7 @@ import { h, setAttr, setText } from '../../ui/dom.js';
 import { introSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
+import { ScrollBox } from '../../ui/scroll-box.js';
 import { keyMap } from '../../games-view/games.js';
 import { ASPECT, drawGame } from '../../games-view/render.js';
 import '../../games-view/game-stage.css';
@@ -188,9 +189,7 @@ class NetworkChapter {
       { class: 'net-compare', 'aria-labelledby': 'net-compare-title' },
       h('h3', { id: 'net-compare-title' }, 'The three models, measured'),
       h('p', { class: 'section-intro' }, COMPARE_INTRO),
-      h(
-        'div',
-        { class: 'net-compare-wrap' },
+      this.scrollBox(
         h(
           'table',
           { class: 'data-table net-compare-table', 'data-testid': 'net-compare' },
@@ -205,6 +204,8 @@ class NetworkChapter {
           ),
           h('tbody', {}, rows),
         ),
+        'The three models, measured in this page',
+        'net-compare-box',
       ),
       this.buildMeasured(),
       h(
@@ -224,6 +225,11 @@ class NetworkChapter {
     );
   }
 
+  /** `table` in a {@link ScrollBox} owned by the chapter: on a phone it scrolls, and says so. */
+  private scrollBox(table: HTMLElement, label: string, testId: string): HTMLElement {
+    return this.shell.own(new ScrollBox(table, label, testId)).el;
+  }
+
   /**
    * The same models over real transports — WebRTC through TURN and the kernel's TCP, on the loss
    * harness's link — as the benchmark measured them (a page cannot make those links): recorded
@@ -234,63 +240,67 @@ class NetworkChapter {
     const ms = (x: number) => (Number.isFinite(x) ? fmt.millis(x) : '—');
     return h(
       'div',
-      { class: 'net-compare-wrap', 'data-testid': 'net-measured' },
+      { class: 'net-measured', 'data-testid': 'net-measured' },
       h(
         'p',
         { class: 'section-intro' },
         `Measured by the benchmark, not in this page: player 2 on a real link of ${m.results[0]?.link.latencyMs ?? '?'} ± ${m.results[0]?.link.jitterMs ?? '?'} ms each way with ${100 * (m.results[0]?.link.loss ?? 0)} % loss (the loss harness), player 1 on the machine running the room, ${m.seconds} s of each model (${MEASURED_MODELS_COMMAND}, ${m.date.slice(0, 10)}). Bytes are player 2's messages; “wire” is what crossed its link, headers and acknowledgements included.`,
       ),
-      h(
-        'table',
-        { class: 'data-table net-compare-table' },
+      this.scrollBox(
         h(
-          'thead',
-          {},
+          'table',
+          { class: 'data-table net-compare-table' },
           h(
-            'tr',
+            'thead',
             {},
-            [
-              'Transport, model',
-              'Up / down, B/s',
-              'Wire up / down, B/s',
-              'Input → own screen',
-              'Input → other screen',
-              'Render delay',
-              'Corrections seen',
-            ].map((t) => h('th', { scope: 'col' }, t)),
+            h(
+              'tr',
+              {},
+              [
+                'Transport, model',
+                'Up / down, B/s',
+                'Wire up / down, B/s',
+                'Input → own screen',
+                'Input → other screen',
+                'Render delay',
+                'Corrections seen',
+              ].map((t) => h('th', { scope: 'col' }, t)),
+            ),
           ),
-        ),
-        h(
-          'tbody',
-          {},
-          m.results.flatMap((r) =>
-            r.rows.map((row) =>
-              h(
-                'tr',
-                {},
-                h('th', { scope: 'row' }, `${r.transport}: ${ABOUT[row.model].title}`),
+          h(
+            'tbody',
+            {},
+            m.results.flatMap((r) =>
+              r.rows.map((row) =>
                 h(
-                  'td',
+                  'tr',
                   {},
-                  `${fmt.count(Math.round(row.upBytesPerSecond))} / ${fmt.count(Math.round(row.downBytesPerSecond))}`,
-                ),
-                h(
-                  'td',
-                  {},
-                  `${fmt.count(Math.round(row.wireUpBytesPerSecond))} / ${fmt.count(Math.round(row.wireDownBytesPerSecond))}`,
-                ),
-                h('td', {}, ms(row.ownLatencyMs)),
-                h('td', {}, ms(row.otherLatencyMs)),
-                h('td', {}, row.model === 'statesync' ? ms(row.renderDelayMs) : '—'),
-                h(
-                  'td',
-                  {},
-                  `${fmt.count(row.corrections)} (up to ${row.largestCorrection.toFixed(1)} units)`,
+                  h('th', { scope: 'row' }, `${r.transport}: ${ABOUT[row.model].title}`),
+                  h(
+                    'td',
+                    {},
+                    `${fmt.count(Math.round(row.upBytesPerSecond))} / ${fmt.count(Math.round(row.downBytesPerSecond))}`,
+                  ),
+                  h(
+                    'td',
+                    {},
+                    `${fmt.count(Math.round(row.wireUpBytesPerSecond))} / ${fmt.count(Math.round(row.wireDownBytesPerSecond))}`,
+                  ),
+                  h('td', {}, ms(row.ownLatencyMs)),
+                  h('td', {}, ms(row.otherLatencyMs)),
+                  h('td', {}, row.model === 'statesync' ? ms(row.renderDelayMs) : '—'),
+                  h(
+                    'td',
+                    {},
+                    `${fmt.count(row.corrections)} (up to ${row.largestCorrection.toFixed(1)} units)`,
+                  ),
                 ),
               ),
             ),
           ),
         ),
+        'The three models over real transports, as the benchmark measured them',
+        'net-measured-box',
       ),
     );
   }

@@ -4,6 +4,7 @@
  * that makes the display hitch. The model is {@link HitchLab} (physics-lab.ts).
  */
 import { h } from '../../ui/dom.js';
+import type { SceneCanvas, SceneCanvasAttrs } from '../../ui/canvas.js';
 import { introSection } from '../../ui/prose.js';
 import { button } from '../../ui/controls.js';
 import * as fmt from '../../ui/format.js';
@@ -19,8 +20,7 @@ import {
 
 interface RunView {
   readonly kind: 'variable' | 'fixed';
-  readonly canvas: HTMLCanvasElement;
-  readonly ctx: CanvasRenderingContext2D;
+  readonly scene: SceneCanvas;
   readonly energy: Readout;
   readonly maxDt: Readout;
   readonly omegaDt: Readout;
@@ -46,20 +46,17 @@ export class HitchSection {
   private readonly views: RunView[];
   private readonly hitches: Readout;
 
-  constructor(onChange: () => void) {
+  /** `canvas` makes a canvas destroyed with the chapter (the shell's). */
+  constructor(onChange: () => void, canvas: (attrs: SceneCanvasAttrs) => SceneCanvas) {
     this.views = (['variable', 'fixed'] as const).map((kind) => {
-      const canvas = h('canvas', {
+      const scene = canvas({
         class: 'scene hitch-scene',
-        role: 'img',
-        'aria-label': `x(t) of the spring under the ${VIEW[kind].title.toLowerCase()}, last ${HITCH_WINDOW_S} s`,
-        'data-testid': `canvas-hitch-${kind}`,
+        label: `x(t) of the spring under the ${VIEW[kind].title.toLowerCase()}, last ${HITCH_WINDOW_S} s`,
+        testId: `canvas-hitch-${kind}`,
       });
-      const ctx = canvas.getContext('2d');
-      if (!ctx) throw new Error('2D canvas is not available');
       return {
         kind,
-        canvas,
-        ctx,
+        scene,
         energy: new Readout('dd', `hitch-${kind}-max-energy`),
         maxDt: new Readout('dd', `hitch-${kind}-max-dt`),
         omegaDt: new Readout('dd', `hitch-${kind}-omega-dt`),
@@ -101,7 +98,7 @@ export class HitchSection {
               h('h3', {}, VIEW[v.kind].title),
               h('p', {}, VIEW[v.kind].sub),
             ),
-            h('div', { class: 'scene-wrap' }, v.canvas),
+            h('div', { class: 'scene-wrap' }, v.scene.canvas),
             h(
               'dl',
               { class: 'readouts' },
@@ -143,16 +140,8 @@ export class HitchSection {
     v.omegaDt.set(od.toFixed(2), od);
     v.omegaDt.warn(od >= 2);
 
-    const c = v.canvas;
-    const rect = c.getBoundingClientRect();
-    const dpr = Math.min(window.devicePixelRatio || 1, 3);
-    const w = Math.max(1, Math.round(rect.width * dpr));
-    const hh = Math.max(1, Math.round(rect.height * dpr));
-    if (c.width !== w || c.height !== hh) {
-      c.width = w;
-      c.height = hh;
-    }
-    const ctx = v.ctx;
+    if (!v.scene.fit()) return; // no size yet, or off screen
+    const { ctx, dpr, w, h: hh } = v.scene;
     ctx.setTransform(1, 0, 0, 1, 0, 0);
     ctx.fillStyle = '#0a1122';
     ctx.fillRect(0, 0, w, hh);

@@ -8,7 +8,7 @@ import type { RopePoke } from '@fixedstep/games';
 import type { ChapterShell } from '../../shell/chapter-shell.js';
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { button, group, ladderSlider } from '../../ui/controls.js';
-import { h, setText } from '../../ui/dom.js';
+import { h, setText, setHidden } from '../../ui/dom.js';
 import { introSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -170,7 +170,7 @@ export class RopeSection {
     const e = rope.energy();
     o.energy.set(rope.exploded ? '—' : `${e.toFixed(2)} J`, e);
     o.pokes.set(fmt.count(rope.pokes), rope.pokes);
-    this.note.hidden = !rope.exploded;
+    setHidden(this.note, !rope.exploded);
     setText(
       this.note,
       rope.exploded

@@ -22,6 +22,7 @@ import {
 import { EnergyChart } from './physics-chart.js';
 import { drawLane } from './physics-draw.js';
 import { HitchSection } from './physics-hitch.js';
+import { formulasSection } from './physics-formulas.js';
 import { RopeSection } from './physics-rope.js';
 import {
   COLORS,
@@ -46,7 +47,7 @@ import {
 import type { SceneCanvas } from '../../ui/canvas.js';
 import { tryCards } from '../../ui/cards.js';
 import { ladderSlider, slider } from '../../ui/controls.js';
-import { h, setAttr, setText } from '../../ui/dom.js';
+import { h, setAttr, setText, setHidden } from '../../ui/dom.js';
 import { introSection } from '../../ui/prose.js';
 import * as fmt from '../../ui/format.js';
 import { Readout } from '../../ui/readout.js';
@@ -141,9 +142,12 @@ class PhysicsChapter {
         this.change({ stiffness: k });
       },
     });
-    this.hitch = new HitchSection(() => {
-      shell.redraw();
-    });
+    this.hitch = new HitchSection(
+      () => {
+        shell.redraw();
+      },
+      (attrs) => shell.canvas(attrs),
+    );
     this.rope = new RopeSection(shell, {
       settings: () => this.lab.settings,
       run: () => this.run(),
@@ -172,6 +176,7 @@ class PhysicsChapter {
       this.fitChart(chartHost);
     });
     shell.append(
+      formulasSection(),
       methodsIntro(),
       introSection(
         'bench',
@@ -465,7 +470,7 @@ class PhysicsChapter {
         : limitState;
     l.chip.set(st, st);
     setAttr(l.chip.el, 'data-state', st);
-    l.note.hidden = !lane.exploded;
+    setHidden(l.note, !lane.exploded);
     setText(
       l.note,
       lane.exploded

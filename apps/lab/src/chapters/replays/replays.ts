@@ -16,7 +16,7 @@ import {
   type Segmented,
   type Slider,
 } from '../../ui/controls.js';
-import { h, setAttr, setText } from '../../ui/dom.js';
+import { h, setAttr, setText, setHidden } from '../../ui/dom.js';
 import { download } from '../../ui/download.js';
 import * as fmt from '../../ui/format.js';
 import { headRow } from '../../ui/panel.js';
@@ -440,11 +440,11 @@ class ReplaysChapter {
       this.showError(e);
       return false;
     }
-    this.error.hidden = true;
+    setHidden(this.error, true);
     this.lab = lab;
     lab.setSpeed(this.speed);
     if (this.shell.real) this.shell.driver.restartReal();
-    this.view.hidden = false;
+    setHidden(this.view, false);
     const f = lab.facts();
     setText(this.heading, `Replay — ${f.title}`);
     setText(
@@ -483,7 +483,7 @@ class ReplaysChapter {
     );
     setText(this.errorDetail, d.detail);
     setAttr(this.error, 'data-code', e instanceof ReplayError ? e.code : 'ERROR');
-    this.error.hidden = false;
+    setHidden(this.error, false);
   }
 
   private async loadFile(): Promise<void> {
