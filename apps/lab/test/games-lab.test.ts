@@ -279,12 +279,24 @@ describe('what the page says after a game', () => {
     gameId: 'runner',
     fixed: true,
     runnerCrash: false,
+    input: 'keyboard' as const,
     over: false,
     ticks: 900,
     hud: { score: 1, highscore: 1 },
     best: undefined,
     contents: undefined,
   };
+
+  it('tells a crashed runner how to run again with this device: Space, or tap Jump', () => {
+    const crash = { ...base, runnerCrash: true, over: true, score: 3 };
+    expect(afterGameText(crash).text).toContain(
+      'Press Space to run again — the recording goes on.',
+    );
+    expect(afterGameText({ ...crash, input: 'touch' }).text).toContain(
+      'Tap Jump to run again — the recording goes on.',
+    );
+    expect(afterGameText({ ...crash, input: 'touch' }).text).not.toContain('Space');
+  });
 
   it('counts points in words: 1 point, 2 points', () => {
     expect(afterGameText({ ...base, score: 1 }).summary).toBe('Runner: 1 point');

@@ -129,6 +129,8 @@ export interface AfterGame {
   fixed: boolean;
   /** The runner crashed and can run again (the game goes on). */
   runnerCrash: boolean;
+  /** How this device plays (what "run again" tells it to press). */
+  input: InputKind;
   /** Whether the game is over by its own rules (else the player ended it). */
   over: boolean;
   ticks: number;
@@ -174,7 +176,15 @@ export function afterGameText(a: AfterGame): { heading: string; text: string; su
         : `The best run of this game scored ${fmt.plural(best.score, 'point')}: the form below submits the replay up to its end (tick ${fmt.count(best.ticks)}).`,
     );
   }
-  if (a.runnerCrash) parts.push('Press Space to run again — the recording goes on.');
+  if (a.runnerCrash) {
+    const how =
+      a.input === 'touch'
+        ? 'Tap Jump'
+        : a.input === 'keyboard'
+          ? 'Press Space'
+          : 'Press Space or tap Jump';
+    parts.push(`${how} to run again — the recording goes on.`);
+  }
   return { heading, summary, text: parts.join(' ') };
 }
 

@@ -505,6 +505,7 @@ class GamesChapter {
       gameId: s.def.info.id,
       fixed,
       runnerCrash: !s.ended && s.game.over,
+      input: this.input,
       over: s.game.over,
       ticks: s.game.tick,
       score: s.score,
