@@ -4,12 +4,11 @@
  * between snapshots — and send nothing but inputs.
  * @module
  */
-import { fnv1a64 } from '../../det/hash.js';
 import type { GameDefinition, GameSetup } from '../../sim/game.js';
 import type { Simulation } from '../../sim/simulation.js';
 import type { Clock } from '../../time/drivers.js';
 import { ClockSync, LeadTicks } from '../clock-sync.js';
-import { InputRing, SnapshotRing } from '../history.js';
+import { InputRing } from '../history.js';
 import { ProtocolError } from '../wire/error.js';
 import type { ErrorMessage } from '../wire/common.js';
 import type { Transport } from '../transport.js';
@@ -24,12 +23,10 @@ import {
   type StateSyncMessage,
   type StateWelcomeMessage,
 } from '../state-sync/messages.js';
-import { applyDelta } from '../state-sync/delta.js';
-import { decodeSchemaDelta } from '../state-sync/schema-codec.js';
-import { StateSchema } from '../../sim/state-schema.js';
 import { LatenessWindow } from '../state-sync/render.js';
 import { SessionError, type SessionEvent, type SessionPhase } from './events.js';
 import { SessionLife } from './lifecycle.js';
+import { SnapshotBases } from './state-sync-bases.js';
 import { StateSyncDrawing } from './state-sync-drawing.js';
 import {
   emptyStateSyncStats,
@@ -94,9 +91,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
   private sim: S | undefined;
   private scratch: S | undefined;
   /** Verified snapshots by tick: the delta bases (and what `snapshotAt` returns). */
-  private bases = new SnapshotRing(64);
-  /** Schema codec: the verified snapshots' words (as bytes) by tick: its delta bases. */
-  private wordBases = new SnapshotRing(64);
+  private bases = new SnapshotBases(64);
   private newest = -1;
   private pending: { tick: number; state: Uint8Array } | undefined;
   private appliedOnce = false;
@@ -174,8 +169,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       }
       this.delayMs = options.renderDelay;
     }
-    this.bases = new SnapshotRing(options.baseHistory ?? 64);
-    this.wordBases = new SnapshotRing(options.baseHistory ?? 64);
+    this.bases = new SnapshotBases(options.baseHistory ?? 64);
     this.issued = new InputRing(ISSUED_CAPACITY, this.words);
     this.ownWords = new Uint32Array(this.words);
     this.drawing = new StateSyncDrawing(options.render);
@@ -258,7 +252,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
 
   /** The newest verified snapshot's bytes (what the server says the world is), or undefined. */
   get snapshotState(): Uint8Array | undefined {
-    return this.newest < 0 ? undefined : this.bases.get(this.newest);
+    return this.newest < 0 ? undefined : this.bases.state(this.newest);
   }
 
   /**
@@ -266,7 +260,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
    * undefined: the server's world at that tick, as the game's bytes (do not modify).
    */
   snapshotAt(tick: number): Uint8Array | undefined {
-    return this.bases.get(tick);
+    return this.bases.state(tick);
   }
 
   /** The estimated server tick at `now` (fractional; -Infinity before the welcome). */
@@ -592,92 +586,19 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       this.stats.staleSnapshots++;
       return;
     }
-    let state: Uint8Array;
-    let words: Uint8Array | undefined;
-    if (m.codec === 'schema') {
-      const schema = this.game.stateSchema;
-      if (schema === undefined) {
-        this.fail(
-          `the room sends schema-coded snapshots and ${this.game.id} here has no stateSchema`,
-        );
-        return;
-      }
-      let base: Uint8Array | undefined;
-      if (m.base >= 0) {
-        base = this.wordBases.get(m.base);
-        if (base === undefined) {
-          this.badSnapshot(m, 'no-base', `no snapshot of tick ${m.base} here to apply a delta to`);
-          return;
-        }
-      }
-      let older: Uint8Array | undefined;
-      if (m.older >= 0) {
-        older = this.wordBases.get(m.older);
-        if (older === undefined) {
-          this.badSnapshot(m, 'no-base', `no snapshot of tick ${m.older} here to extrapolate from`);
-          return;
-        }
-      }
-      let decoded: Int32Array;
-      try {
-        decoded = decodeSchemaDelta(
-          schema,
-          base && wordsOf(base),
-          m.payload,
-          Math.min(schema.maxWords, m.size >> 2),
-          {
-            ticks: base ? m.tick - m.base : 0,
-            tickRate: w.tickRate,
-            older: older && wordsOf(older),
-            olderTicks: older ? m.base - m.older : 0,
-          },
-        );
-      } catch (e) {
-        if (!(e instanceof ProtocolError)) throw e;
-        this.badSnapshot(m, 'bad-delta', e.message);
-        return;
-      }
-      words = StateSchema.bytesOf(decoded);
-      if (words.length !== m.size || fnv1a64(words) !== m.hash) {
-        this.badSnapshot(
-          m,
-          'hash-mismatch',
-          `the state rebuilt for tick ${m.tick} does not have the server's hash (a damaged delta, or the wrong base)`,
-        );
-        return;
-      }
-      try {
-        // Local columns (not sent) come from this client's own world.
-        state = schema.merge(this.sim!.save(), decoded);
-      } catch (e) {
-        if (!(e instanceof RangeError)) throw e;
-        this.badSnapshot(m, 'unloadable', `the state does not fit the schema: ${e.message}`);
-        return;
-      }
-    } else if (m.base < 0) {
-      state = m.payload;
-    } else {
-      const base = this.bases.get(m.base);
-      if (base === undefined) {
-        this.badSnapshot(m, 'no-base', `no snapshot of tick ${m.base} here to apply a delta to`);
-        return;
-      }
-      try {
-        state = applyDelta(base, m.payload, m.size);
-      } catch (e) {
-        if (!(e instanceof ProtocolError)) throw e;
-        this.badSnapshot(m, 'bad-delta', e.message);
-        return;
-      }
-    }
-    if (words === undefined && fnv1a64(state) !== m.hash) {
-      this.badSnapshot(
-        m,
-        'hash-mismatch',
-        `the state rebuilt for tick ${m.tick} does not have the server's hash (a damaged delta, or the wrong base)`,
+    const schema = this.game.stateSchema;
+    if (m.codec === 'schema' && schema === undefined) {
+      this.fail(
+        `the room sends schema-coded snapshots and ${this.game.id} here has no stateSchema`,
       );
       return;
     }
+    const rebuilt = this.bases.rebuild(m, schema, w.tickRate, () => this.sim!.save());
+    if (!rebuilt.ok) {
+      this.badSnapshot(m, rebuilt.reason, rebuilt.message);
+      return;
+    }
+    const { state, words } = rebuilt;
     try {
       scratch.load(state);
     } catch (e) {
@@ -696,8 +617,7 @@ export class StateSyncSession<I, S extends Simulation<I>> {
       );
       return;
     }
-    this.bases.put(m.tick, state);
-    if (words !== undefined) this.wordBases.put(m.tick, words);
+    this.bases.put(m.tick, state, words);
     this.newest = m.tick;
     this.pending = { tick: m.tick, state };
     if (m.base < 0) this.stats.fullSnapshots++;
@@ -761,9 +681,4 @@ export class StateSyncSession<I, S extends Simulation<I>> {
     this.life.error(new SessionError('BAD_WELCOME', message));
     this.transport.close(message);
   }
-}
-
-/** Schema words stored as bytes, as words again. */
-function wordsOf(bytes: Uint8Array): Int32Array {
-  return new Int32Array(bytes.buffer, bytes.byteOffset, bytes.length >> 2);
 }
