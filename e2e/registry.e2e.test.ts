@@ -338,21 +338,22 @@ describe('npm create fixedstep: the Phaser, PixiJS and three.js templates', () =
   }, 400_000);
 
   // Online play is src/play.ts, the same file in every template: the canvas game plays it above.
-  let browser: Browser | undefined;
+  // The three play at once (each its own page, server and data folder; each waits on state).
+  let browser: Promise<Browser> | undefined;
   afterAll(async () => {
-    await browser?.close();
+    await (await browser)?.close();
   });
 
-  it.each(ENGINES)(
+  it.concurrent.each(ENGINES)(
     '%s: plays in Chromium: scripted keys, the canvas drawn, a highscore accepted, a replay the CLI verifies',
     async (template) => {
       const dir = dirOf(template);
       expect(existsSync(path.join(dir, 'dist-game/game.js'))).toBe(true);
       const serve = await serveGame(dir, path.join(scratch, `${template}-data`), env);
       try {
-        browser ??= await launchChromium();
+        browser ??= launchChromium();
         const shot = path.join(repo, `artifacts/registry/${template}.png`);
-        const round = await playRound(browser, serve.url, dir, shot, env);
+        const round = await playRound(await browser, serve.url, dir, shot, env);
         console.log(`${template}: npm run verify: ${round.verified}`);
       } finally {
         await serve.program.stop('SIGINT');

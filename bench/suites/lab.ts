@@ -155,7 +155,8 @@ export default defineSuite({
     const sums = new Map<string, { busy: number; forced: number; layouts: number; k: number }>();
     try {
       for (const b of list) b.server = await serveFolder(b.dir);
-      for (const chapter of CHAPTERS) {
+      // A quick run (the test command's smoke) measures three chapters: that the suite runs.
+      for (const chapter of ctx.quick ? CHAPTERS.slice(0, 3) : CHAPTERS) {
         for (const b of list) {
           const m = await measure(browser, b.server!.url, chapter, n);
           rows.push([
