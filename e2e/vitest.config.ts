@@ -12,8 +12,10 @@ export default defineConfig({
     environment: 'node',
     testTimeout: 120_000,
     hookTimeout: 120_000,
-    // Two files at a time: each test waits on state, never on time, and holds its own ports,
-    // folders and browser (scripts/busy-check.mjs runs the playing ones with every core busy).
-    maxWorkers: 2,
+    // Three files at a time on two cores: most of an e2e file's time is waiting (on a browser's
+    // frames, a server, an npm install), and each test waits on state, never on time, and holds its
+    // own ports, folders and browser (scripts/busy-check.mjs runs the playing ones with every core
+    // busy).
+    maxWorkers: 3,
   },
 });
