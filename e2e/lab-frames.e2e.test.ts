@@ -6,46 +6,23 @@
  */
 import { describe, expect, it } from 'vitest';
 import type { Page } from 'playwright-core';
-import { mainThreadWork, type TraceEvent } from '../bench/lib/main-thread.js';
+import { mainThreadWork } from '../bench/lib/main-thread.js';
+import { animationFrames, traceFrames } from '../bench/lib/page-trace.js';
 import { useLab, value, watch } from './harness.js';
 
 const lab = useLab();
-
-/** Waits `n` animation frames of the page. */
-function frames(page: Page, n: number): Promise<void> {
-  return page.evaluate(`new Promise((resolve) => {
-    let left = ${n};
-    const step = () => (--left <= 0 ? resolve() : requestAnimationFrame(step));
-    requestAnimationFrame(step);
-  })`);
-}
 
 async function open(page: Page, route: string): Promise<void> {
   await page.goto(`${lab.server.url}#/${route}`);
   await page.getByTestId('readout-clock').waitFor();
   await page.evaluate(`document.querySelector('main canvas').scrollIntoView({ block: 'center' })`);
-  await frames(page, 10);
+  await animationFrames(page, 10);
 }
 
 /** The main thread's work over `n` frames, from a DevTools trace. */
-async function traceFrames(page: Page, n: number) {
+async function mainThreadOver(page: Page, n: number) {
   const cdp = await page.context().newCDPSession(page);
-  const events: TraceEvent[] = [];
-  cdp.on('Tracing.dataCollected', (e) => {
-    events.push(...(e.value as unknown as TraceEvent[]));
-  });
-  const done = new Promise<void>((resolve) => {
-    cdp.once('Tracing.tracingComplete', () => {
-      resolve();
-    });
-  });
-  await cdp.send('Tracing.start', {
-    categories: 'devtools.timeline,disabled-by-default-devtools.timeline',
-    transferMode: 'ReportEvents',
-  });
-  await frames(page, n);
-  await cdp.send('Tracing.end');
-  await done;
+  const events = await traceFrames(page, cdp, n);
   await cdp.detach();
   return mainThreadWork(events);
 }
@@ -58,7 +35,7 @@ describe('the lab’s frames', () => {
       const problems = watch(page);
       await open(page, route);
       const before = Number(await value(page, 'readout-clock'));
-      const work = await traceFrames(page, 60);
+      const work = await mainThreadOver(page, 60);
       // It ran (the clock moved), laid the page out, and never inside script.
       expect(Number(await value(page, 'readout-clock'))).toBeGreaterThan(before);
       expect(work.layouts).toBeGreaterThan(0);
@@ -90,9 +67,9 @@ describe('the lab’s frames', () => {
     })()`);
     expect(y).toBeGreaterThanOrEqual(0);
     await page.evaluate(`window.scrollTo(0, ${String(y)})`);
-    await frames(page, 10); // the observers have spoken, the last write is out
+    await animationFrames(page, 10); // the observers have spoken, the last write is out
     const stopped = await clock();
-    await frames(page, 30);
+    await animationFrames(page, 30);
     expect(await clock()).toBe(stopped);
     expect(await page.getByTestId('control-pause').getAttribute('aria-pressed')).toBe('false');
     await page.evaluate(

@@ -15,9 +15,10 @@
 import { existsSync } from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { chromium, type Browser, type CDPSession, type Page } from 'playwright-core';
+import { chromium, type Browser, type CDPSession } from 'playwright-core';
 import { CHAPTERS } from '../../apps/lab/src/chapters.js';
-import { mainThreadWork, type TraceEvent } from '../lib/main-thread.js';
+import { mainThreadWork } from '../lib/main-thread.js';
+import { animationFrames, traceFrames } from '../lib/page-trace.js';
 import { serveFolder, type StaticServer } from '../lib/static-files.js';
 import { defineSuite } from '../lib/suite.js';
 
@@ -57,42 +58,9 @@ function builds(): Build[] {
   });
 }
 
-/**
- * `n` animation frames of the page, awaited in the page. (A string: tsx would wrap a function's
- * inner functions in a helper the page does not have.)
- */
-function frames(page: Page, n: number): Promise<void> {
-  return page.evaluate(`new Promise((resolve) => {
-    let left = ${n};
-    const step = () => (--left <= 0 ? resolve() : requestAnimationFrame(step));
-    requestAnimationFrame(step);
-  })`);
-}
-
 async function metrics(cdp: CDPSession): Promise<Record<string, number>> {
   const { metrics: list } = await cdp.send('Performance.getMetrics');
   return Object.fromEntries(list.map((m) => [m.name, m.value]));
-}
-
-/** Runs `n` frames under a DevTools trace and returns the trace's events. */
-async function traced(page: Page, cdp: CDPSession, n: number): Promise<TraceEvent[]> {
-  const events: TraceEvent[] = [];
-  cdp.on('Tracing.dataCollected', (e) => {
-    events.push(...(e.value as unknown as TraceEvent[]));
-  });
-  const done = new Promise<void>((resolve) => {
-    cdp.once('Tracing.tracingComplete', () => {
-      resolve();
-    });
-  });
-  await cdp.send('Tracing.start', {
-    categories: 'devtools.timeline,disabled-by-default-devtools.timeline',
-    transferMode: 'ReportEvents',
-  });
-  await frames(page, n);
-  await cdp.send('Tracing.end');
-  await done;
-  return events;
 }
 
 async function measure(
@@ -109,16 +77,16 @@ async function measure(
     await page.evaluate(
       `document.querySelector('main canvas')?.scrollIntoView({ block: 'center' })`,
     );
-    await frames(page, SETTLE_FRAMES);
+    await animationFrames(page, SETTLE_FRAMES);
     const cdp = await page.context().newCDPSession(page);
     await cdp.send('Performance.enable');
     const m0 = await metrics(cdp);
     const t0 = performance.now();
-    await frames(page, n);
+    await animationFrames(page, n);
     const wallS = (performance.now() - t0) / 1000;
     const m1 = await metrics(cdp);
     const d = (k: string) => (m1[k] ?? 0) - (m0[k] ?? 0);
-    const work = mainThreadWork(await traced(page, cdp, n));
+    const work = mainThreadWork(await traceFrames(page, cdp, n));
     return {
       busy: d('TaskDuration') / wallS,
       forced: work.busyMs > 0 ? work.forcedMs / work.busyMs : 0,
