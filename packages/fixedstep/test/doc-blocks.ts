@@ -18,7 +18,7 @@
  *   what it prints with console.log, line by line.
  * Any other block is an error: a block nobody checks says so with `<!-- text -->`.
  */
-import { existsSync, readFileSync } from 'node:fs';
+import { copyFileSync, existsSync, mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { basename, dirname, join, relative, resolve } from 'node:path';
 import ts from 'typescript';
 import { vi } from 'vitest';
@@ -162,6 +162,20 @@ export function brokenLinks(doc: string): string[] {
 /** The file a ```ts block is written to in `outDir`, to be type-checked and imported. */
 export function programFile(outDir: string, b: Block): string {
   return join(outDir, `${b.doc.replace(/\.md$/, '').replace(/[/\\]/g, '_')}-${b.line}.ts`);
+}
+
+/**
+ * Writes `blocks` to `outDir` as programs (with coin-dash's game beside them as `./game.js`, which
+ * the docs import) and returns their files, in order.
+ */
+export function writePrograms(root: string, outDir: string, blocks: readonly Block[]): string[] {
+  mkdirSync(outDir, { recursive: true });
+  copyFileSync(join(root, 'examples/coin-dash/src/game.ts'), join(outDir, 'game.ts'));
+  return blocks.map((b) => {
+    const file = programFile(outDir, b);
+    writeFileSync(file, b.code);
+    return file;
+  });
 }
 
 /**

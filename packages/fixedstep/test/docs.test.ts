@@ -11,7 +11,7 @@
  * - `<!-- text -->`: a diagram, a table or an example of output;
  * and nothing else. Every relative link points at a file that exists.
  */
-import { copyFileSync, existsSync, mkdirSync, readdirSync, writeFileSync } from 'node:fs';
+import { existsSync, readdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { describe, expect, it } from 'vitest';
 import {
@@ -21,6 +21,7 @@ import {
   elsewhereProblems,
   kindOf,
   programFile,
+  writePrograms,
   promised,
   quoteProblems,
   root,
@@ -85,15 +86,13 @@ describe('doc shell blocks', () => {
   });
 });
 
-/** Where the programs are written: with coin-dash's game beside them as ./game.js. */
+/** Where the programs are written. */
 const outDir = join(root, 'artifacts', 'docs');
-mkdirSync(outDir, { recursive: true });
-copyFileSync(join(root, 'examples/coin-dash/src/game.ts'), join(outDir, 'game.ts'));
-for (const b of typed) writeFileSync(programFile(outDir, b), b.code);
+const files = writePrograms(root, outDir, typed);
 
 describe('doc programs', () => {
   it('type-check strictly against the packages', () => {
-    expect(typeProblems(typed.map((b) => programFile(outDir, b)))).toEqual([]);
+    expect(typeProblems(files)).toEqual([]);
   }, 120_000);
 
   it.each(cases(programs))('%s runs and prints what its // → comments say', async (_, b) => {

@@ -12,7 +12,7 @@
  *   kind of block is allowed;
  * - every relative link of the guide points at a file that exists, and the index lists every page.
  */
-import { copyFileSync, mkdirSync, readdirSync, readFileSync, writeFileSync } from 'node:fs';
+import { readdirSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { describe, expect, it } from 'vitest';
 import {
@@ -21,6 +21,7 @@ import {
   brokenLinks,
   kindOf,
   programFile,
+  writePrograms,
   promised,
   quoteProblems,
   root,
@@ -73,15 +74,13 @@ describe('guide shell blocks', () => {
   });
 });
 
-/** Where the programs are written: with coin-dash's game beside them as ./game.js. */
+/** Where the programs are written. */
 const outDir = join(root, 'artifacts', 'guide');
-mkdirSync(outDir, { recursive: true });
-copyFileSync(join(root, 'examples/coin-dash/src/game.ts'), join(outDir, 'game.ts'));
-for (const b of programs) writeFileSync(programFile(outDir, b), b.code);
+const files = writePrograms(root, outDir, programs);
 
 describe('guide programs', () => {
   it('type-check strictly against the library', () => {
-    expect(typeProblems(programs.map((b) => programFile(outDir, b)))).toEqual([]);
+    expect(typeProblems(files)).toEqual([]);
   }, 120_000);
 
   it.each(programs.map((b) => [blockName(b), b] as const))(
