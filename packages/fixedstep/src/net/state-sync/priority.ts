@@ -2,14 +2,15 @@
  * A per-client byte budget for schema-coded snapshots, with Glenn Fiedler's priority accumulator
  * (*State Synchronization*): when a snapshot's delta would be larger than the budget, only some
  * rows of the largest group (the entities: bodies, enemies) go in it. Every other changed row is
- * sent as the client will predict it anyway — its acknowledged value moved by its rate (dead
+ * sent as the client will predict it anyway — its value in the base moved by its rate (dead
  * reckoning) — which costs nothing. Rows of the other groups (the head, scores, players) always
  * go. The client holds what it was sent, so its hash check and its next base agree with the
  * server's copy of it.
  *
- * Which rows: a delta is against the snapshot the client acknowledged, so a row refreshed after
- * that base goes again in every snapshot until the client acknowledges one that has it (left out,
- * it would fall back to the base's prediction). Then the highest priorities: a changed row's
+ * Which rows: over datagrams a delta is against the snapshot the client acknowledged, so a row
+ * refreshed after that base goes again in every snapshot until the client acknowledges one that
+ * has it (left out, it would fall back to the base's prediction); over a reliable transport the
+ * base is the snapshot sent before, and nothing is in flight. Then the highest priorities: a changed row's
  * priority grows every snapshot by one and by how far the client's prediction of it is off, in
  * steps of its columns, and drops to 0 when it is sent — so the rows whose error grows fastest go
  * first, and none waits for ever.
