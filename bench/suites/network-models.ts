@@ -42,6 +42,9 @@ const LINKS: readonly (Pick<NetSettings, 'latencyMs' | 'jitterMs' | 'loss'> & { 
     { label: 'a bad link', latencyMs: 100, jitterMs: 30, loss: 0.05 },
   ];
 
+/** How long the late-input run over real TCP plays: long enough for several retransmission stalls. */
+const LATE_SECONDS = 180;
+
 const ms = (x: number) => (Number.isFinite(x) ? `${x.toFixed(0)} ms` : '—');
 
 export default defineSuite({
@@ -137,6 +140,7 @@ async function measured(ctx: SuiteContext): Promise<void> {
   if (tun.ok) {
     const rows = await runOverTun({ models, seconds, link: REAL_LINK, seed });
     results.push({ transport: 'WebSocket (kernel TCP, TUN link)', link: REAL_LINK, rows });
+    if (!ctx.quick) await lateOverTcp(ctx);
   } else {
     ctx.note(`TCP rows skipped: ${tun.reason}`);
   }
@@ -175,4 +179,30 @@ async function measured(ctx: SuiteContext): Promise<void> {
       `wrote ${MEASURED_JSON} (the lab's chapter 6 table shows it as measured by this bench)`,
     );
   }
+}
+
+/**
+ * Issue 24's late inputs over the kernel's TCP: state sync alone, player 2 on the TUN link for
+ * `LATE_SECONDS` (the lead learns the link's stalls in the first ~30 s, which are counted).
+ */
+async function lateOverTcp(ctx: SuiteContext): Promise<void> {
+  const [row] = await runOverTun({
+    models: ['statesync'],
+    seconds: LATE_SECONDS,
+    link: REAL_LINK,
+    seed: 11,
+  });
+  ctx.table(
+    `late inputs over real TCP (WebSocket, TUN link ${REAL_LINK.latencyMs} ± ${REAL_LINK.jitterMs} ms, ` +
+      `${100 * REAL_LINK.loss} % loss each way), state sync, player 2, ${LATE_SECONDS} s`,
+    ['inputs late (after their tick)', 'lead at the end', 'render delay', 'input → own screen'],
+    [
+      [
+        `${(100 * (row?.lateShare ?? NaN)).toFixed(2)} %`,
+        `${row?.lead ?? '—'} ticks`,
+        ms(row?.renderDelayMs ?? NaN),
+        ms(row?.ownLatencyMs ?? NaN),
+      ],
+    ],
+  );
 }

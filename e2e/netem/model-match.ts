@@ -69,6 +69,12 @@ export interface ModelRow {
   renderDelayMs: number;
   /** Lockstep: player 2's input delay, ticks; rollback: its lead, ticks. */
   delayTicks: number;
+  /**
+   * State sync: player 2's inputs that reached the room after their tick was stepped, per input
+   * it issued while measured, and its lead at the end (ticks). Absent for the other models.
+   */
+  lateShare?: number;
+  lead?: number;
   /** Seconds played (measured from the first tick). */
   seconds: number;
 }
@@ -176,6 +182,8 @@ export async function runModelMatch(o: {
       shownTick: () => number;
       bytes: () => [number, number];
       delay: () => number;
+      /** Inputs issued and late so far, and the lead (state sync). */
+      inputs?: () => { issued: number; late: number; lead: number };
     }
     const machines: Machine[] = [0, 1].map((i): Machine => {
       if (o.model === 'statesync') {
@@ -200,6 +208,11 @@ export async function runModelMatch(o: {
           shownTick: () => Math.floor(s.renderTick),
           bytes: () => [s.stats.bytesSent, s.stats.bytesReceived],
           delay: () => s.renderDelayMs,
+          inputs: () => ({
+            issued: s.stats.issuedInputs,
+            late: s.stats.lateInputs,
+            lead: s.stats.lead,
+          }),
         };
       }
       const options = {
@@ -231,6 +244,7 @@ export async function runModelMatch(o: {
     link.impair();
     const wire0 = await link.wire();
     const bytes0 = machines[1]!.bytes();
+    const inputs0 = machines[1]!.inputs?.();
     const t0 = clock.now();
     await frames(
       machines,
@@ -243,7 +257,16 @@ export async function runModelMatch(o: {
     const seconds = (clock.now() - t0) / 1000;
     const wire = await link.wire();
     const bytes = machines[1]!.bytes();
+    const inputs = machines[1]!.inputs?.();
+    const late =
+      inputs && inputs0
+        ? {
+            lateShare: (inputs.late - inputs0.late) / Math.max(1, inputs.issued - inputs0.issued),
+            lead: inputs.lead,
+          }
+        : {};
     return {
+      ...late,
       model: o.model,
       upBytesPerSecond: (bytes[0] - bytes0[0]) / seconds,
       downBytesPerSecond: (bytes[1] - bytes0[1]) / seconds,

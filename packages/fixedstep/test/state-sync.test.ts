@@ -321,7 +321,9 @@ describe('state sync: sessions are checked', () => {
     expect(() => w.client({ maxPrediction: 0 })).toThrow(
       /maxPrediction must be an integer from 1 to 600, got 0/,
     );
-    expect(() => w.client({ lead: 90 })).toThrow(/lead must be 'auto' or an integer/);
+    expect(() => w.client({ lead: 120 })).toThrow(
+      /lead must be 'auto' or an integer from 0 to maxPrediction - 1, got 120/,
+    );
     expect(() => w.client({ renderDelay: -5 })).toThrow(
       /renderDelay must be 'auto' or ms >= 0, got -5/,
     );

@@ -94,7 +94,8 @@ export class ClockSync {
 /**
  * How many ticks ahead of the server's clock a predicting session runs (rollback, state sync):
  * the first lead it wants is taken at once; after that the lead follows the wanted one a tick at
- * a time, at most once every 250 ms, so a noisy round trip does not jerk the simulation.
+ * a time, at most once every 250 ms (up: every `riseEveryMs`), so a noisy round trip does not
+ * jerk the simulation.
  * Negative while unset.
  */
 export class LeadTicks {
@@ -103,6 +104,8 @@ export class LeadTicks {
   constructor(
     /** The lead now, ticks (negative: not set yet). */
     public ticks = -1,
+    /** The least time between two moves up, ms (down: always 250). */
+    private readonly riseEveryMs = 250,
   ) {}
 
   /** Moves the lead towards `want` ticks at `now` (ms on the session's clock). */
@@ -110,7 +113,10 @@ export class LeadTicks {
     if (this.ticks < 0) {
       this.ticks = want;
       this.lastMove = now;
-    } else if (want !== this.ticks && now - this.lastMove >= 250) {
+    } else if (
+      want !== this.ticks &&
+      now - this.lastMove >= (want > this.ticks ? this.riseEveryMs : 250)
+    ) {
       this.ticks += want > this.ticks ? 1 : -1;
       this.lastMove = now;
     }

@@ -78,11 +78,11 @@ export interface StateSyncSessionOptions<I, S extends Simulation<I>> {
   onCorrection?: (correction: StateSyncCorrection) => void;
   /**
    * Ticks to predict ahead of the server clock, so an input reaches the server before its tick is
-   * stepped. `'auto'` (default): half a high round trip plus two ticks, one tick at a time every
-   * 250 ms, and a tick more whenever the server had to fill one of our inputs.
+   * stepped. `'auto'` (default): the larger of half a high round trip plus two ticks and the
+   * largest lead the server's lateness reports asked for in the last 2 minutes (docs/network.md).
    */
   lead?: number | 'auto';
-  /** Most ticks the prediction may run past the newest snapshot; then it waits. Default 60. */
+  /** Most ticks the prediction may run past the newest snapshot; then it waits. Default 120. */
   maxPrediction?: number;
   /** Most forward ticks per {@link StateSyncSession.frame}. Default 32. */
   maxTicksPerFrame?: number;
