@@ -18,7 +18,28 @@ function tenMinutes(kind: 'lockstep' | 'rollback'): MatchResult {
     link: { latencyMs: 100, jitterMs: 30, loss: 0.05 },
     clients: [{ kind }, { kind }, { kind: 'spectator' }],
   });
-  return match.run(700_000);
+  const r = match.run(700_000);
+  print(kind, r);
+  return r;
+}
+
+/** The numbers docs/network.md's "Measured" table shows, one line each. */
+function print(kind: string, r: MatchResult): void {
+  const players = r.clients.filter((c) => c.kind !== 'spectator');
+  const spectator = r.clients.find((c) => c.kind === 'spectator');
+  const each = (f: (c: MatchResult['clients'][number]) => number | string) =>
+    players.map(f).join(' and ');
+  const lines = [
+    `wall time ${(r.wallMs / 1000).toFixed(1)} s; final hashes agree: ${r.hashesAgree}`,
+    `input delay ${each((c) => c.stats.inputDelay)} ticks, lead ${each((c) => c.stats.lead)} ticks`,
+    `rollbacks ${each((c) => c.stats.rollbacks)}, max depth ${each((c) => c.stats.maxRollbackDepth)}, ` +
+      `${players.reduce((a, c) => a + c.stats.resimulatedTicks, 0)} ticks resimulated`,
+    `stalls ${each((c) => c.stats.stalls)} players, ${spectator?.stats.stalls ?? '—'} spectator`,
+    `hash checks ${r.relay.hashChecks}, desyncs ${r.relay.desyncs}`,
+    `relay ${(r.relay.messagesIn / 1000).toFixed(1)} k messages in, ${(r.relay.messagesOut / 1000).toFixed(1)} k out, ` +
+      `${(r.relay.bytesOut / 2 ** 20).toFixed(1)} MiB out`,
+  ];
+  console.log(`${kind}, 10-minute match:\n  ${lines.join('\n  ')}`);
 }
 
 describe('a 10-minute match at 100 ms ± 30 ms and 5 % loss', () => {
