@@ -93,23 +93,27 @@
             (local.set $vbY (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $lo) (local.get $hi)))
             (local.set $rX (f64x2.sub (local.get $vaX) (local.get $vbX)))
             (local.set $rY (f64x2.sub (local.get $vaY) (local.get $vbY)))
-            ;; λ' = max(0, λ − (rx·nx + ry·ny)·mN), as `if (λ' < 0) λ' = 0`
-            (local.set $nN (f64x2.sub (local.get $jN)
-              (f64x2.mul (f64x2.add (f64x2.mul (local.get $rX) (local.get $nX)) (f64x2.mul (local.get $rY) (local.get $nY)))
-                         (local.get $m))))
-            (local.set $nN (v128.bitselect (f64x2.splat (f64.const 0)) (local.get $nN)
-                                           (f64x2.lt (local.get $nN) (f64x2.splat (f64.const 0)))))
+            ;; λ' = max(0, λ − (rx·nx + ry·ny)·mN), as `if (λ' < 0) λ' = 0`: pmax(λ', 0) is
+            ;; `λ' < 0 ? 0 : λ'` to the bit (a NaN and a −0 stay), without a compare and select.
+            (local.set $nN (f64x2.pmax
+              (f64x2.sub (local.get $jN)
+                (f64x2.mul (f64x2.add (f64x2.mul (local.get $rX) (local.get $nX)) (f64x2.mul (local.get $rY) (local.get $nY)))
+                           (local.get $m)))
+              (f64x2.splat (f64.const 0))))
             (local.set $dN (f64x2.sub (local.get $nN) (local.get $jN)))
-            ;; τ' = clamp(τ − (ry·nx − rx·ny)·mN, ±μλ')
+            ;; τ' = clamp(τ − (ry·nx − rx·ny)·mN, ±μλ'), as `if (τ' > f) τ' = f; else if
+            ;; (τ' < −f) τ' = −f` with f = μλ': pmin(τ', f) is `f < τ' ? f : τ'`, then pmax(·, −f)
+            ;; `· < −f ? −f : ·`, which leaves f alone: f is never below −f (μ ≥ 0 and λ' ≥ 0, so
+            ;; f ≥ 0, a zero of either sign or NaN). The same bits as the two branches.
             (local.set $f (f64x2.mul (local.get $muV) (local.get $nN)))
-            (local.set $nT (f64x2.sub (local.get $jT)
-              (f64x2.mul (f64x2.sub (f64x2.mul (local.get $rY) (local.get $nX)) (f64x2.mul (local.get $rX) (local.get $nY)))
-                         (local.get $m))))
             (local.set $nT
-              (v128.bitselect (local.get $f)
-                (v128.bitselect (f64x2.neg (local.get $f)) (local.get $nT)
-                                (f64x2.lt (local.get $nT) (f64x2.neg (local.get $f))))
-                (f64x2.gt (local.get $nT) (local.get $f))))
+              (f64x2.pmax
+                (f64x2.pmin
+                  (f64x2.sub (local.get $jT)
+                    (f64x2.mul (f64x2.sub (f64x2.mul (local.get $rY) (local.get $nX)) (f64x2.mul (local.get $rX) (local.get $nY)))
+                               (local.get $m)))
+                  (local.get $f))
+                (f64x2.neg (local.get $f))))
             (local.set $dT (f64x2.sub (local.get $nT) (local.get $jT)))
             (v128.store offset={{VISIT_NORMAL_IMPULSE}} (local.get $p) (local.get $nN))
             (v128.store offset={{VISIT_TANGENT_IMPULSE}} (local.get $p) (local.get $nT))
@@ -138,15 +142,15 @@
   ;; separation s = s0 + (ΔAx − ΔBx)·nx + (ΔAy − ΔBy)·ny of each in its lane, in the JavaScript's
   ;; order, and one division for both. Each body's push then goes back to (x, y) lanes, added to its
   ;; motion (movedX, movedY) and its position (x, y) alike. The JavaScript skips a visit with
-  ;; s ≥ −slop; here every visit computes its push and `keep` (all ones where s ≥ −slop) selects the
-  ;; old values instead: the same bits, and no branch to mispredict (in a pile about two visits in
-  ;; three keep). A pad keeps: its separation and motion are 0.
+  ;; s ≥ −slop; here every visit computes its push and `keep` (all ones where s ≥ −slop) makes it
+  ;; +0 instead: the same bits, and no branch to mispredict (in a pile about two visits in three
+  ;; keep). A pad keeps: its separation and motion are 0.
   (func (export "iteratePositions") (param $first i32) (param $count i32) (param $positions i32)
         (param $iterations i32) (param $slop f64) (param $beta f64)
     (local $p i32) (local $end i32) (local $it i32) (local $a i32) (local $b i32) (local $a1 i32) (local $b1 i32)
     (local $nX v128) (local $nY v128) (local $mA v128) (local $mA1 v128) (local $mB v128) (local $mB1 v128)
     (local $s v128) (local $keep v128) (local $iA v128) (local $iB v128) (local $c v128)
-    (local $pX v128) (local $pY v128) (local $push v128) (local $q v128) (local $xy v128)
+    (local $pX v128) (local $pY v128) (local $push v128)
     (local $slopV v128) (local $betaV v128)
     (local.set $slopV (f64x2.splat (local.get $slop)))
     (local.set $betaV (f64x2.splat (local.get $beta)))
@@ -181,38 +185,32 @@
             (local.set $keep (f64x2.ge (local.get $s) (f64x2.neg (local.get $slopV))))
             (local.set $iA (v128.load offset={{VISIT_INVERSE_MASS_A}} (local.get $p)))
             (local.set $iB (v128.load offset={{VISIT_INVERSE_MASS_B}} (local.get $p)))
-            ;; C = −(s + slop)·β / (iA + iB); A moves by (C·iA)·n, B by −(C·iB)·n.
+            ;; C = −(s + slop)·β / (iA + iB); A moves by (C·iA)·n, B by −(C·iB)·n. Every body
+            ;; subtracts its push: A's is ((−C)·iA)·n, exactly −((C·iA)·n), and a − (−p) is
+            ;; a + p to the bit. Where `keep`, the push is +0 instead (and-not), and a − (+0) is a
+            ;; for every a, −0 included: the old value, as the JavaScript's skip leaves it.
             (local.set $c (f64x2.div (f64x2.mul (f64x2.neg (f64x2.add (local.get $s) (local.get $slopV))) (local.get $betaV))
                                      (f64x2.add (local.get $iA) (local.get $iB))))
-            (local.set $pX (f64x2.mul (f64x2.mul (local.get $c) (local.get $iA)) (local.get $nX)))
-            (local.set $pY (f64x2.mul (f64x2.mul (local.get $c) (local.get $iA)) (local.get $nY)))
-            ;; The first visit's A: its push (x, y) and `keep` from lane 0.
+            (local.set $iA (f64x2.mul (f64x2.neg (local.get $c)) (local.get $iA)))
+            (local.set $pX (v128.andnot (f64x2.mul (local.get $iA) (local.get $nX)) (local.get $keep)))
+            (local.set $pY (v128.andnot (f64x2.mul (local.get $iA) (local.get $nY)) (local.get $keep)))
+            ;; The first visit's A: its push (x, y) from lane 0; the second's from lane 1.
             (local.set $push (i8x16.shuffle 0 1 2 3 4 5 6 7 16 17 18 19 20 21 22 23 (local.get $pX) (local.get $pY)))
-            (local.set $q (i8x16.shuffle 0 1 2 3 4 5 6 7 0 1 2 3 4 5 6 7 (local.get $keep) (local.get $keep)))
-            (v128.store (local.get $a) (v128.bitselect (local.get $mA) (f64x2.add (local.get $mA) (local.get $push)) (local.get $q)))
-            (local.set $xy (v128.load offset={{POSITION_XY}} (local.get $a)))
-            (v128.store offset={{POSITION_XY}} (local.get $a)
-              (v128.bitselect (local.get $xy) (f64x2.add (local.get $xy) (local.get $push)) (local.get $q)))
-            ;; The second visit's A, from lane 1.
+            (v128.store (local.get $a) (f64x2.sub (local.get $mA) (local.get $push)))
+            (v128.store offset={{POSITION_XY}} (local.get $a) (f64x2.sub (v128.load offset={{POSITION_XY}} (local.get $a)) (local.get $push)))
             (local.set $push (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $pX) (local.get $pY)))
-            (local.set $keep (i8x16.shuffle 8 9 10 11 12 13 14 15 8 9 10 11 12 13 14 15 (local.get $keep) (local.get $keep)))
-            (v128.store (local.get $a1) (v128.bitselect (local.get $mA1) (f64x2.add (local.get $mA1) (local.get $push)) (local.get $keep)))
-            (local.set $xy (v128.load offset={{POSITION_XY}} (local.get $a1)))
-            (v128.store offset={{POSITION_XY}} (local.get $a1)
-              (v128.bitselect (local.get $xy) (f64x2.add (local.get $xy) (local.get $push)) (local.get $keep)))
-            ;; B's of both, by −(C·iB)·n.
-            (local.set $pX (f64x2.mul (f64x2.mul (local.get $c) (local.get $iB)) (local.get $nX)))
-            (local.set $pY (f64x2.mul (f64x2.mul (local.get $c) (local.get $iB)) (local.get $nY)))
+            (v128.store (local.get $a1) (f64x2.sub (local.get $mA1) (local.get $push)))
+            (v128.store offset={{POSITION_XY}} (local.get $a1) (f64x2.sub (v128.load offset={{POSITION_XY}} (local.get $a1)) (local.get $push)))
+            ;; B's of both, by (C·iB)·n.
+            (local.set $iB (f64x2.mul (local.get $c) (local.get $iB)))
+            (local.set $pX (v128.andnot (f64x2.mul (local.get $iB) (local.get $nX)) (local.get $keep)))
+            (local.set $pY (v128.andnot (f64x2.mul (local.get $iB) (local.get $nY)) (local.get $keep)))
             (local.set $push (i8x16.shuffle 0 1 2 3 4 5 6 7 16 17 18 19 20 21 22 23 (local.get $pX) (local.get $pY)))
-            (v128.store (local.get $b) (v128.bitselect (local.get $mB) (f64x2.sub (local.get $mB) (local.get $push)) (local.get $q)))
-            (local.set $xy (v128.load offset={{POSITION_XY}} (local.get $b)))
-            (v128.store offset={{POSITION_XY}} (local.get $b)
-              (v128.bitselect (local.get $xy) (f64x2.sub (local.get $xy) (local.get $push)) (local.get $q)))
+            (v128.store (local.get $b) (f64x2.sub (local.get $mB) (local.get $push)))
+            (v128.store offset={{POSITION_XY}} (local.get $b) (f64x2.sub (v128.load offset={{POSITION_XY}} (local.get $b)) (local.get $push)))
             (local.set $push (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $pX) (local.get $pY)))
-            (v128.store (local.get $b1) (v128.bitselect (local.get $mB1) (f64x2.sub (local.get $mB1) (local.get $push)) (local.get $keep)))
-            (local.set $xy (v128.load offset={{POSITION_XY}} (local.get $b1)))
-            (v128.store offset={{POSITION_XY}} (local.get $b1)
-              (v128.bitselect (local.get $xy) (f64x2.sub (local.get $xy) (local.get $push)) (local.get $keep)))
+            (v128.store (local.get $b1) (f64x2.sub (local.get $mB1) (local.get $push)))
+            (v128.store offset={{POSITION_XY}} (local.get $b1) (f64x2.sub (v128.load offset={{POSITION_XY}} (local.get $b1)) (local.get $push)))
             (local.set $p (i32.add (local.get $p) (i32.const {{VISIT_PAIR_BYTES}})))
             (br $pair)))
         (local.set $it (i32.add (local.get $it) (i32.const 1)))
