@@ -479,27 +479,29 @@ function velocitiesOut(
 }
 
 /**
- * Warm start: each of the `count` visits' impulses applied once, in visiting order (a zero pair is
- * skipped: a pad's always is).
+ * Warm start: the impulses of the `count` pairs of visits applied once, in visiting order (a visit
+ * whose two impulses are zero is skipped: a pad's always are).
  */
 function warmStart(f64: Float64Array, i32: Int32Array, first: number, count: number): void {
-  for (let s = 0; s < count; s++) {
-    const o = first + PAIR * (s >>> 1) + LANE * (s & 1);
-    const jn = f64[o + NORMAL_IMPULSE]!;
-    const jt = f64[o + TANGENT_IMPULSE]!;
-    if (jn === 0 && jt === 0) continue;
-    const a = i32[2 * o + VELOCITY_A]! >>> 3;
-    const b = i32[2 * o + VELOCITY_B]! >>> 3;
-    const nx = f64[o + NORMAL_X]!;
-    const ny = f64[o + NORMAL_Y]!;
-    const px = jn * nx - jt * ny;
-    const py = jn * ny + jt * nx;
-    const ia = f64[o + INVERSE_MASS_A]!;
-    const ib = f64[o + INVERSE_MASS_B]!;
-    f64[a] = f64[a]! + px * ia;
-    f64[a + 1] = f64[a + 1]! + py * ia;
-    f64[b] = f64[b]! - px * ib;
-    f64[b + 1] = f64[b + 1]! - py * ib;
+  const end = first + PAIR * count;
+  for (let pair = first; pair < end; pair += PAIR) {
+    for (let o = pair; o <= pair + LANE; o += LANE) {
+      const jn = f64[o + NORMAL_IMPULSE]!;
+      const jt = f64[o + TANGENT_IMPULSE]!;
+      if (jn === 0 && jt === 0) continue;
+      const a = i32[2 * o + VELOCITY_A]! >>> 3;
+      const b = i32[2 * o + VELOCITY_B]! >>> 3;
+      const nx = f64[o + NORMAL_X]!;
+      const ny = f64[o + NORMAL_Y]!;
+      const px = jn * nx - jt * ny;
+      const py = jn * ny + jt * nx;
+      const ia = f64[o + INVERSE_MASS_A]!;
+      const ib = f64[o + INVERSE_MASS_B]!;
+      f64[a] = f64[a]! + px * ia;
+      f64[a + 1] = f64[a + 1]! + py * ia;
+      f64[b] = f64[b]! - px * ib;
+      f64[b + 1] = f64[b + 1]! - py * ib;
+    }
   }
 }
 
@@ -689,10 +691,10 @@ export function solveVelocities(
   if (materials.friction) {
     const visitFriction = schedule.visitFrictionRoom(visits);
     visitFrictions(contacts, bodies, def, schedule.order, visits, visitFriction);
-    warmStart(f64, i32, first, visits);
+    warmStart(f64, i32, first, visits >>> 1);
     iterateVelocitiesMixed(f64, i32, first, visits >>> 1, def.velocityIterations, visitFriction);
   } else if (kernels) {
-    kernels.warmStart(schedule.visitsAt, visits);
+    kernels.warmStart(schedule.visitsAt, visits >>> 1);
     kernels.iterateVelocities(
       schedule.visitsAt,
       visits >>> 1,
@@ -700,7 +702,7 @@ export function solveVelocities(
       def.friction,
     );
   } else {
-    warmStart(f64, i32, first, visits);
+    warmStart(f64, i32, first, visits >>> 1);
     iterateVelocities(f64, i32, first, visits >>> 1, def.velocityIterations, def.friction);
   }
 

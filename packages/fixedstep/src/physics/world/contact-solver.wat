@@ -11,52 +11,61 @@
 (module
   (import "env" "memory" (memory 1))
 
-  ;; Warm start: each of the `count` visits' impulses applied once (a visit whose two impulses are
-  ;; 0 is skipped: a pad's always are), in visiting order: a pair's lane 0, then its lane 1.
+  ;; Warm start: each of the `count` pairs of visits' impulses applied once, the pair's two visits
+  ;; side by side as in iterateVelocities. The JavaScript skips a visit whose two impulses are 0
+  ;; (a pad's always are); here `skip` (all ones there) selects the old velocities instead: the
+  ;; same bits (adding a zero impulse would turn a velocity of −0 into +0).
   (func (export "warmStart") (param $first i32) (param $count i32)
-    (local $p i32) (local $end i32) (local $a i32) (local $b i32)
-    (local $jn f64) (local $jt f64) (local $nx f64) (local $ny f64)
-    (local $px f64) (local $py f64) (local $ia f64) (local $ib f64)
+    (local $p i32) (local $end i32) (local $a i32) (local $b i32) (local $a1 i32) (local $b1 i32)
+    (local $lo v128) (local $hi v128) (local $nX v128) (local $nY v128) (local $jN v128) (local $jT v128)
+    (local $pX v128) (local $pY v128) (local $iA v128) (local $iB v128) (local $skip v128)
+    (local $vaX v128) (local $vaY v128) (local $vbX v128) (local $vbY v128)
     (local.set $p (local.get $first))
-    (local.set $end (i32.add (local.get $p) (i32.shl (local.get $count) (i32.const {{VISIT_PAIR_SHIFT - 1}}))))
+    (local.set $end (i32.add (local.get $p) (i32.shl (local.get $count) (i32.const {{VISIT_PAIR_SHIFT}}))))
     (block $done
-      (loop $visit
+      (loop $pair
         (br_if $done (i32.ge_u (local.get $p) (local.get $end)))
-        (local.set $jn (f64.load offset={{VISIT_NORMAL_IMPULSE}} (local.get $p)))
-        (local.set $jt (f64.load offset={{VISIT_TANGENT_IMPULSE}} (local.get $p)))
-        (if (i32.eqz (i32.and (f64.eq (local.get $jn) (f64.const 0))
-                              (f64.eq (local.get $jt) (f64.const 0))))
-          (then
-            (local.set $a (i32.load offset={{VISIT_VELOCITY_A}} (local.get $p)))
-            (local.set $b (i32.load offset={{VISIT_VELOCITY_B}} (local.get $p)))
-            (local.set $nx (f64.load offset={{VISIT_NORMAL_X}} (local.get $p)))
-            (local.set $ny (f64.load offset={{VISIT_NORMAL_Y}} (local.get $p)))
-            (local.set $px (f64.sub (f64.mul (local.get $jn) (local.get $nx))
-                                    (f64.mul (local.get $jt) (local.get $ny))))
-            (local.set $py (f64.add (f64.mul (local.get $jn) (local.get $ny))
-                                    (f64.mul (local.get $jt) (local.get $nx))))
-            (local.set $ia (f64.load offset={{VISIT_INVERSE_MASS_A}} (local.get $p)))
-            (local.set $ib (f64.load offset={{VISIT_INVERSE_MASS_B}} (local.get $p)))
-            (f64.store (local.get $a)
-              (f64.add (f64.load (local.get $a)) (f64.mul (local.get $px) (local.get $ia))))
-            (f64.store offset=8 (local.get $a)
-              (f64.add (f64.load offset=8 (local.get $a)) (f64.mul (local.get $py) (local.get $ia))))
-            (f64.store (local.get $b)
-              (f64.sub (f64.load (local.get $b)) (f64.mul (local.get $px) (local.get $ib))))
-            (f64.store offset=8 (local.get $b)
-              (f64.sub (f64.load offset=8 (local.get $b)) (f64.mul (local.get $py) (local.get $ib))))))
-        ;; Lane 0 to lane 1 of the same pair, lane 1 to lane 0 of the next.
-        (local.set $p (i32.add (local.get $p)
-          (select (i32.const {{VISIT_PAIR_BYTES - VISIT_LANE_BYTES}}) (i32.const {{VISIT_LANE_BYTES}})
-                  (i32.and (i32.sub (local.get $p) (local.get $first)) (i32.const {{VISIT_LANE_BYTES}})))))
-        (br $visit))))
+        (local.set $a (i32.load offset={{VISIT_VELOCITY_A}} (local.get $p)))
+        (local.set $b (i32.load offset={{VISIT_VELOCITY_B}} (local.get $p)))
+        (local.set $a1 (i32.load offset={{VISIT_VELOCITY_A + VISIT_LANE_BYTES}} (local.get $p)))
+        (local.set $b1 (i32.load offset={{VISIT_VELOCITY_B + VISIT_LANE_BYTES}} (local.get $p)))
+        (local.set $jN (v128.load offset={{VISIT_NORMAL_IMPULSE}} (local.get $p)))
+        (local.set $jT (v128.load offset={{VISIT_TANGENT_IMPULSE}} (local.get $p)))
+        (local.set $skip (v128.and (f64x2.eq (local.get $jN) (f64x2.splat (f64.const 0)))
+                                   (f64x2.eq (local.get $jT) (f64x2.splat (f64.const 0)))))
+        (local.set $nX (v128.load offset={{VISIT_NORMAL_X}} (local.get $p)))
+        (local.set $nY (v128.load offset={{VISIT_NORMAL_Y}} (local.get $p)))
+        ;; P = (jn·nx − jt·ny, jn·ny + jt·nx)
+        (local.set $pX (f64x2.sub (f64x2.mul (local.get $jN) (local.get $nX))
+                                  (f64x2.mul (local.get $jT) (local.get $nY))))
+        (local.set $pY (f64x2.add (f64x2.mul (local.get $jN) (local.get $nY))
+                                  (f64x2.mul (local.get $jT) (local.get $nX))))
+        (local.set $iA (v128.load offset={{VISIT_INVERSE_MASS_A}} (local.get $p)))
+        (local.set $iB (v128.load offset={{VISIT_INVERSE_MASS_B}} (local.get $p)))
+        (local.set $lo (v128.load (local.get $a)))
+        (local.set $hi (v128.load (local.get $a1)))
+        (local.set $vaX (i8x16.shuffle 0 1 2 3 4 5 6 7 16 17 18 19 20 21 22 23 (local.get $lo) (local.get $hi)))
+        (local.set $vaY (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $lo) (local.get $hi)))
+        (local.set $lo (v128.load (local.get $b)))
+        (local.set $hi (v128.load (local.get $b1)))
+        (local.set $vbX (i8x16.shuffle 0 1 2 3 4 5 6 7 16 17 18 19 20 21 22 23 (local.get $lo) (local.get $hi)))
+        (local.set $vbY (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $lo) (local.get $hi)))
+        (local.set $vaX (v128.bitselect (local.get $vaX) (f64x2.add (local.get $vaX) (f64x2.mul (local.get $pX) (local.get $iA))) (local.get $skip)))
+        (local.set $vaY (v128.bitselect (local.get $vaY) (f64x2.add (local.get $vaY) (f64x2.mul (local.get $pY) (local.get $iA))) (local.get $skip)))
+        (local.set $vbX (v128.bitselect (local.get $vbX) (f64x2.sub (local.get $vbX) (f64x2.mul (local.get $pX) (local.get $iB))) (local.get $skip)))
+        (local.set $vbY (v128.bitselect (local.get $vbY) (f64x2.sub (local.get $vbY) (f64x2.mul (local.get $pY) (local.get $iB))) (local.get $skip)))
+        (v128.store (local.get $a) (i8x16.shuffle 0 1 2 3 4 5 6 7 16 17 18 19 20 21 22 23 (local.get $vaX) (local.get $vaY)))
+        (v128.store (local.get $a1) (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $vaX) (local.get $vaY)))
+        (v128.store (local.get $b) (i8x16.shuffle 0 1 2 3 4 5 6 7 16 17 18 19 20 21 22 23 (local.get $vbX) (local.get $vbY)))
+        (v128.store (local.get $b1) (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $vbX) (local.get $vbY)))
+        (local.set $p (i32.add (local.get $p) (i32.const {{VISIT_PAIR_BYTES}})))
+        (br $pair))))
 
   ;; `iterations` sweeps of sequential impulses over `count` pairs of visits from byte `first`.
   ;; The two visits of a pair share no body, so they commute: they go side by side, the first in
   ;; lane 0 and the second in lane 1, each lane the very operations of one visit in the JavaScript
   ;; (IEEE-754 per lane, no fused operations; `bitselect` where it branches). Stored transposed, a
   ;; pair's fields load straight into lanes; only the bodies' (vx, vy) are transposed here, and back.
-  ;; The impulse is P = λ·(nx, ny) + τ·(−ny, nx): its x adds −(τ·ny), which is subtracting τ·ny.
   (func (export "iterateVelocities") (param $first i32) (param $count i32) (param $iterations i32) (param $mu f64)
     (local $p i32) (local $end i32) (local $it i32) (local $a i32) (local $b i32)
     (local $a1 i32) (local $b1 i32) (local $lo v128) (local $hi v128)
@@ -117,9 +126,9 @@
             (local.set $dT (f64x2.sub (local.get $nT) (local.get $jT)))
             (v128.store offset={{VISIT_NORMAL_IMPULSE}} (local.get $p) (local.get $nN))
             (v128.store offset={{VISIT_TANGENT_IMPULSE}} (local.get $p) (local.get $nT))
-            ;; P = (dN·nx + dT·(−ny), dN·ny + dT·nx)
-            (local.set $pX (f64x2.add (f64x2.mul (local.get $dN) (local.get $nX))
-                                      (f64x2.mul (local.get $dT) (f64x2.neg (local.get $nY)))))
+            ;; P = (dN·nx − dT·ny, dN·ny + dT·nx)
+            (local.set $pX (f64x2.sub (f64x2.mul (local.get $dN) (local.get $nX))
+                                      (f64x2.mul (local.get $dT) (local.get $nY))))
             (local.set $pY (f64x2.add (f64x2.mul (local.get $dN) (local.get $nY))
                                       (f64x2.mul (local.get $dT) (local.get $nX))))
             (local.set $iA (v128.load offset={{VISIT_INVERSE_MASS_A}} (local.get $p)))
@@ -151,8 +160,9 @@
     (local $nX v128) (local $nY v128) (local $mA v128) (local $mA1 v128) (local $mB v128) (local $mB1 v128)
     (local $s v128) (local $keep v128) (local $iA v128) (local $iB v128) (local $c v128)
     (local $pX v128) (local $pY v128) (local $push v128)
-    (local $slopV v128) (local $betaV v128)
+    (local $slopV v128) (local $negSlopV v128) (local $betaV v128)
     (local.set $slopV (f64x2.splat (local.get $slop)))
+    (local.set $negSlopV (f64x2.splat (f64.neg (local.get $slop))))
     (local.set $betaV (f64x2.splat (local.get $beta)))
     (local.set $end (i32.add (local.get $first) (i32.shl (local.get $count) (i32.const {{VISIT_PAIR_SHIFT}}))))
     (block $done
@@ -182,7 +192,7 @@
               (f64x2.mul (f64x2.sub (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $mA) (local.get $mA1))
                                     (i8x16.shuffle 8 9 10 11 12 13 14 15 24 25 26 27 28 29 30 31 (local.get $mB) (local.get $mB1)))
                          (local.get $nY))))
-            (local.set $keep (f64x2.ge (local.get $s) (f64x2.neg (local.get $slopV))))
+            (local.set $keep (f64x2.ge (local.get $s) (local.get $negSlopV)))
             (local.set $iA (v128.load offset={{VISIT_INVERSE_MASS_A}} (local.get $p)))
             (local.set $iB (v128.load offset={{VISIT_INVERSE_MASS_B}} (local.get $p)))
             ;; C = −(s + slop)·β / (iA + iB); A moves by (C·iA)·n, B by −(C·iB)·n. Every body
