@@ -484,24 +484,22 @@ function velocitiesOut(
  */
 function warmStart(f64: Float64Array, i32: Int32Array, first: number, count: number): void {
   const end = first + PAIR * count;
-  for (let pair = first; pair < end; pair += PAIR) {
-    for (let o = pair; o <= pair + LANE; o += LANE) {
-      const jn = f64[o + NORMAL_IMPULSE]!;
-      const jt = f64[o + TANGENT_IMPULSE]!;
-      if (jn === 0 && jt === 0) continue;
-      const a = i32[2 * o + VELOCITY_A]! >>> 3;
-      const b = i32[2 * o + VELOCITY_B]! >>> 3;
-      const nx = f64[o + NORMAL_X]!;
-      const ny = f64[o + NORMAL_Y]!;
-      const px = jn * nx - jt * ny;
-      const py = jn * ny + jt * nx;
-      const ia = f64[o + INVERSE_MASS_A]!;
-      const ib = f64[o + INVERSE_MASS_B]!;
-      f64[a] = f64[a]! + px * ia;
-      f64[a + 1] = f64[a + 1]! + py * ia;
-      f64[b] = f64[b]! - px * ib;
-      f64[b + 1] = f64[b + 1]! - py * ib;
-    }
+  for (let o = first, step = LANE; o < end; o += step, step = PAIR - step) {
+    const jn = f64[o + NORMAL_IMPULSE]!;
+    const jt = f64[o + TANGENT_IMPULSE]!;
+    if (jn === 0 && jt === 0) continue;
+    const a = i32[2 * o + VELOCITY_A]! >>> 3;
+    const b = i32[2 * o + VELOCITY_B]! >>> 3;
+    const nx = f64[o + NORMAL_X]!;
+    const ny = f64[o + NORMAL_Y]!;
+    const px = jn * nx - jt * ny;
+    const py = jn * ny + jt * nx;
+    const ia = f64[o + INVERSE_MASS_A]!;
+    const ib = f64[o + INVERSE_MASS_B]!;
+    f64[a] = f64[a]! + px * ia;
+    f64[a + 1] = f64[a + 1]! + py * ia;
+    f64[b] = f64[b]! - px * ib;
+    f64[b + 1] = f64[b + 1]! - py * ib;
   }
 }
 
@@ -519,42 +517,40 @@ function iterateVelocities(
 ): void {
   const end = first + PAIR * count;
   for (let it = 0; it < iterations; it++) {
-    for (let pair = first; pair < end; pair += PAIR) {
-      for (let o = pair; o <= pair + LANE; o += LANE) {
-        const a = i32[2 * o + VELOCITY_A]! >>> 3;
-        const b = i32[2 * o + VELOCITY_B]! >>> 3;
-        const nx = f64[o + NORMAL_X]!;
-        const ny = f64[o + NORMAL_Y]!;
-        const mass = f64[o + NORMAL_MASS]!;
-        const vax = f64[a]!;
-        const vay = f64[a + 1]!;
-        const vbx = f64[b]!;
-        const vby = f64[b + 1]!;
-        const relativeVx = vax - vbx;
-        const relativeVy = vay - vby;
-        // Normal: λ' = max(0, λ − vn·mN).
-        const oldNormal = f64[o + NORMAL_IMPULSE]!;
-        let newNormal = oldNormal - (relativeVx * nx + relativeVy * ny) * mass;
-        if (newNormal < 0) newNormal = 0;
-        const deltaNormal = newNormal - oldNormal;
-        f64[o + NORMAL_IMPULSE] = newNormal;
-        // Friction: τ' = clamp(τ − vt·mN, ±μλ'), tangent (ny, −nx).
-        const oldTangent = f64[o + TANGENT_IMPULSE]!;
-        const maxFriction = mu * newNormal;
-        let newTangent = oldTangent - (relativeVy * nx - relativeVx * ny) * mass;
-        if (newTangent > maxFriction) newTangent = maxFriction;
-        else if (newTangent < -maxFriction) newTangent = -maxFriction;
-        const deltaTangent = newTangent - oldTangent;
-        f64[o + TANGENT_IMPULSE] = newTangent;
-        const px = deltaNormal * nx - deltaTangent * ny;
-        const py = deltaNormal * ny + deltaTangent * nx;
-        const ia = f64[o + INVERSE_MASS_A]!;
-        const ib = f64[o + INVERSE_MASS_B]!;
-        f64[a] = vax + px * ia;
-        f64[a + 1] = vay + py * ia;
-        f64[b] = vbx - px * ib;
-        f64[b + 1] = vby - py * ib;
-      }
+    for (let o = first, step = LANE; o < end; o += step, step = PAIR - step) {
+      const a = i32[2 * o + VELOCITY_A]! >>> 3;
+      const b = i32[2 * o + VELOCITY_B]! >>> 3;
+      const nx = f64[o + NORMAL_X]!;
+      const ny = f64[o + NORMAL_Y]!;
+      const mass = f64[o + NORMAL_MASS]!;
+      const vax = f64[a]!;
+      const vay = f64[a + 1]!;
+      const vbx = f64[b]!;
+      const vby = f64[b + 1]!;
+      const relativeVx = vax - vbx;
+      const relativeVy = vay - vby;
+      // Normal: λ' = max(0, λ − vn·mN).
+      const oldNormal = f64[o + NORMAL_IMPULSE]!;
+      let newNormal = oldNormal - (relativeVx * nx + relativeVy * ny) * mass;
+      if (newNormal < 0) newNormal = 0;
+      const deltaNormal = newNormal - oldNormal;
+      f64[o + NORMAL_IMPULSE] = newNormal;
+      // Friction: τ' = clamp(τ − vt·mN, ±μλ'), tangent (ny, −nx).
+      const oldTangent = f64[o + TANGENT_IMPULSE]!;
+      const maxFriction = mu * newNormal;
+      let newTangent = oldTangent - (relativeVy * nx - relativeVx * ny) * mass;
+      if (newTangent > maxFriction) newTangent = maxFriction;
+      else if (newTangent < -maxFriction) newTangent = -maxFriction;
+      const deltaTangent = newTangent - oldTangent;
+      f64[o + TANGENT_IMPULSE] = newTangent;
+      const px = deltaNormal * nx - deltaTangent * ny;
+      const py = deltaNormal * ny + deltaTangent * nx;
+      const ia = f64[o + INVERSE_MASS_A]!;
+      const ib = f64[o + INVERSE_MASS_B]!;
+      f64[a] = vax + px * ia;
+      f64[a + 1] = vay + py * ia;
+      f64[b] = vbx - px * ib;
+      f64[b + 1] = vby - py * ib;
     }
   }
 }
@@ -574,42 +570,40 @@ function iterateVelocitiesMixed(
 ): void {
   const end = first + PAIR * count;
   for (let it = 0; it < iterations; it++) {
-    for (let pair = first, s = 0; pair < end; pair += PAIR) {
-      for (let o = pair; o <= pair + LANE; o += LANE, s++) {
-        const a = i32[2 * o + VELOCITY_A]! >>> 3;
-        const b = i32[2 * o + VELOCITY_B]! >>> 3;
-        const nx = f64[o + NORMAL_X]!;
-        const ny = f64[o + NORMAL_Y]!;
-        const mass = f64[o + NORMAL_MASS]!;
-        const vax = f64[a]!;
-        const vay = f64[a + 1]!;
-        const vbx = f64[b]!;
-        const vby = f64[b + 1]!;
-        const relativeVx = vax - vbx;
-        const relativeVy = vay - vby;
-        // Normal: λ' = max(0, λ − vn·mN).
-        const oldNormal = f64[o + NORMAL_IMPULSE]!;
-        let newNormal = oldNormal - (relativeVx * nx + relativeVy * ny) * mass;
-        if (newNormal < 0) newNormal = 0;
-        const deltaNormal = newNormal - oldNormal;
-        f64[o + NORMAL_IMPULSE] = newNormal;
-        // Friction: τ' = clamp(τ − vt·mN, ±μλ'), tangent (ny, −nx).
-        const oldTangent = f64[o + TANGENT_IMPULSE]!;
-        const maxFriction = visitFriction[s]! * newNormal;
-        let newTangent = oldTangent - (relativeVy * nx - relativeVx * ny) * mass;
-        if (newTangent > maxFriction) newTangent = maxFriction;
-        else if (newTangent < -maxFriction) newTangent = -maxFriction;
-        const deltaTangent = newTangent - oldTangent;
-        f64[o + TANGENT_IMPULSE] = newTangent;
-        const px = deltaNormal * nx - deltaTangent * ny;
-        const py = deltaNormal * ny + deltaTangent * nx;
-        const ia = f64[o + INVERSE_MASS_A]!;
-        const ib = f64[o + INVERSE_MASS_B]!;
-        f64[a] = vax + px * ia;
-        f64[a + 1] = vay + py * ia;
-        f64[b] = vbx - px * ib;
-        f64[b + 1] = vby - py * ib;
-      }
+    for (let o = first, s = 0, step = LANE; o < end; o += step, step = PAIR - step, s++) {
+      const a = i32[2 * o + VELOCITY_A]! >>> 3;
+      const b = i32[2 * o + VELOCITY_B]! >>> 3;
+      const nx = f64[o + NORMAL_X]!;
+      const ny = f64[o + NORMAL_Y]!;
+      const mass = f64[o + NORMAL_MASS]!;
+      const vax = f64[a]!;
+      const vay = f64[a + 1]!;
+      const vbx = f64[b]!;
+      const vby = f64[b + 1]!;
+      const relativeVx = vax - vbx;
+      const relativeVy = vay - vby;
+      // Normal: λ' = max(0, λ − vn·mN).
+      const oldNormal = f64[o + NORMAL_IMPULSE]!;
+      let newNormal = oldNormal - (relativeVx * nx + relativeVy * ny) * mass;
+      if (newNormal < 0) newNormal = 0;
+      const deltaNormal = newNormal - oldNormal;
+      f64[o + NORMAL_IMPULSE] = newNormal;
+      // Friction: τ' = clamp(τ − vt·mN, ±μλ'), tangent (ny, −nx).
+      const oldTangent = f64[o + TANGENT_IMPULSE]!;
+      const maxFriction = visitFriction[s]! * newNormal;
+      let newTangent = oldTangent - (relativeVy * nx - relativeVx * ny) * mass;
+      if (newTangent > maxFriction) newTangent = maxFriction;
+      else if (newTangent < -maxFriction) newTangent = -maxFriction;
+      const deltaTangent = newTangent - oldTangent;
+      f64[o + TANGENT_IMPULSE] = newTangent;
+      const px = deltaNormal * nx - deltaTangent * ny;
+      const py = deltaNormal * ny + deltaTangent * nx;
+      const ia = f64[o + INVERSE_MASS_A]!;
+      const ib = f64[o + INVERSE_MASS_B]!;
+      f64[a] = vax + px * ia;
+      f64[a + 1] = vay + py * ia;
+      f64[b] = vbx - px * ib;
+      f64[b + 1] = vby - py * ib;
     }
   }
 }
@@ -630,33 +624,31 @@ function iteratePositions(
 ): void {
   const end = first + PAIR * count;
   for (let it = 0; it < iterations; it++) {
-    for (let pair = first; pair < end; pair += PAIR) {
-      for (let o = pair; o <= pair + LANE; o += LANE) {
-        // movedX, movedY, x, y of A and B: 32 bytes a body, twice a velocity's 16.
-        const a = positions + (i32[2 * o + VELOCITY_A]! >>> VELOCITY_TO_POSITION);
-        const b = positions + (i32[2 * o + VELOCITY_B]! >>> VELOCITY_TO_POSITION);
-        const nx = f64[o + NORMAL_X]!;
-        const ny = f64[o + NORMAL_Y]!;
-        const movedAx = f64[a]!;
-        const movedAy = f64[a + 1]!;
-        const movedBx = f64[b]!;
-        const movedBy = f64[b + 1]!;
-        const s = f64[o + SEPARATION]! + (movedAx - movedBx) * nx + (movedAy - movedBy) * ny;
-        if (s >= -slop) continue;
-        const ia = f64[o + INVERSE_MASS_A]!;
-        const ib = f64[o + INVERSE_MASS_B]!;
-        const correction = (-(s + slop) * beta) / (ia + ib);
-        const pa = correction * ia;
-        const pb = correction * ib;
-        f64[a] = movedAx + pa * nx;
-        f64[a + 1] = movedAy + pa * ny;
-        f64[a + POSITION_XY] = f64[a + POSITION_XY]! + pa * nx;
-        f64[a + POSITION_XY + 1] = f64[a + POSITION_XY + 1]! + pa * ny;
-        f64[b] = movedBx - pb * nx;
-        f64[b + 1] = movedBy - pb * ny;
-        f64[b + POSITION_XY] = f64[b + POSITION_XY]! - pb * nx;
-        f64[b + POSITION_XY + 1] = f64[b + POSITION_XY + 1]! - pb * ny;
-      }
+    for (let o = first, step = LANE; o < end; o += step, step = PAIR - step) {
+      // movedX, movedY, x, y of A and B: 32 bytes a body, twice a velocity's 16.
+      const a = positions + (i32[2 * o + VELOCITY_A]! >>> VELOCITY_TO_POSITION);
+      const b = positions + (i32[2 * o + VELOCITY_B]! >>> VELOCITY_TO_POSITION);
+      const nx = f64[o + NORMAL_X]!;
+      const ny = f64[o + NORMAL_Y]!;
+      const movedAx = f64[a]!;
+      const movedAy = f64[a + 1]!;
+      const movedBx = f64[b]!;
+      const movedBy = f64[b + 1]!;
+      const s = f64[o + SEPARATION]! + (movedAx - movedBx) * nx + (movedAy - movedBy) * ny;
+      if (s >= -slop) continue;
+      const ia = f64[o + INVERSE_MASS_A]!;
+      const ib = f64[o + INVERSE_MASS_B]!;
+      const correction = (-(s + slop) * beta) / (ia + ib);
+      const pa = correction * ia;
+      const pb = correction * ib;
+      f64[a] = movedAx + pa * nx;
+      f64[a + 1] = movedAy + pa * ny;
+      f64[a + POSITION_XY] = f64[a + POSITION_XY]! + pa * nx;
+      f64[a + POSITION_XY + 1] = f64[a + POSITION_XY + 1]! + pa * ny;
+      f64[b] = movedBx - pb * nx;
+      f64[b + 1] = movedBy - pb * ny;
+      f64[b + POSITION_XY] = f64[b + POSITION_XY]! - pb * nx;
+      f64[b + POSITION_XY + 1] = f64[b + POSITION_XY + 1]! - pb * ny;
     }
   }
 }
