@@ -1,10 +1,10 @@
 /**
  * The world's WebAssembly memory layout, written once: the JavaScript loops read these names, and
  * `scripts/wasm.mjs` substitutes them into `contact-solver.wat` and `broad-phase.wat` wherever a
- * `{{NAME}}` (or a small sum such as `{{VISIT_BYTES + VISIT_NORMAL_IMPULSE}}`) stands, before it
- * assembles them. The script refuses a placeholder naming nothing here and a name here that no
- * `.wat` uses, and a test assembles the sources again and compares them with the committed bytes
- * (`npm run build:wasm` after a change here).
+ * `{{NAME}}` (or a small sum such as `{{VISIT_LANE_BYTES + VISIT_NORMAL_IMPULSE}}`) stands,
+ * before it assembles them. The script refuses a placeholder naming nothing here and a name here
+ * that no `.wat` uses, and a test assembles the sources again and compares them with the committed
+ * bytes (`npm run build:wasm` after a change here).
  *
  * Every value is a plain integer literal (the script reads this file as text). Offsets are bytes.
  */
