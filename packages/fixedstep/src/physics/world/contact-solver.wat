@@ -64,7 +64,7 @@
   ;; `iterations` sweeps of sequential impulses over `count` pairs of visits from byte `first`.
   ;; The two visits of a pair share no body, so they commute: they go side by side, the first in
   ;; lane 0 and the second in lane 1, each lane the very operations of one visit in the JavaScript
-  ;; (IEEE-754 per lane, no fused operations; `bitselect` where it branches). Stored transposed, a
+  ;; (IEEE-754 per lane, no fused operations; pmax and pmin where it branches). Stored transposed, a
   ;; pair's fields load straight into lanes; only the bodies' (vx, vy) are transposed here, and back.
   (func (export "iterateVelocities") (param $first i32) (param $count i32) (param $iterations i32) (param $mu f64)
     (local $p i32) (local $end i32) (local $it i32) (local $a i32) (local $b i32)
