@@ -74,7 +74,7 @@
  * sweep paired two at run time (a test for a shared body, six shuffles and two lane stores a
  * pair); with the pairs, the position sweep and warm start two visits at a time too, and the
  * sweeps' clamps and skips done without selects (contact-solver.wat), an 8-tick rollback of that
- * pile takes 13–16 % less time (old and new in one process, interleaved, 300 rounds; the velocity
+ * pile takes 12–16 % less time (old and new in one process, interleaved, 300 rounds; the velocity
  * sweeps alone 0.67×, the position sweeps 0.66×).
  *
  * The sweeps run over one working memory in visiting order (velocities, positions, then the pairs
