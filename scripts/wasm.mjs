@@ -7,9 +7,10 @@
  *   packages/fixedstep/src/physics/world/broad-phase.wat -> broad-phase-wasm.ts
  *
  * The world's two sources take their memory layout from `world/kernel-layout.ts`: each
- * `{{NAME}}`, or a small sum or product of names and integers (`{{VISIT_BYTES + VISIT_NORMAL_X}}`,
- * `{{2 * VISIT_BYTES}}`), becomes the integer. A placeholder naming nothing there, and a name there
- * that no source uses, stop the script with the file and line.
+ * `{{NAME}}`, or a small sum or product of names and integers
+ * (`{{VISIT_LANE_BYTES + VISIT_NORMAL_X}}`, `{{2 * VISIT_PAIR_BYTES}}`), becomes the integer. A
+ * placeholder naming nothing there, and a name there that no source uses, stop the script with the
+ * file and line.
  *
  * Run with `npm run build:wasm` after editing a .wat file or the layout. `--check` only compares
  * and exits 1 when the committed bytes are stale (a unit test does the same).

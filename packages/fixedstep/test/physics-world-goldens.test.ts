@@ -193,36 +193,44 @@ describe('the solver kernels', () => {
     }
   });
 
-  it('plan contacts so each body meets them in list order, a wave sharing no body', () => {
+  it('plan contacts so each body meets them in list order, the two visits of a pair sharing no body', () => {
     const w = pile();
     for (let t = 0; t < 150; t++) w.step();
     // The world's own contacts and plan after the last step.
     const { contacts, schedule } = w as unknown as {
       contacts: { count: number; bodyPairCount: number; bodyA: Int32Array; bodyB: Int32Array };
-      schedule: { order: Int32Array; count: number; slots: number };
+      schedule: { order: Int32Array; count: number; visits: number; slots: number };
     };
     const count = contacts.count;
     expect(schedule.count).toBe(count);
     expect(count).toBeGreaterThan(3000);
-    const order = Array.from(schedule.order.subarray(0, count));
-    expect([...order].sort((p, q) => p - q)).toEqual([...Array(count).keys()]);
+    // Every contact once, and pads (-1) where a pair's second visit would share a body with its
+    // first: a few (3 of 3,500 visits here), not one a wave.
+    const order = Array.from(schedule.order.subarray(0, schedule.visits));
+    expect(order.length % 2).toBe(0);
+    const pads = order.filter((k) => k === -1).length;
+    expect(order.filter((k) => k !== -1).sort((p, q) => p - q)).toEqual([...Array(count).keys()]);
+    expect(pads).toBeLessThan(count / 200);
     const bodies = (k: number) =>
-      k < contacts.bodyPairCount ? [contacts.bodyA[k]!, contacts.bodyB[k]!] : [contacts.bodyA[k]!];
+      k === -1
+        ? []
+        : k < contacts.bodyPairCount
+          ? [contacts.bodyA[k]!, contacts.bodyB[k]!]
+          : [contacts.bodyA[k]!];
     // Per body, the contacts in visiting order are in list order.
     const seen = new Map<number, number>();
     let outOfOrder = 0;
-    let neighbours = 0;
-    for (let s = 0; s < count; s++) {
+    let sharing = 0;
+    for (let s = 0; s < order.length; s++) {
       const k = order[s]!;
       for (const b of bodies(k)) {
         if ((seen.get(b) ?? -1) > k) outOfOrder++;
         seen.set(b, k);
       }
-      // Consecutive visits that share a body (what the list order has at every other contact).
-      if (s > 0 && bodies(order[s - 1]!).some((b) => bodies(k).includes(b))) neighbours++;
+      if (s % 2 === 1 && bodies(order[s - 1]!).some((b) => bodies(k).includes(b))) sharing++;
     }
     expect(outOfOrder).toBe(0);
-    expect(neighbours).toBeLessThan(count / 20);
+    expect(sharing).toBe(0);
   });
 });
 

@@ -50,16 +50,21 @@ describe('the world kernels’ memory layout', () => {
     expect(() => expandKernel(kernel)).toThrow(
       'k.wat:2: {{VISIT_BYTE}} names VISIT_BYTE, which the layout does not declare',
     );
-    const malformed = scratchKernel('(module (func (result i32) (i32.const {{VISIT_BYTES +}})))');
-    expect(() => expandKernel(malformed)).toThrow('k.wat:1: {{VISIT_BYTES +}} is incomplete');
+    const malformed = scratchKernel(
+      '(module (func (result i32) (i32.const {{VISIT_PAIR_BYTES +}})))',
+    );
+    expect(() => expandKernel(malformed)).toThrow('k.wat:1: {{VISIT_PAIR_BYTES +}} is incomplete');
   });
 
   it('stops the build on a name no source uses, and on a layout line it cannot read', () => {
     const extra = `${readFileSync(layoutPath, 'utf8')}export const SPARE_OFFSET = 72;\n`;
-    const kernel = scratchKernel('(module (func (result i32) (i32.const {{VISIT_BYTES}})))', extra);
+    const kernel = scratchKernel(
+      '(module (func (result i32) (i32.const {{VISIT_PAIR_BYTES}})))',
+      extra,
+    );
     const unused = unusedLayoutNames([kernel]);
     expect(unused).toContain(`${kernel.dir}layout.ts: SPARE_OFFSET`);
-    expect(unused).not.toContain(`${kernel.dir}layout.ts: VISIT_BYTES`);
+    expect(unused).not.toContain(`${kernel.dir}layout.ts: VISIT_PAIR_BYTES`);
     const computed = scratchKernel('', 'export const A = 8;\nexport const B = A * 2;\n');
     expect(() => expandKernel(computed)).toThrow(
       'layout.ts:2: not `export const NAME = <integer>;`: export const B = A * 2;',
@@ -68,24 +73,34 @@ describe('the world kernels’ memory layout', () => {
 
   it('evaluates sums and products as integers', () => {
     const kernel = scratchKernel(
-      '(i32.const {{2 * VISIT_BYTES}}) offset={{VISIT_BYTES + VISIT_VELOCITY_B}} {{VELOCITY_SHIFT - 3}}',
+      '(i32.const {{2 * VISIT_PAIR_BYTES}}) offset={{VISIT_LANE_BYTES + VISIT_VELOCITY_B}} {{VELOCITY_SHIFT - 3}}',
     );
-    expect(expandKernel(kernel).text).toBe('(i32.const 128) offset=124 1');
+    expect(expandKernel(kernel).text).toBe('(i32.const 256) offset=124 1');
   });
 
   it('keeps what the kernels assume of it', () => {
-    expect(2 ** layout.VISIT_SHIFT).toBe(layout.VISIT_BYTES);
+    expect(2 ** layout.VISIT_PAIR_SHIFT).toBe(layout.VISIT_PAIR_BYTES);
     expect(2 ** layout.POSITION_SHIFT).toBe(layout.POSITION_BYTES);
     expect(2 ** layout.VELOCITY_SHIFT).toBe(16); // vx, vy: two f64
     expect(layout.POSITION_XY + 16).toBe(layout.POSITION_BYTES);
-    // The two-visit sweep loads (nx, ny), (normal mass, inverse mass A), (inverse mass B, normal
-    // impulse) as 16-byte pairs, and A's and B's velocity offsets side by side.
-    expect(layout.VISIT_NORMAL_Y).toBe(layout.VISIT_NORMAL_X + 8);
-    expect(layout.VISIT_INVERSE_MASS_A).toBe(layout.VISIT_NORMAL_MASS + 8);
-    expect(layout.VISIT_NORMAL_IMPULSE).toBe(layout.VISIT_INVERSE_MASS_B + 8);
-    expect(layout.VISIT_VELOCITY_B).toBe(layout.VISIT_VELOCITY_A + 4);
+    // A pair's f64 fields are f64x2 (the first visit's, then the second's), 16 bytes apart and
+    // 16-byte aligned, before the velocity offsets, which the plan's pad leaves after zeroing
+    // every f64 field below VISIT_VELOCITY_A; each i32 lane pair (A, B) is one lane's 8 bytes.
+    const f64Fields = [
+      layout.VISIT_NORMAL_X,
+      layout.VISIT_NORMAL_Y,
+      layout.VISIT_NORMAL_MASS,
+      layout.VISIT_INVERSE_MASS_A,
+      layout.VISIT_INVERSE_MASS_B,
+      layout.VISIT_NORMAL_IMPULSE,
+      layout.VISIT_TANGENT_IMPULSE,
+    ];
+    expect(f64Fields).toEqual(f64Fields.map((_, i) => 16 * i));
     expect(layout.VISIT_SEPARATION).toBe(layout.VISIT_NORMAL_MASS);
-    expect(layout.VISIT_VELOCITY_B + 4).toBeLessThanOrEqual(layout.VISIT_BYTES);
+    expect(layout.VISIT_LANE_BYTES).toBe(8);
+    expect(layout.VISIT_VELOCITY_A).toBe(16 * f64Fields.length);
+    expect(layout.VISIT_VELOCITY_B).toBe(layout.VISIT_VELOCITY_A + 4);
+    expect(layout.VISIT_VELOCITY_B + 4 + layout.VISIT_LANE_BYTES).toBe(layout.VISIT_PAIR_BYTES);
     expect(BodyFlag.KINEMATIC).toBe(layout.BODY_KINEMATIC);
     expect(BodyFlag.ASLEEP).toBe(layout.BODY_ASLEEP);
   });

@@ -60,13 +60,25 @@
  * and the sweeps go wave by wave. Contacts in one wave share no body, so the processor overlaps
  * them instead of waiting for each body's previous update: in the settled 2,000-circle pile
  * (~3,500 contacts in ~176 waves) the WebAssembly sweep runs about 1.5× as fast in waves as in list
- * order, and faster again doing two visits of a wave side by side in SIMD lanes. A wall is a
- * stand-in body of its own per contact (velocity 0, inverse mass 0; for positions the wall
- * contact's masses are 1 and 0, so `C/(1 + 0)·1` is exactly the wall's `C`), which makes one loop
- * serve both kinds.
+ * order, and faster again doing two visits side by side in SIMD lanes. A wall is a stand-in body
+ * of its own per contact (velocity 0, inverse mass 0; for positions the wall contact's masses are
+ * 1 and 0, so `C/(1 + 0)·1` is exactly the wall's `C`), which makes one loop serve both kinds.
  *
- * The sweeps run over one working memory in visiting order (velocities, positions, then 64 bytes
- * per visit, laid out in `kernel-layout.ts`), in WebAssembly (`contact-solver.wat`; the broad
+ * The visits are stored two by two, transposed (`kernel-layout.ts`): each field of a pair holds
+ * the first visit's value, then the second's, so the WebAssembly sweeps load both into SIMD lanes
+ * with one load and no shuffle. Two visits in a row of one wave share no body; the plan pairs the
+ * last visit of a wave with the first of the next when they share none either, else puts a *pad*
+ * beside it: a visit of zeros between the pad body (after the stand-ins, velocity and motion 0)
+ * and itself, which changes nothing and is skipped where the JavaScript skips a visit (3 pads in
+ * the 2,000-circle pile's ~3,500 visits). Before, a visit was a 64-byte record and the velocity
+ * sweep paired two at run time (a test for a shared body, six shuffles and two lane stores a
+ * pair); with the pairs, the position sweep and warm start two visits at a time too, and the
+ * sweeps' clamps and skips done without selects (contact-solver.wat), an 8-tick rollback of that
+ * pile takes 12–16 % less time (old and new in one process, interleaved, 300 rounds; the velocity
+ * sweeps alone 0.67×, the position sweeps 0.66×).
+ *
+ * The sweeps run over one working memory in visiting order (velocities, positions, then the pairs
+ * of visits), in WebAssembly (`contact-solver.wat`; the broad
  * phase's loops are in `broad-phase.wat`) where it can run, else in the JavaScript loops below:
  * the same IEEE-754 operations in the same order, so the same bits (a test runs both). Each
  * WebAssembly export has the name of the JavaScript function it twins (`warmStart`,
@@ -90,16 +102,19 @@ import { KernelMemory, type SolverKernels } from './solver-kernels.js';
 // since the contacts were found, movedX and movedY, then x, y), then the visits in visiting order.
 // Copied into this module's own constants, which V8 folds into the hot loops (an imported binding
 // is loaded on every use).
-/** Bytes per visit. */
-const VISIT_BYTES = layout.VISIT_BYTES;
+/** Bytes per pair of visits (two visits, transposed: see kernel-layout.ts). */
+const VISIT_PAIR_BYTES = layout.VISIT_PAIR_BYTES;
+/** f64 per pair of visits, and how many f64 the second visit of a pair is after the first. */
+const PAIR = VISIT_PAIR_BYTES >>> 3;
+const LANE = layout.VISIT_LANE_BYTES >>> 3;
 /** A body id shifted by these is its velocity's, and its positions', byte offset. */
 const VELOCITY_SHIFT = layout.VELOCITY_SHIFT;
 const POSITION_SHIFT = layout.POSITION_SHIFT;
 /** A velocity's byte offset shifted right by this is the f64 index of the body's positions. */
 const VELOCITY_TO_POSITION = 3 - (POSITION_SHIFT - VELOCITY_SHIFT);
-// f64 indices in a visit (from its first f64). For the position solver, SEPARATION replaces
-// NORMAL_MASS and the inverse masses are read again (continuous detection may have woken bodies
-// since).
+// f64 indices in a visit (from its first f64: its pair's, plus LANE for the second of the pair).
+// For the position solver, SEPARATION replaces NORMAL_MASS and the inverse masses are read again
+// (continuous detection may have woken bodies since).
 const NORMAL_X = layout.VISIT_NORMAL_X >>> 3;
 const NORMAL_Y = layout.VISIT_NORMAL_Y >>> 3;
 const NORMAL_MASS = layout.VISIT_NORMAL_MASS >>> 3;
@@ -109,6 +124,8 @@ const INVERSE_MASS_B = layout.VISIT_INVERSE_MASS_B >>> 3;
 const NORMAL_IMPULSE = layout.VISIT_NORMAL_IMPULSE >>> 3;
 const TANGENT_IMPULSE = layout.VISIT_TANGENT_IMPULSE >>> 3;
 // i32 indices in a visit (from twice its first f64's): the byte offsets of A's and B's velocities.
+// The f64 index of visit s is first + PAIR·(s >> 1) + LANE·(s & 1); the JavaScript sweeps step
+// through the visits in order, LANE and PAIR − LANE in turn.
 const VELOCITY_A = layout.VISIT_VELOCITY_A >>> 2;
 const VELOCITY_B = layout.VISIT_VELOCITY_B >>> 2;
 /** Where x, y start in a body's positions, as an f64 index. */
@@ -122,17 +139,28 @@ export class SolverSchedule extends KernelMemory {
   /** Contacts of this step, and how many of them are body–body. */
   count = 0;
   pairs = 0;
-  /** Body slots of this step; the wall contact `pairs + w` uses the stand-in body `slots + w`. */
+  /**
+   * Body slots of this step; the wall contact `pairs + w` uses the stand-in body `slots + w`, and
+   * the pads the one after the stand-ins.
+   */
   slots = 0;
-  /** The contact visited `s`-th. */
+  /** Visits of this step: the contacts and the pads (an even number, two a pair). */
+  visits = 0;
+  /** The contact visited `s`-th (-1: a pad). */
   order = new Int32Array(0);
-  /** Byte offsets of the position and visit regions in {@link memory}. */
+  /** Byte offsets of the position and visit regions in {@link memory}, and of the visits' end. */
   positionsAt = 0;
   visitsAt = 0;
-  /** By body: the wave of its last contact so far; by contact: its wave; by wave: where it starts. */
+  visitsEnd = 0;
+  /**
+   * By body: the wave of its last contact so far; by contact: its wave; by wave: where it starts,
+   * its first contact and its last.
+   */
   private lastWave = new Int32Array(0);
   private waveOf = new Int32Array(0);
   private waveStart = new Int32Array(0);
+  private firstOf = new Int32Array(0);
+  private lastOf = new Int32Array(0);
   /** What the world's materials ask of this step (see `material.ts`). */
   readonly materials: MaterialUse = { friction: false, maxRestitution: 0 };
   /** Each visit's friction, when the world has a body of its own friction. */
@@ -149,9 +177,12 @@ export class SolverSchedule extends KernelMemory {
    * Plans the visits of this step's contacts wave by wave: a contact's wave is one more than the
    * latest wave of an earlier contact of either of its bodies; waves are visited in order, the
    * contacts of a wave in list order. So every body meets its contacts in list order, and the
-   * contacts of one wave share no body. Fills each visit's normal, inverse masses, offsets and —
-   * from `cache` — last step's impulses for the same pair; with `restitution`, also the contacts'
-   * normal masses and approach speeds. Copies the velocities in.
+   * contacts of one wave share no body. The visits go two by two into pairs; where the last visit
+   * of a wave would share a pair with the first of the next and they share a body, a pad takes its
+   * place beside it (zeros, between the pad body and itself: it changes nothing). Fills each
+   * visit's normal, inverse masses, offsets and — from `cache` — last step's impulses for the same
+   * pair; with `restitution`, also the contacts' normal masses and approach speeds. Copies the
+   * velocities in.
    */
   plan(
     contacts: ContactList,
@@ -162,33 +193,39 @@ export class SolverSchedule extends KernelMemory {
     const count = contacts.count;
     const pairs = contacts.bodyPairCount;
     const slots = bodies.slotCount;
-    const all = slots + count - pairs;
+    // The bodies, the walls' stand-ins, the pad body.
+    const all = slots + count - pairs + 1;
     this.count = count;
     this.pairs = pairs;
     this.slots = slots;
     this.positionsAt = all << VELOCITY_SHIFT;
     this.visitsAt = this.positionsAt + (all << POSITION_SHIFT);
-    // After the visits, room for the WebAssembly plan's inputs and scratch (see planInKernel).
+    // After the visits (at most a pair a contact, each with a pad), room for the WebAssembly plan's
+    // inputs and scratch (see planVisitsInKernel), 48 bytes a contact, 16 a body and 28 a cache
+    // entry; solveVelocities' and solvePositions' columns (at most 24 bytes a contact and 40 a
+    // body, the order included) fit in the same room.
     const cached = cache.count;
-    // (solvePositions' columns, 12 bytes a contact and 40 a body, fit in the same room.)
-    const scratch = 44 * count + 40 * slots + 28 * cached + 16;
-    const kernels = this.reserve(this.visitsAt + VISIT_BYTES * count + scratch, count);
-    if (this.order.length < count) {
-      const room = Math.max(count, 2 * this.order.length);
-      this.order = new Int32Array(room);
+    const scratch = 48 * count + 40 * slots + 28 * cached + 32;
+    const kernels = this.reserve(this.visitsAt + VISIT_PAIR_BYTES * count + scratch, count);
+    if (this.waveOf.length < count) {
+      const room = Math.max(count, 2 * this.waveOf.length);
+      this.order = new Int32Array(2 * room);
       this.waveOf = new Int32Array(room);
       this.waveStart = new Int32Array(room + 2);
+      this.firstOf = new Int32Array(room + 2);
+      this.lastOf = new Int32Array(room + 2);
     }
     if (this.lastWave.length < slots)
       this.lastWave = new Int32Array(Math.max(slots, 2 * this.lastWave.length));
     if (kernels && !restitution) this.planVisitsInKernel(kernels, contacts, cache, bodies);
     else this.planVisits(contacts, cache, bodies, restitution);
+    this.visitsEnd = this.visitsAt + (VISIT_PAIR_BYTES >>> 1) * this.visits;
     const f64 = this.f64;
     const vx = bodies.vx;
     const vy = bodies.vy;
     if (kernels) {
       // Through columns after the visits (the plan is done with them).
-      const vxAt = this.visitsAt + VISIT_BYTES * count;
+      const vxAt = this.visitsEnd;
       const vyAt = vxAt + 8 * slots;
       f64.set(vx.subarray(0, slots), vxAt >>> 3);
       f64.set(vy.subarray(0, slots), vyAt >>> 3);
@@ -213,8 +250,9 @@ export class SolverSchedule extends KernelMemory {
     const cached = cache.count;
     const f64 = this.f64;
     const i32 = this.i32;
-    // f64 columns first (8-byte aligned: the visits end on a multiple of 64), then i32 ones.
-    const nxAt = this.visitsAt + VISIT_BYTES * count;
+    // After the room the visits may take (the visits are written as the columns are read), f64
+    // columns first (8-byte aligned: the visits' offset is a multiple of 16), then i32 ones.
+    const nxAt = this.visitsAt + VISIT_PAIR_BYTES * count;
     const nyAt = nxAt + 8 * count;
     const imAt = nyAt + 8 * count;
     const cachedNAt = imAt + 8 * slots;
@@ -228,7 +266,9 @@ export class SolverSchedule extends KernelMemory {
     const lastWaveAt = cachedBAt + 4 * cached;
     const waveOfAt = lastWaveAt + 4 * slots;
     const waveStartAt = waveOfAt + 4 * count;
-    const orderAt = waveStartAt + 4 * (count + 2);
+    const firstOfAt = waveStartAt + 4 * (count + 2);
+    const lastOfAt = firstOfAt + 4 * (count + 2);
+    const orderAt = lastOfAt + 4 * (count + 2);
     f64.set(contacts.normalX.subarray(0, count), nxAt >>> 3);
     f64.set(contacts.normalY.subarray(0, count), nyAt >>> 3);
     f64.set(bodies.solverInverseMass.subarray(0, slots), imAt >>> 3);
@@ -238,7 +278,7 @@ export class SolverSchedule extends KernelMemory {
     i32.set(contacts.bodyB.subarray(0, count), bodyBAt >>> 2);
     i32.set(cache.bodyA, cachedAAt >>> 2);
     i32.set(cache.bodyB, cachedBAt >>> 2);
-    kernels.planVisits(
+    this.visits = kernels.planVisits(
       count,
       this.pairs,
       slots,
@@ -257,10 +297,12 @@ export class SolverSchedule extends KernelMemory {
       lastWaveAt,
       waveOfAt,
       waveStartAt,
+      firstOfAt,
+      lastOfAt,
       orderAt,
       this.visitsAt,
     );
-    this.order.set(i32.subarray(orderAt >>> 2, (orderAt >>> 2) + count));
+    this.order.set(i32.subarray(orderAt >>> 2, (orderAt >>> 2) + this.visits));
   }
 
   /**
@@ -281,6 +323,8 @@ export class SolverSchedule extends KernelMemory {
     const lastWave = this.lastWave;
     const waveOf = this.waveOf;
     const waveStart = this.waveStart;
+    const firstOf = this.firstOf;
+    const lastOf = this.lastOf;
     lastWave.fill(0, 0, slots);
     waveStart.fill(0, 0, count + 2);
     let waves = 0;
@@ -297,14 +341,42 @@ export class SolverSchedule extends KernelMemory {
       lastWave[a] = wave;
       waveOf[k] = wave;
       if (wave > waves) waves = wave;
+      if (waveStart[wave + 1] === 0) firstOf[wave] = k;
+      lastOf[wave] = k;
       waveStart[wave + 1]!++;
     }
-    for (let w = 1; w <= waves; w++) waveStart[w + 1] = waveStart[w + 1]! + waveStart[w]!;
 
+    // Where each wave starts, in visits, with a pad after a wave that ends a pair's first visit
+    // when the next wave's first visit shares a body with it (or there is none).
     const f64 = this.f64;
     const i32 = this.i32;
     const order = this.order;
     const first = this.visitsAt >>> 3;
+    const padBody = (slots + count - pairs) << VELOCITY_SHIFT;
+    let visits = 0;
+    for (let w = 1; w <= waves; w++) {
+      const size = waveStart[w + 1]!;
+      waveStart[w] = visits;
+      visits += size;
+      if ((visits & 1) === 0) continue;
+      if (w < waves) {
+        // A's and B's velocity bodies of the two (a wall's B is its own stand-in).
+        const k = lastOf[w]!;
+        const a = bodyA[k]!;
+        const b = k < pairs ? bodyB[k]! : slots + k - pairs;
+        const k1 = firstOf[w + 1]!;
+        const a1 = bodyA[k1]!;
+        const b1 = k1 < pairs ? bodyB[k1]! : slots + k1 - pairs;
+        if (a !== a1 && a !== b1 && b !== a1 && b !== b1) continue;
+      }
+      const o = first + PAIR * (visits >>> 1);
+      f64.fill(0, o, o + (VELOCITY_A >>> 1)); // every f64 of the pair (its first visit comes later)
+      i32[2 * (o + LANE) + VELOCITY_A] = padBody;
+      i32[2 * (o + LANE) + VELOCITY_B] = padBody;
+      order[visits++] = -1;
+    }
+    this.visits = visits;
+
     const normalX = contacts.normalX;
     const normalY = contacts.normalY;
     const normalMass = contacts.normalMass;
@@ -323,7 +395,7 @@ export class SolverSchedule extends KernelMemory {
       const b = bodyB[k]!;
       const nx = normalX[k]!;
       const ny = normalY[k]!;
-      const o = first + 8 * s;
+      const o = first + PAIR * (s >>> 1) + LANE * (s & 1);
       const ia = inverseMass[a]!;
       let mass: number;
       if (k < pairs) {
@@ -378,8 +450,9 @@ function velocitiesIn(
 }
 
 /**
- * Velocities and impulses out: the velocities from byte 0 into `vx`, `vy` (by body); each visit's
- * impulses into `normalImpulse`, `tangentImpulse` by contact (`order`: each visit's), the tangent
+ * Velocities and impulses out: the velocities from byte 0 into `vx`, `vy` (by body); each of the
+ * `count` visits' impulses into `normalImpulse`, `tangentImpulse` by contact (`order`: each
+ * visit's; a pad's -1 is skipped), the tangent
  * one + 0: a friction impulse clamped to −(μ·0) is −0, stored +0 so the warm-start cache, which
  * copies it, is canonical as it is (the sign of a zero impulse changes no velocity).
  */
@@ -398,16 +471,22 @@ function velocitiesOut(
     vx[i] = f64[2 * i]!;
     vy[i] = f64[2 * i + 1]!;
   }
-  for (let s = 0, o = first; s < count; s++, o += 8) {
+  for (let s = 0; s < count; s++) {
     const k = order[s]!;
+    if (k < 0) continue;
+    const o = first + PAIR * (s >>> 1) + LANE * (s & 1);
     normalImpulse[k] = f64[o + NORMAL_IMPULSE]!;
     tangentImpulse[k] = f64[o + TANGENT_IMPULSE]! + 0;
   }
 }
 
-/** Warm start: each visit's impulses applied once, in visiting order (a zero pair is skipped). */
+/**
+ * Warm start: the impulses of the `count` pairs of visits applied once, in visiting order (a visit
+ * whose two impulses are zero is skipped: a pad's always are).
+ */
 function warmStart(f64: Float64Array, i32: Int32Array, first: number, count: number): void {
-  for (let o = first, end = first + 8 * count; o < end; o += 8) {
+  const end = first + PAIR * count;
+  for (let o = first, step = LANE; o < end; o += step, step = PAIR - step) {
     const jn = f64[o + NORMAL_IMPULSE]!;
     const jt = f64[o + TANGENT_IMPULSE]!;
     if (jn === 0 && jt === 0) continue;
@@ -426,7 +505,10 @@ function warmStart(f64: Float64Array, i32: Int32Array, first: number, count: num
   }
 }
 
-/** `iterations` sweeps of sequential impulses over the visits (see the file comment). */
+/**
+ * `iterations` sweeps of sequential impulses over the `count` pairs of visits (see the file
+ * comment), in visiting order: each pair's first visit, then its second.
+ */
 function iterateVelocities(
   f64: Float64Array,
   i32: Int32Array,
@@ -435,9 +517,9 @@ function iterateVelocities(
   iterations: number,
   mu: number,
 ): void {
-  const end = first + 8 * count;
+  const end = first + PAIR * count;
   for (let it = 0; it < iterations; it++) {
-    for (let o = first; o < end; o += 8) {
+    for (let o = first, step = LANE; o < end; o += step, step = PAIR - step) {
       const a = i32[2 * o + VELOCITY_A]! >>> 3;
       const b = i32[2 * o + VELOCITY_B]! >>> 3;
       const nx = f64[o + NORMAL_X]!;
@@ -488,9 +570,9 @@ function iterateVelocitiesMixed(
   iterations: number,
   visitFriction: Float64Array,
 ): void {
-  const end = first + 8 * count;
+  const end = first + PAIR * count;
   for (let it = 0; it < iterations; it++) {
-    for (let o = first, s = 0; o < end; o += 8, s++) {
+    for (let o = first, s = 0, step = LANE; o < end; o += step, step = PAIR - step, s++) {
       const a = i32[2 * o + VELOCITY_A]! >>> 3;
       const b = i32[2 * o + VELOCITY_B]! >>> 3;
       const nx = f64[o + NORMAL_X]!;
@@ -528,7 +610,10 @@ function iterateVelocitiesMixed(
   }
 }
 
-/** `iterations` sweeps of the position relaxation over the visits (see the file comment). */
+/**
+ * `iterations` sweeps of the position relaxation over the `count` pairs of visits (see the file
+ * comment), in visiting order.
+ */
 function iteratePositions(
   f64: Float64Array,
   i32: Int32Array,
@@ -539,9 +624,9 @@ function iteratePositions(
   slop: number,
   beta: number,
 ): void {
-  const end = first + 8 * count;
+  const end = first + PAIR * count;
   for (let it = 0; it < iterations; it++) {
-    for (let o = first; o < end; o += 8) {
+    for (let o = first, step = LANE; o < end; o += step, step = PAIR - step) {
       // movedX, movedY, x, y of A and B: 32 bytes a body, twice a velocity's 16.
       const a = positions + (i32[2 * o + VELOCITY_A]! >>> VELOCITY_TO_POSITION);
       const b = positions + (i32[2 * o + VELOCITY_B]! >>> VELOCITY_TO_POSITION);
@@ -590,23 +675,29 @@ export function solveVelocities(
   schedule.plan(contacts, cache, bodies, e > 0);
   const count = contacts.count;
   const pairs = contacts.bodyPairCount;
+  const visits = schedule.visits;
   const f64 = schedule.f64;
   const i32 = schedule.i32;
   const first = schedule.visitsAt >>> 3;
-  // Friction per contact has no room in a visit (64 bytes, the kernels' layout): a world with a
-  // body of its own friction sweeps in JavaScript, on the same memory, whichever path it is on.
+  // Friction per contact has no room in a visit (the kernels' layout): a world with a body of its
+  // own friction sweeps in JavaScript, on the same memory, whichever path it is on.
   const kernels = materials.friction ? null : schedule.kernels;
   if (materials.friction) {
-    const visitFriction = schedule.visitFrictionRoom(count);
-    visitFrictions(contacts, bodies, def, schedule.order, visitFriction);
-    warmStart(f64, i32, first, count);
-    iterateVelocitiesMixed(f64, i32, first, count, def.velocityIterations, visitFriction);
+    const visitFriction = schedule.visitFrictionRoom(visits);
+    visitFrictions(contacts, bodies, def, schedule.order, visits, visitFriction);
+    warmStart(f64, i32, first, visits >>> 1);
+    iterateVelocitiesMixed(f64, i32, first, visits >>> 1, def.velocityIterations, visitFriction);
   } else if (kernels) {
-    kernels.warmStart(schedule.visitsAt, count);
-    kernels.iterateVelocities(schedule.visitsAt, count, def.velocityIterations, def.friction);
+    kernels.warmStart(schedule.visitsAt, visits >>> 1);
+    kernels.iterateVelocities(
+      schedule.visitsAt,
+      visits >>> 1,
+      def.velocityIterations,
+      def.friction,
+    );
   } else {
-    warmStart(f64, i32, first, count);
-    iterateVelocities(f64, i32, first, count, def.velocityIterations, def.friction);
+    warmStart(f64, i32, first, visits >>> 1);
+    iterateVelocities(f64, i32, first, visits >>> 1, def.velocityIterations, def.friction);
   }
 
   const n = bodies.slotCount;
@@ -617,18 +708,18 @@ export function solveVelocities(
   const tangentImpulse = contacts.tangentImpulse;
   if (kernels) {
     // Through columns after the visits, copied back whole.
-    const orderAt = schedule.visitsAt + VISIT_BYTES * count;
-    const vxAt = orderAt + 8 * ((count + 1) >>> 1);
+    const orderAt = schedule.visitsEnd;
+    const vxAt = orderAt + 4 * visits; // (visits is even)
     const vyAt = vxAt + 8 * n;
     const normalAt = vyAt + 8 * n;
     const tangentAt = normalAt + 8 * count;
-    i32.set(order.subarray(0, count), orderAt >>> 2);
-    kernels.velocitiesOut(schedule.visitsAt, count, n, orderAt, vxAt, vyAt, normalAt, tangentAt);
+    i32.set(order.subarray(0, visits), orderAt >>> 2);
+    kernels.velocitiesOut(schedule.visitsAt, visits, n, orderAt, vxAt, vyAt, normalAt, tangentAt);
     vx.set(f64.subarray(vxAt >>> 3, (vxAt >>> 3) + n));
     vy.set(f64.subarray(vyAt >>> 3, (vyAt >>> 3) + n));
     normalImpulse.set(f64.subarray(normalAt >>> 3, (normalAt >>> 3) + count));
     tangentImpulse.set(f64.subarray(tangentAt >>> 3, (tangentAt >>> 3) + count));
-  } else velocitiesOut(f64, first, count, n, order, vx, vy, normalImpulse, tangentImpulse);
+  } else velocitiesOut(f64, first, visits, n, order, vx, vy, normalImpulse, tangentImpulse);
   if (!(e > 0)) return;
 
   // Restitution: once, for contacts that approached faster than the threshold.
@@ -690,7 +781,9 @@ export function solvePositions(
   if (iterations === 0 || count === 0) return;
   const pairs = contacts.bodyPairCount;
   const n = bodies.slotCount;
-  const all = n + count - pairs;
+  const visits = schedule.visits;
+  // The bodies, the walls' stand-ins, the pad body.
+  const all = n + count - pairs + 1;
   const separation = contacts.separation;
   const x = bodies.x;
   const y = bodies.y;
@@ -705,31 +798,38 @@ export function solvePositions(
   const kernels = schedule.kernels;
   // Columns after the visits for the WebAssembly preparation: separations, inverse masses, the
   // order, then x, y, startX, startY.
-  const separationAt = schedule.visitsAt + VISIT_BYTES * count;
+  const separationAt = schedule.visitsEnd;
   const inverseMassAt = separationAt + 8 * count;
   const orderAt = inverseMassAt + 8 * n;
-  const xAt = (orderAt + 4 * count + 7) & ~7;
+  const xAt = orderAt + 4 * visits; // (visits is even)
   const yAt = xAt + 8 * n;
   const startXAt = yAt + 8 * n;
   const startYAt = startXAt + 8 * n;
   if (kernels) {
     f64.set(separation.subarray(0, count), separationAt >>> 3);
     f64.set(inverseMass.subarray(0, n), inverseMassAt >>> 3);
-    i32.set(order.subarray(0, count), orderAt >>> 2);
+    i32.set(order.subarray(0, visits), orderAt >>> 2);
     f64.set(x.subarray(0, n), xAt >>> 3);
     f64.set(y.subarray(0, n), yAt >>> 3);
     f64.set(startX.subarray(0, n), startXAt >>> 3);
     f64.set(startY.subarray(0, n), startYAt >>> 3);
     kernels.positionsIn(n, all - n, schedule.positionsAt, xAt, yAt, startXAt, startYAt);
-    kernels.preparePositions(schedule.visitsAt, count, pairs, orderAt, separationAt, inverseMassAt);
+    kernels.preparePositions(
+      schedule.visitsAt,
+      visits,
+      pairs,
+      orderAt,
+      separationAt,
+      inverseMassAt,
+    );
   } else {
     positionsIn(f64, n, all - n, positions, x, y, startX, startY);
-    preparePositions(f64, i32, first, count, pairs, order, separation, inverseMass);
+    preparePositions(f64, i32, first, visits, pairs, order, separation, inverseMass);
   }
   if (kernels)
     kernels.iteratePositions(
       schedule.visitsAt,
-      count,
+      visits >>> 1,
       schedule.positionsAt,
       iterations,
       def.linearSlop,
@@ -740,7 +840,7 @@ export function solvePositions(
       f64,
       i32,
       first,
-      count,
+      visits >>> 1,
       positions,
       iterations,
       def.linearSlop,
@@ -783,8 +883,9 @@ function positionsIn(
 }
 
 /**
- * The position solver's visits: each visit's separation (by contact; `order` gives each visit's)
- * and the inverse masses again — 1 and 0 for a wall, whose correction is whole.
+ * The position solver's `count` visits: each visit's separation (by contact; `order` gives each
+ * visit's, -1 for a pad, left as it is: zeros) and the inverse masses again — 1 and 0 for a wall,
+ * whose correction is whole.
  */
 function preparePositions(
   f64: Float64Array,
@@ -796,8 +897,10 @@ function preparePositions(
   separation: Float64Array,
   inverseMass: Float64Array,
 ): void {
-  for (let s = 0, o = first; s < count; s++, o += 8) {
+  for (let s = 0; s < count; s++) {
     const k = order[s]!;
+    if (k < 0) continue;
+    const o = first + PAIR * (s >>> 1) + LANE * (s & 1);
     f64[o + SEPARATION] = separation[k]!;
     if (k < pairs) {
       f64[o + INVERSE_MASS_A] = inverseMass[i32[2 * o + VELOCITY_A]! >>> VELOCITY_SHIFT]!;

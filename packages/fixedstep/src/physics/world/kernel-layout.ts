@@ -1,10 +1,10 @@
 /**
  * The world's WebAssembly memory layout, written once: the JavaScript loops read these names, and
  * `scripts/wasm.mjs` substitutes them into `contact-solver.wat` and `broad-phase.wat` wherever a
- * `{{NAME}}` (or a small sum such as `{{VISIT_BYTES + VISIT_NORMAL_IMPULSE}}`) stands, before it
- * assembles them. The script refuses a placeholder naming nothing here and a name here that no
- * `.wat` uses, and a test assembles the sources again and compares them with the committed bytes
- * (`npm run build:wasm` after a change here).
+ * `{{NAME}}` (or a small sum such as `{{VISIT_LANE_BYTES + VISIT_NORMAL_IMPULSE}}`) stands,
+ * before it assembles them. The script refuses a placeholder naming nothing here and a name here
+ * that no `.wat` uses, and a test assembles the sources again and compares them with the committed
+ * bytes (`npm run build:wasm` after a change here).
  *
  * Every value is a plain integer literal (the script reads this file as text). Offsets are bytes.
  */
@@ -24,32 +24,44 @@ export const POSITION_SHIFT = 5;
 /** Where x, y start in a body's positions (after movedX, movedY). */
 export const POSITION_XY = 16;
 
-/** Bytes of one visit (one contact, in visiting order). */
-export const VISIT_BYTES = 64;
-/** log2 of {@link VISIT_BYTES}. */
-export const VISIT_SHIFT = 6;
+/**
+ * Bytes of one pair of visits. The visits (contacts in visiting order) are stored two by two,
+ * transposed: each field below is an f64x2 (an i32 pair for the velocity offsets) whose lane 0 is
+ * the first visit's and lane 1 the second's, so the two-visit SIMD sweeps load every field with
+ * one 16-byte load and no shuffle. The two visits of a pair share no body; a visit the plan could
+ * not pair has a pad beside it (see contact-solver.ts, "Visiting order").
+ */
+export const VISIT_PAIR_BYTES = 128;
+/** log2 of {@link VISIT_PAIR_BYTES}. */
+export const VISIT_PAIR_SHIFT = 7;
+/**
+ * How far the second visit of a pair is from the first, in every field (f64 and i32 alike): a
+ * visit is the bytes at its pair's offset plus 0 or this, plus each field's offset below.
+ */
+export const VISIT_LANE_BYTES = 8;
 /** The contact normal, x and y (f64), from B to A. */
 export const VISIT_NORMAL_X = 0;
-export const VISIT_NORMAL_Y = 8;
+export const VISIT_NORMAL_Y = 16;
 /**
  * The normal mass 1 / (1/mA + 1/mB) (f64) for the velocities; the position solver puts the
- * contact's separation in the same place. The two-visit SIMD sweep loads it with
- * {@link VISIT_INVERSE_MASS_A} as one 16-byte pair: the two stay adjacent.
+ * contact's separation in the same place.
  */
-export const VISIT_NORMAL_MASS = 16;
-export const VISIT_SEPARATION = 16;
-/** The solver inverse masses of A and B (f64); B's is loaded with the normal impulse as a pair. */
-export const VISIT_INVERSE_MASS_A = 24;
-export const VISIT_INVERSE_MASS_B = 32;
+export const VISIT_NORMAL_MASS = 32;
+export const VISIT_SEPARATION = 32;
+/** The solver inverse masses of A and B (f64). */
+export const VISIT_INVERSE_MASS_A = 48;
+export const VISIT_INVERSE_MASS_B = 64;
 /** The accumulated normal and tangent impulses (f64). */
-export const VISIT_NORMAL_IMPULSE = 40;
-export const VISIT_TANGENT_IMPULSE = 48;
+export const VISIT_NORMAL_IMPULSE = 80;
+export const VISIT_TANGENT_IMPULSE = 96;
 /**
  * The byte offsets of A's and B's velocities in the velocity region (i32; a wall's is its stand-in
- * body's). A position's offset is twice a velocity's ({@link POSITION_BYTES}).
+ * body's, a pad's the pad body's). A position's offset is twice a velocity's
+ * ({@link POSITION_BYTES}). The first visit's A, B, then the second's: each lane's pair of offsets
+ * is {@link VISIT_LANE_BYTES} after the other's, like the f64 fields.
  */
-export const VISIT_VELOCITY_A = 56;
-export const VISIT_VELOCITY_B = 60;
+export const VISIT_VELOCITY_A = 112;
+export const VISIT_VELOCITY_B = 116;
 
 // ---- The broad phase's grid bounds (Grid.build): gridBounds writes them, the JavaScript reads.
 

@@ -61,22 +61,26 @@ export function materialUse(bodies: BodyStore, def: Readonly<WorldDef>, out: Mat
 }
 
 /**
- * Each visit's mixed friction into `out` (by visit: `order` gives each visit's contact). A
- * body–wall contact's wall has the world's friction.
+ * Each of the `visits` visits' mixed friction into `out` (by visit: `order` gives each visit's
+ * contact; a pad, -1, gets 0). A body–wall contact's wall has the world's friction.
  */
 export function visitFrictions(
   contacts: ContactList,
   bodies: BodyStore,
   def: Readonly<WorldDef>,
   order: Int32Array,
+  visits: number,
   out: Float64Array,
 ): void {
-  const count = contacts.count;
   const pairs = contacts.bodyPairCount;
   const bodyA = contacts.bodyA;
   const bodyB = contacts.bodyB;
-  for (let s = 0; s < count; s++) {
+  for (let s = 0; s < visits; s++) {
     const k = order[s]!;
+    if (k < 0) {
+      out[s] = 0; // a pad
+      continue;
+    }
     const fa = frictionOf(bodies, def, bodyA[k]!);
     const fb = k < pairs ? frictionOf(bodies, def, bodyB[k]!) : def.friction;
     out[s] = mixFriction(fa, fb);

@@ -92,9 +92,11 @@ export interface SolverKernels {
     lastWave: number,
     waveOf: number,
     waveStart: number,
+    firstOf: number,
+    lastOf: number,
     order: number,
     visits: number,
-  ): void;
+  ): number;
   /** broad-phase.ts's hashedBodyPairs for a world of circles only. */
   hashedBodyPairs(
     x: number,
