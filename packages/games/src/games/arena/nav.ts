@@ -1,6 +1,16 @@
 import type { Walls } from './walls.js';
 import { isFiniteNumber } from './motion.js';
 import { REACH_UNKNOWN, cellReach } from './cell-reach.js';
+import {
+  ENTRY,
+  FIRST_SHIFT,
+  GOAL_BLOCKED,
+  MAX_NODES,
+  NODE_BITS,
+  NavGoals,
+  SECOND_SHIFT,
+  TO_GOAL,
+} from './nav-goals.js';
 
 /** Integer edge costs: orthogonal 5, diagonal 7 (≈ 5√2), so path lengths are exact integers. */
 const ORTHO = 5;
@@ -83,12 +93,25 @@ export class NavGrid {
   private readonly memoY = new Float64Array(1 << MEMO_BITS).fill(NaN);
   private readonly memoNode = new Int32Array(1 << MEMO_BITS);
 
+  /**
+   * The search for the layout's fixed goals, where it does not depend on where in a small sub-cell
+   * the bot stands ({@link NavGoals}); null when there are none (or more than 32 walls, which the
+   * walls' masks cannot hold).
+   */
+  private readonly goals: NavGoals | null;
+
+  /**
+   * `goals`: points the bots head for again and again (flag stands, guard posts, lanes), for which
+   * the search keeps what it can per sub-cell (see {@link NavGoals}). The answers are the same
+   * with or without them.
+   */
   constructor(
     readonly walls: Walls,
     width: number,
     height: number,
     spacing: number,
     clearance: number,
+    goals: readonly (readonly [number, number])[] = [],
   ) {
     this.spacing = spacing;
     this.clearance = clearance;
@@ -243,6 +266,30 @@ export class NavGrid {
     this.ringStart = ringStart;
     this.ringNode = Int32Array.from(ringNode);
     this.ringWalls = Int32Array.from(ringWalls);
+
+    const count = n;
+    const node = new Int32Array(1);
+    this.goals =
+      goals.length === 0 || walls.count > 32 || count > MAX_NODES
+        ? null
+        : new NavGoals(
+            {
+              walls,
+              spacing,
+              cols: this.cols,
+              rows: this.rows,
+              clearance,
+              nodeX: this.nodeX,
+              nodeY: this.nodeY,
+              unreachable: UNREACHABLE,
+              scale: (ORTHO * 0.9) / spacing,
+              rest: (nd, g) => this.dist[nd * count + g]!,
+              ringStart: this.ringStart,
+              ringNode: this.ringNode,
+              nodeNear: (x, y) => (this.nearestNode(x, y, node) ? node[0]! : -1),
+            },
+            goals,
+          );
   }
 
   /**
@@ -274,6 +321,17 @@ export class NavGrid {
     const y = q[1]!;
     out[0] = q[2]!;
     out[1] = q[3]!;
+    const goals = this.goals;
+    if (goals !== null) {
+      const k = goals.indexOf(q);
+      if (k >= 0) {
+        const e = goals.entryOf(k, q);
+        if (e >= 0) {
+          this.towardGoal(goals, k, e, out);
+          return;
+        }
+      }
+    }
     const walls = this.walls;
     const wq = walls.query;
     wq[0] = x;
@@ -287,6 +345,71 @@ export class NavGrid {
       scanWaypoints(this, x, y, g, out);
       return;
     }
+    this.search(g, out);
+  }
+
+  /**
+   * {@link waypointQuery} toward fixed goal k from a point of the sub-cell whose entry in
+   * `goals.entries` begins at `e`: what the entry knows, then (if need be) the search.
+   */
+  private towardGoal(goals: NavGoals, k: number, e: number, out: Float64Array): void {
+    const entries = goals.entries;
+    const head = entries[e + ENTRY.head]!;
+    const q = this.query;
+    const walls = this.walls;
+    const wq = walls.query;
+    wq[0] = q[0]!;
+    wq[1] = q[1]!;
+    if ((head & GOAL_BLOCKED) === 0) {
+      // Straight to the goal: only the walls that can be in the way, if any.
+      const toGoal = entries[e + ENTRY.toGoal]!;
+      if (toGoal === 0) return;
+      wq[2] = q[2]!;
+      wq[3] = q[3]!;
+      if (walls.clearAmongQuery(this.clearance, toGoal)) return;
+    }
+    if ((head & TO_GOAL) !== 0) return;
+    const g = goals.nodeOf(k);
+    let pick = ((head >>> FIRST_SHIFT) & ((1 << NODE_BITS) - 1)) - 1;
+    if (pick >= 0) {
+      let toPick = entries[e + ENTRY.toFirst]!;
+      const second = (head >>> SECOND_SHIFT) - 1;
+      if (second >= 0) {
+        // The cheaper of the two as the search costs them (of equals, the first).
+        const scale = (ORTHO * 0.9) / this.spacing;
+        const restAt = this.symmetric ? g * this.count : g;
+        const restStride = this.symmetric ? 1 : this.count;
+        let ex = this.nodeX[pick]! - q[0]!;
+        let ey = this.nodeY[pick]! - q[1]!;
+        const cost = Math.sqrt(ex * ex + ey * ey) * scale + this.dist[restAt + pick * restStride]!;
+        ex = this.nodeX[second]! - q[0]!;
+        ey = this.nodeY[second]! - q[1]!;
+        const rest = this.dist[restAt + second * restStride]!;
+        if (Math.sqrt(ex * ex + ey * ey) * scale + rest < cost) {
+          pick = second;
+          toPick = entries[e + ENTRY.toSecond]!;
+        }
+      }
+      // The search's first pick: its answer if the way there is clear.
+      wq[2] = this.nodeX[pick]!;
+      wq[3] = this.nodeY[pick]!;
+      if (toPick === 0 || walls.clearAmongQuery(this.clearance, toPick)) {
+        out[0] = wq[2];
+        out[1] = wq[3];
+        return;
+      }
+    }
+    this.search(g, out);
+  }
+
+  /**
+   * {@link waypointQuery}'s search among the waypoints around the point `query[0]`, `query[1]`
+   * (finite) for goal node `g`, when the goal is not in reach.
+   */
+  private search(g: number, out: Float64Array): void {
+    const q = this.query;
+    const x = q[0]!;
+    const y = q[1]!;
     const col = Math.floor(x / this.spacing);
     const row = Math.floor(y / this.spacing);
     const scale = (ORTHO * 0.9) / this.spacing;
@@ -578,14 +701,15 @@ export function scanNearest(nav: NavGrid, x: number, y: number, out: Int32Array)
 /**
  * An arena's navigation grid for its bots, as a getter: built on first use (a few ms), then
  * shared — it is static data. Cells of 40 units, for a player of radius `playerRadius` with 2
- * units to spare.
+ * units to spare; `goals` as {@link NavGrid}'s.
  */
 export function sharedNav(
   walls: Walls,
   width: number,
   height: number,
   playerRadius: number,
+  goals: readonly (readonly [number, number])[] = [],
 ): () => NavGrid {
   let nav: NavGrid | undefined;
-  return () => (nav ??= new NavGrid(walls, width, height, 40, playerRadius + 2));
+  return () => (nav ??= new NavGrid(walls, width, height, 40, playerRadius + 2, goals));
 }
