@@ -16,6 +16,7 @@ import {
   FIRST_SHIFT,
   GOAL_BLOCKED,
   NODE_BITS,
+  NO_ENTRY,
   SECOND_SHIFT,
   TO_GOAL,
   type NavGoals,
@@ -123,6 +124,7 @@ describe.each(ARENAS)('the fixed goals’ table on %s', (_name, nav, goals) => {
           q[1] = y0 + size / 2;
           const e = table.entryOf(k, q);
           const head = table.entries[e + ENTRY.head]!;
+          expect(head & NO_ENTRY).toBe(0);
           const first = ((head >>> FIRST_SHIFT) & ((1 << NODE_BITS) - 1)) - 1;
           const second = (head >>> SECOND_SHIFT) - 1;
           if ((head & GOAL_BLOCKED) !== 0) stats.blocked++;

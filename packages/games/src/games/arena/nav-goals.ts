@@ -22,26 +22,30 @@ const MARGIN = 1e-6;
 const EDGE = 1e-6;
 
 /**
- * What {@link NavGoals.entries} holds per goal and sub-cell: four numbers, 16 bytes (a quarter of a
- * cache line: the table is read at random, once per bot and tick, and at 32 bytes an entry the
- * look-up was a cache miss worth 6 % of a capture-the-flag step).
+ * What {@link NavGoals.entries} holds per goal and sub-cell: two numbers, 8 bytes. The table is
+ * read at random, once per bot and tick, and its look-up is a cache miss more often than not
+ * (on a busy machine, other processes evict it between ticks): at 32 bytes an entry it cost 6 % of
+ * a capture-the-flag step, at 16 bytes 5 %, so the walls' masks are kept once, in
+ * {@link NavGoals.masks}, and an entry holds their indices.
  */
 export const ENTRY = {
   /**
-   * Flags ({@link FILLED}, {@link GOAL_BLOCKED}, {@link TO_GOAL}), and the search's candidates
-   * that can come first (the cheapest) from somewhere in the sub-cell: one or two nodes in the
-   * search's order, each plus one at {@link FIRST_SHIFT} and {@link SECOND_SHIFT}
-   * ({@link NODE_BITS} bits; 0: none). No first one: more than two can.
+   * Flags ({@link FILLED}, {@link GOAL_BLOCKED}, {@link TO_GOAL}, {@link NO_ENTRY}), and the
+   * search's candidates that can come first (the cheapest) from somewhere in the sub-cell: one or
+   * two nodes in the search's order, each plus one at {@link FIRST_SHIFT} and
+   * {@link SECOND_SHIFT} ({@link NODE_BITS} bits; 0: none). No first one: more than two can.
    */
   head: 0,
-  /** The walls that a straight move from the sub-cell can touch: to the goal, to each candidate. */
-  toGoal: 1,
-  toFirst: 2,
-  toSecond: 3,
+  /**
+   * The walls that a straight move from the sub-cell can touch — to the goal, to the first and
+   * to the second candidate — as indices in {@link NavGoals.masks}, {@link MASK_BITS} bits each
+   * from bit 0 up.
+   */
+  walls: 1,
 } as const;
 
 /** Numbers per entry. */
-const STRIDE = 4;
+const STRIDE = 2;
 
 /** Flag: the entry is filled (0: not yet, the table's memory untouched). */
 const FILLED = 1;
@@ -49,13 +53,17 @@ const FILLED = 1;
 export const GOAL_BLOCKED = 2;
 /** Flag: the goal has no waypoint — when it is not in reach, the search heads for it anyway. */
 export const TO_GOAL = 4;
+/** Flag: the entry knows nothing (the layout has more masks than an index can name): search. */
+export const NO_ENTRY = 8;
 /** Where the candidates' nodes (plus one) are in {@link ENTRY.head}. */
-export const FIRST_SHIFT = 3;
-export const SECOND_SHIFT = 17;
+export const FIRST_SHIFT = 4;
+export const SECOND_SHIFT = 18;
 /** Bits per node in {@link ENTRY.head}: grids of more nodes have no table. */
 export const NODE_BITS = 14;
 /** The most nodes a grid with a table may have. */
 export const MAX_NODES = (1 << NODE_BITS) - 2;
+/** Bits per mask index in {@link ENTRY.walls}. */
+export const MASK_BITS = 10;
 
 /**
  * Arena units by which a move must miss (or enter) a wall's grown box for the table to take the
@@ -121,6 +129,10 @@ export class NavGoals {
    * numbers at the offsets of {@link ENTRY}.
    */
   readonly entries: Int32Array;
+  /** The walls' masks that the entries name (bit i: wall i), 0 first. */
+  readonly masks = new Int32Array(1 << MASK_BITS);
+  /** Where each mask is in {@link masks}. */
+  private readonly maskIndex = new Map<number, number>([[0, 0]]);
   /** The waypoint nearest each goal (the search's goal node), or -1; -2 until it is needed. */
   private readonly goalNode: Int32Array;
 
@@ -189,10 +201,26 @@ export class NavGoals {
     head |= ((first + 1) << FIRST_SHIFT) | ((second + 1) << SECOND_SHIFT);
     const reach = (nd: number): number =>
       nd < 0 ? 0 : cellReach(walls, x0, y0, size, grid.nodeX[nd]!, grid.nodeY[nd]!, r);
-    entries[e + ENTRY.toGoal] = toGoal;
-    entries[e + ENTRY.toFirst] = reach(first);
-    entries[e + ENTRY.toSecond] = reach(second);
+    const indices = [toGoal, reach(first), reach(second)].map((m) => this.indexOfMask(m));
+    if (indices.includes(-1)) {
+      entries[e + ENTRY.head] = FILLED | NO_ENTRY;
+      return;
+    }
+    entries[e + ENTRY.walls] =
+      indices[0]! | (indices[1]! << MASK_BITS) | (indices[2]! << (2 * MASK_BITS));
     entries[e + ENTRY.head] = head;
+  }
+
+  /** The index of `mask` in {@link masks} (added if new), or -1 when they are full. */
+  private indexOfMask(mask: number): number {
+    let i = this.maskIndex.get(mask);
+    if (i === undefined) {
+      i = this.maskIndex.size;
+      if (i === this.masks.length) return -1;
+      this.masks[i] = mask;
+      this.maskIndex.set(mask, i);
+    }
+    return i;
   }
 
   /**

@@ -5,8 +5,10 @@ import {
   ENTRY,
   FIRST_SHIFT,
   GOAL_BLOCKED,
+  MASK_BITS,
   MAX_NODES,
   NODE_BITS,
+  NO_ENTRY,
   NavGoals,
   SECOND_SHIFT,
   TO_GOAL,
@@ -317,8 +319,6 @@ export class NavGrid {
    */
   waypointQuery(out: Float64Array): void {
     const q = this.query;
-    const x = q[0]!;
-    const y = q[1]!;
     out[0] = q[2]!;
     out[1] = q[3]!;
     const goals = this.goals;
@@ -332,6 +332,14 @@ export class NavGrid {
         }
       }
     }
+    this.fromScratch(out);
+  }
+
+  /** {@link waypointQuery} with no help from the fixed goals' table (`out` holds the target). */
+  private fromScratch(out: Float64Array): void {
+    const q = this.query;
+    const x = q[0]!;
+    const y = q[1]!;
     const walls = this.walls;
     const wq = walls.query;
     wq[0] = x;
@@ -356,13 +364,20 @@ export class NavGrid {
     const entries = goals.entries;
     const head = entries[e + ENTRY.head]!;
     const q = this.query;
+    if ((head & NO_ENTRY) !== 0) {
+      this.fromScratch(out);
+      return;
+    }
+    const masks = goals.masks;
+    const inTheWay = entries[e + ENTRY.walls]!;
+    const indexBits = (1 << MASK_BITS) - 1;
     const walls = this.walls;
     const wq = walls.query;
     wq[0] = q[0]!;
     wq[1] = q[1]!;
     if ((head & GOAL_BLOCKED) === 0) {
       // Straight to the goal: only the walls that can be in the way, if any.
-      const toGoal = entries[e + ENTRY.toGoal]!;
+      const toGoal = masks[inTheWay & indexBits]!;
       if (toGoal === 0) return;
       wq[2] = q[2]!;
       wq[3] = q[3]!;
@@ -372,7 +387,7 @@ export class NavGrid {
     const g = goals.nodeOf(k);
     let pick = ((head >>> FIRST_SHIFT) & ((1 << NODE_BITS) - 1)) - 1;
     if (pick >= 0) {
-      let toPick = entries[e + ENTRY.toFirst]!;
+      let toPick = masks[(inTheWay >>> MASK_BITS) & indexBits]!;
       const second = (head >>> SECOND_SHIFT) - 1;
       if (second >= 0) {
         // The cheaper of the two as the search costs them (of equals, the first).
@@ -387,7 +402,7 @@ export class NavGrid {
         const rest = this.dist[restAt + second * restStride]!;
         if (Math.sqrt(ex * ex + ey * ey) * scale + rest < cost) {
           pick = second;
-          toPick = entries[e + ENTRY.toSecond]!;
+          toPick = masks[(inTheWay >>> (2 * MASK_BITS)) & indexBits]!;
         }
       }
       // The search's first pick: its answer if the way there is clear.
