@@ -8,16 +8,19 @@
  */
 import { describe, expect, it } from 'vitest';
 import { Random } from 'fixedstep';
-import { CTF_WALLS, NavGrid, SURVIVAL, SURVIVAL_WALLS, ctfNav } from '@fixedstep/games';
+import { CTF_WALLS, NavGrid, SURVIVAL, SURVIVAL_WALLS, Walls, ctfNav } from '@fixedstep/games';
 import { CTF_GOALS } from '../src/games/ctf/layout.js';
 import { scanNearest, scanWaypoints } from '../src/games/arena/nav.js';
 import {
   ENTRY,
-  FIRST_SHIFT,
   GOAL_BLOCKED,
+  GOAL_WALLS_SHIFT,
+  LENGTH_SHIFT,
+  MASK_BITS,
   NODE_BITS,
+  NODE_SHIFT,
   NO_ENTRY,
-  SECOND_SHIFT,
+  PAIR,
   TO_GOAL,
   type NavGoals,
 } from '../src/games/arena/nav-goals.js';
@@ -32,15 +35,15 @@ function scanWaypoint(nav: NavGrid, x: number, y: number, tx: number, ty: number
 }
 
 /**
- * The search's cheapest candidate from (x, y) for goal node g, with no line test (of equals, the
- * first): the 3 × 3 cells around, in row-major order, costed as the search costs them.
+ * The order in which the search tries its candidates from (x, y) toward goal node g: the 3 × 3
+ * cells around, costed as the search costs them, cheapest first (of equals, the first in
+ * row-major order).
  */
-function cheapest(nav: NavGrid, x: number, y: number, g: number): number {
+function tryOrder(nav: NavGrid, x: number, y: number, g: number): number[] {
   const col = Math.floor(x / nav.spacing);
   const row = Math.floor(y / nav.spacing);
   const scale = (5 * 0.9) / nav.spacing;
-  let best = Infinity;
-  let found = -1;
+  const found: { nd: number; cost: number }[] = [];
   for (let dr = -1; dr <= 1; dr++) {
     for (let dc = -1; dc <= 1; dc++) {
       const r2 = row + dr;
@@ -52,14 +55,11 @@ function cheapest(nav: NavGrid, x: number, y: number, g: number): number {
       if (rest === 0x7fffffff) continue;
       const ex = nav.nodeX[nd]! - x;
       const ey = nav.nodeY[nd]! - y;
-      const cost = Math.sqrt(ex * ex + ey * ey) * scale + rest;
-      if (cost < best) {
-        best = cost;
-        found = nd;
-      }
+      found.push({ nd, cost: Math.sqrt(ex * ex + ey * ey) * scale + rest });
     }
   }
-  return found;
+  // (A stable sort: equals keep their row-major order.)
+  return found.sort((a, b) => a.cost - b.cost).map((c) => c.nd);
 }
 
 /** Points of the square [x0, x0 + size]²: corners, edges a hair inside and beyond, inside. */
@@ -74,6 +74,11 @@ function samples(rng: Random, x0: number, y0: number, size: number): [number, nu
   ];
   for (let k = 0; k < 3; k++) out.push([x0 + rng.range(0, size), y0 + rng.range(0, size)]);
   return out;
+}
+
+/** The node at `place` among the candidates of the cell of the last `entryOf`'s point. */
+function ringNodeOf(nav: NavGrid, table: NavGoals, place: number): number {
+  return (nav as unknown as { ringNode: Int32Array }).ringNode[table.firstCandidate + place]!;
 }
 
 const survivalGoals = (() => {
@@ -111,8 +116,22 @@ describe.each(ARENAS)('the fixed goals’ table on %s', (_name, nav, goals) => {
     const out = new Float64Array(2);
     const q = new Float64Array(4);
     const wrong: unknown[] = [];
-    const stats = { blocked: 0, toGoal: 0, one: 0, two: 0, unknown: 0 };
+    const stats = { blocked: 0, toGoal: 0, listed: [0, 0, 0, 0], pair: 0 };
     const size = table.size;
+    const walls = nav.walls;
+    const r = nav.clearance;
+    /** Whether the walls of `mask` alone answer as all of them do, from (x, y) to (tx, ty). */
+    const subsets = new Map<number, Walls>();
+    const among = (mask: number, x: number, y: number, tx: number, ty: number): boolean => {
+      let only = subsets.get(mask);
+      if (only === undefined) {
+        only = new Walls(walls.rects.filter((_, i) => (mask & (1 << i)) !== 0));
+        subsets.set(mask, only);
+      }
+      return only.clear(x, y, tx, ty, r) === walls.clear(x, y, tx, ty, r);
+    };
+    const placeBits = (1 << NODE_BITS) - 1;
+    const indexBits = (1 << MASK_BITS) - 1;
     for (let k = 0; k < goals.length; k++) {
       const [gx, gy] = goals[k]!;
       const g = table.nodeOf(k);
@@ -124,28 +143,57 @@ describe.each(ARENAS)('the fixed goals’ table on %s', (_name, nav, goals) => {
           q[1] = y0 + size / 2;
           const e = table.entryOf(k, q);
           const head = table.entries[e + ENTRY.head]!;
+          const inTheWay = table.entries[e + ENTRY.walls]!;
           expect(head & NO_ENTRY).toBe(0);
-          const first = ((head >>> FIRST_SHIFT) & ((1 << NODE_BITS) - 1)) - 1;
-          const second = (head >>> SECOND_SHIFT) - 1;
+          const toGoal = table.masks[(head >>> GOAL_WALLS_SHIFT) & indexBits]!;
+          const listed = (head >>> LENGTH_SHIFT) & 3;
+          const pair = (head & PAIR) !== 0;
+          const nodes: number[] = [];
+          const masks: number[] = [];
+          for (let i = 0; i < listed; i++) {
+            const place = (head >>> (NODE_SHIFT + i * NODE_BITS)) & placeBits;
+            nodes.push(ringNodeOf(nav, table, place));
+            masks.push(table.masks[(inTheWay >>> (i * MASK_BITS)) & indexBits]!);
+          }
           if ((head & GOAL_BLOCKED) !== 0) stats.blocked++;
           if ((head & TO_GOAL) !== 0) stats.toGoal++;
-          else if (first < 0) stats.unknown++;
-          else if (second < 0) stats.one++;
-          else stats.two++;
+          else stats.listed[listed]!++;
+          if (pair) stats.pair++;
           if ((head & TO_GOAL) !== 0 && g >= 0) wrong.push({ k, sx, sy, toGoal: g });
           for (const [x, y] of samples(rng, x0, y0, size)) {
             // Claims hold only for points of the sub-cell; the answers everywhere.
             const inside = Math.floor(x / size) === sx && Math.floor(y / size) === sy;
-            if (
-              inside &&
-              (head & GOAL_BLOCKED) !== 0 &&
-              nav.walls.clear(x, y, gx, gy, nav.clearance)
-            ) {
-              wrong.push({ k, x, y, blocked: 'but clear' });
-            }
-            if (inside && first >= 0 && g >= 0) {
-              const c = cheapest(nav, x, y, g);
-              if (c !== first && c !== second) wrong.push({ k, x, y, first, second, cheapest: c });
+            if (inside) {
+              if ((head & GOAL_BLOCKED) !== 0 && walls.clear(x, y, gx, gy, r)) {
+                wrong.push({ k, x, y, blocked: 'but clear' });
+              }
+              if (!among(toGoal, x, y, gx, gy)) wrong.push({ k, x, y, toGoal });
+              if (g >= 0 && (head & TO_GOAL) === 0) {
+                // The listed candidates come in the search's order; those passed over between
+                // them are out of reach; each one's walls answer as all of them.
+                const order = tryOrder(nav, x, y, g);
+                let j = 0;
+                for (let i = 0; i < listed; i++) {
+                  const last = pair && i === listed - 2;
+                  const isNext = (nd: number): boolean =>
+                    nd === nodes[i] || (last && nd === nodes[i + 1]);
+                  while (j < order.length && !isNext(order[j]!)) {
+                    const nd = order[j]!;
+                    if (walls.clear(x, y, nav.nodeX[nd]!, nav.nodeY[nd]!, r)) {
+                      wrong.push({ k, x, y, passedOver: nd, nodes });
+                    }
+                    j++;
+                  }
+                  if (j === order.length) wrong.push({ k, x, y, missing: nodes[i], order });
+                  j++;
+                  if (last) break;
+                }
+                nodes.forEach((nd, i) => {
+                  if (!among(masks[i]!, x, y, nav.nodeX[nd]!, nav.nodeY[nd]!)) {
+                    wrong.push({ k, x, y, nd, mask: masks[i] });
+                  }
+                });
+              }
             }
             nav.waypoint(x, y, gx, gy, out);
             const want = scanWaypoint(nav, x, y, gx, gy);
@@ -157,9 +205,9 @@ describe.each(ARENAS)('the fixed goals’ table on %s', (_name, nav, goals) => {
       }
     }
     expect(wrong.slice(0, 5)).toEqual([]);
-    // Enough of them to matter: most entries know the way or that the goal is out of reach.
+    // Enough of them to matter: most entries list candidates, many know the goal is out of reach.
     const entries = table.subCols * table.subRows * goals.length;
-    expect(stats.unknown).toBeLessThan((entries - stats.toGoal) * 0.05);
+    expect(stats.listed[0]).toBeLessThan((entries - stats.toGoal) * 0.05);
     expect(stats.blocked).toBeGreaterThan(entries * 0.2);
   });
 });

@@ -23,24 +23,21 @@ const EDGE = 1e-6;
 
 /**
  * What {@link NavGoals.entries} holds per goal and sub-cell: two numbers, 8 bytes. The table is
- * read at random, once per bot and tick, and its look-up is a cache miss more often than not
- * (on a busy machine, other processes evict it between ticks): at 32 bytes an entry it cost 6 % of
- * a capture-the-flag step, at 16 bytes 5 %, so the walls' masks are kept once, in
- * {@link NavGoals.masks}, and an entry holds their indices.
+ * read at random, once per bot and tick, and its look-up is a cache miss more often than not: at
+ * 32 bytes an entry it cost 6 % of a capture-the-flag step, at 16 bytes 5 %. So nodes are named
+ * by their place among the candidates of their cell, and the walls' masks are kept once, in
+ * {@link NavGoals.masks}, and named by index.
  */
 export const ENTRY = {
   /**
-   * Flags ({@link FILLED}, {@link GOAL_BLOCKED}, {@link TO_GOAL}, {@link NO_ENTRY}), and the
-   * search's candidates that can come first (the cheapest) from somewhere in the sub-cell: one or
-   * two nodes in the search's order, each plus one at {@link FIRST_SHIFT} and
-   * {@link SECOND_SHIFT} ({@link NODE_BITS} bits; 0: none). No first one: more than two can.
+   * Flags ({@link FILLED}, {@link GOAL_BLOCKED}, {@link TO_GOAL}, {@link NO_ENTRY}); the
+   * candidates the search tries first, in its order ({@link LENGTH_SHIFT}: how many, 0 to 3;
+   * {@link PAIR}: the last two are a pair, see {@link NavGoals}), each as its place among the
+   * cell's candidates ({@link NODE_SHIFT}, {@link NODE_BITS} bits each); and the index of the
+   * mask of the walls in the way of the goal ({@link GOAL_WALLS_SHIFT}).
    */
   head: 0,
-  /**
-   * The walls that a straight move from the sub-cell can touch — to the goal, to the first and
-   * to the second candidate — as indices in {@link NavGoals.masks}, {@link MASK_BITS} bits each
-   * from bit 0 up.
-   */
+  /** The indices of the masks of the walls in the way of each candidate, {@link MASK_BITS} bits each. */
   walls: 1,
 } as const;
 
@@ -55,15 +52,20 @@ export const GOAL_BLOCKED = 2;
 export const TO_GOAL = 4;
 /** Flag: the entry knows nothing (the layout has more masks than an index can name): search. */
 export const NO_ENTRY = 8;
-/** Where the candidates' nodes (plus one) are in {@link ENTRY.head}. */
-export const FIRST_SHIFT = 4;
-export const SECOND_SHIFT = 18;
-/** Bits per node in {@link ENTRY.head}: grids of more nodes have no table. */
-export const NODE_BITS = 14;
-/** The most nodes a grid with a table may have. */
-export const MAX_NODES = (1 << NODE_BITS) - 2;
-/** Bits per mask index in {@link ENTRY.walls}. */
+/** Where {@link ENTRY.head} says how many candidates it lists (2 bits). */
+export const LENGTH_SHIFT = 4;
+/** Flag: the last two candidates listed are a pair. */
+export const PAIR = 64;
+/** Where the candidates' places are in {@link ENTRY.head}. */
+export const NODE_SHIFT = 7;
+/** Bits per candidate's place. */
+export const NODE_BITS = 4;
+/** Where the index of the goal's mask is in {@link ENTRY.head}. */
+export const GOAL_WALLS_SHIFT = 19;
+/** Bits per mask index. */
 export const MASK_BITS = 10;
+/** The most candidates an entry lists. */
+const MAX_LISTED = 3;
 
 /**
  * Arena units by which a move must miss (or enter) a wall's grown box for the table to take the
@@ -105,12 +107,16 @@ const reg = sweptRegisters();
  *   can touch (`cellReach`; 0: every such move is clear) — so the search's first question, can
  *   it go straight there, needs no line test or only one against those walls, with no grid
  *   look-up;
- * - the one or two candidate waypoints that can be the search's first pick (the cheapest) from
- *   somewhere in the sub-cell — every other one costs more than they do from anywhere in it, by
- *   more than {@link MARGIN} — with their path lengths and the walls in the way of each. The
- *   search's costs of those two, computed as it computes them, tell which it picks first (the
- *   earlier in its order of equals); when the way there is clear, the search stops there: that
- *   is its answer. Otherwise the search runs as before.
+ * - the candidates the search tries first, in its order, as far as that order is the same from
+ *   anywhere in the sub-cell: each candidate's cost (a distance times a scale, plus a path length)
+ *   is bounded over it, and the search's next pick is the one whose highest cost is below every
+ *   other's lowest, by more than {@link MARGIN}. One that surely cannot be reached (`blocksAll`)
+ *   is passed over — the search's line test would fail; one that surely can (no wall in the way)
+ *   ends the list — it is the answer. Where two can be next, they are listed as a pair and the
+ *   search's costs of the two, computed as it computes them, tell which it tries (the earlier in
+ *   its order of equals), and the list ends. Up to {@link MAX_LISTED}. At a query, the first of
+ *   them that a line test against the walls in its way finds clear is the answer; if none is,
+ *   the search runs as before.
  *
  * Filled entry by entry as bots come by (a few µs each), then kept: static data of the layout,
  * not game state — so the answers are the search's, whatever is filled. The table's memory is
@@ -133,6 +139,11 @@ export class NavGoals {
   readonly masks = new Int32Array(1 << MASK_BITS);
   /** Where each mask is in {@link masks}. */
   private readonly maskIndex = new Map<number, number>([[0, 0]]);
+  /**
+   * Where the candidates of the cell of the last {@link entryOf}'s point begin in the search's
+   * list (`NavGrid.ringNode`): an entry's places count from there.
+   */
+  firstCandidate = 0;
   /** The waypoint nearest each goal (the search's goal node), or -1; -2 until it is needed. */
   private readonly goalNode: Int32Array;
 
@@ -171,6 +182,9 @@ export class NavGoals {
     if (!(sx >= 0 && sy >= 0 && sx < this.subCols && sy < this.subRows)) return -1;
     const e = STRIDE * ((k * this.subRows + sy) * this.subCols + sx);
     if (this.entries[e] === 0) this.fill(k, sx, sy, e);
+    // (sx, sy ≥ 0: truncation is the floor.)
+    this.firstCandidate =
+      this.grid.ringStart[2 * (((sy / SUBDIV) | 0) * this.grid.cols + ((sx / SUBDIV) | 0))]!;
     return e;
   }
 
@@ -196,18 +210,23 @@ export class NavGoals {
     let head = FILLED;
     if (blocksAll(walls, toGoal, x0, y0, size, gx, gy, r)) head |= GOAL_BLOCKED;
     const g = this.nodeOf(k);
-    const [first, second] = g < 0 ? [-1, -1] : this.contenders(g, sx, sy);
     if (g < 0) head |= TO_GOAL;
-    head |= ((first + 1) << FIRST_SHIFT) | ((second + 1) << SECOND_SHIFT);
-    const reach = (nd: number): number =>
-      nd < 0 ? 0 : cellReach(walls, x0, y0, size, grid.nodeX[nd]!, grid.nodeY[nd]!, r);
-    const indices = [toGoal, reach(first), reach(second)].map((m) => this.indexOfMask(m));
-    if (indices.includes(-1)) {
+    const { places, masks, pair } = g < 0 ? { places: [], masks: [], pair: false } : this.list(g, sx, sy);
+    const goalIndex = this.indexOfMask(toGoal);
+    const maskIndices = masks.map((m) => this.indexOfMask(m));
+    if (goalIndex < 0 || maskIndices.includes(-1)) {
       entries[e + ENTRY.head] = FILLED | NO_ENTRY;
       return;
     }
-    entries[e + ENTRY.walls] =
-      indices[0]! | (indices[1]! << MASK_BITS) | (indices[2]! << (2 * MASK_BITS));
+    head |= places.length << LENGTH_SHIFT;
+    if (pair) head |= PAIR;
+    let inTheWay = 0;
+    places.forEach((place, i) => {
+      head |= place << (NODE_SHIFT + i * NODE_BITS);
+      inTheWay |= maskIndices[i]! << (i * MASK_BITS);
+    });
+    head |= goalIndex << GOAL_WALLS_SHIFT;
+    entries[e + ENTRY.walls] = inTheWay;
     entries[e + ENTRY.head] = head;
   }
 
@@ -224,24 +243,28 @@ export class NavGoals {
   }
 
   /**
-   * The search's candidates (among the 3 × 3 cells around the sub-cell's) for goal node `g` that
-   * can be the cheapest from somewhere in sub-cell (sx, sy), in the search's order: each
-   * candidate's cost bounded over the sub-cell (its distance from the nearest and the farthest
-   * point, times the scale, plus its path length to `g`); those whose lowest cost is within
-   * {@link MARGIN} of the least highest one can. [-1, -1] when none or more than two can; the second
-   * -1 when one can.
+   * The candidates the search tries first toward goal node `g` from anywhere in sub-cell (sx, sy)
+   * (see {@link NavGoals}): their places among the cell's candidates (the 3 × 3 cells around
+   * it), the walls in the way of each, and whether the last two are a pair.
    */
-  private contenders(g: number, sx: number, sy: number): [number, number] {
+  private list(
+    g: number,
+    sx: number,
+    sy: number,
+  ): { places: number[]; masks: number[]; pair: boolean } {
     const grid = this.grid;
+    const size = this.size;
+    const x0 = sx * size;
+    const y0 = sy * size;
     const cell = 2 * (Math.floor(sy / SUBDIV) * grid.cols + Math.floor(sx / SUBDIV));
-    const left = sx * this.size - EDGE;
-    const right = (sx + 1) * this.size + EDGE;
-    const top = sy * this.size - EDGE;
-    const bottom = (sy + 1) * this.size + EDGE;
-    const nodes: number[] = [];
-    const lows: number[] = [];
-    let leastHigh = Infinity;
-    for (let j = grid.ringStart[cell]!, end = grid.ringStart[cell + 1]!; j < end; j++) {
+    const left = x0 - EDGE;
+    const right = x0 + size + EDGE;
+    const top = y0 - EDGE;
+    const bottom = y0 + size + EDGE;
+    // The candidates with a way to the goal: place, bounds of the cost, walls in the way.
+    const candidates: { place: number; low: number; high: number; mask: number; nd: number }[] = [];
+    const start = grid.ringStart[cell]!;
+    for (let j = start, end = grid.ringStart[cell + 1]!; j < end; j++) {
       const nd = grid.ringNode[j]!;
       const rest = grid.rest(nd, g);
       if (rest === grid.unreachable) continue;
@@ -251,13 +274,39 @@ export class NavGoals {
       const nearY = Math.max(top - ny, 0, ny - bottom);
       const farX = Math.max(nx - left, right - nx);
       const farY = Math.max(ny - top, bottom - ny);
-      nodes.push(nd);
-      lows.push(Math.sqrt(nearX * nearX + nearY * nearY) * grid.scale + rest);
-      leastHigh = Math.min(leastHigh, Math.sqrt(farX * farX + farY * farY) * grid.scale + rest);
+      candidates.push({
+        place: j - start,
+        low: Math.sqrt(nearX * nearX + nearY * nearY) * grid.scale + rest,
+        high: Math.sqrt(farX * farX + farY * farY) * grid.scale + rest,
+        mask: cellReach(grid.walls, x0, y0, size, nx, ny, grid.clearance),
+        nd,
+      });
     }
-    const can = nodes.filter((_, i) => lows[i]! <= leastHigh + MARGIN);
-    if (can.length === 0 || can.length > 2) return [-1, -1];
-    return [can[0]!, can[1] ?? -1];
+    const places: number[] = [];
+    const masks: number[] = [];
+    while (places.length < MAX_LISTED && candidates.length > 0) {
+      const leastHigh = Math.min(...candidates.map((c) => c.high));
+      const next = candidates.filter((c) => c.low <= leastHigh + MARGIN);
+      if (next.length > 2 || (next.length === 2 && places.length + 2 > MAX_LISTED)) break;
+      if (next.length === 2) {
+        for (const c of next) {
+          places.push(c.place);
+          masks.push(c.mask);
+        }
+        return { places, masks, pair: true };
+      }
+      const c = next[0]!;
+      candidates.splice(candidates.indexOf(c), 1);
+      const nx = grid.nodeX[c.nd]!;
+      const ny = grid.nodeY[c.nd]!;
+      // Surely out of reach: the search's line test fails; it goes on to the next.
+      if (blocksAll(grid.walls, c.mask, x0, y0, size, nx, ny, grid.clearance)) continue;
+      places.push(c.place);
+      masks.push(c.mask);
+      // Surely in reach: the answer.
+      if (c.mask === 0) break;
+    }
+    return { places, masks, pair: false };
   }
 }
 

@@ -3,14 +3,15 @@ import { isFiniteNumber } from './motion.js';
 import { REACH_UNKNOWN, cellReach } from './cell-reach.js';
 import {
   ENTRY,
-  FIRST_SHIFT,
   GOAL_BLOCKED,
+  GOAL_WALLS_SHIFT,
+  LENGTH_SHIFT,
   MASK_BITS,
-  MAX_NODES,
   NODE_BITS,
+  NODE_SHIFT,
   NO_ENTRY,
   NavGoals,
-  SECOND_SHIFT,
+  PAIR,
   TO_GOAL,
 } from './nav-goals.js';
 
@@ -272,7 +273,7 @@ export class NavGrid {
     const count = n;
     const node = new Int32Array(1);
     this.goals =
-      goals.length === 0 || walls.count > 32 || count > MAX_NODES
+      goals.length === 0 || walls.count > 32
         ? null
         : new NavGoals(
             {
@@ -363,13 +364,12 @@ export class NavGrid {
   private towardGoal(goals: NavGoals, k: number, e: number, out: Float64Array): void {
     const entries = goals.entries;
     const head = entries[e + ENTRY.head]!;
-    const q = this.query;
     if ((head & NO_ENTRY) !== 0) {
       this.fromScratch(out);
       return;
     }
+    const q = this.query;
     const masks = goals.masks;
-    const inTheWay = entries[e + ENTRY.walls]!;
     const indexBits = (1 << MASK_BITS) - 1;
     const walls = this.walls;
     const wq = walls.query;
@@ -377,7 +377,7 @@ export class NavGrid {
     wq[1] = q[1]!;
     if ((head & GOAL_BLOCKED) === 0) {
       // Straight to the goal: only the walls that can be in the way, if any.
-      const toGoal = masks[inTheWay & indexBits]!;
+      const toGoal = masks[(head >>> GOAL_WALLS_SHIFT) & indexBits]!;
       if (toGoal === 0) return;
       wq[2] = q[2]!;
       wq[3] = q[3]!;
@@ -385,29 +385,27 @@ export class NavGrid {
     }
     if ((head & TO_GOAL) !== 0) return;
     const g = goals.nodeOf(k);
-    let pick = ((head >>> FIRST_SHIFT) & ((1 << NODE_BITS) - 1)) - 1;
-    if (pick >= 0) {
-      let toPick = masks[(inTheWay >>> MASK_BITS) & indexBits]!;
-      const second = (head >>> SECOND_SHIFT) - 1;
-      if (second >= 0) {
-        // The cheaper of the two as the search costs them (of equals, the first).
-        const scale = (ORTHO * 0.9) / this.spacing;
-        const restAt = this.symmetric ? g * this.count : g;
-        const restStride = this.symmetric ? 1 : this.count;
-        let ex = this.nodeX[pick]! - q[0]!;
-        let ey = this.nodeY[pick]! - q[1]!;
-        const cost = Math.sqrt(ex * ex + ey * ey) * scale + this.dist[restAt + pick * restStride]!;
-        ex = this.nodeX[second]! - q[0]!;
-        ey = this.nodeY[second]! - q[1]!;
-        const rest = this.dist[restAt + second * restStride]!;
-        if (Math.sqrt(ex * ex + ey * ey) * scale + rest < cost) {
-          pick = second;
-          toPick = masks[(inTheWay >>> (2 * MASK_BITS)) & indexBits]!;
+    // The candidates the search would try first, in its order: the first in reach is its answer.
+    const inTheWay = entries[e + ENTRY.walls]!;
+    const listed = (head >>> LENGTH_SHIFT) & 3;
+    const single = (head & PAIR) === 0 ? listed : listed - 2;
+    const first = goals.firstCandidate;
+    const placeBits = (1 << NODE_BITS) - 1;
+    for (let i = 0; i < listed; i++) {
+      let nd = this.ringNode[first + ((head >>> (NODE_SHIFT + i * NODE_BITS)) & placeBits)]!;
+      let toPick = masks[(inTheWay >>> (i * MASK_BITS)) & indexBits]!;
+      if (i >= single) {
+        // A pair: the cheaper of the two as the search costs them (of equals, the first).
+        const other =
+          this.ringNode[first + ((head >>> (NODE_SHIFT + (i + 1) * NODE_BITS)) & placeBits)]!;
+        if (this.costOf(other, g) < this.costOf(nd, g)) {
+          nd = other;
+          toPick = masks[(inTheWay >>> ((i + 1) * MASK_BITS)) & indexBits]!;
         }
+        i = listed;
       }
-      // The search's first pick: its answer if the way there is clear.
-      wq[2] = this.nodeX[pick]!;
-      wq[3] = this.nodeY[pick]!;
+      wq[2] = this.nodeX[nd]!;
+      wq[3] = this.nodeY[nd]!;
       if (toPick === 0 || walls.clearAmongQuery(this.clearance, toPick)) {
         out[0] = wq[2];
         out[1] = wq[3];
@@ -415,6 +413,15 @@ export class NavGrid {
       }
     }
     this.search(g, out);
+  }
+
+  /** The search's cost of waypoint `nd` toward goal node `g` from `query[0]`, `query[1]`. */
+  private costOf(nd: number, g: number): number {
+    const q = this.query;
+    const ex = this.nodeX[nd]! - q[0]!;
+    const ey = this.nodeY[nd]! - q[1]!;
+    const rest = this.symmetric ? this.dist[g * this.count + nd]! : this.dist[nd * this.count + g]!;
+    return Math.sqrt(ex * ex + ey * ey) * ((ORTHO * 0.9) / this.spacing) + rest;
   }
 
   /**
