@@ -11,6 +11,7 @@ import { Random } from 'fixedstep';
 import { CTF_WALLS, NavGrid, SURVIVAL, SURVIVAL_WALLS, Walls, ctfNav } from '@fixedstep/games';
 import { CTF_GOALS } from '../src/games/ctf/layout.js';
 import { scanNearest, scanWaypoints } from '../src/games/arena/nav.js';
+import { UNREACHABLE } from '../src/games/arena/nav-paths.js';
 import {
   ENTRY,
   GOAL_BLOCKED,
@@ -52,7 +53,7 @@ function tryOrder(nav: NavGrid, x: number, y: number, g: number): number[] {
       const nd = nav.cellNode[r2 * nav.cols + c2]!;
       if (nd < 0) continue;
       const rest = nav.dist[nd * nav.count + g]!;
-      if (rest === 0x7fffffff) continue;
+      if (rest === UNREACHABLE) continue;
       const ex = nav.nodeX[nd]! - x;
       const ey = nav.nodeY[nd]! - y;
       found.push({ nd, cost: Math.sqrt(ex * ex + ey * ey) * scale + rest });

@@ -1,6 +1,7 @@
 import type { Walls } from './walls.js';
 import { isFiniteNumber } from './motion.js';
 import { REACH_UNKNOWN, cellReach } from './cell-reach.js';
+import { UNREACHABLE, shortestPaths } from './nav-paths.js';
 import {
   ENTRY,
   GOAL_BLOCKED,
@@ -18,7 +19,6 @@ import {
 /** Integer edge costs: orthogonal 5, diagonal 7 (≈ 5√2), so path lengths are exact integers. */
 const ORTHO = 5;
 const DIAG = 7;
-const UNREACHABLE = 0x7fffffff;
 
 /** Scratch for {@link NavGrid.waypoint}'s goal search; never part of any state. */
 const goal = new Int32Array(1);
@@ -162,65 +162,7 @@ export class NavGrid {
         }
       }
     }
-    this.dist = new Int32Array(n * n).fill(UNREACHABLE);
-    // Dijkstra from every node with a binary heap of (cost, node), ties broken by node index.
-    const heapCost = new Int32Array(n * 8 + 1);
-    const heapNode = new Int32Array(n * 8 + 1);
-    for (let s = 0; s < n; s++) {
-      const row = s * n;
-      let size = 0;
-      const push = (c: number, v: number): void => {
-        let i = size++;
-        while (i > 0) {
-          const p = (i - 1) >> 1;
-          if (heapCost[p]! < c || (heapCost[p] === c && heapNode[p]! <= v)) break;
-          heapCost[i] = heapCost[p]!;
-          heapNode[i] = heapNode[p]!;
-          i = p;
-        }
-        heapCost[i] = c;
-        heapNode[i] = v;
-      };
-      const pop = (): void => {
-        const c = heapCost[--size]!;
-        const v = heapNode[size]!;
-        let i = 0;
-        for (;;) {
-          let m = 2 * i + 1;
-          if (m >= size) break;
-          if (
-            m + 1 < size &&
-            (heapCost[m + 1]! < heapCost[m]! ||
-              (heapCost[m + 1] === heapCost[m] && heapNode[m + 1]! < heapNode[m]!))
-          ) {
-            m++;
-          }
-          if (c < heapCost[m]! || (c === heapCost[m] && v <= heapNode[m]!)) break;
-          heapCost[i] = heapCost[m]!;
-          heapNode[i] = heapNode[m]!;
-          i = m;
-        }
-        heapCost[i] = c;
-        heapNode[i] = v;
-      };
-      this.dist[row + s] = 0;
-      push(0, s);
-      while (size > 0) {
-        const c = heapCost[0]!;
-        const v = heapNode[0]!;
-        pop();
-        if (c > this.dist[row + v]!) continue;
-        for (let k = 0; k < 8; k++) {
-          const w = adj[v * 8 + k]!;
-          if (w < 0) break;
-          const nc = c + cost[v * 8 + k]!;
-          if (nc < this.dist[row + w]!) {
-            this.dist[row + w] = nc;
-            push(nc, w);
-          }
-        }
-      }
-    }
+    this.dist = shortestPaths(n, adj, cost);
     let symmetric = true;
     for (let i = 0; i < n && symmetric; i++) {
       for (let j = i + 1; j < n; j++) {
@@ -289,6 +231,7 @@ export class NavGrid {
               rest: (nd, g) => this.dist[nd * count + g]!,
               ringStart: this.ringStart,
               ringNode: this.ringNode,
+              ringWalls: this.ringWalls,
               nodeNear: (x, y) => (this.nearestNode(x, y, node) ? node[0]! : -1),
             },
             goals,
