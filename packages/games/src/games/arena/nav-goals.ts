@@ -101,6 +101,22 @@ export interface NavGoalsGrid {
 const reg = sweptRegisters();
 
 /**
+ * Scratch of {@link NavGoals}' fills (a fill must not allocate: the allocation bench counts the
+ * bytes a tick allocates, and bots fill entries as they go): the cell's candidates (at most the
+ * 3 × 3 cells') — place, node, bounds of the cost, whether still to be ranked — and the list.
+ */
+const candidatePlace = new Int32Array(9);
+const candidateNode = new Int32Array(9);
+const candidateLow = new Float64Array(9);
+const candidateHigh = new Float64Array(9);
+const candidateLeft = new Uint8Array(9);
+const listedPlace = new Int32Array(MAX_LISTED);
+const listedMask = new Int32Array(MAX_LISTED);
+
+/** Slots of the hash of the masks' indices (twice the masks: open addressing stays short). */
+const MASK_SLOTS = 2 << MASK_BITS;
+
+/**
  * The navigation grid's search for a layout's fixed goals (flag stands, guard posts, lanes), as
  * far as it does not depend on where in a small sub-cell the bot stands. Per goal and sub-cell
  * ({@link ENTRY}):
@@ -139,8 +155,10 @@ export class NavGoals {
   readonly entries: Int32Array;
   /** The walls' masks that the entries name (bit i: wall i), 0 first. */
   readonly masks = new Int32Array(1 << MASK_BITS);
-  /** Where each mask is in {@link masks}. */
-  private readonly maskIndex = new Map<number, number>([[0, 0]]);
+  /** How many of {@link masks} there are. */
+  private maskCount = 1;
+  /** Where each mask is in {@link masks}: a hash, open addressing, index + 1 (0: free). */
+  private readonly maskSlots = new Int32Array(MASK_SLOTS);
   /**
    * Where the candidates of the cell of the last {@link entryOf}'s point begin in the search's
    * list (`NavGrid.ringNode`): an entry's places count from there.
@@ -233,21 +251,23 @@ export class NavGoals {
     if (blocksAll(walls, toGoal, x0, y0, size, gx, gy, r)) head |= GOAL_BLOCKED;
     const g = this.nodeOf(k);
     if (g < 0) head |= TO_GOAL;
-    const { places, masks, pair } =
-      g < 0 ? { places: [], masks: [], pair: false } : this.list(g, sx, sy);
-    const goalIndex = this.indexOfMask(toGoal);
-    const maskIndices = masks.map((m) => this.indexOfMask(m));
-    if (goalIndex < 0 || maskIndices.includes(-1)) {
+    const listed = g < 0 ? 0 : this.list(g, sx, sy);
+    const pair = listed < 0;
+    const count = pair ? -listed : listed;
+    let goalIndex = this.indexOfMask(toGoal);
+    let inTheWay = 0;
+    for (let i = 0; i < count && goalIndex >= 0; i++) {
+      const index = this.indexOfMask(listedMask[i]!);
+      if (index < 0) goalIndex = -1;
+      head |= listedPlace[i]! << (NODE_SHIFT + i * NODE_BITS);
+      inTheWay |= index << (i * MASK_BITS);
+    }
+    if (goalIndex < 0) {
       entries[e + ENTRY.head] = FILLED | NO_ENTRY;
       return;
     }
-    head |= places.length << LENGTH_SHIFT;
+    head |= count << LENGTH_SHIFT;
     if (pair) head |= PAIR;
-    let inTheWay = 0;
-    places.forEach((place, i) => {
-      head |= place << (NODE_SHIFT + i * NODE_BITS);
-      inTheWay |= maskIndices[i]! << (i * MASK_BITS);
-    });
     head |= goalIndex << GOAL_WALLS_SHIFT;
     entries[e + ENTRY.walls] = inTheWay;
     entries[e + ENTRY.head] = head;
@@ -255,26 +275,31 @@ export class NavGoals {
 
   /** The index of `mask` in {@link masks} (added if new), or -1 when they are full. */
   private indexOfMask(mask: number): number {
-    let i = this.maskIndex.get(mask);
-    if (i === undefined) {
-      i = this.maskIndex.size;
-      if (i === this.masks.length) return -1;
-      this.masks[i] = mask;
-      this.maskIndex.set(mask, i);
+    if (mask === 0) return 0;
+    const slots = this.maskSlots;
+    for (
+      let h = Math.imul(mask, 0x9e3779b1) >>> (32 - MASK_BITS - 1);
+      ;
+      h = (h + 1) & (MASK_SLOTS - 1)
+    ) {
+      const at = slots[h]!;
+      if (at === 0) {
+        if (this.maskCount === this.masks.length) return -1;
+        this.masks[this.maskCount] = mask;
+        slots[h] = ++this.maskCount;
+        return this.maskCount - 1;
+      }
+      if (this.masks[at - 1] === mask) return at - 1;
     }
-    return i;
   }
 
   /**
    * The candidates the search tries first toward goal node `g` from anywhere in sub-cell (sx, sy)
-   * (see {@link NavGoals}): their places among the cell's candidates (the 3 × 3 cells around
-   * it), the walls in the way of each, and whether the last two are a pair.
+   * (see {@link NavGoals}), into `listedPlace` (their places among the cell's candidates, the 3 × 3
+   * cells around it) and `listedMask` (the walls in the way of each): how many, negative when the
+   * last two are a pair.
    */
-  private list(
-    g: number,
-    sx: number,
-    sy: number,
-  ): { places: number[]; masks: number[]; pair: boolean } {
+  private list(g: number, sx: number, sy: number): number {
     const grid = this.grid;
     const size = this.size;
     const x0 = sx * size;
@@ -285,8 +310,8 @@ export class NavGoals {
     const top = y0 - EDGE;
     const bottom = y0 + size + EDGE;
     // The candidates with a way to the goal: place, node, bounds of the cost.
-    const candidates: { place: number; nd: number; low: number; high: number }[] = [];
     const start = grid.ringStart[cell]!;
+    let n = 0;
     for (let j = start, end = grid.ringStart[cell + 1]!; j < end; j++) {
       const nd = grid.ringNode[j]!;
       const rest = grid.rest(nd, g);
@@ -297,51 +322,76 @@ export class NavGoals {
       const nearY = Math.max(top - ny, 0, ny - bottom);
       const farX = Math.max(nx - left, right - nx);
       const farY = Math.max(ny - top, bottom - ny);
-      candidates.push({
-        place: j - start,
-        nd,
-        low: Math.sqrt(nearX * nearX + nearY * nearY) * grid.scale + rest,
-        high: Math.sqrt(farX * farX + farY * farY) * grid.scale + rest,
-      });
+      candidatePlace[n] = j - start;
+      candidateNode[n] = nd;
+      candidateLow[n] = Math.sqrt(nearX * nearX + nearY * nearY) * grid.scale + rest;
+      candidateHigh[n] = Math.sqrt(farX * farX + farY * farY) * grid.scale + rest;
+      candidateLeft[n] = 1;
+      n++;
     }
-    /** The walls in the way of candidate `c` from the sub-cell (of those from its cell). */
-    const reach = (c: { place: number; nd: number }): number =>
-      cellReach(
-        grid.walls,
-        x0,
-        y0,
-        size,
-        grid.nodeX[c.nd]!,
-        grid.nodeY[c.nd]!,
-        grid.clearance,
-        grid.ringWalls[start + c.place],
-      );
-    const places: number[] = [];
-    const masks: number[] = [];
-    while (places.length < MAX_LISTED && candidates.length > 0) {
-      const leastHigh = Math.min(...candidates.map((c) => c.high));
-      const next = candidates.filter((c) => c.low <= leastHigh + MARGIN);
-      if (next.length > 2 || (next.length === 2 && places.length + 2 > MAX_LISTED)) break;
-      if (next.length === 2) {
-        for (const c of next) {
-          places.push(c.place);
-          masks.push(reach(c));
-        }
-        return { places, masks, pair: true };
+    let listed = 0;
+    for (let remaining = n; listed < MAX_LISTED && remaining > 0; remaining--) {
+      let leastHigh = Infinity;
+      for (let c = 0; c < n; c++) {
+        if (candidateLeft[c] === 1) leastHigh = Math.min(leastHigh, candidateHigh[c]!);
       }
-      const c = next[0]!;
-      candidates.splice(candidates.indexOf(c), 1);
-      const mask = reach(c);
-      const nx = grid.nodeX[c.nd]!;
-      const ny = grid.nodeY[c.nd]!;
+      // Those that can be next (in the search's order), the first two of them.
+      let next = -1;
+      let after = -1;
+      let many = false;
+      for (let c = 0; c < n; c++) {
+        if (candidateLeft[c] === 0 || !(candidateLow[c]! <= leastHigh + MARGIN)) continue;
+        if (next < 0) next = c;
+        else if (after < 0) after = c;
+        else many = true;
+      }
+      if (many || (after >= 0 && listed + 2 > MAX_LISTED)) break;
+      if (after >= 0) {
+        listedPlace[listed] = candidatePlace[next]!;
+        listedMask[listed] = this.reach(start, candidatePlace[next]!, candidateNode[next]!, x0, y0);
+        listedPlace[listed + 1] = candidatePlace[after]!;
+        listedMask[listed + 1] = this.reach(
+          start,
+          candidatePlace[after]!,
+          candidateNode[after]!,
+          x0,
+          y0,
+        );
+        listed += 2;
+        return -listed;
+      }
+      candidateLeft[next] = 0;
+      const nd = candidateNode[next]!;
+      const mask = this.reach(start, candidatePlace[next]!, nd, x0, y0);
       // Surely out of reach: the search's line test fails; it goes on to the next.
-      if (blocksAll(grid.walls, mask, x0, y0, size, nx, ny, grid.clearance)) continue;
-      places.push(c.place);
-      masks.push(mask);
+      const r = grid.clearance;
+      if (blocksAll(grid.walls, mask, x0, y0, size, grid.nodeX[nd]!, grid.nodeY[nd]!, r)) continue;
+      listedPlace[listed] = candidatePlace[next]!;
+      listedMask[listed] = mask;
+      listed++;
       // Surely in reach: the answer.
       if (mask === 0) break;
     }
-    return { places, masks, pair: false };
+    return listed;
+  }
+
+  /**
+   * The walls in the way of node `nd`, at `place` among the candidates from `start` in the
+   * search's list, from the sub-cell at (x0, y0) (of those in its way from the whole cell).
+   */
+  private reach(start: number, place: number, nd: number, x0: number, y0: number): number {
+    const grid = this.grid;
+    const only = grid.ringWalls[start + place]!;
+    return cellReach(
+      grid.walls,
+      x0,
+      y0,
+      this.size,
+      grid.nodeX[nd]!,
+      grid.nodeY[nd]!,
+      grid.clearance,
+      only,
+    );
   }
 }
 
