@@ -25,6 +25,9 @@ export const REACH_UNKNOWN = -1;
  * of the segments from each corner to the point, which include the hull's edges. Static data for
  * the bots' waypoints, computed once per layout. Layouts of more than 32 walls get 0 or
  * {@link REACH_UNKNOWN}.
+ *
+ * `only`: look at these walls only (bit i: wall i; all by default) — the answer for a region that
+ * holds the cell, whose hull then holds this one's: every wall this one can meet is in it.
  */
 export function cellReach(
   walls: Walls,
@@ -34,6 +37,7 @@ export function cellReach(
   px: number,
   py: number,
   r: number,
+  only = -1,
 ): number {
   const x1 = x0 + size;
   const y1 = y0 + size;
@@ -45,6 +49,7 @@ export function cellReach(
   const grow = r + REACH_SLACK;
   let mask = 0;
   for (let i = 0; i < walls.count; i++) {
+    if (i < 32 && (only & (1 << i)) === 0) continue;
     const bx0 = walls.cx[i]! - walls.hw[i]! - grow;
     const bx1 = walls.cx[i]! + walls.hw[i]! + grow;
     const by0 = walls.cy[i]! - walls.hh[i]! - grow;

@@ -66,6 +66,22 @@ export function inputDir(input: ButtonInput): number {
 
 /** The direction (0–7) closest to the vector (dx, dy); 0 for the zero vector. Exact, no trig. */
 export function dirToward(dx: number, dy: number): number {
+  towardArgs[0] = dx;
+  towardArgs[1] = dy;
+  return dirTowardOf(towardArgs);
+}
+
+/** {@link dirToward}'s arguments, as {@link dirTowardOf} takes them. */
+const towardArgs = new Float64Array(2);
+
+/**
+ * {@link dirToward} of the vector (`v[0]`, `v[1]`): the form for the bots, which call it every
+ * tick — V8 boxes a fractional number passed to a call it does not inline in a fresh heap object
+ * (and whether it inlines this one into the bots' walk depends on what else it inlined there).
+ */
+export function dirTowardOf(v: Float64Array): number {
+  const dx = v[0]!;
+  const dy = v[1]!;
   // The loop over DIR_X, DIR_Y unrolled, each dot product as it computes it (dx · DIR_X[d] +
   // dy · DIR_Y[d], the same constants, the same order): the same numbers, NaN and signed zeros
   // included; the first of equals wins. Bots call this every tick.

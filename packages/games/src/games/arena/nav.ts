@@ -1,11 +1,24 @@
 import type { Walls } from './walls.js';
 import { isFiniteNumber } from './motion.js';
 import { REACH_UNKNOWN, cellReach } from './cell-reach.js';
+import { UNREACHABLE, shortestPaths } from './nav-paths.js';
+import {
+  ENTRY,
+  GOAL_BLOCKED,
+  GOAL_WALLS_SHIFT,
+  LENGTH_SHIFT,
+  MASK_BITS,
+  NODE_BITS,
+  NODE_SHIFT,
+  NO_ENTRY,
+  NavGoals,
+  PAIR,
+  TO_GOAL,
+} from './nav-goals.js';
 
 /** Integer edge costs: orthogonal 5, diagonal 7 (≈ 5√2), so path lengths are exact integers. */
 const ORTHO = 5;
 const DIAG = 7;
-const UNREACHABLE = 0x7fffffff;
 
 /** Scratch for {@link NavGrid.waypoint}'s goal search; never part of any state. */
 const goal = new Int32Array(1);
@@ -83,12 +96,25 @@ export class NavGrid {
   private readonly memoY = new Float64Array(1 << MEMO_BITS).fill(NaN);
   private readonly memoNode = new Int32Array(1 << MEMO_BITS);
 
+  /**
+   * The search for the layout's fixed goals, where it does not depend on where in a small sub-cell
+   * the bot stands ({@link NavGoals}); null when there are none (or more than 32 walls, which the
+   * walls' masks cannot hold).
+   */
+  private readonly goals: NavGoals | null;
+
+  /**
+   * `goals`: points the bots head for again and again (flag stands, guard posts, lanes), for which
+   * the search keeps what it can per sub-cell (see {@link NavGoals}). The answers are the same
+   * with or without them.
+   */
   constructor(
     readonly walls: Walls,
     width: number,
     height: number,
     spacing: number,
     clearance: number,
+    goals: readonly (readonly [number, number])[] = [],
   ) {
     this.spacing = spacing;
     this.clearance = clearance;
@@ -136,65 +162,7 @@ export class NavGrid {
         }
       }
     }
-    this.dist = new Int32Array(n * n).fill(UNREACHABLE);
-    // Dijkstra from every node with a binary heap of (cost, node), ties broken by node index.
-    const heapCost = new Int32Array(n * 8 + 1);
-    const heapNode = new Int32Array(n * 8 + 1);
-    for (let s = 0; s < n; s++) {
-      const row = s * n;
-      let size = 0;
-      const push = (c: number, v: number): void => {
-        let i = size++;
-        while (i > 0) {
-          const p = (i - 1) >> 1;
-          if (heapCost[p]! < c || (heapCost[p] === c && heapNode[p]! <= v)) break;
-          heapCost[i] = heapCost[p]!;
-          heapNode[i] = heapNode[p]!;
-          i = p;
-        }
-        heapCost[i] = c;
-        heapNode[i] = v;
-      };
-      const pop = (): void => {
-        const c = heapCost[--size]!;
-        const v = heapNode[size]!;
-        let i = 0;
-        for (;;) {
-          let m = 2 * i + 1;
-          if (m >= size) break;
-          if (
-            m + 1 < size &&
-            (heapCost[m + 1]! < heapCost[m]! ||
-              (heapCost[m + 1] === heapCost[m] && heapNode[m + 1]! < heapNode[m]!))
-          ) {
-            m++;
-          }
-          if (c < heapCost[m]! || (c === heapCost[m] && v <= heapNode[m]!)) break;
-          heapCost[i] = heapCost[m]!;
-          heapNode[i] = heapNode[m]!;
-          i = m;
-        }
-        heapCost[i] = c;
-        heapNode[i] = v;
-      };
-      this.dist[row + s] = 0;
-      push(0, s);
-      while (size > 0) {
-        const c = heapCost[0]!;
-        const v = heapNode[0]!;
-        pop();
-        if (c > this.dist[row + v]!) continue;
-        for (let k = 0; k < 8; k++) {
-          const w = adj[v * 8 + k]!;
-          if (w < 0) break;
-          const nc = c + cost[v * 8 + k]!;
-          if (nc < this.dist[row + w]!) {
-            this.dist[row + w] = nc;
-            push(nc, w);
-          }
-        }
-      }
-    }
+    this.dist = shortestPaths(n, adj, cost);
     let symmetric = true;
     for (let i = 0; i < n && symmetric; i++) {
       for (let j = i + 1; j < n; j++) {
@@ -243,6 +211,31 @@ export class NavGrid {
     this.ringStart = ringStart;
     this.ringNode = Int32Array.from(ringNode);
     this.ringWalls = Int32Array.from(ringWalls);
+
+    const count = n;
+    const node = new Int32Array(1);
+    this.goals =
+      goals.length === 0 || walls.count > 32
+        ? null
+        : new NavGoals(
+            {
+              walls,
+              spacing,
+              cols: this.cols,
+              rows: this.rows,
+              clearance,
+              nodeX: this.nodeX,
+              nodeY: this.nodeY,
+              unreachable: UNREACHABLE,
+              scale: (ORTHO * 0.9) / spacing,
+              rest: (nd, g) => this.dist[nd * count + g]!,
+              ringStart: this.ringStart,
+              ringNode: this.ringNode,
+              ringWalls: this.ringWalls,
+              nodeNear: (x, y) => (this.nearestNode(x, y, node) ? node[0]! : -1),
+            },
+            goals,
+          );
   }
 
   /**
@@ -270,10 +263,27 @@ export class NavGrid {
    */
   waypointQuery(out: Float64Array): void {
     const q = this.query;
-    const x = q[0]!;
-    const y = q[1]!;
     out[0] = q[2]!;
     out[1] = q[3]!;
+    const goals = this.goals;
+    if (goals !== null) {
+      const k = goals.indexOf(q);
+      if (k >= 0) {
+        const e = goals.entryOf(k, q);
+        if (e >= 0) {
+          this.towardGoal(goals, k, e, out);
+          return;
+        }
+      }
+    }
+    this.fromScratch(out);
+  }
+
+  /** {@link waypointQuery} with no help from the fixed goals' table (`out` holds the target). */
+  private fromScratch(out: Float64Array): void {
+    const q = this.query;
+    const x = q[0]!;
+    const y = q[1]!;
     const walls = this.walls;
     const wq = walls.query;
     wq[0] = x;
@@ -287,6 +297,86 @@ export class NavGrid {
       scanWaypoints(this, x, y, g, out);
       return;
     }
+    this.search(g, out);
+  }
+
+  /**
+   * {@link waypointQuery} toward fixed goal k from a point of the sub-cell whose entry in
+   * `goals.entries` begins at `e`: what the entry knows, then (if need be) the search.
+   */
+  private towardGoal(goals: NavGoals, k: number, e: number, out: Float64Array): void {
+    const entries = goals.entries;
+    const head = entries[e + ENTRY.head]!;
+    if ((head & NO_ENTRY) !== 0) {
+      this.fromScratch(out);
+      return;
+    }
+    const q = this.query;
+    const masks = goals.masks;
+    const indexBits = (1 << MASK_BITS) - 1;
+    const walls = this.walls;
+    const wq = walls.query;
+    wq[0] = q[0]!;
+    wq[1] = q[1]!;
+    if ((head & GOAL_BLOCKED) === 0) {
+      // Straight to the goal: only the walls that can be in the way, if any.
+      const toGoal = masks[(head >>> GOAL_WALLS_SHIFT) & indexBits]!;
+      if (toGoal === 0) return;
+      wq[2] = q[2]!;
+      wq[3] = q[3]!;
+      if (walls.clearAmongQuery(this.clearance, toGoal)) return;
+    }
+    if ((head & TO_GOAL) !== 0) return;
+    const g = goals.nodeOf(k);
+    // The candidates the search would try first, in its order: the first in reach is its answer.
+    const inTheWay = entries[e + ENTRY.walls]!;
+    const listed = (head >>> LENGTH_SHIFT) & 3;
+    const single = (head & PAIR) === 0 ? listed : listed - 2;
+    const first = goals.firstCandidate;
+    const placeBits = (1 << NODE_BITS) - 1;
+    for (let i = 0; i < listed; i++) {
+      let nd = this.ringNode[first + ((head >>> (NODE_SHIFT + i * NODE_BITS)) & placeBits)]!;
+      let toPick = masks[(inTheWay >>> (i * MASK_BITS)) & indexBits]!;
+      if (i >= single) {
+        // A pair: the cheaper of the two as the search costs them (of equals, the first).
+        const other =
+          this.ringNode[first + ((head >>> (NODE_SHIFT + (i + 1) * NODE_BITS)) & placeBits)]!;
+        // (Computed here, not by a call: V8 boxes a fractional number a call it does not inline
+        // returns, an allocation per pair.)
+        const scale = (ORTHO * 0.9) / this.spacing;
+        const restAt = this.symmetric ? g * this.count : g;
+        const restStride = this.symmetric ? 1 : this.count;
+        let ex = this.nodeX[nd]! - q[0]!;
+        let ey = this.nodeY[nd]! - q[1]!;
+        const cost = Math.sqrt(ex * ex + ey * ey) * scale + this.dist[restAt + nd * restStride]!;
+        ex = this.nodeX[other]! - q[0]!;
+        ey = this.nodeY[other]! - q[1]!;
+        const rest = this.dist[restAt + other * restStride]!;
+        if (Math.sqrt(ex * ex + ey * ey) * scale + rest < cost) {
+          nd = other;
+          toPick = masks[(inTheWay >>> ((i + 1) * MASK_BITS)) & indexBits]!;
+        }
+        i = listed;
+      }
+      wq[2] = this.nodeX[nd]!;
+      wq[3] = this.nodeY[nd]!;
+      if (toPick === 0 || walls.clearAmongQuery(this.clearance, toPick)) {
+        out[0] = wq[2];
+        out[1] = wq[3];
+        return;
+      }
+    }
+    this.search(g, out);
+  }
+
+  /**
+   * {@link waypointQuery}'s search among the waypoints around the point `query[0]`, `query[1]`
+   * (finite) for goal node `g`, when the goal is not in reach.
+   */
+  private search(g: number, out: Float64Array): void {
+    const q = this.query;
+    const x = q[0]!;
+    const y = q[1]!;
     const col = Math.floor(x / this.spacing);
     const row = Math.floor(y / this.spacing);
     const scale = (ORTHO * 0.9) / this.spacing;
@@ -578,14 +668,15 @@ export function scanNearest(nav: NavGrid, x: number, y: number, out: Int32Array)
 /**
  * An arena's navigation grid for its bots, as a getter: built on first use (a few ms), then
  * shared — it is static data. Cells of 40 units, for a player of radius `playerRadius` with 2
- * units to spare.
+ * units to spare; `goals` as {@link NavGrid}'s.
  */
 export function sharedNav(
   walls: Walls,
   width: number,
   height: number,
   playerRadius: number,
+  goals: readonly (readonly [number, number])[] = [],
 ): () => NavGrid {
   let nav: NavGrid | undefined;
-  return () => (nav ??= new NavGrid(walls, width, height, 40, playerRadius + 2));
+  return () => (nav ??= new NavGrid(walls, width, height, 40, playerRadius + 2, goals));
 }

@@ -1,12 +1,12 @@
 import type { ButtonInput } from 'fixedstep';
-import { DIR_BUTTONS as DIR_BUTTONS_, dirToward as dirToward_ } from './motion.js';
+import { DIR_BUTTONS as DIR_BUTTONS_, dirTowardOf as dirTowardOf_ } from './motion.js';
 import type { NavGrid } from './nav.js';
 import type { Walls } from './walls.js';
 
 // Local copies of imported bindings: some loaders (vitest, tsx) read an import through a
 // getter on every use, which costs in hot loops.
 const DIR_BUTTONS = DIR_BUTTONS_;
-const dirToward = dirToward_;
+const dirTowardOf = dirTowardOf_;
 
 /** Scratch for {@link walkTo}'s waypoint; never part of any state. */
 const wp = new Float64Array(2);
@@ -200,5 +200,7 @@ export function scanVisible(
 export function walkTo(nav: NavGrid): ButtonInput {
   nav.waypointQuery(wp);
   const q = nav.query;
-  return DIR_BUTTONS[dirToward(wp[0]! - q[0]!, wp[1]! - q[1]!)]!;
+  wp[0] = wp[0]! - q[0]!;
+  wp[1] = wp[1]! - q[1]!;
+  return DIR_BUTTONS[dirTowardOf(wp)]!;
 }

@@ -14,6 +14,7 @@ import {
   FLAG_STAND_Y as FLAG_STAND_Y_,
   GUARD_X as GUARD_X_,
   GUARD_Y as GUARD_Y_,
+  LANE_Y as LANE_Y_,
   ctfNav as ctfNav_,
 } from './layout.js';
 import type { CtfGame } from './game.js';
@@ -31,6 +32,7 @@ const FLAG_STAND_X = FLAG_STAND_X_;
 const FLAG_STAND_Y = FLAG_STAND_Y_;
 const GUARD_X = GUARD_X_;
 const GUARD_Y = GUARD_Y_;
+const LANE_Y = LANE_Y_;
 const ctfNav = ctfNav_;
 
 /** Farther than this, a bot does not shoot (a bullet flies 720 units). */
@@ -50,8 +52,6 @@ const LOS_CLEARANCE = 6;
 /** How far ahead a sidestep is checked for walls. */
 const PROBE = 14;
 
-/** The four ways across the centre line. */
-const LANE_Y = [60, 190, 450, 580];
 /** Within this of the centre line, a lane has done its job. */
 const LANE_REACHED = 24;
 

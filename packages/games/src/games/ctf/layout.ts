@@ -66,6 +66,9 @@ export const SPAWN_Y: readonly (readonly number[])[] = [
 export const GUARD_X: readonly number[] = [150, CTF.width - 150];
 export const GUARD_Y: readonly number[] = [320, 320];
 
+/** The four ways across the centre line, at x = width / 2 (the bots' lanes). */
+export const LANE_Y: readonly number[] = [60, 190, 450, 580];
+
 /** The left half; the right half is its mirror image. Thin walls are 4 units thick. */
 const LEFT: Rect[] = [
   // The base: a room with two openings at its front corners.
@@ -95,5 +98,21 @@ export const CTF_WALLS = new Walls([
   ...CENTRE,
 ]);
 
+/**
+ * The points the bots head for again and again: the flag stands (each team's home, and the enemy
+ * flag while it is at home), the guard posts and the lanes.
+ */
+export const CTF_GOALS: readonly (readonly [number, number])[] = [
+  ...FLAG_STAND_X.map((x, t) => [x, FLAG_STAND_Y[t]!] as const),
+  ...GUARD_X.map((x, t) => [x, GUARD_Y[t]!] as const),
+  ...LANE_Y.map((y) => [CTF.width / 2, y] as const),
+];
+
 /** The bots' navigation grid (built on first use, then shared: it is static data). */
-export const ctfNav: () => NavGrid = sharedNav(CTF_WALLS, CTF.width, CTF.height, CTF.playerRadius);
+export const ctfNav: () => NavGrid = sharedNav(
+  CTF_WALLS,
+  CTF.width,
+  CTF.height,
+  CTF.playerRadius,
+  CTF_GOALS,
+);
