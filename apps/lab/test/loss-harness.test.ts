@@ -22,10 +22,10 @@ describe('loss harness report', () => {
     expect(rtc?.hashesEqual && ws?.hashesEqual).toBe(true);
     // The recorded numbers (data/loss-harness.json).
     expect(rtc?.latencyP50).toBeCloseTo(127.7, 1);
-    expect(rtc?.stalls).toBe(1);
-    expect(ws?.stalls).toBe(23);
-    expect(ws?.stallFrames).toBe(1581);
-    expect(ws?.depths.get(30)).toBe(50);
+    expect(rtc?.stalls).toBe(0);
+    expect(ws?.stalls).toBe(11);
+    expect(ws?.stallFrames).toBe(1572);
+    expect(ws?.depths.get(30)).toBe(42);
     expect(rtc?.bytesPerSecond.map((b) => b.slot)).toEqual([0, 1]);
     // Depth counts add up to the rollbacks.
     for (const row of r.rows) {
