@@ -95,9 +95,12 @@ describe('chapter 4, physics', () => {
       await page.getByRole('button', { name, exact: true }).click();
     };
     // In page order, each starting from what the one before left.
+    // The page writes its readouts once a frame (write-phase.ts): wait for the frame after a click.
     await tryIt('Run 10 s');
+    await expect
+      .poll(async () => num(await readouts(page), 'explicit-euler-energy-ratio'))
+      .toBeCloseTo(380.198, 2);
     let r = await readouts(page);
-    expect(num(r, 'explicit-euler-energy-ratio')).toBeCloseTo(380.198, 2);
     expect(Math.abs(num(r, 'velocity-verlet-energy-ratio') - 1)).toBeLessThan(0.01);
 
     await tryIt('k = 5000 N/m');
@@ -113,8 +116,8 @@ describe('chapter 4, physics', () => {
     expect(r['readout-rk4-state']).not.toBe('exploded');
 
     await tryIt('Step 15 ms');
+    await expect.poll(async () => num(await readouts(page), 'omega-dt')).toBeCloseTo(0.0671, 4); // k back to 20
     r = await readouts(page);
-    expect(num(r, 'omega-dt')).toBeCloseTo(0.0671, 4); // k back to 20
     expect(num(r, 'explicit-euler-energy-ratio')).toBeGreaterThan(15);
     expect(num(r, 'explicit-euler-energy-ratio')).toBeLessThan(25);
 

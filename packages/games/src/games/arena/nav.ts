@@ -98,14 +98,14 @@ export class NavGrid {
 
   /**
    * The search for the layout's fixed goals, where it does not depend on where in a small sub-cell
-   * the bot stands ({@link NavGoals}); null when there are none (or more than 32 walls, which the
+   * the bot stands (`NavGoals`); null when there are none (or more than 32 walls, which the
    * walls' masks cannot hold).
    */
   private readonly goals: NavGoals | null;
 
   /**
    * `goals`: points the bots head for again and again (flag stands, guard posts, lanes), for which
-   * the search keeps what it can per sub-cell (see {@link NavGoals}). The answers are the same
+   * the search keeps what it can per sub-cell (`NavGoals`, arena/nav-goals.ts). The answers are the same
    * with or without them.
    */
   constructor(
