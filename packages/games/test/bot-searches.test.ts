@@ -10,22 +10,14 @@ import { Random } from 'fixedstep';
 import { CTF_WALLS, SURVIVAL_WALLS, Walls, ctfNav, type NavGrid } from '@fixedstep/games';
 import { survivalNav } from '../src/games/survival/layout.js';
 import { nearestVisible, scanVisible } from '../src/games/arena/seek.js';
-import { scanNearest, scanWaypoints } from '../src/games/arena/nav.js';
+import { scanNearest } from '../src/games/arena/nav.js';
+import { scanWaypoint } from './nav-scans.js';
 
 /** `NavGrid`'s private candidate lists (see its `ringStart`). */
 interface NavCandidates {
   readonly ringStart: Int32Array;
   readonly ringNode: Int32Array;
   readonly ringWalls: Int32Array;
-}
-
-/** `NavGrid.waypoint` as it was: the goal's node by the scan, then the scan of the waypoints. */
-function scanWaypoint(nav: NavGrid, x: number, y: number, tx: number, ty: number): number[] {
-  const out = Float64Array.of(tx, ty);
-  if (nav.walls.clear(x, y, tx, ty, nav.clearance)) return [...out];
-  const goal = new Int32Array(1);
-  if (scanNearest(nav, tx, ty, goal)) scanWaypoints(nav, x, y, goal[0]!, out);
-  return [...out];
 }
 
 /** A point on or near the field: anywhere, on a whole or half unit, or a waypoint. */

@@ -10,7 +10,7 @@ import { describe, expect, it } from 'vitest';
 import { Random } from 'fixedstep';
 import { CTF_WALLS, NavGrid, SURVIVAL, SURVIVAL_WALLS, Walls, ctfNav } from '@fixedstep/games';
 import { CTF_GOALS } from '../src/games/ctf/layout.js';
-import { scanNearest, scanWaypoints } from '../src/games/arena/nav.js';
+import { scanWaypoint } from './nav-scans.js';
 import { UNREACHABLE } from '../src/games/arena/nav-paths.js';
 import {
   ENTRY,
@@ -25,15 +25,6 @@ import {
   TO_GOAL,
   type NavGoals,
 } from '../src/games/arena/nav-goals.js';
-
-/** `NavGrid.waypoint` as it was: the goal's node by the scan, then the scan of the waypoints. */
-function scanWaypoint(nav: NavGrid, x: number, y: number, tx: number, ty: number): number[] {
-  const out = Float64Array.of(tx, ty);
-  if (nav.walls.clear(x, y, tx, ty, nav.clearance)) return [...out];
-  const goal = new Int32Array(1);
-  if (scanNearest(nav, tx, ty, goal)) scanWaypoints(nav, x, y, goal[0]!, out);
-  return [...out];
-}
 
 /**
  * The order in which the search tries its candidates from (x, y) toward goal node g: the 3 × 3
