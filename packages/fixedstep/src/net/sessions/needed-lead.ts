@@ -52,9 +52,4 @@ export class NeededLead {
     }
     return best;
   }
-
-  /** Forget every need (a new room, a rejoin). */
-  clear(): void {
-    this.second.fill(-Infinity);
-  }
 }
